@@ -1,0 +1,50 @@
+//! # hysteron-operators
+//!
+//! The core of hysteron: the [`Operator`] trait (a scalar operator with
+//! memory under a trial/commit protocol), the [`Error`] type, the [`Float`]
+//! alias, and the elementary operators:
+//!
+//! | operator | equation |
+//! |---|---|
+//! | [`Play`] | `y = max(x − r, min(x + r, y_prev))` |
+//! | [`Stop`] | `s = x − play_r[x]`, in `[−r, r]` |
+//! | [`ElastoPlastic`] | `F = k · stop_{F_b/k}[x]` (Maxwell-slip element) |
+//! | [`DeadZone`] | `x − b_r` above `b_r`, `x − b_l` below `b_l`, 0 between |
+//! | [`Saturation`] | `clamp(x, lo, hi)` |
+//! | [`Gain`] | `k x` |
+//! | [`Mms`] | `y = y_r + (sgn(ẋ) F_c − y_r)(1 − e^{−K|x − x_r|})` |
+//! | [`BoucWen`] | `H = w S(z) z + (1 − w) S(z) h`, `dh/dz = α − \|h\|^n (β sgn(ż h) + γ)` |
+//!
+//! Combinators live in `hysteron-composition`.
+
+#![warn(missing_docs)]
+
+pub mod check;
+mod error;
+mod float;
+mod memoryless;
+mod operator;
+
+mod bouc_wen;
+mod deadzone;
+mod elastoplastic;
+mod gain;
+mod hysteretic_state;
+mod mms;
+mod play;
+mod saturation;
+mod stiffness;
+mod stop;
+
+pub use bouc_wen::{BoucWen, BoucWenParams};
+pub use deadzone::{dead_zone, DeadZone, DeadZoneParams};
+pub use elastoplastic::{ElastoPlastic, ElastoPlasticParams};
+pub use error::{Error, Result};
+pub use float::Float;
+pub use gain::Gain;
+pub use mms::{Mms, MmsParams};
+pub use operator::{check_input, check_lengths, check_output, Operator, Trial};
+pub use play::{play_step, play_tangent, Play, PlayParams};
+pub use saturation::{Saturation, SaturationParams};
+pub use stiffness::StiffnessMap;
+pub use stop::{stop_step, Stop, StopParams};
