@@ -1,1 +1,42 @@
-//! composition
+//! # hysteron-composition
+//!
+//! Combinators that build models from the operators of
+//! `hysteron-operators`, each a small generic struct over its children
+//! (static composition is inlined; `Box<dyn Operator>` children compose
+//! the same way):
+//!
+//! | combinator | law |
+//! |---|---|
+//! | [`Cascade`] | `y = B[A[x]]` |
+//! | [`Parallel`] | `y = A[x] + B[x]` |
+//! | [`Scaled`] | `y = w · A[x]` |
+//! | [`PiBank`] | `y = a0 x + Σ w_j play_{r_j}[x]` |
+//! | [`Feedback`] | `y = A[x − B[y]]`, solved each sample |
+//! | [`MechanicalSeries`] | `F = L[x_L] = R[x_R]`, `x = x_L + x_R`, optional travel limits |
+//! | [`Inverse`] | `u = A⁻¹[x]` for non-decreasing `A` |
+//!
+//! The implicit ones share one solver ([`SolverOptions`]): a bracket search
+//! then a safeguarded Newton iteration with bisection fallback.
+
+#![warn(missing_docs)]
+
+mod cascade;
+mod ext;
+mod feedback;
+mod inverse;
+mod pair;
+mod parallel;
+mod pi_bank;
+mod scaled;
+mod series;
+mod solve;
+
+pub use cascade::Cascade;
+pub use ext::OperatorExt;
+pub use feedback::Feedback;
+pub use inverse::Inverse;
+pub use parallel::Parallel;
+pub use pi_bank::{PiBank, PiBankParams};
+pub use scaled::Scaled;
+pub use series::{MechanicalSeries, TravelLimits};
+pub use solve::SolverOptions;

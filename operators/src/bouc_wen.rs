@@ -161,6 +161,7 @@ impl<T: Float> Operator<T> for BoucWen<T> {
 
     #[inline]
     fn trial(&mut self, z: T) -> Result<Trial<T>> {
+        self.pending = None;
         let z = check_input(z)?;
         let dz = z - self.s.z;
         let dir = if dz > T::zero() {
@@ -177,8 +178,9 @@ impl<T: Float> Operator<T> for BoucWen<T> {
         let one_w = T::one() - w;
         let output = w * s * z + one_w * s * h;
         let tangent = w * (s + ds * z) + one_w * (ds * h + s * self.slope(h, sign));
+        let t = check_output("bouc-wen", z, Trial { output, tangent })?;
         self.pending = Some(State { z, h, dir });
-        check_output("bouc-wen", z, Trial { output, tangent }).inspect_err(|_| self.pending = None)
+        Ok(t)
     }
 
     #[inline]

@@ -132,6 +132,7 @@ impl<T: Float> Operator<T> for Mms<T> {
 
     #[inline]
     fn trial(&mut self, x: T) -> Result<Trial<T>> {
+        self.pending = None;
         let x = check_input(x)?;
         let (s, tangent) = Self::step(&self.p, &self.s, x);
         self.pending = Some(s);

@@ -77,9 +77,10 @@ pub trait Operator<T: Float>: DynClone + Debug + Send + Sync {
 
     /// Runs `xs` through the operator from its current state, writing `ys`.
     ///
-    /// Equivalent to `trial` + `commit` per sample. On an error at sample
-    /// `i` the samples before `i` are committed, and the error is an
-    /// [`Error::AtSample`] naming `i`.
+    /// Equivalent to `trial` + `commit` per sample, bit for bit. On an error
+    /// at sample `i` the samples before `i` are committed, the error is an
+    /// [`Error::AtSample`] naming `i`, and the contents of `ys` are
+    /// unspecified.
     fn process(&mut self, xs: &[T], ys: &mut [T]) -> Result<()> {
         check_lengths(xs, ys)?;
         for (i, (x, y)) in xs.iter().zip(ys.iter_mut()).enumerate() {

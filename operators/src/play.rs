@@ -92,6 +92,7 @@ impl<T: Float> Operator<T> for Play<T> {
 
     #[inline]
     fn trial(&mut self, x: T) -> Result<Trial<T>> {
+        self.pending = None;
         let x = check_input(x)?;
         let y = play_step(self.p.r, self.y, x);
         self.pending = Some(y);

@@ -85,6 +85,7 @@ impl<T: Float> Operator<T> for Stop<T> {
 
     #[inline]
     fn trial(&mut self, x: T) -> Result<Trial<T>> {
+        self.pending = None;
         let x = check_input(x)?;
         let (s, q, tangent) = stop_step(self.p.r, self.q, x);
         self.pending = Some(q);

@@ -1,0 +1,100 @@
+//! Cascade: the output of one operator drives the next.
+
+use crate::pair::{pair_names, set_pair};
+use hysteron_operators::{Float, Operator, Result, Trial};
+
+/// Cascade `y = B[A[x]]` (signal-flow composition, `a.then(b)`).
+///
+/// Tangent: `B'(A[x]) · A'(x)`. Not to be confused with
+/// [`MechanicalSeries`](crate::MechanicalSeries), where forces are equal
+/// and displacements add.
+///
+/// ```
+/// use hysteron_composition::OperatorExt;
+/// use hysteron_operators::{DeadZone, Operator, Play};
+/// let mut m = Play::new(0.5_f64).unwrap().then(DeadZone::symmetric(1.0).unwrap());
+/// assert_eq!(m.run(&[3.0]).unwrap(), vec![1.5]); // play → 2.5, dead-zone → 1.5
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct Cascade<A, B> {
+    first: A,
+    second: B,
+    pending: bool,
+}
+
+impl<A, B> Cascade<A, B> {
+    /// `y = second[first[x]]`.
+    pub fn new(first: A, second: B) -> Self {
+        Self {
+            first,
+            second,
+            pending: false,
+        }
+    }
+
+    /// The inner (first) operator.
+    pub fn first(&self) -> &A {
+        &self.first
+    }
+
+    /// The outer (second) operator.
+    pub fn second(&self) -> &B {
+        &self.second
+    }
+}
+
+impl<T, A, B> Operator<T> for Cascade<A, B>
+where
+    T: Float,
+    A: Operator<T> + Clone,
+    B: Operator<T> + Clone,
+{
+    fn name(&self) -> &'static str {
+        "cascade"
+    }
+
+    #[inline]
+    fn trial(&mut self, x: T) -> Result<Trial<T>> {
+        self.pending = false;
+        let a = self.first.trial(x)?;
+        let b = self.second.trial(a.output)?;
+        self.pending = true;
+        Ok(Trial {
+            output: b.output,
+            tangent: b.tangent * a.tangent,
+        })
+    }
+
+    #[inline]
+    fn commit(&mut self) {
+        if std::mem::take(&mut self.pending) {
+            self.first.commit();
+            self.second.commit();
+        }
+    }
+
+    fn reset(&mut self) {
+        self.pending = false;
+        self.first.reset();
+        self.second.reset();
+    }
+
+    fn n_params(&self) -> usize {
+        self.first.n_params() + self.second.n_params()
+    }
+
+    fn params_into(&self, out: &mut Vec<T>) {
+        self.first.params_into(out);
+        self.second.params_into(out);
+    }
+
+    fn param_names(&self) -> Vec<String> {
+        pair_names(&self.first, &self.second, ["first", "second"])
+    }
+
+    fn set_params(&mut self, p: &[T]) -> Result<()> {
+        set_pair(&mut self.first, &mut self.second, p, ["first", "second"])?;
+        self.pending = false;
+        Ok(())
+    }
+}

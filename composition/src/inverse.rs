@@ -1,0 +1,120 @@
+//! Numerical inverse of a monotone operator.
+
+use crate::pair::prefixed;
+use crate::solve::{solve, SolverOptions};
+use hysteron_operators::{check_input, Float, Operator, Result, Trial};
+
+/// Inverse `u = A⁻¹[x]` of a non-decreasing operator `A` (`a.inverse()`):
+/// every sample solves `A[u] = x` for `u` from `A`'s committed state (its
+/// memory follows the inverse's output `u`, as in a compensator cascaded
+/// before the plant). `A ∘ A⁻¹` is then the identity to the solver
+/// tolerance. A target outside `A`'s range (a saturation, a friction
+/// plateau) is an [`Error::NoBracket`](hysteron_operators::Error::NoBracket).
+/// Where `A` is flat the inverse is not unique; the solver returns one
+/// point of the flat set.
+///
+/// Tangent: `1 / A'(u)` (`+∞` where `A` is flat).
+///
+/// ```
+/// use hysteron_composition::OperatorExt;
+/// use hysteron_operators::{Gain, Operator};
+/// let mut inv = Gain::new(4.0_f64).unwrap().inverse();
+/// assert!((inv.run(&[2.0]).unwrap()[0] - 0.5).abs() < 1e-15);
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct Inverse<T, A> {
+    inner: A,
+    opts: SolverOptions<T>,
+    x: T,
+    u: T,
+    pending: Option<(T, T)>,
+}
+
+impl<T: Float, A> Inverse<T, A> {
+    /// The inverse of `inner`.
+    pub fn new(inner: A) -> Self {
+        Self {
+            inner,
+            opts: SolverOptions::default(),
+            x: T::zero(),
+            u: T::zero(),
+            pending: None,
+        }
+    }
+
+    /// Uses the given solver tolerances.
+    pub fn with_solver(mut self, opts: SolverOptions<T>) -> Self {
+        self.opts = opts;
+        self
+    }
+
+    /// The operator being inverted.
+    pub fn inner(&self) -> &A {
+        &self.inner
+    }
+}
+
+impl<T, A> Operator<T> for Inverse<T, A>
+where
+    T: Float,
+    A: Operator<T> + Clone,
+{
+    fn name(&self) -> &'static str {
+        "inverse"
+    }
+
+    fn trial(&mut self, x: T) -> Result<Trial<T>> {
+        self.pending = None;
+        let x = check_input(x)?;
+        let inner = &mut self.inner;
+        let mut slope = T::zero();
+        let residual = |u: T| -> Result<(T, T)> {
+            let a = inner.trial(u)?;
+            slope = a.tangent;
+            Ok((a.output - x, a.tangent))
+        };
+        let scale = x.abs().max(self.u.abs());
+        let step = (x - self.x).abs();
+        let u = solve("inverse", residual, self.u, step, None, None, scale, &self.opts)?.value();
+        self.pending = Some((x, u));
+        Ok(Trial {
+            output: u,
+            tangent: T::one() / slope,
+        })
+    }
+
+    fn commit(&mut self) {
+        if let Some((x, u)) = self.pending.take() {
+            self.inner.commit();
+            self.x = x;
+            self.u = u;
+        }
+    }
+
+    fn reset(&mut self) {
+        self.inner.reset();
+        self.x = T::zero();
+        self.u = T::zero();
+        self.pending = None;
+    }
+
+    fn n_params(&self) -> usize {
+        self.inner.n_params()
+    }
+
+    fn params_into(&self, out: &mut Vec<T>) {
+        self.inner.params_into(out);
+    }
+
+    fn param_names(&self) -> Vec<String> {
+        prefixed("inner", &self.inner).collect()
+    }
+
+    fn set_params(&mut self, p: &[T]) -> Result<()> {
+        let mut inner = self.inner.clone();
+        inner.set_params(p).map_err(|e| e.in_path("inner"))?;
+        self.inner = inner;
+        self.reset();
+        Ok(())
+    }
+}

@@ -1,0 +1,46 @@
+//! Parameter plumbing shared by the two-child combinators.
+
+use hysteron_operators::{check, Float, Operator, Result};
+
+/// Sets `[params of a, params of b]` atomically: both children are
+/// validated on copies before either is replaced. Errors name the child.
+pub(crate) fn set_pair<T, A, B>(a: &mut A, b: &mut B, p: &[T], names: [&str; 2]) -> Result<()>
+where
+    T: Float,
+    A: Operator<T> + Clone,
+    B: Operator<T> + Clone,
+{
+    check::count(a.n_params() + b.n_params(), p)?;
+    let (pa, pb) = p.split_at(a.n_params());
+    let mut next_a = a.clone();
+    next_a.set_params(pa).map_err(|e| e.in_path(names[0]))?;
+    let mut next_b = b.clone();
+    next_b.set_params(pb).map_err(|e| e.in_path(names[1]))?;
+    *a = next_a;
+    *b = next_b;
+    Ok(())
+}
+
+/// Children's parameter names, prefixed with `names[i]` and their kind:
+/// `first.play.r`.
+pub(crate) fn pair_names<T, A, B>(a: &A, b: &B, names: [&str; 2]) -> Vec<String>
+where
+    T: Float,
+    A: Operator<T>,
+    B: Operator<T>,
+{
+    prefixed(names[0], a)
+        .chain(prefixed(names[1], b))
+        .collect()
+}
+
+/// One child's parameter names prefixed with `label.kind.`.
+pub(crate) fn prefixed<'a, T: Float, O: Operator<T>>(
+    label: &'a str,
+    op: &'a O,
+) -> impl Iterator<Item = String> + 'a {
+    let kind = op.name();
+    op.param_names()
+        .into_iter()
+        .map(move |n| format!("{label}.{kind}.{n}"))
+}

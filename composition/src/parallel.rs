@@ -1,0 +1,93 @@
+//! Parallel connection: outputs add.
+
+use crate::pair::{pair_names, set_pair};
+use hysteron_operators::{Float, Operator, Result, Trial};
+
+/// Parallel connection `y = A[x] + B[x]` (`a.plus(b)`). As mechanical
+/// elements: equal displacement, forces add. Tangent `A' + B'`.
+///
+/// ```
+/// use hysteron_composition::OperatorExt;
+/// use hysteron_operators::{Operator, Play, Stop};
+/// // play + stop = identity
+/// let mut m = Play::new(0.5_f64).unwrap().plus(Stop::new(0.5).unwrap());
+/// assert_eq!(m.run(&[1.0, -0.25]).unwrap(), vec![1.0, -0.25]);
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct Parallel<A, B> {
+    left: A,
+    right: B,
+    pending: bool,
+}
+
+impl<A, B> Parallel<A, B> {
+    /// `y = left[x] + right[x]`.
+    pub fn new(left: A, right: B) -> Self {
+        Self {
+            left,
+            right,
+            pending: false,
+        }
+    }
+}
+
+impl<T, A, B> Operator<T> for Parallel<A, B>
+where
+    T: Float,
+    A: Operator<T> + Clone,
+    B: Operator<T> + Clone,
+{
+    fn name(&self) -> &'static str {
+        "parallel"
+    }
+
+    #[inline]
+    fn trial(&mut self, x: T) -> Result<Trial<T>> {
+        self.pending = false;
+        let a = self.left.trial(x)?;
+        let b = self.right.trial(x)?;
+        let t = hysteron_operators::check_output(
+            "parallel",
+            x,
+            Trial {
+                output: a.output + b.output,
+                tangent: a.tangent + b.tangent,
+            },
+        )?;
+        self.pending = true;
+        Ok(t)
+    }
+
+    #[inline]
+    fn commit(&mut self) {
+        if std::mem::take(&mut self.pending) {
+            self.left.commit();
+            self.right.commit();
+        }
+    }
+
+    fn reset(&mut self) {
+        self.pending = false;
+        self.left.reset();
+        self.right.reset();
+    }
+
+    fn n_params(&self) -> usize {
+        self.left.n_params() + self.right.n_params()
+    }
+
+    fn params_into(&self, out: &mut Vec<T>) {
+        self.left.params_into(out);
+        self.right.params_into(out);
+    }
+
+    fn param_names(&self) -> Vec<String> {
+        pair_names(&self.left, &self.right, ["left", "right"])
+    }
+
+    fn set_params(&mut self, p: &[T]) -> Result<()> {
+        set_pair(&mut self.left, &mut self.right, p, ["left", "right"])?;
+        self.pending = false;
+        Ok(())
+    }
+}

@@ -1,0 +1,229 @@
+//! The Prandtl-Ishlinskii operator: a weighted bank of plays.
+
+use hysteron_operators::{
+    check, check_input, check_lengths, check_output, play_step, play_tangent, Error, Float, Operator, Result,
+    Trial,
+};
+use serde::{Deserialize, Serialize};
+
+/// Parameters of a [`PiBank`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PiBankParams<T> {
+    /// Weight of the linear term `a0 · x`.
+    pub a0: T,
+    /// Thresholds `r_j ≥ 0`.
+    pub r: Vec<T>,
+    /// Weights `w_j` (finite, any sign).
+    pub w: Vec<T>,
+    /// Initial play outputs at `x = 0` (default all 0).
+    #[serde(default)]
+    pub y0: Vec<T>,
+}
+
+impl<T: Float> PiBankParams<T> {
+    /// Checks lengths, `r_j ≥ 0`, finite weights and initial outputs.
+    /// An empty `y0` means all zero.
+    pub fn validate(&self) -> Result<()> {
+        check::finite("a0", self.a0)?;
+        if self.w.len() != self.r.len() || !(self.y0.is_empty() || self.y0.len() == self.r.len()) {
+            return Err(Error::InvalidParameter {
+                name: "w".into(),
+                value: self.w.len() as f64,
+                reason: "r, w (and y0 if given) must have the same length",
+            });
+        }
+        for (j, &r) in self.r.iter().enumerate() {
+            check::non_negative(&format!("r[{j}]"), r)?;
+        }
+        for (j, &w) in self.w.iter().enumerate() {
+            check::finite(&format!("w[{j}]"), w)?;
+        }
+        for (j, &y) in self.y0.iter().enumerate() {
+            check::finite(&format!("y0[{j}]"), y)?;
+        }
+        Ok(())
+    }
+}
+
+/// Prandtl-Ishlinskii operator (play type):
+///
+/// `y = a0 · x + Σ_j w_j · play_{r_j}[x]`.
+///
+/// The plays are stored as structure-of-arrays (thresholds, weights,
+/// states), so the per-sample loop over the bank vectorizes. Wiping-out and
+/// exact rate independence follow from the play's. Parameters:
+/// `[a0, r_0..r_m, w_0..w_m, y0_0..y0_m]`.
+///
+/// ```
+/// use hysteron_composition::PiBank;
+/// use hysteron_operators::Operator;
+/// let mut pi = PiBank::new(0.5_f64, vec![0.0, 1.0], vec![1.0, 2.0]).unwrap();
+/// // x = 2: 0.5·2 + 1·2 + 2·(2 − 1) = 5
+/// assert_eq!(pi.run(&[2.0]).unwrap(), vec![5.0]);
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct PiBank<T> {
+    a0: T,
+    r: Vec<T>,
+    w: Vec<T>,
+    y0: Vec<T>,
+    y: Vec<T>,
+    pending: Vec<T>,
+    has_pending: bool,
+}
+
+impl<T: Float> PiBank<T> {
+    /// A bank with linear weight `a0`, thresholds `r` and weights `w`,
+    /// all plays starting at 0.
+    pub fn new(a0: T, r: Vec<T>, w: Vec<T>) -> Result<Self> {
+        Self::from_params(PiBankParams {
+            a0,
+            r,
+            w,
+            y0: Vec::new(),
+        })
+    }
+
+    /// A bank from validated parameters.
+    pub fn from_params(p: PiBankParams<T>) -> Result<Self> {
+        p.validate()?;
+        let m = p.r.len();
+        let y0 = if p.y0.is_empty() {
+            vec![T::zero(); m]
+        } else {
+            p.y0
+        };
+        Ok(Self {
+            a0: p.a0,
+            r: p.r,
+            w: p.w,
+            y: y0.clone(),
+            y0,
+            pending: vec![T::zero(); m],
+            has_pending: false,
+        })
+    }
+
+    /// The parameters.
+    pub fn parameters(&self) -> PiBankParams<T> {
+        PiBankParams {
+            a0: self.a0,
+            r: self.r.clone(),
+            w: self.w.clone(),
+            y0: self.y0.clone(),
+        }
+    }
+
+    /// Number of plays.
+    pub fn len(&self) -> usize {
+        self.r.len()
+    }
+
+    /// True for a bank without plays (a pure linear term).
+    pub fn is_empty(&self) -> bool {
+        self.r.is_empty()
+    }
+
+    /// The committed play outputs.
+    pub fn play_outputs(&self) -> &[T] {
+        &self.y
+    }
+}
+
+impl<T: Float> Operator<T> for PiBank<T> {
+    fn name(&self) -> &'static str {
+        "pi"
+    }
+
+    fn trial(&mut self, x: T) -> Result<Trial<T>> {
+        self.has_pending = false;
+        let x = check_input(x)?;
+        let mut out = self.a0 * x;
+        let mut tangent = self.a0;
+        for j in 0..self.r.len() {
+            let p = play_step(self.r[j], self.y[j], x);
+            self.pending[j] = p;
+            out = out + self.w[j] * p;
+            tangent = tangent + self.w[j] * play_tangent(self.r[j], self.y[j], x);
+        }
+        let t = check_output(
+            "pi",
+            x,
+            Trial {
+                output: out,
+                tangent,
+            },
+        )?;
+        self.has_pending = true;
+        Ok(t)
+    }
+
+    fn commit(&mut self) {
+        if self.has_pending {
+            std::mem::swap(&mut self.y, &mut self.pending);
+            self.has_pending = false;
+        }
+    }
+
+    fn reset(&mut self) {
+        self.y.copy_from_slice(&self.y0);
+        self.has_pending = false;
+    }
+
+    fn process(&mut self, xs: &[T], ys: &mut [T]) -> Result<()> {
+        check_lengths(xs, ys)?;
+        self.has_pending = false;
+        let (r, w, y) = (&self.r[..], &self.w[..], &mut self.y[..]);
+        for (i, (&x, out)) in xs.iter().zip(ys.iter_mut()).enumerate() {
+            if !x.is_finite() {
+                return Err(Error::NonFiniteInput { value: x.as_f64() }.at_sample(i));
+            }
+            let mut acc = self.a0 * x;
+            for ((yj, &rj), &wj) in y.iter_mut().zip(r).zip(w) {
+                *yj = play_step(rj, *yj, x);
+                acc = acc + wj * *yj;
+            }
+            if !acc.is_finite() {
+                return Err(Error::NonFiniteOutput {
+                    operator: "pi",
+                    input: x.as_f64(),
+                }
+                .at_sample(i));
+            }
+            *out = acc;
+        }
+        Ok(())
+    }
+
+    fn n_params(&self) -> usize {
+        1 + 3 * self.r.len()
+    }
+
+    fn params_into(&self, out: &mut Vec<T>) {
+        out.push(self.a0);
+        out.extend_from_slice(&self.r);
+        out.extend_from_slice(&self.w);
+        out.extend_from_slice(&self.y0);
+    }
+
+    fn param_names(&self) -> Vec<String> {
+        let m = self.r.len();
+        std::iter::once("a0".to_string())
+            .chain((0..m).map(|j| format!("r[{j}]")))
+            .chain((0..m).map(|j| format!("w[{j}]")))
+            .chain((0..m).map(|j| format!("y0[{j}]")))
+            .collect()
+    }
+
+    fn set_params(&mut self, p: &[T]) -> Result<()> {
+        check::count(self.n_params(), p)?;
+        let m = self.r.len();
+        *self = Self::from_params(PiBankParams {
+            a0: p[0],
+            r: p[1..1 + m].to_vec(),
+            w: p[1 + m..1 + 2 * m].to_vec(),
+            y0: p[1 + 2 * m..].to_vec(),
+        })?;
+        Ok(())
+    }
+}

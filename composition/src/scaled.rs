@@ -1,0 +1,101 @@
+//! Scaling an operator's output by a weight.
+
+use crate::pair::prefixed;
+use hysteron_operators::{check, check_output, Float, Operator, Result, Trial};
+
+/// Weighted operator `y = w · A[x]` (`a.scaled(w)`), `w` finite. Its
+/// parameters are `[w, params of A]`.
+///
+/// ```
+/// use hysteron_composition::OperatorExt;
+/// use hysteron_operators::{Operator, Play};
+/// let mut m = Play::new(0.0_f64).unwrap().scaled(3.0).unwrap();
+/// assert_eq!(m.run(&[2.0]).unwrap(), vec![6.0]);
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scaled<T, A> {
+    w: T,
+    inner: A,
+    pending: bool,
+}
+
+impl<T: Float, A> Scaled<T, A> {
+    /// `y = w · inner[x]`.
+    pub fn new(w: T, inner: A) -> Result<Self> {
+        check::finite("w", w)?;
+        Ok(Self {
+            w,
+            inner,
+            pending: false,
+        })
+    }
+
+    /// The weight.
+    pub fn weight(&self) -> T {
+        self.w
+    }
+}
+
+impl<T, A> Operator<T> for Scaled<T, A>
+where
+    T: Float,
+    A: Operator<T> + Clone,
+{
+    fn name(&self) -> &'static str {
+        "scaled"
+    }
+
+    #[inline]
+    fn trial(&mut self, x: T) -> Result<Trial<T>> {
+        self.pending = false;
+        let a = self.inner.trial(x)?;
+        let t = check_output(
+            "scaled",
+            x,
+            Trial {
+                output: self.w * a.output,
+                tangent: self.w * a.tangent,
+            },
+        )?;
+        self.pending = true;
+        Ok(t)
+    }
+
+    #[inline]
+    fn commit(&mut self) {
+        if std::mem::take(&mut self.pending) {
+            self.inner.commit();
+        }
+    }
+
+    fn reset(&mut self) {
+        self.pending = false;
+        self.inner.reset();
+    }
+
+    fn n_params(&self) -> usize {
+        1 + self.inner.n_params()
+    }
+
+    fn params_into(&self, out: &mut Vec<T>) {
+        out.push(self.w);
+        self.inner.params_into(out);
+    }
+
+    fn param_names(&self) -> Vec<String> {
+        std::iter::once("w".to_string())
+            .chain(prefixed("inner", &self.inner))
+            .collect()
+    }
+
+    fn set_params(&mut self, p: &[T]) -> Result<()> {
+        check::count(self.n_params(), p)?;
+        check::finite("w", p[0])?;
+        let mut inner = self.inner.clone();
+        inner.set_params(&p[1..]).map_err(|e| e.in_path("inner"))?;
+        self.w = p[0];
+        self.inner = inner;
+        self.pending = false;
+        Ok(())
+    }
+}

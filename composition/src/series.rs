@@ -1,0 +1,284 @@
+//! Mechanical series connection: equal force, displacements add.
+
+use crate::pair::{pair_names, set_pair};
+use crate::solve::{solve, Root, SolverOptions};
+use hysteron_operators::{check, check_input, Error, Float, Operator, Result, Trial};
+use serde::{Deserialize, Serialize};
+
+/// Travel limits on the left element of a [`MechanicalSeries`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum TravelLimits<T> {
+    /// No limits.
+    None,
+    /// `x_left ∈ [lo, hi]` with `lo ≤ 0 ≤ hi`, `lo < hi`. Parameters `[lo, hi]`.
+    Range {
+        /// Lower stop.
+        lo: T,
+        /// Upper stop.
+        hi: T,
+    },
+    /// A symmetric gap of total size `b > 0`: `x_left ∈ [−b/2, b/2]`.
+    /// Parameter `[b]`.
+    Gap {
+        /// Gap size.
+        b: T,
+    },
+}
+
+impl<T: Float> TravelLimits<T> {
+    /// Checks the limits (see the variants).
+    pub fn validate(&self) -> Result<()> {
+        match *self {
+            TravelLimits::None => Ok(()),
+            TravelLimits::Range { lo, hi } => {
+                check::non_positive("limits.lo", lo)?;
+                check::non_negative("limits.hi", hi)?;
+                check::ordered("limits.lo", lo, "limits.hi", hi)
+            }
+            TravelLimits::Gap { b } => check::positive("limits.b", b),
+        }
+    }
+
+    fn bounds(&self) -> Option<(T, T)> {
+        match *self {
+            TravelLimits::None => None,
+            TravelLimits::Range { lo, hi } => Some((lo, hi)),
+            TravelLimits::Gap { b } => {
+                let half = b * T::lit(0.5);
+                Some((-half, half))
+            }
+        }
+    }
+
+    fn values(&self) -> Vec<T> {
+        match *self {
+            TravelLimits::None => vec![],
+            TravelLimits::Range { lo, hi } => vec![lo, hi],
+            TravelLimits::Gap { b } => vec![b],
+        }
+    }
+
+    fn names(&self) -> Vec<String> {
+        match self {
+            TravelLimits::None => vec![],
+            TravelLimits::Range { .. } => vec!["limits.lo".into(), "limits.hi".into()],
+            TravelLimits::Gap { .. } => vec!["limits.b".into()],
+        }
+    }
+
+    fn with_values(&self, p: &[T]) -> Result<Self> {
+        check::count(self.values().len(), p)?;
+        let next = match self {
+            TravelLimits::None => TravelLimits::None,
+            TravelLimits::Range { .. } => TravelLimits::Range { lo: p[0], hi: p[1] },
+            TravelLimits::Gap { .. } => TravelLimits::Gap { b: p[0] },
+        };
+        next.validate()?;
+        Ok(next)
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct State<T> {
+    x: T,
+    x_left: T,
+}
+
+/// Mechanical series connection of two elements (`a.series(b)`): the same
+/// force passes through both, their displacements add,
+///
+/// `x = x_L + x_R`,  `F = L[x_L] = R[x_R]`,
+///
+/// with optional travel limits on the left element, `x_L ∈ [lo, hi]`. At a
+/// limit the left element stops (its input is held at the limit, so its
+/// state stops evolving) and a contact force `N = R[x_R] − L[x_L]` makes up
+/// the difference; the contact only pushes (into the stop). The output is
+/// `F = R[x_R]`.
+///
+/// Every sample solves `L[x_L] − R[x − x_L] = 0` for `x_L` from the
+/// committed states. For non-decreasing elements the residual is
+/// increasing, the root lies between the previous split and the previous
+/// split plus the input increment, and is found by the safeguarded
+/// Newton/bisection of this crate to the tolerance of [`SolverOptions`];
+/// beyond a limit the split is clamped there. Where both elements are flat
+/// (two saturated friction elements) the split is not unique and the solver
+/// returns one point of the flat set.
+///
+/// Tangent: `L'R'/(L' + R')` when free, `R'` at a limit.
+///
+/// Not to be confused with [`Cascade`](crate::Cascade) (signal flow).
+///
+/// ```
+/// use hysteron_composition::OperatorExt;
+/// use hysteron_operators::{Gain, Operator};
+/// // Two linear springs: k1 k2 / (k1 + k2).
+/// let mut m = Gain::new(2.0_f64).unwrap().series(Gain::new(3.0).unwrap());
+/// let f = m.run(&[1.0]).unwrap();
+/// assert!((f[0] - 1.2).abs() < 1e-14);
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct MechanicalSeries<T, L, R> {
+    left: L,
+    right: R,
+    limits: TravelLimits<T>,
+    opts: SolverOptions<T>,
+    s: State<T>,
+    pending: Option<State<T>>,
+}
+
+impl<T: Float, L, R> MechanicalSeries<T, L, R> {
+    /// `left` and `right` in series, without travel limits.
+    pub fn new(left: L, right: R) -> Self {
+        Self {
+            left,
+            right,
+            limits: TravelLimits::None,
+            opts: SolverOptions::default(),
+            s: State {
+                x: T::zero(),
+                x_left: T::zero(),
+            },
+            pending: None,
+        }
+    }
+
+    /// Limits the travel of the left element.
+    pub fn with_limits(mut self, limits: TravelLimits<T>) -> Result<Self> {
+        limits.validate()?;
+        self.limits = limits;
+        Ok(self)
+    }
+
+    /// Uses the given solver tolerances.
+    pub fn with_solver(mut self, opts: SolverOptions<T>) -> Self {
+        self.opts = opts;
+        self
+    }
+
+    /// The committed displacement of the left element.
+    pub fn left_displacement(&self) -> T {
+        self.s.x_left
+    }
+
+    /// The left element.
+    pub fn left(&self) -> &L {
+        &self.left
+    }
+
+    /// The right element.
+    pub fn right(&self) -> &R {
+        &self.right
+    }
+
+    /// The travel limits.
+    pub fn limits(&self) -> TravelLimits<T> {
+        self.limits
+    }
+}
+
+impl<T, L, R> Operator<T> for MechanicalSeries<T, L, R>
+where
+    T: Float,
+    L: Operator<T> + Clone,
+    R: Operator<T> + Clone,
+{
+    fn name(&self) -> &'static str {
+        "series"
+    }
+
+    fn trial(&mut self, x: T) -> Result<Trial<T>> {
+        self.pending = None;
+        let x = check_input(x)?;
+        let (left, right) = (&mut self.left, &mut self.right);
+        let mut last = (T::zero(), T::zero(), T::zero());
+        let residual = |xl: T| -> Result<(T, T)> {
+            let l = left.trial(xl)?;
+            let r = right.trial(x - xl)?;
+            last = (r.output, l.tangent, r.tangent);
+            Ok((l.output - r.output, l.tangent + r.tangent))
+        };
+        let dx = x - self.s.x;
+        let start = self.s.x_left;
+        let scale = x.abs().max(start.abs());
+        let root = solve(
+            "series",
+            residual,
+            start,
+            dx,
+            Some(start + dx),
+            self.limits.bounds(),
+            scale,
+            &self.opts,
+        )?;
+        let (force, tl, tr) = last;
+        let tangent = match root {
+            Root::AtBound(_) => tr,
+            Root::Inside(_) => {
+                let sum = tl + tr;
+                if sum == T::zero() {
+                    T::zero()
+                } else {
+                    tl * tr / sum
+                }
+            }
+        };
+        if !force.is_finite() {
+            return Err(Error::NonFiniteOutput {
+                operator: "series",
+                input: x.as_f64(),
+            });
+        }
+        self.pending = Some(State {
+            x,
+            x_left: root.value(),
+        });
+        Ok(Trial {
+            output: force,
+            tangent,
+        })
+    }
+
+    fn commit(&mut self) {
+        if let Some(s) = self.pending.take() {
+            self.left.commit();
+            self.right.commit();
+            self.s = s;
+        }
+    }
+
+    fn reset(&mut self) {
+        self.left.reset();
+        self.right.reset();
+        self.s = State {
+            x: T::zero(),
+            x_left: T::zero(),
+        };
+        self.pending = None;
+    }
+
+    fn n_params(&self) -> usize {
+        self.limits.values().len() + self.left.n_params() + self.right.n_params()
+    }
+
+    fn params_into(&self, out: &mut Vec<T>) {
+        out.extend(self.limits.values());
+        self.left.params_into(out);
+        self.right.params_into(out);
+    }
+
+    fn param_names(&self) -> Vec<String> {
+        let mut names = self.limits.names();
+        names.extend(pair_names(&self.left, &self.right, ["left", "right"]));
+        names
+    }
+
+    fn set_params(&mut self, p: &[T]) -> Result<()> {
+        check::count(self.n_params(), p)?;
+        let k = self.limits.values().len();
+        let limits = self.limits.with_values(&p[..k])?;
+        set_pair(&mut self.left, &mut self.right, &p[k..], ["left", "right"])?;
+        self.limits = limits;
+        self.reset();
+        Ok(())
+    }
+}

@@ -1,0 +1,384 @@
+//! The scalar root finder behind every implicit combinator: bracket search
+//! followed by a safeguarded Newton iteration with bisection fallback.
+//!
+//! Hysteresis operators have kinks, so their tangents are only hints: a
+//! Newton step is taken when it lands strictly inside the current bracket
+//! and the previous Newton step at least halved the residual; otherwise the
+//! bracket is bisected. The iteration stops when a step or the bracket is
+//! smaller than `abs_tol + rel_tol · max(|x|, scale)`, or the residual is
+//! exactly zero, and otherwise fails with [`Error::NotConverged`]. The
+//! returned root is therefore within that tolerance of a sign change of the
+//! residual.
+
+use hysteron_operators::{Error, Float, Result};
+use serde::{Deserialize, Serialize};
+
+/// Tolerances and limits of an implicit solve.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SolverOptions<T> {
+    /// Relative tolerance on the root.
+    pub rel_tol: T,
+    /// Absolute tolerance on the root.
+    pub abs_tol: T,
+    /// Maximum Newton/bisection iterations once the root is bracketed.
+    pub max_iter: usize,
+    /// Maximum widenings of the search interval (each ×4).
+    pub max_expansions: usize,
+}
+
+impl<T: Float> Default for SolverOptions<T> {
+    /// `rel_tol = 16 ε` (≈ 3.6e-15 for `f64`), `abs_tol` = the smallest
+    /// positive normal number, 200 iterations, 64 expansions.
+    fn default() -> Self {
+        Self {
+            rel_tol: T::epsilon() * T::lit(16.0),
+            abs_tol: T::min_positive_value(),
+            max_iter: 200,
+            max_expansions: 64,
+        }
+    }
+}
+
+impl<T: Float> SolverOptions<T> {
+    fn tol(&self, x: T, scale: T) -> T {
+        self.abs_tol + self.rel_tol * x.abs().max(scale.abs())
+    }
+}
+
+/// One evaluation of the residual: value and derivative.
+pub(crate) type Eval<T> = (T, T);
+
+/// A residual function that remembers where it was last evaluated, so the
+/// solver can leave the children's pending trials at the returned root.
+struct Tracked<F, T> {
+    f: F,
+    last: Option<T>,
+    solver: &'static str,
+}
+
+impl<T: Float, F: FnMut(T) -> Result<Eval<T>>> Tracked<F, T> {
+    fn eval(&mut self, x: T) -> Result<Eval<T>> {
+        self.last = Some(x);
+        let (r, d) = (self.f)(x)?;
+        if r.is_nan() {
+            return Err(Error::NoBracket {
+                solver: self.solver,
+                around: x.as_f64(),
+                expansions: 0,
+            });
+        }
+        Ok((r, d))
+    }
+}
+
+/// The outcome of a bounded solve.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Root<T> {
+    /// A root inside the bounds.
+    Inside(T),
+    /// No root inside the bounds; the residual keeps its sign up to this
+    /// bound, where the solution is clamped.
+    AtBound(T),
+}
+
+impl<T: Copy> Root<T> {
+    pub(crate) fn value(self) -> T {
+        match self {
+            Root::Inside(x) | Root::AtBound(x) => x,
+        }
+    }
+}
+
+/// Solves `f(x) = 0` near `x0`.
+///
+/// * `step`: a typical distance to the root (for example the input
+///   increment); the search starts from the Newton step where available.
+/// * `hint`: a second point expected to bracket the root with `x0`.
+/// * `bounds`: optional `[lo, hi]`; a root beyond a bound is reported as
+///   [`Root::AtBound`] (the residual is assumed increasing there).
+/// * `scale`: magnitude used for the relative tolerance near zero.
+///
+/// On success the last evaluation of `f` was at the returned point.
+pub(crate) fn solve<T, F>(
+    solver: &'static str,
+    f: F,
+    x0: T,
+    step: T,
+    hint: Option<T>,
+    bounds: Option<(T, T)>,
+    scale: T,
+    opts: &SolverOptions<T>,
+) -> Result<Root<T>>
+where
+    T: Float,
+    F: FnMut(T) -> Result<Eval<T>>,
+{
+    let mut f = Tracked {
+        f,
+        last: None,
+        solver,
+    };
+    let clamp = |x: T| match bounds {
+        Some((lo, hi)) => x.max(lo).min(hi),
+        None => x,
+    };
+    let x0 = clamp(x0);
+    let (r0, d0) = f.eval(x0)?;
+    if r0 == T::zero() {
+        return Ok(Root::Inside(x0));
+    }
+    let bracket = match find_bracket(&mut f, x0, r0, d0, step, hint, bounds, scale, opts)? {
+        Found::Bracket(b) => b,
+        Found::AtBound(x) => {
+            if f.last != Some(x) {
+                f.eval(x)?;
+            }
+            return Ok(Root::AtBound(x));
+        }
+    };
+    let x = refine(&mut f, bracket, scale, opts)?;
+    if f.last != Some(x) {
+        f.eval(x)?;
+    }
+    Ok(Root::Inside(x))
+}
+
+/// A bracket: points with negative and positive residual, and the one of
+/// them with the smaller residual as the starting point.
+#[derive(Debug, Clone, Copy)]
+struct Bracket<T> {
+    neg: T,
+    pos: T,
+    start: (T, T, T),
+}
+
+enum Found<T> {
+    Bracket(Bracket<T>),
+    AtBound(T),
+}
+
+#[allow(clippy::too_many_arguments)]
+fn find_bracket<T, F>(
+    f: &mut Tracked<F, T>,
+    x0: T,
+    r0: T,
+    d0: T,
+    step: T,
+    hint: Option<T>,
+    bounds: Option<(T, T)>,
+    scale: T,
+    opts: &SolverOptions<T>,
+) -> Result<Found<T>>
+where
+    T: Float,
+    F: FnMut(T) -> Result<Eval<T>>,
+{
+    let make = |xa: T, ra: T, da: T, xb: T, rb: T, db: T| {
+        let start = if ra.abs() <= rb.abs() {
+            (xa, ra, da)
+        } else {
+            (xb, rb, db)
+        };
+        if ra < T::zero() {
+            Bracket {
+                neg: xa,
+                pos: xb,
+                start,
+            }
+        } else {
+            Bracket {
+                neg: xb,
+                pos: xa,
+                start,
+            }
+        }
+    };
+    let clamp = |x: T| match bounds {
+        Some((lo, hi)) => x.max(lo).min(hi),
+        None => x,
+    };
+    if let Some(h) = hint.map(clamp) {
+        if h != x0 {
+            let (rh, dh) = f.eval(h)?;
+            if rh == T::zero() || rh.signum() != r0.signum() {
+                return Ok(Found::Bracket(make(x0, r0, d0, h, rh, dh)));
+            }
+        }
+    }
+    // Preferred direction: downhill along the (assumed increasing) residual.
+    let newton = if d0.is_finite() && d0 > T::zero() {
+        (r0 / d0).abs()
+    } else {
+        T::zero()
+    };
+    let mut h = newton * T::lit(1.25);
+    if !(h.is_finite() && h > T::zero()) {
+        h = step.abs();
+    }
+    let floor = opts.tol(x0, scale) * T::lit(16.0);
+    if !(h.is_finite() && h > floor) {
+        h = floor;
+    }
+    let preferred = if r0 > T::zero() { -T::one() } else { T::one() };
+    // Side 0 is downhill for an increasing residual; side 1 (uphill) is
+    // searched too from the third widening on, for residuals that decrease.
+    let mut blocked = [false, false];
+    for i in 0..opts.max_expansions {
+        for (k, side) in [preferred, -preferred].into_iter().enumerate() {
+            if blocked[k] || (k == 1 && i < 2) {
+                continue;
+            }
+            let x = clamp(x0 + side * h);
+            if x == x0 {
+                blocked[k] = true;
+                continue;
+            }
+            let (r, d) = f.eval(x)?;
+            if r == T::zero() || r.signum() != r0.signum() {
+                return Ok(Found::Bracket(make(x0, r0, d0, x, r, d)));
+            }
+            if let Some((lo, hi)) = bounds {
+                if x == lo || x == hi {
+                    blocked[k] = true;
+                    // Increasing residual: still negative at hi, or still
+                    // positive at lo, means the root lies beyond the bound.
+                    if (x == hi && r < T::zero()) || (x == lo && r > T::zero()) {
+                        return Ok(Found::AtBound(x));
+                    }
+                }
+            }
+        }
+        if blocked[0] && blocked[1] {
+            break;
+        }
+        h = h * T::lit(4.0);
+        if !h.is_finite() {
+            break;
+        }
+    }
+    Err(Error::NoBracket {
+        solver: f.solver,
+        around: x0.as_f64(),
+        expansions: opts.max_expansions,
+    })
+}
+
+fn refine<T, F>(
+    f: &mut Tracked<F, T>,
+    b: Bracket<T>,
+    scale: T,
+    opts: &SolverOptions<T>,
+) -> Result<T>
+where
+    T: Float,
+    F: FnMut(T) -> Result<Eval<T>>,
+{
+    let (mut neg, mut pos) = (b.neg, b.pos);
+    let (mut x, mut r, mut d) = b.start;
+    let mut r_prev = T::infinity();
+    for _ in 0..opts.max_iter {
+        let (lo, hi) = if neg < pos { (neg, pos) } else { (pos, neg) };
+        let tol = opts.tol(x, scale);
+        if hi - lo <= tol {
+            return Ok(x);
+        }
+        let newton = x - r / d;
+        let use_newton =
+            d.is_finite() && d != T::zero() && newton > lo && newton < hi && r.abs() <= r_prev * T::lit(0.5);
+        let x_next = if use_newton {
+            newton
+        } else {
+            lo + (hi - lo) * T::lit(0.5)
+        };
+        r_prev = if use_newton { r.abs() } else { T::infinity() };
+        let (r_next, d_next) = f.eval(x_next)?;
+        if r_next == T::zero() {
+            return Ok(x_next);
+        }
+        if r_next < T::zero() {
+            neg = x_next;
+        } else {
+            pos = x_next;
+        }
+        let moved = (x_next - x).abs();
+        x = x_next;
+        r = r_next;
+        d = d_next;
+        if use_newton && moved <= tol {
+            return Ok(x);
+        }
+    }
+    Err(Error::NotConverged {
+        solver: f.solver,
+        iterations: opts.max_iter,
+        width: (pos - neg).abs().as_f64(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn opts() -> SolverOptions<f64> {
+        SolverOptions::default()
+    }
+
+    #[test]
+    fn finds_smooth_root() {
+        let root = solve("t", |x: f64| Ok((x * x * x - 2.0, 3.0 * x * x)), 0.0, 1.0, None, None, 1.0, &opts()).unwrap();
+        assert!((root.value() - 2f64.cbrt()).abs() < 1e-14);
+    }
+
+    #[test]
+    fn survives_useless_tangents() {
+        // Piecewise-constant tangent of zero: pure bisection must still converge.
+        let root = solve("t", |x: f64| Ok((x - 0.3, 0.0)), 5.0, 1.0, None, None, 1.0, &opts()).unwrap();
+        assert!((root.value() - 0.3).abs() < 1e-14);
+        // NaN tangent.
+        let root = solve("t", |x: f64| Ok((x.powi(3) + x, f64::NAN)), 2.0, 1.0, None, None, 1.0, &opts()).unwrap();
+        assert!(root.value().abs() < 1e-14);
+    }
+
+    #[test]
+    fn decreasing_residual_is_bracketed_too() {
+        let root = solve("t", |x: f64| Ok((4.0 - x, -1.0)), 0.0, 0.1, None, None, 1.0, &opts()).unwrap();
+        assert!((root.value() - 4.0).abs() < 1e-13);
+    }
+
+    #[test]
+    fn bounds_clamp_the_root() {
+        let b = Some((-1.0, 1.0));
+        let r = solve("t", |x: f64| Ok((x - 3.0, 1.0)), 0.0, 0.1, None, b, 1.0, &opts()).unwrap();
+        assert_eq!(r, Root::AtBound(1.0));
+        let r = solve("t", |x: f64| Ok((x + 3.0, 1.0)), 0.0, 0.1, None, b, 1.0, &opts()).unwrap();
+        assert_eq!(r, Root::AtBound(-1.0));
+        let r = solve("t", |x: f64| Ok((x - 0.5, 1.0)), 0.0, 0.1, None, b, 1.0, &opts()).unwrap();
+        assert_eq!(r, Root::Inside(0.5));
+    }
+
+    #[test]
+    fn no_root_is_an_error() {
+        let e = solve("t", |x: f64| Ok((x * x + 1.0, 2.0 * x)), 0.0, 1.0, None, None, 1.0, &opts());
+        assert!(matches!(e, Err(Error::NoBracket { .. })));
+    }
+
+    #[test]
+    fn last_evaluation_is_at_the_root() {
+        let mut last = f64::NAN;
+        let root = solve(
+            "t",
+            |x: f64| {
+                last = x;
+                Ok(((x - 0.7).tanh(), 1.0))
+            },
+            0.0,
+            0.1,
+            Some(2.0),
+            None,
+            1.0,
+            &opts(),
+        )
+        .unwrap();
+        assert_eq!(last, root.value());
+    }
+}
