@@ -1,7 +1,7 @@
 //! Feedback: `y = A[x − B[y]]`, solved implicitly every sample.
 
 use crate::pair::{pair_names, set_pair};
-use crate::solve::{solve, SolverOptions};
+use crate::solve::{solve, SolverOptions, Start};
 use hysteron_operators::{check_input, Float, Operator, Result, Trial};
 
 /// Negative feedback loop `y = A[x − B[y]]` (`a.feedback(b)`), with `A`
@@ -78,11 +78,13 @@ where
         let y = solve(
             "feedback",
             residual,
-            self.y,
-            step,
-            None,
-            None,
-            scale,
+            Start {
+                x0: self.y,
+                step,
+                hint: None,
+                bounds: None,
+                scale,
+            },
             &self.opts,
         )?
         .value();

@@ -1,7 +1,7 @@
 //! Numerical inverse of a monotone operator.
 
 use crate::pair::prefixed;
-use crate::solve::{solve, SolverOptions};
+use crate::solve::{solve, SolverOptions, Start};
 use hysteron_operators::{check_input, Float, Operator, Result, Trial};
 
 /// Inverse `u = A⁻¹[x]` of a non-decreasing operator `A` (`a.inverse()`):
@@ -75,7 +75,19 @@ where
         };
         let scale = x.abs().max(self.u.abs());
         let step = (x - self.x).abs();
-        let u = solve("inverse", residual, self.u, step, None, None, scale, &self.opts)?.value();
+        let u = solve(
+            "inverse",
+            residual,
+            Start {
+                x0: self.u,
+                step,
+                hint: None,
+                bounds: None,
+                scale,
+            },
+            &self.opts,
+        )?
+        .value();
         self.pending = Some((x, u));
         Ok(Trial {
             output: u,

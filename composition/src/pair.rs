@@ -29,9 +29,7 @@ where
     A: Operator<T>,
     B: Operator<T>,
 {
-    prefixed(names[0], a)
-        .chain(prefixed(names[1], b))
-        .collect()
+    prefixed(names[0], a).chain(prefixed(names[1], b)).collect()
 }
 
 /// One child's parameter names prefixed with `label.kind.`.

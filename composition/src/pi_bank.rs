@@ -1,8 +1,8 @@
 //! The Prandtl-Ishlinskii operator: a weighted bank of plays.
 
 use hysteron_operators::{
-    check, check_input, check_lengths, check_output, play_step, play_tangent, Error, Float, Operator, Result,
-    Trial,
+    check, check_input, check_lengths, check_output, play_step, play_tangent, Error, Float,
+    Operator, Result, Trial,
 };
 use serde::{Deserialize, Serialize};
 

@@ -1,7 +1,7 @@
 //! Mechanical series connection: equal force, displacements add.
 
 use crate::pair::{pair_names, set_pair};
-use crate::solve::{solve, Root, SolverOptions};
+use crate::solve::{solve, Root, SolverOptions, Start};
 use hysteron_operators::{check, check_input, Error, Float, Operator, Result, Trial};
 use serde::{Deserialize, Serialize};
 
@@ -93,7 +93,9 @@ struct State<T> {
 /// limit the left element stops (its input is held at the limit, so its
 /// state stops evolving) and a contact force `N = R[x_R] − L[x_L]` makes up
 /// the difference; the contact only pushes (into the stop). The output is
-/// `F = R[x_R]`.
+/// `F = R[x_R]` at a limit; when free, the force of the softer element
+/// (smaller tangent), whose error from the solver tolerance `δ` on the split
+/// is the smaller, `|F'| δ`.
 ///
 /// Every sample solves `L[x_L] − R[x − x_L] = 0` for `x_L` from the
 /// committed states. For non-decreasing elements the residual is
@@ -190,11 +192,11 @@ where
         self.pending = None;
         let x = check_input(x)?;
         let (left, right) = (&mut self.left, &mut self.right);
-        let mut last = (T::zero(), T::zero(), T::zero());
+        let mut last = (Trial::default(), Trial::default());
         let residual = |xl: T| -> Result<(T, T)> {
             let l = left.trial(xl)?;
             let r = right.trial(x - xl)?;
-            last = (r.output, l.tangent, r.tangent);
+            last = (l, r);
             Ok((l.output - r.output, l.tangent + r.tangent))
         };
         let dx = x - self.s.x;
@@ -203,23 +205,34 @@ where
         let root = solve(
             "series",
             residual,
-            start,
-            dx,
-            Some(start + dx),
-            self.limits.bounds(),
-            scale,
+            Start {
+                x0: start,
+                step: dx,
+                hint: Some(start + dx),
+                bounds: self.limits.bounds(),
+                scale,
+            },
             &self.opts,
         )?;
-        let (force, tl, tr) = last;
-        let tangent = match root {
-            Root::AtBound(_) => tr,
+        let (l, r) = last;
+        let (force, tangent) = match root {
+            Root::AtBound(_) => (r.output, r.tangent),
             Root::Inside(_) => {
-                let sum = tl + tr;
-                if sum == T::zero() {
+                let sum = l.tangent + r.tangent;
+                let tangent = if sum == T::zero() {
                     T::zero()
                 } else {
-                    tl * tr / sum
-                }
+                    l.tangent * r.tangent / sum
+                };
+                // The split is exact to the solver tolerance δ; the element
+                // with the smaller stiffness carries the smaller force
+                // error (|F'| δ), so its force is reported.
+                let force = if l.tangent.abs() <= r.tangent.abs() {
+                    l.output
+                } else {
+                    r.output
+                };
+                (force, tangent)
             }
         };
         if !force.is_finite() {

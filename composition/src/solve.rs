@@ -89,30 +89,43 @@ impl<T: Copy> Root<T> {
     }
 }
 
-/// Solves `f(x) = 0` near `x0`.
-///
-/// * `step`: a typical distance to the root (for example the input
-///   increment); the search starts from the Newton step where available.
-/// * `hint`: a second point expected to bracket the root with `x0`.
-/// * `bounds`: optional `[lo, hi]`; a root beyond a bound is reported as
-///   [`Root::AtBound`] (the residual is assumed increasing there).
-/// * `scale`: magnitude used for the relative tolerance near zero.
+/// Where and how to look for a root.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Start<T> {
+    /// The starting point (typically the committed solution).
+    pub x0: T,
+    /// A typical distance to the root (for example the input increment);
+    /// the search starts from the Newton step where available.
+    pub step: T,
+    /// A second point expected to bracket the root with `x0`.
+    pub hint: Option<T>,
+    /// Optional `[lo, hi]`; a root beyond a bound is reported as
+    /// [`Root::AtBound`] (the residual is assumed increasing there).
+    pub bounds: Option<(T, T)>,
+    /// Magnitude used for the relative tolerance near zero.
+    pub scale: T,
+}
+
+/// Solves `f(x) = 0` from `start`.
 ///
 /// On success the last evaluation of `f` was at the returned point.
 pub(crate) fn solve<T, F>(
     solver: &'static str,
     f: F,
-    x0: T,
-    step: T,
-    hint: Option<T>,
-    bounds: Option<(T, T)>,
-    scale: T,
+    start: Start<T>,
     opts: &SolverOptions<T>,
 ) -> Result<Root<T>>
 where
     T: Float,
     F: FnMut(T) -> Result<Eval<T>>,
 {
+    let Start {
+        x0,
+        step,
+        hint,
+        bounds,
+        scale,
+    } = start;
     let mut f = Tracked {
         f,
         last: None,
@@ -126,6 +139,12 @@ where
     let (r0, d0) = f.eval(x0)?;
     if r0 == T::zero() {
         return Ok(Root::Inside(x0));
+    }
+    if let Some((lo, hi)) = bounds {
+        // Already at a bound and pushed beyond it: stay there.
+        if (x0 == hi && r0 < T::zero()) || (x0 == lo && r0 > T::zero()) {
+            return Ok(Root::AtBound(x0));
+        }
     }
     let bracket = match find_bracket(&mut f, x0, r0, d0, step, hint, bounds, scale, opts)? {
         Found::Bracket(b) => b,
@@ -283,8 +302,11 @@ where
             return Ok(x);
         }
         let newton = x - r / d;
-        let use_newton =
-            d.is_finite() && d != T::zero() && newton > lo && newton < hi && r.abs() <= r_prev * T::lit(0.5);
+        let use_newton = d.is_finite()
+            && d != T::zero()
+            && newton > lo
+            && newton < hi
+            && r.abs() <= r_prev * T::lit(0.5);
         let x_next = if use_newton {
             newton
         } else {
@@ -323,42 +345,99 @@ mod tests {
         SolverOptions::default()
     }
 
+    fn st(x0: f64, step: f64, hint: Option<f64>, bounds: Option<(f64, f64)>) -> Start<f64> {
+        Start {
+            x0,
+            step,
+            hint,
+            bounds,
+            scale: 1.0,
+        }
+    }
+
     #[test]
     fn finds_smooth_root() {
-        let root = solve("t", |x: f64| Ok((x * x * x - 2.0, 3.0 * x * x)), 0.0, 1.0, None, None, 1.0, &opts()).unwrap();
+        let root = solve(
+            "t",
+            |x: f64| Ok((x * x * x - 2.0, 3.0 * x * x)),
+            st(0.0, 1.0, None, None),
+            &opts(),
+        )
+        .unwrap();
         assert!((root.value() - 2f64.cbrt()).abs() < 1e-14);
     }
 
     #[test]
     fn survives_useless_tangents() {
         // Piecewise-constant tangent of zero: pure bisection must still converge.
-        let root = solve("t", |x: f64| Ok((x - 0.3, 0.0)), 5.0, 1.0, None, None, 1.0, &opts()).unwrap();
+        let root = solve(
+            "t",
+            |x: f64| Ok((x - 0.3, 0.0)),
+            st(5.0, 1.0, None, None),
+            &opts(),
+        )
+        .unwrap();
         assert!((root.value() - 0.3).abs() < 1e-14);
         // NaN tangent.
-        let root = solve("t", |x: f64| Ok((x.powi(3) + x, f64::NAN)), 2.0, 1.0, None, None, 1.0, &opts()).unwrap();
+        let root = solve(
+            "t",
+            |x: f64| Ok((x.powi(3) + x, f64::NAN)),
+            st(2.0, 1.0, None, None),
+            &opts(),
+        )
+        .unwrap();
         assert!(root.value().abs() < 1e-14);
     }
 
     #[test]
     fn decreasing_residual_is_bracketed_too() {
-        let root = solve("t", |x: f64| Ok((4.0 - x, -1.0)), 0.0, 0.1, None, None, 1.0, &opts()).unwrap();
+        let root = solve(
+            "t",
+            |x: f64| Ok((4.0 - x, -1.0)),
+            st(0.0, 0.1, None, None),
+            &opts(),
+        )
+        .unwrap();
         assert!((root.value() - 4.0).abs() < 1e-13);
     }
 
     #[test]
     fn bounds_clamp_the_root() {
         let b = Some((-1.0, 1.0));
-        let r = solve("t", |x: f64| Ok((x - 3.0, 1.0)), 0.0, 0.1, None, b, 1.0, &opts()).unwrap();
+        let r = solve(
+            "t",
+            |x: f64| Ok((x - 3.0, 1.0)),
+            st(0.0, 0.1, None, b),
+            &opts(),
+        )
+        .unwrap();
         assert_eq!(r, Root::AtBound(1.0));
-        let r = solve("t", |x: f64| Ok((x + 3.0, 1.0)), 0.0, 0.1, None, b, 1.0, &opts()).unwrap();
+        let r = solve(
+            "t",
+            |x: f64| Ok((x + 3.0, 1.0)),
+            st(0.0, 0.1, None, b),
+            &opts(),
+        )
+        .unwrap();
         assert_eq!(r, Root::AtBound(-1.0));
-        let r = solve("t", |x: f64| Ok((x - 0.5, 1.0)), 0.0, 0.1, None, b, 1.0, &opts()).unwrap();
+        let r = solve(
+            "t",
+            |x: f64| Ok((x - 0.5, 1.0)),
+            st(0.0, 0.1, None, b),
+            &opts(),
+        )
+        .unwrap();
         assert_eq!(r, Root::Inside(0.5));
     }
 
     #[test]
     fn no_root_is_an_error() {
-        let e = solve("t", |x: f64| Ok((x * x + 1.0, 2.0 * x)), 0.0, 1.0, None, None, 1.0, &opts());
+        let e = solve(
+            "t",
+            |x: f64| Ok((x * x + 1.0, 2.0 * x)),
+            st(0.0, 1.0, None, None),
+            &opts(),
+        );
         assert!(matches!(e, Err(Error::NoBracket { .. })));
     }
 
@@ -371,11 +450,7 @@ mod tests {
                 last = x;
                 Ok(((x - 0.7).tanh(), 1.0))
             },
-            0.0,
-            0.1,
-            Some(2.0),
-            None,
-            1.0,
+            st(0.0, 0.1, Some(2.0), None),
             &opts(),
         )
         .unwrap();

@@ -118,7 +118,10 @@ impl<T: Float> Operator<T> for DeadZone<T> {
 
     fn set_params(&mut self, p: &[T]) -> Result<()> {
         check::count(2, p)?;
-        *self = Self::from_params(DeadZoneParams { b_l: p[0], b_r: p[1] })?;
+        *self = Self::from_params(DeadZoneParams {
+            b_l: p[0],
+            b_r: p[1],
+        })?;
         Ok(())
     }
 }

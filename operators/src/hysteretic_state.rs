@@ -159,9 +159,8 @@ impl<T: Float> StateEquation<T> {
             }
             let k2 = self.rate(g + h * l(1.0 / 5.0) * k1);
             let k3 = self.rate(g + h * (l(3.0 / 40.0) * k1 + l(9.0 / 40.0) * k2));
-            let k4 = self.rate(
-                g + h * (l(44.0 / 45.0) * k1 - l(56.0 / 15.0) * k2 + l(32.0 / 9.0) * k3),
-            );
+            let k4 =
+                self.rate(g + h * (l(44.0 / 45.0) * k1 - l(56.0 / 15.0) * k2 + l(32.0 / 9.0) * k3));
             let k5 = self.rate(
                 g + h
                     * (l(19372.0 / 6561.0) * k1 - l(25360.0 / 2187.0) * k2
@@ -195,8 +194,8 @@ impl<T: Float> StateEquation<T> {
                 h = h * l(0.1);
                 continue;
             }
-            let scale = self.rtol * g.abs().max(g5.abs()).max((g5 - g).abs())
-                + T::min_positive_value();
+            let scale =
+                self.rtol * g.abs().max(g5.abs()).max((g5 - g).abs()) + T::min_positive_value();
             if err <= scale {
                 g = g5;
                 k1 = k7;
@@ -208,7 +207,9 @@ impl<T: Float> StateEquation<T> {
             let factor = if err == T::zero() {
                 l(5.0)
             } else {
-                (l(0.9) * (scale / err).powf(l(0.2))).max(l(0.2)).min(l(5.0))
+                (l(0.9) * (scale / err).powf(l(0.2)))
+                    .max(l(0.2))
+                    .min(l(5.0))
             };
             h = h * factor;
         }
@@ -240,7 +241,10 @@ mod tests {
             let p = Power::new(n);
             for a in [0.0, 0.3, 1.0, 2.7] {
                 let want = f64::powf(a, n);
-                assert!((p.pow(a) - want).abs() <= 1e-14 * want.max(1.0), "n={n} a={a}");
+                assert!(
+                    (p.pow(a) - want).abs() <= 1e-14 * want.max(1.0),
+                    "n={n} a={a}"
+                );
             }
         }
         assert_eq!(Power::new(1.5), Power::HalfInt(1));
@@ -258,7 +262,10 @@ mod tests {
             for s in [1e-6, 0.01, 0.3, 1.0, 5.0] {
                 let a = closed.advance(g0, s).unwrap();
                 let b = general.advance(g0, s).unwrap();
-                assert!((a - b).abs() <= 1e-8 * a.abs().max(1e-3), "g0={g0} s={s}: {a} vs {b}");
+                assert!(
+                    (a - b).abs() <= 1e-8 * a.abs().max(1e-3),
+                    "g0={g0} s={s}: {a} vs {b}"
+                );
             }
         }
     }
@@ -275,7 +282,10 @@ mod tests {
             for s in [1e-4, 0.05, 0.5, 3.0] {
                 let want = a * ((alpha * c).sqrt() * s + (g0 / a).atanh()).tanh();
                 let got = e.advance(g0, s).unwrap();
-                assert!((got - want).abs() <= 1e-8 * want.abs().max(1e-3), "g0={g0} s={s}");
+                assert!(
+                    (got - want).abs() <= 1e-8 * want.abs().max(1e-3),
+                    "g0={g0} s={s}"
+                );
             }
         }
     }

@@ -113,7 +113,11 @@ impl<T: Float> Mms<T> {
         } else {
             s.dir
         };
-        let (x_r, y_r) = if dir != s.dir { (s.x, s.y) } else { (s.x_r, s.y_r) };
+        let (x_r, y_r) = if dir != s.dir {
+            (s.x, s.y)
+        } else {
+            (s.x_r, s.y_r)
+        };
         let sign = if dir < 0 { -T::one() } else { T::one() };
         let decay = (-p.k * (x - x_r).abs()).exp();
         // 1 − e^{−a} via expm1 keeps full accuracy near a reversal.
@@ -121,7 +125,16 @@ impl<T: Float> Mms<T> {
         let omega = sign * p.f_c - y_r;
         let y = if x == s.x { s.y } else { y_r + omega * rise };
         let tangent = (p.f_c - sign * y_r) * p.k * decay;
-        (State { x, y, x_r, y_r, dir }, tangent)
+        (
+            State {
+                x,
+                y,
+                x_r,
+                y_r,
+                dir,
+            },
+            tangent,
+        )
     }
 }
 

@@ -6,7 +6,7 @@ use core::fmt::Debug;
 use dyn_clone::DynClone;
 
 /// The result of a trial step: the output and its tangent `dy/dx`.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Trial<T> {
     /// Output `y` for the trial input.
     pub output: T,

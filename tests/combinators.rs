@@ -1,0 +1,214 @@
+//! Combinator solvers against closed forms.
+
+use hysteron::prelude::*;
+
+fn ramp(n: usize, hi: f64) -> Vec<f64> {
+    // up to hi, down to −hi, back to 0: covers both directions
+    let q = n / 4;
+    (0..n)
+        .map(|i| {
+            let t = i as f64 / q as f64;
+            hi * if t < 1.0 {
+                t
+            } else if t < 3.0 {
+                2.0 - t
+            } else {
+                t - 4.0
+            }
+        })
+        .collect()
+}
+
+fn close(a: f64, b: f64, tol: f64) -> bool {
+    (a - b).abs() <= tol * b.abs().max(1.0)
+}
+
+#[test]
+fn linear_springs_in_series_give_harmonic_stiffness() {
+    for (k1, k2) in [(2.0, 3.0), (1e3, 1.0), (0.5, 0.5), (7.0, 1e-3)] {
+        let keq = k1 * k2 / (k1 + k2);
+        let mut m = Gain::new(k1).unwrap().series(Gain::new(k2).unwrap());
+        for x in ramp(80, 1.7) {
+            let t = m.trial(x).unwrap();
+            m.commit();
+            assert!(
+                close(t.output, keq * x, 1e-13),
+                "k1={k1} k2={k2} x={x}: {} vs {}",
+                t.output,
+                keq * x
+            );
+            assert!(close(t.tangent, keq, 1e-13));
+        }
+    }
+}
+
+#[test]
+fn feedback_of_gains_gives_closed_loop_gain() {
+    for (a, b) in [(4.0, 0.5), (100.0, 1.0), (0.3, 2.0), (2.0, -0.25)] {
+        let g = a / (1.0 + a * b);
+        let mut m = Gain::new(a).unwrap().feedback(Gain::new(b).unwrap());
+        for x in ramp(80, 3.0) {
+            let t = m.trial(x).unwrap();
+            m.commit();
+            assert!(close(t.output, g * x, 1e-13), "a={a} b={b} x={x}");
+            assert!(close(t.tangent, g, 1e-13));
+        }
+    }
+}
+
+#[test]
+fn series_with_travel_limit_switches_to_second_stiffness() {
+    let (k1, k2, hi, lo) = (2.0, 3.0, 0.1, -0.3);
+    let keq = k1 * k2 / (k1 + k2);
+    let mut m = Gain::new(k1)
+        .unwrap()
+        .series(Gain::new(k2).unwrap())
+        .with_limits(TravelLimits::Range { lo, hi })
+        .unwrap();
+    // The left spring reaches its stop when F = k1·hi, i.e. at x = k1·hi/keq.
+    let x_hi = k1 * hi / keq;
+    let x_lo = k1 * lo / keq;
+    let mut saw = [false; 3];
+    for x in ramp(400, 1.0) {
+        let t = m.trial(x).unwrap();
+        m.commit();
+        let (want, slope, region) = if x > x_hi {
+            (k2 * (x - hi), k2, 0)
+        } else if x < x_lo {
+            (k2 * (x - lo), k2, 1)
+        } else {
+            (keq * x, keq, 2)
+        };
+        saw[region] = true;
+        assert!(
+            close(t.output, want, 1e-12),
+            "x={x}: {} vs {want}",
+            t.output
+        );
+        // The tangent is one-sided at the switching points themselves.
+        if (x - x_hi).abs() > 1e-9 && (x - x_lo).abs() > 1e-9 {
+            assert!(
+                close(t.tangent, slope, 1e-12),
+                "x={x}: tangent {} vs {slope}",
+                t.tangent
+            );
+        }
+        assert!(m.left_displacement() <= hi && m.left_displacement() >= lo);
+    }
+    assert_eq!(
+        saw, [true; 3],
+        "the ramp must visit both stops and the free range"
+    );
+}
+
+#[test]
+fn inverse_of_gain_and_of_play_free_pi() {
+    let mut inv = Gain::new(4.0).unwrap().inverse();
+    for x in ramp(40, 2.0) {
+        let t = inv.trial(x).unwrap();
+        inv.commit();
+        assert!(close(t.output, x / 4.0, 1e-14));
+        assert!(close(t.tangent, 0.25, 1e-14));
+    }
+}
+
+#[test]
+fn feedback_with_flat_forward_path_reports_no_solution_instead_of_guessing() {
+    // y = sat[x − (−2) y] = sat[x + 2y]: positive feedback; for x = 0.5 the
+    // residual y − clamp(0.5 + 2y, −1, 1) has roots but for this setting the
+    // loop gain 1 + A'B' can be negative: the solver must either find a true
+    // root or return an error, never a non-root.
+    let mut m = Saturation::new(-1.0, 1.0)
+        .unwrap()
+        .feedback(Gain::new(-2.0).unwrap());
+    for x in [0.5_f64, 3.0, -3.0] {
+        match m.trial(x) {
+            Ok(t) => {
+                let y = t.output;
+                let r = y - (x + 2.0 * y).clamp(-1.0, 1.0);
+                assert!(r.abs() < 1e-12, "returned a non-root y={y} for x={x}");
+                m.commit();
+            }
+            Err(e) => assert!(matches!(
+                e,
+                Error::NoBracket { .. } | Error::NotConverged { .. }
+            )),
+        }
+    }
+}
+
+#[test]
+fn inverse_outside_range_is_an_error() {
+    let mut inv = Saturation::new(-1.0_f64, 1.0).unwrap().inverse();
+    assert!((inv.trial(0.5).unwrap().output - 0.5).abs() < 1e-14);
+    assert!(matches!(
+        inv.trial(2.0),
+        Err(Error::NoBracket {
+            solver: "inverse",
+            ..
+        })
+    ));
+}
+
+#[test]
+fn friction_in_series_with_spring_plateaus_at_coulomb_level() {
+    // A stiff spring behind MMS friction: the force follows the friction
+    // branch and saturates at F_c; with a gap, at the stop the spring takes
+    // over and the force exceeds F_c.
+    let f_c = 2.0;
+    let mut free = Mms::new(f_c, 50.0).unwrap().series(Gain::new(1e4).unwrap());
+    let y = free.run(&ramp(400, 1.0)).unwrap();
+    let peak = y.iter().cloned().fold(f64::MIN, f64::max);
+    // MMS output is a convex combination of y_r and F_c: ≤ F_c up to rounding.
+    assert!(
+        peak <= f_c * (1.0 + 1e-14) && peak > f_c * (1.0 - 1e-6),
+        "peak {peak}"
+    );
+
+    let mut gapped = Mms::new(f_c, 50.0)
+        .unwrap()
+        .series(Gain::new(100.0).unwrap())
+        .with_limits(TravelLimits::Gap { b: 0.4 })
+        .unwrap();
+    let y = gapped.run(&ramp(400, 1.0)).unwrap();
+    let peak = y.iter().cloned().fold(f64::MIN, f64::max);
+    // At x = 1 the slider sits at 0.2: F = 100 (1 − 0.2) = 80.
+    assert!(close(peak, 80.0, 1e-12), "peak {peak}");
+}
+
+#[test]
+fn series_reversal_from_stop_waits_for_spring_to_relax_to_friction() {
+    // DESIGN §3: leaving a stop, the slider stays until the spring force has
+    // fallen to the friction it meets, then slides back.
+    let (f_c, k, b) = (1.0, 10.0, 0.2);
+    let mut m = Mms::new(f_c, 200.0)
+        .unwrap()
+        .series(Gain::new(k).unwrap())
+        .with_limits(TravelLimits::Gap { b })
+        .unwrap();
+    let up: Vec<f64> = (0..=100).map(|i| i as f64 * 0.01).collect(); // to x = 1
+    m.run(&up).unwrap();
+    assert_eq!(m.left_displacement(), b / 2.0);
+    let friction_at_stop = m.left().output();
+    // Going back: while k (x − b/2) > friction the slider must not move.
+    let mut x = 1.0;
+    while k * (x - 0.01 - b / 2.0) > friction_at_stop + 1e-9 {
+        x -= 0.01;
+        let f = m.trial(x).unwrap().output;
+        m.commit();
+        assert_eq!(
+            m.left_displacement(),
+            b / 2.0,
+            "slider left the stop at x={x}, F={f}"
+        );
+        assert!(close(f, k * (x - b / 2.0), 1e-12));
+    }
+    // Further back it slides: the friction reverses along its MMS branch.
+    for _ in 0..40 {
+        x -= 0.01;
+        m.trial(x).unwrap();
+        m.commit();
+    }
+    assert!(m.left_displacement() < b / 2.0);
+    assert!(m.left().output() < friction_at_stop);
+}

@@ -1,0 +1,309 @@
+//! The trial/commit contract, checked over every operator and combinator
+//! (static, boxed and nested): `process` equals a trial + commit loop bit for
+//! bit; replay after `reset` is identical; repeated, discarded and failed
+//! trials leave no trace; clones are independent; boxed equals static; the
+//! flat parameter vector round-trips.
+
+use hysteron::prelude::*;
+
+/// A signal with reversals of varying amplitude, repeated samples and a
+/// zero crossing, in the range of the paper's experiments.
+fn signal() -> Vec<f64> {
+    let mut xs: Vec<f64> = (0..600)
+        .map(|i| {
+            let t = i as f64;
+            1.4 * (0.045 * t).sin() * (1.0 + 0.3 * (0.011 * t).sin()) + 0.05 * (0.31 * t).sin()
+        })
+        .collect();
+    // standstills
+    xs[100] = xs[99];
+    xs[101] = xs[99];
+    xs
+}
+
+fn bits(v: &[f64]) -> Vec<u64> {
+    v.iter().map(|y| y.to_bits()).collect()
+}
+
+fn trial_commit_loop<O: Operator<f64>>(op: &mut O, xs: &[f64]) -> Vec<f64> {
+    xs.iter()
+        .map(|&x| {
+            let t = op.trial(x).expect("trial");
+            op.commit();
+            t.output
+        })
+        .collect()
+}
+
+/// The whole contract for one operator.
+fn check<O: Operator<f64> + Clone + 'static>(label: &str, op: O) {
+    let xs = signal();
+    let fresh = op.clone();
+
+    // process == trial + commit loop, bit for bit
+    let mut a = fresh.clone();
+    let reference = a.run(&xs).unwrap_or_else(|e| panic!("{label}: {e}"));
+    let mut b = fresh.clone();
+    assert_eq!(
+        bits(&trial_commit_loop(&mut b, &xs)),
+        bits(&reference),
+        "{label}: process vs trial/commit"
+    );
+
+    // replay after reset is identical (twice, and after a partial run)
+    a.reset();
+    assert_eq!(
+        bits(&a.run(&xs).unwrap()),
+        bits(&reference),
+        "{label}: replay after reset"
+    );
+    a.reset();
+    a.run(&xs[..123]).unwrap();
+    a.reset();
+    assert_eq!(
+        bits(&a.run(&xs).unwrap()),
+        bits(&reference),
+        "{label}: reset after partial run"
+    );
+
+    // repeated and discarded trials leave no trace
+    let mut c = fresh.clone();
+    let mut out = Vec::with_capacity(xs.len());
+    for (i, &x) in xs.iter().enumerate() {
+        for probe in [x + 0.37, x - 1.1, 3.0 * x, -x] {
+            c.trial(probe)
+                .unwrap_or_else(|e| panic!("{label}: probe {probe}: {e}"));
+        }
+        let t1 = c.trial(x).unwrap();
+        let t2 = c.trial(x).unwrap();
+        assert_eq!(
+            t1.output.to_bits(),
+            t2.output.to_bits(),
+            "{label}: repeated trial at sample {i}"
+        );
+        assert_eq!(
+            t1.tangent.to_bits(),
+            t2.tangent.to_bits(),
+            "{label}: repeated tangent at sample {i}"
+        );
+        c.commit();
+        out.push(t1.output);
+        // a second commit without a new trial does nothing
+        c.commit();
+    }
+    assert_eq!(
+        bits(&out),
+        bits(&reference),
+        "{label}: discarded trials left a trace"
+    );
+
+    // a failed trial (non-finite input) leaves no trace, even after a commit
+    let mut d = fresh.clone();
+    let half = xs.len() / 2;
+    d.run(&xs[..half]).unwrap();
+    d.trial(xs[half] + 0.5).unwrap();
+    assert!(d.trial(f64::NAN).is_err(), "{label}: NaN input accepted");
+    d.commit();
+    assert!(
+        d.trial(f64::INFINITY).is_err(),
+        "{label}: infinite input accepted"
+    );
+    assert_eq!(
+        bits(&d.run(&xs[half..]).unwrap()),
+        bits(&reference[half..]),
+        "{label}: failed trial left a trace"
+    );
+
+    // commit on a fresh operator without a trial does nothing
+    let mut e = fresh.clone();
+    e.commit();
+    assert_eq!(
+        bits(&e.run(&xs).unwrap()),
+        bits(&reference),
+        "{label}: commit without trial"
+    );
+
+    // clones are independent
+    let mut f = fresh.clone();
+    f.run(&xs[..half]).unwrap();
+    let mut g = f.clone();
+    g.run(&[5.0, -5.0, 2.0]).unwrap(); // drive the clone elsewhere
+    g.reset();
+    assert_eq!(
+        bits(&f.run(&xs[half..]).unwrap()),
+        bits(&reference[half..]),
+        "{label}: clone shares state"
+    );
+    assert_eq!(
+        bits(&g.run(&xs).unwrap()),
+        bits(&reference),
+        "{label}: reset clone differs"
+    );
+
+    // boxed equals static, and a boxed clone of a boxed operator too
+    let mut boxed: Box<dyn Operator<f64>> = Box::new(fresh.clone());
+    assert_eq!(
+        bits(&boxed.run(&xs).unwrap()),
+        bits(&reference),
+        "{label}: boxed vs static"
+    );
+    let mut boxed_clone = boxed.clone();
+    boxed_clone.reset();
+    assert_eq!(
+        bits(&boxed_clone.run(&xs).unwrap()),
+        bits(&reference),
+        "{label}: boxed clone"
+    );
+    let mut boxed_trials = fresh.clone().boxed();
+    assert_eq!(
+        bits(&trial_commit_loop(&mut boxed_trials, &xs)),
+        bits(&reference),
+        "{label}: boxed trials"
+    );
+
+    // the parameter vector round-trips and set_params resets
+    let mut h = fresh.clone();
+    let p = h.params();
+    assert_eq!(p.len(), h.n_params(), "{label}: n_params");
+    assert_eq!(h.param_names().len(), p.len(), "{label}: param_names");
+    h.run(&xs[..half]).unwrap();
+    h.set_params(&p).unwrap();
+    assert_eq!(
+        bits(&h.run(&xs).unwrap()),
+        bits(&reference),
+        "{label}: set_params(params())"
+    );
+    assert!(
+        h.set_params(&p[..p.len().saturating_sub(1)]).is_err() || p.is_empty(),
+        "{label}: short vector accepted"
+    );
+
+    // mismatched buffers are an error
+    let mut ys = vec![0.0; 3];
+    assert!(matches!(
+        fresh.clone().process(&xs[..4], &mut ys),
+        Err(Error::LengthMismatch { .. })
+    ));
+}
+
+fn spring(n: f64) -> BoucWen<f64> {
+    BoucWen::from_params(BoucWenParams {
+        w: 0.4,
+        alpha: 1.0,
+        beta: 3.0,
+        gamma: 1.0,
+        n,
+        h0: 0.05,
+        stiffness: StiffnessMap::new(vec![0.0, 0.4, 1.0], vec![6.0, 9.0, 16.0]).unwrap(),
+    })
+    .unwrap()
+}
+
+fn pi() -> PiBank<f64> {
+    let r: Vec<f64> = (0..8).map(|j| 0.15 * j as f64).collect();
+    let w: Vec<f64> = r.iter().map(|r| (-r).exp() / 4.0).collect();
+    PiBank::new(0.2, r, w).unwrap()
+}
+
+#[test]
+fn leaves() {
+    check("play", Play::new(0.3).unwrap());
+    check("play r=0", Play::new(0.0).unwrap());
+    check(
+        "play y0",
+        Play::from_params(PlayParams { r: 0.2, y0: 0.7 }).unwrap(),
+    );
+    check("stop", Stop::new(0.3).unwrap());
+    check("elastoplastic", ElastoPlastic::new(12.0, 2.0).unwrap());
+    check("deadzone", DeadZone::new(-0.2, 0.5).unwrap());
+    check("saturation", Saturation::new(-0.7, 0.4).unwrap());
+    check("gain", Gain::new(-2.5).unwrap());
+    check("mms", Mms::new(2.0, 15.0).unwrap());
+    check(
+        "mms y0",
+        Mms::from_params(MmsParams {
+            f_c: 1.0,
+            k: 4.0,
+            y0: -0.6,
+        })
+        .unwrap(),
+    );
+    check("bouc-wen n=1", spring(1.0));
+    check("bouc-wen n=1.5", spring(1.5));
+    check("bouc-wen n=2", spring(2.0));
+    check("bouc-wen n=2.7", spring(2.7));
+    check("pi bank", pi());
+}
+
+#[test]
+fn combinators() {
+    check(
+        "cascade",
+        Play::new(0.2)
+            .unwrap()
+            .then(DeadZone::symmetric(0.3).unwrap()),
+    );
+    check("parallel", Stop::new(0.2).unwrap().plus(spring(1.0)));
+    check("scaled", Mms::new(1.0, 9.0).unwrap().scaled(-3.0).unwrap());
+    check("feedback", spring(1.5).feedback(Gain::new(0.8).unwrap()));
+    check(
+        "feedback hysteretic loop",
+        Gain::new(5.0).unwrap().feedback(Play::new(0.1).unwrap()),
+    );
+    check(
+        "series",
+        ElastoPlastic::new(20.0, 1.5)
+            .unwrap()
+            .series(Gain::new(8.0).unwrap()),
+    );
+    check(
+        "series with gap",
+        Mms::new(2.0, 40.0)
+            .unwrap()
+            .series(spring(1.0))
+            .with_limits(TravelLimits::Gap { b: 0.3 })
+            .unwrap(),
+    );
+    check(
+        "series with range",
+        Gain::new(3.0)
+            .unwrap()
+            .series(spring(2.0))
+            .with_limits(TravelLimits::Range { lo: -0.05, hi: 0.2 })
+            .unwrap(),
+    );
+    check("inverse", pi().inverse());
+    check("inverse bouc-wen", spring(1.0).inverse());
+}
+
+#[test]
+fn nested_and_boxed() {
+    // A boxed child inside static combinators, and combinators of boxes.
+    let friction: Box<dyn Operator<f64>> = Mms::new(1.5, 25.0).unwrap().boxed();
+    check(
+        "boxed child in series",
+        friction
+            .clone()
+            .series(spring(1.5))
+            .with_limits(TravelLimits::Gap { b: 0.25 })
+            .unwrap(),
+    );
+    check(
+        "cascade of boxes",
+        Play::new(0.1)
+            .unwrap()
+            .boxed()
+            .then(spring(1.0).boxed())
+            .boxed(),
+    );
+    check(
+        "deep nesting",
+        Play::new(0.05)
+            .unwrap()
+            .then(friction.series(Gain::new(30.0).unwrap()))
+            .plus(pi().scaled(0.5).unwrap())
+            .feedback(Gain::new(0.3).unwrap())
+            .then(Saturation::new(-3.0, 3.0).unwrap()),
+    );
+    check("inverse in cascade", pi().inverse().then(pi()));
+}
