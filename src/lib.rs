@@ -45,3 +45,8 @@ pub mod prelude {
         Operator, Play, PlayParams, Result, Saturation, StiffnessMap, Stop, Trial,
     };
 }
+
+/// The README's API tour, compiled and run as a doctest.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;
