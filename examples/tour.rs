@@ -54,9 +54,15 @@ fn main() -> Result<()> {
 
     let mut models: Vec<(&str, Box<dyn Operator<f64>>)> = vec![
         ("play r=0.2", Play::new(0.2)?.boxed()),
-        ("Prandtl-Ishlinskii, 16 plays", PiBank::new(0.2, r, w)?.boxed()),
+        (
+            "Prandtl-Ishlinskii, 16 plays",
+            PiBank::new(0.2, r, w)?.boxed(),
+        ),
         ("MMS friction Fc=2 K=20", Mms::new(2.0, 20.0)?.boxed()),
-        ("Bouc-Wen spring, 3-knot stiffness map", spring.clone().boxed()),
+        (
+            "Bouc-Wen spring, 3-knot stiffness map",
+            spring.clone().boxed(),
+        ),
         (
             "MMS in series with spring, gap b=0.3",
             Mms::new(2.0, 40.0)?
