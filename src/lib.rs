@@ -3,7 +3,7 @@
 //! Hysteresis operators and their algebra, in Rust. This facade re-exports
 //! the workspace crates:
 //!
-//! * [`operators`]: the [`Operator`](operators::Operator) trait, errors and
+//! * [`operators`]: the [`Operator`] trait, errors and
 //!   the elementary operators (play, stop, elastoplastic, dead-zone,
 //!   saturation, gain, Modified Maxwell-slip friction, Bouc-Wen spring);
 //! * [`composition`]: combinators (cascade, parallel, scaled, PI bank,
