@@ -130,6 +130,38 @@ impl<T: Float> PiBank<T> {
     }
 }
 
+/// Independent partial sums in the bank loop: breaks the serial dependency
+/// of one running sum so the loop over plays vectorizes.
+const LANES: usize = 8;
+
+/// Advances every play from `prev` to `next` for input `x` and returns
+/// `Σ w_j next_j`, summed in `LANES` interleaved partial sums (a fixed
+/// order, so `trial` and `process` agree bit for bit).
+#[inline(always)]
+fn bank_step<T: Float>(r: &[T], w: &[T], prev: &[T], next: &mut [T], x: T) -> T {
+    let m = r.len() / LANES * LANES;
+    let mut acc = [T::zero(); LANES];
+    for (((r, w), prev), next) in r[..m]
+        .chunks_exact(LANES)
+        .zip(w[..m].chunks_exact(LANES))
+        .zip(prev[..m].chunks_exact(LANES))
+        .zip(next[..m].chunks_exact_mut(LANES))
+    {
+        for l in 0..LANES {
+            let p = play_step(r[l], prev[l], x);
+            next[l] = p;
+            acc[l] = acc[l] + w[l] * p;
+        }
+    }
+    let mut tail = T::zero();
+    for j in m..r.len() {
+        let p = play_step(r[j], prev[j], x);
+        next[j] = p;
+        tail = tail + w[j] * p;
+    }
+    ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7])) + tail
+}
+
 impl<T: Float> Operator<T> for PiBank<T> {
     fn name(&self) -> &'static str {
         "pi"
@@ -138,22 +170,12 @@ impl<T: Float> Operator<T> for PiBank<T> {
     fn trial(&mut self, x: T) -> Result<Trial<T>> {
         self.has_pending = false;
         let x = check_input(x)?;
-        let mut out = self.a0 * x;
+        let output = self.a0 * x + bank_step(&self.r, &self.w, &self.y, &mut self.pending, x);
         let mut tangent = self.a0;
-        for j in 0..self.r.len() {
-            let p = play_step(self.r[j], self.y[j], x);
-            self.pending[j] = p;
-            out = out + self.w[j] * p;
-            tangent = tangent + self.w[j] * play_tangent(self.r[j], self.y[j], x);
+        for ((&r, &w), &y) in self.r.iter().zip(&self.w).zip(&self.y) {
+            tangent = tangent + w * play_tangent(r, y, x);
         }
-        let t = check_output(
-            "pi",
-            x,
-            Trial {
-                output: out,
-                tangent,
-            },
-        )?;
+        let t = check_output("pi", x, Trial { output, tangent })?;
         self.has_pending = true;
         Ok(t)
     }
@@ -173,24 +195,20 @@ impl<T: Float> Operator<T> for PiBank<T> {
     fn process(&mut self, xs: &[T], ys: &mut [T]) -> Result<()> {
         check_lengths(xs, ys)?;
         self.has_pending = false;
-        let (r, w, y) = (&self.r[..], &self.w[..], &mut self.y[..]);
         for (i, (&x, out)) in xs.iter().zip(ys.iter_mut()).enumerate() {
             if !x.is_finite() {
                 return Err(Error::NonFiniteInput { value: x.as_f64() }.at_sample(i));
             }
-            let mut acc = self.a0 * x;
-            for ((yj, &rj), &wj) in y.iter_mut().zip(r).zip(w) {
-                *yj = play_step(rj, *yj, x);
-                acc = acc + wj * *yj;
-            }
-            if !acc.is_finite() {
+            let y = self.a0 * x + bank_step(&self.r, &self.w, &self.y, &mut self.pending, x);
+            if !y.is_finite() {
                 return Err(Error::NonFiniteOutput {
                     operator: "pi",
                     input: x.as_f64(),
                 }
                 .at_sample(i));
             }
-            *out = acc;
+            std::mem::swap(&mut self.y, &mut self.pending);
+            *out = y;
         }
         Ok(())
     }

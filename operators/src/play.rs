@@ -43,9 +43,18 @@ pub struct Play<T> {
 }
 
 /// One play step: `max(x − r, min(x + r, y_prev))`.
+///
+/// Written as compare-and-select (inputs are finite, so NaN handling is not
+/// needed), which the compiler turns into vector min/max in batch loops.
 #[inline(always)]
 pub fn play_step<T: Float>(r: T, y_prev: T, x: T) -> T {
-    (x - r).max((x + r).min(y_prev))
+    let (lo, hi) = (x - r, x + r);
+    let clipped = if y_prev < hi { y_prev } else { hi };
+    if clipped > lo {
+        clipped
+    } else {
+        lo
+    }
 }
 
 /// The tangent of one play step (1 while dragged, 0 inside the gap).
