@@ -122,8 +122,17 @@ impl<T: Float> Mms<T> {
         let decay = (-p.k * (x - x_r).abs()).exp();
         // 1 − e^{−a} via expm1 keeps full accuracy near a reversal.
         let rise = -(-p.k * (x - x_r).abs()).exp_m1();
-        let omega = sign * p.f_c - y_r;
-        let y = if x == s.x { s.y } else { y_r + omega * rise };
+        let target = sign * p.f_c;
+        let omega = target - y_r;
+        // The branch runs from y_r towards ±F_c; clamping to that interval
+        // keeps a rounded value from overshooting ±F_c by an ulp (which
+        // would flip the sign of Ω on the next branch).
+        let y = if x == s.x {
+            s.y
+        } else {
+            let v = y_r + omega * rise;
+            v.max(y_r.min(target)).min(y_r.max(target))
+        };
         let tangent = (p.f_c - sign * y_r) * p.k * decay;
         (
             State {

@@ -1,6 +1,9 @@
 //! The stop operator (Prandtl-Ishlinskii stop).
 
-use crate::{check, check_input, check_lengths, Error, Float, Operator, Result, Trial};
+use crate::{
+    check, check_input, check_lengths, play_step, play_tangent, Error, Float, Operator, Result,
+    Trial,
+};
 use serde::{Deserialize, Serialize};
 
 /// Parameters of the [`Stop`] operator.
@@ -24,9 +27,9 @@ impl<T: Float> StopParams<T> {
 /// Stop operator with threshold `r`: `s_r[x] = x − p_r[x]`, with `p_r` the
 /// [`Play`](crate::Play). Equivalently `s_k = clamp(s_{k−1} + Δx, −r, r)`.
 ///
-/// The state kept is the play position `p = x − s`, which is updated only
-/// when the output saturates at `±r`; this makes the operator exactly
-/// rate-independent in floating point. The output `s` lies in `[−r, r]` from
+/// The state kept is the play position `q = x − s`, advanced by the play's
+/// own step; this makes the operator exactly rate-independent in floating
+/// point. The output `s` lies in `[−r, r]` from
 /// the first sample on (an initial `s0` outside is clipped there). Tangent:
 /// 1 inside, 0 at saturation.
 ///
@@ -44,16 +47,23 @@ pub struct Stop<T> {
 }
 
 /// One stop step from play position `q`: returns `(s, q_new, tangent)`.
+///
+/// The play position is advanced exactly as the [`Play`](crate::Play)
+/// advances its output (so the stop inherits its exact rate independence and
+/// wiping-out), and the output is `clamp(x − q_new, −r, r)`.
 #[inline(always)]
 pub fn stop_step<T: Float>(r: T, q: T, x: T) -> (T, T, T) {
-    let e = x - q;
-    if e > r {
-        (r, x - r, T::zero())
+    let q_new = play_step(r, q, x);
+    let tangent = T::one() - play_tangent(r, q, x);
+    let e = x - q_new;
+    let s = if e > r {
+        r
     } else if e < -r {
-        (-r, x + r, T::zero())
+        -r
     } else {
-        (e, q, T::one())
-    }
+        e
+    };
+    (s, q_new, tangent)
 }
 
 impl<T: Float> Stop<T> {
