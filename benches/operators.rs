@@ -78,7 +78,7 @@ fn composed() -> MechanicalSeries<f64, Mms<f64>, BoucWen<f64>> {
     Mms::new(2.0, 40.0)
         .expect("valid MMS")
         .series(spring)
-        .with_limits(TravelLimits::Gap { b: GAP })
+        .with_limits(TravelLimits::Gap { b: GAP, r0: 0.0 })
         .expect("valid gap")
 }
 

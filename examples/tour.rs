@@ -67,7 +67,7 @@ fn main() -> Result<()> {
             "MMS in series with spring, gap b=0.3",
             Mms::new(2.0, 40.0)?
                 .series(spring.clone())
-                .with_limits(TravelLimits::Gap { b: 0.3 })?
+                .with_limits(TravelLimits::Gap { b: 0.3, r0: 0.0 })?
                 .boxed(),
         ),
         (

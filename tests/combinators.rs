@@ -168,7 +168,7 @@ fn friction_in_series_with_spring_plateaus_at_coulomb_level() {
     let mut gapped = Mms::new(f_c, 50.0)
         .unwrap()
         .series(Gain::new(100.0).unwrap())
-        .with_limits(TravelLimits::Gap { b: 0.4 })
+        .with_limits(TravelLimits::Gap { b: 0.4, r0: 0.0 })
         .unwrap();
     let y = gapped.run(&ramp(400, 1.0)).unwrap();
     let peak = y.iter().cloned().fold(f64::MIN, f64::max);
@@ -184,7 +184,7 @@ fn series_reversal_from_stop_waits_for_spring_to_relax_to_friction() {
     let mut m = Mms::new(f_c, 200.0)
         .unwrap()
         .series(Gain::new(k).unwrap())
-        .with_limits(TravelLimits::Gap { b })
+        .with_limits(TravelLimits::Gap { b, r0: 0.0 })
         .unwrap();
     let up: Vec<f64> = (0..=100).map(|i| i as f64 * 0.01).collect(); // to x = 1
     m.run(&up).unwrap();

@@ -261,7 +261,7 @@ fn combinators() {
         Mms::new(2.0, 40.0)
             .unwrap()
             .series(spring(1.0))
-            .with_limits(TravelLimits::Gap { b: 0.3 })
+            .with_limits(TravelLimits::Gap { b: 0.3, r0: 0.0 })
             .unwrap(),
     );
     check(
@@ -285,7 +285,7 @@ fn nested_and_boxed() {
         friction
             .clone()
             .series(spring(1.5))
-            .with_limits(TravelLimits::Gap { b: 0.25 })
+            .with_limits(TravelLimits::Gap { b: 0.25, r0: 0.0 })
             .unwrap(),
     );
     check(

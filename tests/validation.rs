@@ -89,7 +89,7 @@ fn invalid_parameters_name_the_field() {
         Gain::new(1.0)
             .unwrap()
             .series(Gain::new(1.0).unwrap())
-            .with_limits(TravelLimits::Gap { b: 0.0 }),
+            .with_limits(TravelLimits::Gap { b: 0.0, r0: 0.0 }),
         "limits.b",
     );
 }

@@ -17,11 +17,16 @@ pub enum TravelLimits<T> {
         /// Upper stop.
         hi: T,
     },
-    /// A symmetric gap of total size `b > 0`: `x_left ∈ [−b/2, b/2]`.
-    /// Parameter `[b]`.
+    /// A gap of total size `b > 0` in which the left element starts at
+    /// position `r0 ∈ [−b/2, b/2]` (measured from the gap's centre): its
+    /// displacement from the start is limited to `[−b/2 − r0, b/2 − r0]`.
+    /// Parameters `[b, r0]`.
     Gap {
         /// Gap size.
         b: T,
+        /// Initial position in the gap (0: centred).
+        #[serde(default)]
+        r0: T,
     },
 }
 
@@ -35,7 +40,19 @@ impl<T: Float> TravelLimits<T> {
                 check::non_negative("limits.hi", hi)?;
                 check::ordered("limits.lo", lo, "limits.hi", hi)
             }
-            TravelLimits::Gap { b } => check::positive("limits.b", b),
+            TravelLimits::Gap { b, r0 } => {
+                check::positive("limits.b", b)?;
+                check::finite("limits.r0", r0)?;
+                if r0.abs() <= b * T::lit(0.5) {
+                    Ok(())
+                } else {
+                    Err(Error::InvalidParameter {
+                        name: "limits.r0".into(),
+                        value: r0.as_f64(),
+                        reason: "must lie in the gap [−b/2, b/2]",
+                    })
+                }
+            }
         }
     }
 
@@ -43,9 +60,9 @@ impl<T: Float> TravelLimits<T> {
         match *self {
             TravelLimits::None => None,
             TravelLimits::Range { lo, hi } => Some((lo, hi)),
-            TravelLimits::Gap { b } => {
+            TravelLimits::Gap { b, r0 } => {
                 let half = b * T::lit(0.5);
-                Some((-half, half))
+                Some((-half - r0, half - r0))
             }
         }
     }
@@ -54,7 +71,7 @@ impl<T: Float> TravelLimits<T> {
         match *self {
             TravelLimits::None => vec![],
             TravelLimits::Range { lo, hi } => vec![lo, hi],
-            TravelLimits::Gap { b } => vec![b],
+            TravelLimits::Gap { b, r0 } => vec![b, r0],
         }
     }
 
@@ -62,7 +79,7 @@ impl<T: Float> TravelLimits<T> {
         match self {
             TravelLimits::None => vec![],
             TravelLimits::Range { .. } => vec!["limits.lo".into(), "limits.hi".into()],
-            TravelLimits::Gap { .. } => vec!["limits.b".into()],
+            TravelLimits::Gap { .. } => vec!["limits.b".into(), "limits.r0".into()],
         }
     }
 
@@ -71,7 +88,7 @@ impl<T: Float> TravelLimits<T> {
         let next = match self {
             TravelLimits::None => TravelLimits::None,
             TravelLimits::Range { .. } => TravelLimits::Range { lo: p[0], hi: p[1] },
-            TravelLimits::Gap { .. } => TravelLimits::Gap { b: p[0] },
+            TravelLimits::Gap { .. } => TravelLimits::Gap { b: p[0], r0: p[1] },
         };
         next.validate()?;
         Ok(next)
