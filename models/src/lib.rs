@@ -1,9 +1,22 @@
 //! # hysteron-models
 //!
 //! Composed models built from `hysteron-operators` and
-//! `hysteron-composition`. The paper's transmission model (damped bedstop
-//! in series with the Bouc-Wen-like spring) and the JSON model specs are
-//! planned here; see the repository README for what is done.
+//! `hysteron-composition`:
+//!
+//! * [`transmission`]: the structural hysteresis model of Ruderman &
+//!   Bertram (2015), a damped bedstop (MMS friction slider in a backlash
+//!   gap) in mechanical series with a Bouc-Wen-like spring, composed from
+//!   the algebra, with any friction element or spring swappable;
+//! * [`experiments`]: the excitation signals of the paper and a simulation
+//!   loop that records the internal states.
+
+#![warn(missing_docs)]
+
+pub mod experiments;
+mod transmission;
 
 pub use hysteron_composition as composition;
 pub use hysteron_operators as operators;
+pub use transmission::{
+    paper_state, transmission, PaperModel, Transmission, TransmissionParams, TransmissionState,
+};
