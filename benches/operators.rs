@@ -72,6 +72,7 @@ fn composed() -> MechanicalSeries<f64, Mms<f64>, BoucWen<f64>> {
         gamma: 0.4,
         n: 1.0,
         h0: 0.0,
+        z0: 0.0,
         stiffness,
     })
     .expect("valid Bouc-Wen");

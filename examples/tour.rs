@@ -47,6 +47,7 @@ fn main() -> Result<()> {
         gamma: 1.0,
         n: 1.0,
         h0: 0.0,
+        z0: 0.0,
         stiffness: StiffnessMap::new(vec![0.0, 0.6, 1.2], vec![8.0, 10.0, 16.0])?,
     })?;
     let r: Vec<f64> = (0..16).map(|j| 0.1 * j as f64).collect();

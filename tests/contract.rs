@@ -194,6 +194,7 @@ fn spring(n: f64) -> BoucWen<f64> {
         gamma: 1.0,
         n,
         h0: 0.05,
+        z0: 0.0,
         stiffness: StiffnessMap::new(vec![0.0, 0.4, 1.0], vec![6.0, 9.0, 16.0]).unwrap(),
     })
     .unwrap()

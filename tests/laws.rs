@@ -309,6 +309,7 @@ fn bouc_wen(ns: impl Strategy<Value = f64>) -> impl Strategy<Value = BoucWenPara
             gamma,
             n,
             h0: 2.0 * f * bw_bound(alpha, beta, gamma, n),
+            z0: 0.0,
             stiffness,
         },
     )
@@ -1045,6 +1046,7 @@ fn law7_bouc_wen_zero_crossing_reproduction() {
             gamma,
             n,
             h0,
+            z0: 0.0,
             stiffness: StiffnessMap::constant(1.0).unwrap(),
         })
         .unwrap()
@@ -1213,6 +1215,7 @@ fn law9_bouc_wen_n1_matches_closed_form() {
                 gamma: p.gamma,
                 n: 1.0,
                 h0: p.h0,
+                z0: 0.0,
                 stiffness: ok(StiffnessMap::constant(p.k))?,
             }))?;
             let (mut out, mut st) = (Vec::new(), Vec::new());

@@ -21,6 +21,7 @@ fn bw(w: f64, n: f64, z: Vec<f64>, s: Vec<f64>) -> Result<BoucWen<f64>> {
         gamma: 0.5,
         n,
         h0: 0.0,
+        z0: 0.0,
         stiffness: StiffnessMap::new(z, s)?,
     })
 }

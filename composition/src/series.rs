@@ -18,9 +18,10 @@ pub enum TravelLimits<T> {
         hi: T,
     },
     /// A gap of total size `b > 0` in which the left element starts at
-    /// position `r0 ∈ [−b/2, b/2]` (measured from the gap's centre): its
-    /// displacement from the start is limited to `[−b/2 − r0, b/2 − r0]`.
-    /// Parameters `[b, r0]`.
+    /// position `r0 ∈ [−b/2, b/2]` (measured from the gap's centre). The
+    /// left element is driven by its displacement since the start,
+    /// `r − r0 ∈ [−b/2 − r0, b/2 − r0]`, and the right element by
+    /// `x − r` (so at `x = 0` it sees `−r0`). Parameters `[b, r0]`.
     Gap {
         /// Gap size.
         b: T,
@@ -67,6 +68,14 @@ impl<T: Float> TravelLimits<T> {
         }
     }
 
+    /// Where the left element starts (`r0` of a gap, else 0).
+    fn start(&self) -> T {
+        match *self {
+            TravelLimits::Gap { r0, .. } => r0,
+            _ => T::zero(),
+        }
+    }
+
     fn values(&self) -> Vec<T> {
         match *self {
             TravelLimits::None => vec![],
@@ -106,7 +115,8 @@ struct State<T> {
 ///
 /// `x = x_L + x_R`,  `F = L[x_L] = R[x_R]`,
 ///
-/// with optional travel limits on the left element, `x_L ∈ [lo, hi]`. At a
+/// with optional travel limits on the left element, `x_L ∈ [lo, hi]` (for a
+/// [`TravelLimits::Gap`] with start `r0`, `x_R = x − r0 − x_L`). At a
 /// limit the left element stops (its input is held at the limit, so its
 /// state stops evolving) and a contact force `N = R[x_R] − L[x_L]` makes up
 /// the difference; the contact only pushes (into the stop). The output is
@@ -209,10 +219,11 @@ where
         self.pending = None;
         let x = check_input(x)?;
         let (left, right) = (&mut self.left, &mut self.right);
+        let r0 = self.limits.start();
         let mut last = (Trial::default(), Trial::default());
         let residual = |xl: T| -> Result<(T, T)> {
             let l = left.trial(xl)?;
-            let r = right.trial(x - xl)?;
+            let r = right.trial(x - r0 - xl)?;
             last = (l, r);
             Ok((l.output - r.output, l.tangent + r.tangent))
         };

@@ -39,7 +39,7 @@ pub type PaperModel = Transmission<f64, Mms<f64>, BoucWen<f64>>;
 /// use hysteron_models::transmission;
 /// use hysteron_operators::{ElastoPlastic, Gain, Operator};
 /// // An elastoplastic slider and a linear spring instead of the paper's parts.
-/// let mut m = transmission(ElastoPlastic::new(50.0, 1.0).unwrap(), Gain::new(10.0).unwrap(), 0.2, 0.0).unwrap();
+/// let mut m = transmission(ElastoPlastic::new(50.0_f64, 1.0).unwrap(), Gain::new(10.0).unwrap(), 0.2, 0.0).unwrap();
 /// let f = m.run(&[0.0, 0.5, 1.0]).unwrap();
 /// assert!((f[2] - 10.0 * (1.0 - 0.1)).abs() < 1e-12); // at the stop: S(x − b/2)
 /// ```
@@ -70,7 +70,8 @@ where
 pub struct TransmissionParams {
     /// Backlash (gap) size `b` [deg].
     pub backlash: f64,
-    /// Initial slider position in the gap, `|slider0| ≤ b/2` [deg].
+    /// Initial slider position in the gap, `|slider0| ≤ b/2` [deg]; the
+    /// spring then starts at deflection `z = −slider0`.
     #[serde(default)]
     pub slider0: f64,
     /// MMS friction on the slider: `f_c` [Nm], `k` [1/deg], initial force `y0` [Nm].
@@ -85,8 +86,8 @@ impl Default for TransmissionParams {
             backlash: 0.3,
             slider0: 0.0,
             friction: MmsParams {
-                f_c: 3.0,
-                k: 25.0,
+                f_c: 1.5,
+                k: 30.0,
                 y0: 0.0,
             },
             spring: BoucWenParams {
@@ -96,6 +97,7 @@ impl Default for TransmissionParams {
                 gamma: 1.5,
                 n: 1.0,
                 h0: 0.0,
+                z0: 0.0,
                 // A hardening stiffness map S(|z|) [Nm/deg].
                 stiffness: StiffnessMap::new(
                     vec![0.0, 0.3, 0.6, 0.9, 1.2, 1.5],
@@ -108,10 +110,20 @@ impl Default for TransmissionParams {
 }
 
 impl TransmissionParams {
+    /// The spring's parameters as the model uses them: its initial input
+    /// `z0` is the deflection at `x = 0`, `−slider0` (the `z0` given in
+    /// [`spring`](Self::spring) is replaced).
+    pub fn spring_params(&self) -> BoucWenParams<f64> {
+        BoucWenParams {
+            z0: -self.slider0,
+            ..self.spring.clone()
+        }
+    }
+
     /// Builds the paper's model from these parameters (validating all).
     pub fn build(&self) -> Result<PaperModel> {
         let friction = Mms::from_params(self.friction).map_err(|e| e.in_path("friction"))?;
-        let spring = BoucWen::from_params(self.spring.clone()).map_err(|e| e.in_path("spring"))?;
+        let spring = BoucWen::from_params(self.spring_params()).map_err(|e| e.in_path("spring"))?;
         transmission(friction, spring, self.backlash, self.slider0)
     }
 }
@@ -121,7 +133,7 @@ impl TransmissionParams {
 pub struct TransmissionState {
     /// Slider position in the gap, `r ∈ [−b/2, b/2]`.
     pub slider: f64,
-    /// Spring deflection `z = x − (r − r0)`.
+    /// Spring deflection `z = x − r`.
     pub z: f64,
     /// Friction force on the slider.
     pub friction: f64,
@@ -138,7 +150,7 @@ pub fn paper_state(model: &PaperModel, x: f64) -> TransmissionState {
     };
     TransmissionState {
         slider: r0 + moved,
-        z: x - moved,
+        z: x - r0 - moved,
         friction: model.left().output(),
         h: model.right().state(),
     }

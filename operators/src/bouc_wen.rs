@@ -17,15 +17,19 @@ pub struct BoucWenParams<T> {
     pub gamma: T,
     /// Exponent `n ≥ 1`.
     pub n: T,
-    /// Hysteretic state `h` at input `z = 0` before the first sample.
+    /// Hysteretic state `h` at the initial input `z0`, before the first sample.
     #[serde(default)]
     pub h0: T,
+    /// The input at which the spring starts (default 0): the state before the
+    /// first sample is `(z0, h0)`, and the first sample moves from `z0`.
+    #[serde(default)]
+    pub z0: T,
     /// Stiffness map `S(z)`.
     pub stiffness: StiffnessMap<T>,
 }
 
 impl<T: Float> BoucWenParams<T> {
-    /// Checks `w ∈ [0, 1]`, `n ≥ 1`, finite `α, β, γ, h0`, valid knots.
+    /// Checks `w ∈ [0, 1]`, `n ≥ 1`, finite `α, β, γ, h0, z0`, valid knots.
     ///
     /// Sets outside the bounded class (`β + γ < 0`, hardening loops) are
     /// legitimate and accepted; if their state diverges the operator
@@ -37,6 +41,7 @@ impl<T: Float> BoucWenParams<T> {
         check::finite("gamma", self.gamma)?;
         check::at_least_one("n", self.n)?;
         check::finite("h0", self.h0)?;
+        check::finite("z0", self.z0)?;
         self.stiffness
             .validate()
             .map_err(|e| e.in_path("stiffness"))
@@ -83,7 +88,7 @@ pub struct BoucWen<T> {
     pending: Option<State<T>>,
 }
 
-const N_SCALAR: usize = 6;
+const N_SCALAR: usize = 7;
 
 impl<T: Float> BoucWen<T> {
     /// A spring from validated parameters.
@@ -97,7 +102,7 @@ impl<T: Float> BoucWen<T> {
             rtol: T::lit(1e-10),
         };
         let s = State {
-            z: T::zero(),
+            z: p.z0,
             h: p.h0,
             dir: 0,
         };
@@ -118,6 +123,7 @@ impl<T: Float> BoucWen<T> {
             gamma,
             n,
             h0: T::zero(),
+            z0: T::zero(),
             stiffness: StiffnessMap::constant(k)?,
         })
     }
@@ -192,7 +198,7 @@ impl<T: Float> Operator<T> for BoucWen<T> {
 
     fn reset(&mut self) {
         self.s = State {
-            z: T::zero(),
+            z: self.p.z0,
             h: self.p.h0,
             dir: 0,
         };
@@ -205,12 +211,12 @@ impl<T: Float> Operator<T> for BoucWen<T> {
 
     fn params_into(&self, out: &mut Vec<T>) {
         let p = &self.p;
-        out.extend([p.w, p.alpha, p.beta, p.gamma, p.n, p.h0]);
+        out.extend([p.w, p.alpha, p.beta, p.gamma, p.n, p.h0, p.z0]);
         p.stiffness.params_into(out);
     }
 
     fn param_names(&self) -> Vec<String> {
-        ["w", "alpha", "beta", "gamma", "n", "h0"]
+        ["w", "alpha", "beta", "gamma", "n", "h0", "z0"]
             .into_iter()
             .map(String::from)
             .chain(
@@ -238,6 +244,7 @@ impl<T: Float> Operator<T> for BoucWen<T> {
             gamma: p[3],
             n: p[4],
             h0: p[5],
+            z0: p[6],
             stiffness,
         })?;
         next.eq.rtol = rtol;
