@@ -15,9 +15,9 @@ use std::f64::consts::TAU;
 /// A sampled input signal.
 #[derive(Debug, Clone, PartialEq, Default, Serialize)]
 pub struct Signal {
-    /// Time [s].
+    /// Time (s).
     pub t: Vec<f64>,
-    /// Input displacement [deg].
+    /// Input displacement (deg).
     pub x: Vec<f64>,
 }
 
@@ -104,9 +104,9 @@ pub fn chirp(
 /// amplitude it reaches at frequency `f` for a command `a0`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Drive {
-    /// Commanded amplitude [deg].
+    /// Commanded amplitude (deg).
     pub a0: f64,
-    /// Bandwidth [Hz].
+    /// Bandwidth (Hz).
     pub f_bw: f64,
 }
 
@@ -131,7 +131,7 @@ pub struct Experiment {
     pub params: TransmissionParams,
 }
 
-/// Sampling rate of the paper's experiments as reproduced here [Hz].
+/// Sampling rate of the paper's experiments as reproduced here (Hz).
 pub const FS: f64 = 1000.0;
 
 /// The drive of the reproduced experiments: 1.5 deg commanded, 4 Hz
@@ -201,11 +201,11 @@ pub fn paper_experiments(params: &TransmissionParams) -> Result<Vec<Experiment>>
 /// states at every sample.
 #[derive(Debug, Clone, PartialEq, Default, Serialize)]
 pub struct Record {
-    /// Time [s].
+    /// Time (s).
     pub t: Vec<f64>,
-    /// Input [deg].
+    /// Input (deg).
     pub x: Vec<f64>,
-    /// Transmitted force [Nm].
+    /// Transmitted force (Nm).
     pub force: Vec<f64>,
     /// Internal states after each sample.
     pub state: Vec<TransmissionState>,

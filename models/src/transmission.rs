@@ -68,15 +68,15 @@ where
 /// ±20 Nm); they are not identified from its data.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TransmissionParams {
-    /// Backlash (gap) size `b` [deg].
+    /// Backlash (gap) size `b` (deg).
     pub backlash: f64,
-    /// Initial slider position in the gap, `|slider0| ≤ b/2` [deg]; the
+    /// Initial slider position in the gap, `|slider0| ≤ b/2` (deg); the
     /// spring then starts at deflection `z = −slider0`.
     #[serde(default)]
     pub slider0: f64,
-    /// MMS friction on the slider: `f_c` [Nm], `k` [1/deg], initial force `y0` [Nm].
+    /// MMS friction on the slider: `f_c` (Nm), `k` (1/deg), initial force `y0` (Nm).
     pub friction: MmsParams<f64>,
-    /// The hysteresis spring (input: deflection `z` [deg], output: force [Nm]).
+    /// The hysteresis spring (input: deflection `z` (deg), output: force (Nm)).
     pub spring: BoucWenParams<f64>,
 }
 
@@ -98,7 +98,7 @@ impl Default for TransmissionParams {
                 n: 1.0,
                 h0: 0.0,
                 z0: 0.0,
-                // A hardening stiffness map S(|z|) [Nm/deg].
+                // A hardening stiffness map S(|z|) (Nm/deg).
                 stiffness: StiffnessMap::new(
                     vec![0.0, 0.3, 0.6, 0.9, 1.2, 1.5],
                     vec![7.0, 8.0, 9.5, 11.5, 14.0, 16.0],
