@@ -13,10 +13,12 @@
 #![warn(missing_docs)]
 
 pub mod experiments;
+pub mod spec;
 mod transmission;
 
 pub use hysteron_composition as composition;
 pub use hysteron_operators as operators;
+pub use spec::{Spec, SpecError};
 pub use transmission::{
     paper_state, transmission, PaperModel, Transmission, TransmissionParams, TransmissionState,
 };

@@ -1,0 +1,975 @@
+//! Model specs: a serde data description of any composed model.
+//!
+//! A [`Spec`] is a tree: leaves are the elementary operators (with the
+//! parameter structs of `hysteron-operators`), inner nodes are the
+//! combinators of `hysteron-composition`, and [`Spec::build`] turns it into
+//! a boxed [`Operator`]. In JSON every node is an object whose `type` field
+//! names the variant (snake case) next to the variant's fields:
+//!
+//! ```json
+//! {
+//!   "type": "series",
+//!   "left": { "type": "mms", "f_c": 1.5, "k": 30.0 },
+//!   "right": { "type": "gain", "k": 10.0 },
+//!   "limits": { "type": "gap", "b": 0.3, "r0": 0.0 }
+//! }
+//! ```
+//!
+//! Optional fields: `y0`, `s0`, `f0`, `h0`, `z0` and a PI bank's `y0`
+//! (default 0 / empty), a series' `limits` (default none: `{"type": "none"}`),
+//! an implicit combinator's `solver` (default [`SolverOptions::default`],
+//! and each of its fields may be left out). Unknown fields are errors.
+//!
+//! Errors name where they are: a JSON error the path in the document
+//! (`right.stiffness.s[3]`) with serde's message; a parameter rejected by
+//! [`Spec::build`] the path through the tree, each node as `field.type`
+//! (`series.right.bouc_wen.stiffness.s[3]: must be ≥ 0 (got -1)`).
+
+use crate::TransmissionParams;
+use hysteron_composition::{OperatorExt, PiBank, PiBankParams, SolverOptions, TravelLimits};
+use hysteron_operators::{
+    check, BoucWen, BoucWenParams, DeadZone, DeadZoneParams, ElastoPlastic, ElastoPlasticParams,
+    Error, Gain, Mms, MmsParams, Operator, Play, PlayParams, Saturation, SaturationParams,
+    StiffnessMap, Stop, StopParams,
+};
+use serde::{Deserialize, Deserializer, Serialize};
+use std::path::Path;
+
+/// A data description of a model: an elementary operator or a combinator
+/// of specs. Serialized with an internal `type` tag (see the
+/// [module documentation](self)).
+///
+/// ```
+/// use hysteron_models::Spec;
+///
+/// let spec = Spec::from_json(r#"{
+///     "type": "cascade",
+///     "first": { "type": "play", "r": 0.5 },
+///     "second": { "type": "dead_zone", "b_l": -1.0, "b_r": 1.0 }
+/// }"#)?;
+/// let mut model = spec.build()?;
+/// assert_eq!(model.run(&[3.0])?, vec![1.5]); // play → 2.5, dead-zone → 1.5
+/// // JSON round trip
+/// assert_eq!(Spec::from_json(&spec.to_json_pretty()?)?, spec);
+/// // errors name the path
+/// let err = Spec::from_json(r#"{"type": "scaled", "w": 2, "inner": {"type": "gain"}}"#)
+///     .unwrap_err();
+/// assert_eq!(err.path(), "inner");
+/// assert!(err.to_string().starts_with("inner: missing field `k`"));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Serialize, Debug, Clone, PartialEq)]
+#[serde(tag = "type", rename_all = "snake_case")]
+pub enum Spec {
+    /// Play (backlash) operator, [`Play`].
+    Play(PlayParams<f64>),
+    /// Stop operator, [`Stop`].
+    Stop(StopParams<f64>),
+    /// Elastic-plastic (Maxwell-slip) element, [`ElastoPlastic`].
+    Elastoplastic(ElastoPlasticParams<f64>),
+    /// Dead-zone, [`DeadZone`].
+    DeadZone(DeadZoneParams<f64>),
+    /// Saturation, [`Saturation`].
+    Saturation(SaturationParams<f64>),
+    /// Linear gain `y = k x`, [`Gain`].
+    Gain {
+        /// The gain (finite).
+        k: f64,
+    },
+    /// Modified Maxwell-slip friction, [`Mms`].
+    Mms(MmsParams<f64>),
+    /// Bouc-Wen-like spring, [`BoucWen`].
+    BoucWen(BoucWenParams<f64>),
+    /// Prandtl-Ishlinskii bank of plays, [`PiBank`].
+    PiBank(PiBankParams<f64>),
+    /// The paper's model from its named parameters (built by
+    /// [`TransmissionParams::build`]); a convenience for the generic
+    /// `series` that `Spec::from(&TransmissionParams)` gives.
+    Transmission(TransmissionParams),
+    /// Cascade `y = second[first[x]]`.
+    Cascade {
+        /// Applied first.
+        first: Box<Spec>,
+        /// Applied to the output of `first`.
+        second: Box<Spec>,
+    },
+    /// Parallel `y = left[x] + right[x]`.
+    Parallel {
+        /// One branch.
+        left: Box<Spec>,
+        /// The other branch.
+        right: Box<Spec>,
+    },
+    /// Weighted `y = w · inner[x]`.
+    Scaled {
+        /// The weight (finite).
+        w: f64,
+        /// The weighted operator.
+        inner: Box<Spec>,
+    },
+    /// Negative feedback `y = forward[x − back[y]]`, solved each sample.
+    Feedback {
+        /// Forward path.
+        forward: Box<Spec>,
+        /// Return path.
+        back: Box<Spec>,
+        /// Solver tolerances (default [`SolverOptions::default`]).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        solver: Option<SolverOptions<f64>>,
+    },
+    /// Mechanical series: equal force, displacements add, optional travel
+    /// limits on `left`.
+    Series {
+        /// The left element (the one the limits apply to).
+        left: Box<Spec>,
+        /// The right element.
+        right: Box<Spec>,
+        /// Travel limits on the left element (default none). In JSON
+        /// `{"type": "none"}`, `{"type": "range", "lo", "hi"}` or
+        /// `{"type": "gap", "b", "r0"}`.
+        #[serde(
+            default = "no_limits",
+            skip_serializing_if = "is_no_limits",
+            serialize_with = "LimitsSer::serialize"
+        )]
+        limits: TravelLimits<f64>,
+        /// Solver tolerances (default [`SolverOptions::default`]).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        solver: Option<SolverOptions<f64>>,
+    },
+    /// Numerical inverse of a non-decreasing operator.
+    Inverse {
+        /// The operator inverted.
+        inner: Box<Spec>,
+        /// Solver tolerances (default [`SolverOptions::default`]).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        solver: Option<SolverOptions<f64>>,
+    },
+}
+
+/// What can go wrong reading or building a [`Spec`].
+///
+/// Every variant names where: `path` is a path in the JSON document
+/// ([`Json`](SpecError::Json)), through the spec tree
+/// ([`Invalid`](SpecError::Invalid)), or a file ([`Io`](SpecError::Io)).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum SpecError {
+    /// Malformed JSON or a document that is not a spec: syntax error,
+    /// unknown `type`, missing or unknown field, wrong type.
+    #[error("{path}: {message}")]
+    Json {
+        /// Where in the document, as `field.field[index]` (`.` for the root).
+        path: String,
+        /// Serde's message.
+        message: String,
+    },
+    /// A parameter rejected when building the model.
+    #[error("{path}: {message}")]
+    Invalid {
+        /// The path through the spec tree to the parameter, each node as
+        /// `field.type`: `series.right.bouc_wen.stiffness.s[3]`.
+        path: String,
+        /// What the parameter must satisfy and its value:
+        /// `must be ≥ 0 (got -1)`.
+        message: String,
+        /// The library's error, with the parameter name it gave.
+        source: Error,
+    },
+    /// A spec file could not be read.
+    #[error("{path}: {message}")]
+    Io {
+        /// The file.
+        path: String,
+        /// The operating system's message.
+        message: String,
+    },
+}
+
+impl SpecError {
+    /// The path the error names (see the variants).
+    pub fn path(&self) -> &str {
+        match self {
+            SpecError::Json { path, .. }
+            | SpecError::Invalid { path, .. }
+            | SpecError::Io { path, .. } => path,
+        }
+    }
+
+    /// A build error of the node at `node` (a spec path): the parameter name
+    /// the library gives is appended to the path.
+    fn invalid(node: &str, source: Error) -> Self {
+        let (path, message) = match &source {
+            Error::InvalidParameter {
+                name,
+                value,
+                reason,
+            } => (format!("{node}.{name}"), format!("{reason} (got {value})")),
+            other => (node.to_string(), other.to_string()),
+        };
+        SpecError::Invalid {
+            path,
+            message,
+            source,
+        }
+    }
+
+    fn json(e: &serde_path_to_error::Error<serde_json::Error>) -> Self {
+        SpecError::Json {
+            path: e.path().to_string(),
+            message: e.inner().to_string(),
+        }
+    }
+}
+
+/// Largest `max_iter` / `max_expansions` a spec's solver may ask for (a
+/// bound on the work per sample, so that no spec can make a model hang).
+const MAX_SOLVER_ITER: usize = 100_000;
+
+impl Spec {
+    /// Builds the model, validating every parameter.
+    ///
+    /// Errors are [`SpecError::Invalid`], naming the path through the tree
+    /// (`series.right.bouc_wen.stiffness.s[3]`). Besides what the operators
+    /// check, a `solver` must have finite `rel_tol, abs_tol ≥ 0` and
+    /// `max_iter, max_expansions` in `[1, 100000]`.
+    ///
+    /// ```
+    /// use hysteron_models::Spec;
+    /// use hysteron_operators::PlayParams;
+    /// let spec = Spec::Scaled {
+    ///     w: 2.0,
+    ///     inner: Box::new(Spec::Play(PlayParams { r: -1.0, y0: 0.0 })),
+    /// };
+    /// let err = spec.build().unwrap_err();
+    /// assert_eq!(err.to_string(), "scaled.inner.play.r: must be ≥ 0 (got -1)");
+    /// ```
+    pub fn build(&self) -> Result<Box<dyn Operator<f64>>, SpecError> {
+        self.build_at(self.kind())
+    }
+
+    fn build_at(&self, path: &str) -> Result<Box<dyn Operator<f64>>, SpecError> {
+        let invalid = |e: Error| SpecError::invalid(path, e);
+        let child =
+            |field: &str, spec: &Spec| spec.build_at(&format!("{path}.{field}.{}", spec.kind()));
+        let solver = |opts: &Option<SolverOptions<f64>>| -> Result<SolverOptions<f64>, SpecError> {
+            let opts = opts.unwrap_or_default();
+            check_solver(&opts).map_err(|e| invalid(e.in_path("solver")))?;
+            Ok(opts)
+        };
+        Ok(match self {
+            Spec::Play(p) => Play::from_params(*p).map_err(invalid)?.boxed(),
+            Spec::Stop(p) => Stop::from_params(*p).map_err(invalid)?.boxed(),
+            Spec::Elastoplastic(p) => ElastoPlastic::from_params(*p).map_err(invalid)?.boxed(),
+            Spec::DeadZone(p) => DeadZone::from_params(*p).map_err(invalid)?.boxed(),
+            Spec::Saturation(p) => Saturation::from_params(*p).map_err(invalid)?.boxed(),
+            Spec::Gain { k } => Gain::new(*k).map_err(invalid)?.boxed(),
+            Spec::Mms(p) => Mms::from_params(*p).map_err(invalid)?.boxed(),
+            Spec::BoucWen(p) => BoucWen::from_params(p.clone()).map_err(invalid)?.boxed(),
+            Spec::PiBank(p) => PiBank::from_params(p.clone()).map_err(invalid)?.boxed(),
+            Spec::Transmission(p) => p
+                .build()
+                .map_err(|e| invalid(transmission_names(e)))?
+                .boxed(),
+            Spec::Cascade { first, second } => {
+                let a = child("first", first)?;
+                let b = child("second", second)?;
+                a.then(b).boxed()
+            }
+            Spec::Parallel { left, right } => {
+                let a = child("left", left)?;
+                let b = child("right", right)?;
+                a.plus(b).boxed()
+            }
+            Spec::Scaled { w, inner } => {
+                check::finite("w", *w).map_err(invalid)?;
+                child("inner", inner)?.scaled(*w).map_err(invalid)?.boxed()
+            }
+            Spec::Feedback {
+                forward,
+                back,
+                solver: opts,
+            } => {
+                let opts = solver(opts)?;
+                let a = child("forward", forward)?;
+                let b = child("back", back)?;
+                a.feedback(b).with_solver(opts).boxed()
+            }
+            Spec::Series {
+                left,
+                right,
+                limits,
+                solver: opts,
+            } => {
+                limits.validate().map_err(invalid)?;
+                let opts = solver(opts)?;
+                let a = child("left", left)?;
+                let b = child("right", right)?;
+                a.series(b)
+                    .with_limits(*limits)
+                    .map_err(invalid)?
+                    .with_solver(opts)
+                    .boxed()
+            }
+            Spec::Inverse {
+                inner,
+                solver: opts,
+            } => {
+                let opts = solver(opts)?;
+                child("inner", inner)?.inverse().with_solver(opts).boxed()
+            }
+        })
+    }
+
+    /// The variant's name as written in the `type` field (`"bouc_wen"`).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Spec::Play(_) => "play",
+            Spec::Stop(_) => "stop",
+            Spec::Elastoplastic(_) => "elastoplastic",
+            Spec::DeadZone(_) => "dead_zone",
+            Spec::Saturation(_) => "saturation",
+            Spec::Gain { .. } => "gain",
+            Spec::Mms(_) => "mms",
+            Spec::BoucWen(_) => "bouc_wen",
+            Spec::PiBank(_) => "pi_bank",
+            Spec::Transmission(_) => "transmission",
+            Spec::Cascade { .. } => "cascade",
+            Spec::Parallel { .. } => "parallel",
+            Spec::Scaled { .. } => "scaled",
+            Spec::Feedback { .. } => "feedback",
+            Spec::Series { .. } => "series",
+            Spec::Inverse { .. } => "inverse",
+        }
+    }
+
+    /// The child specs with their field names, in order (empty for leaves).
+    pub fn children(&self) -> Vec<(&'static str, &Spec)> {
+        match self {
+            Spec::Cascade { first, second } => vec![("first", first), ("second", second)],
+            Spec::Parallel { left, right } | Spec::Series { left, right, .. } => {
+                vec![("left", left), ("right", right)]
+            }
+            Spec::Scaled { inner, .. } | Spec::Inverse { inner, .. } => vec![("inner", inner)],
+            Spec::Feedback { forward, back, .. } => vec![("forward", forward), ("back", back)],
+            _ => Vec::new(),
+        }
+    }
+
+    /// A one-line outline of the tree:
+    /// `series[gap b=0.3 r0=0](mms, bouc_wen)`.
+    ///
+    /// ```
+    /// use hysteron_models::{Spec, TransmissionParams};
+    /// let spec = Spec::from(&TransmissionParams::default());
+    /// assert_eq!(spec.describe(), "series[gap b=0.3 r0=0](mms, bouc_wen)");
+    /// ```
+    pub fn describe(&self) -> String {
+        let attrs = match self {
+            Spec::Scaled { w, .. } => format!("[w={w}]"),
+            Spec::Series { limits, .. } => match limits {
+                TravelLimits::None => String::new(),
+                TravelLimits::Range { lo, hi } => format!("[range lo={lo} hi={hi}]"),
+                TravelLimits::Gap { b, r0 } => format!("[gap b={b} r0={r0}]"),
+            },
+            _ => String::new(),
+        };
+        let children = self.children();
+        if children.is_empty() {
+            return format!("{}{attrs}", self.kind());
+        }
+        let inner: Vec<String> = children.iter().map(|(_, c)| c.describe()).collect();
+        format!("{}{attrs}({})", self.kind(), inner.join(", "))
+    }
+
+    /// Reads a spec from JSON.
+    ///
+    /// Errors are [`SpecError::Json`] with the path in the document and
+    /// serde's message (syntax errors also give line and column).
+    pub fn from_json(text: &str) -> Result<Spec, SpecError> {
+        let mut de = serde_json::Deserializer::from_str(text);
+        match serde_path_to_error::deserialize::<_, Spec>(&mut de) {
+            Ok(spec) => {
+                de.end().map_err(|e| SpecError::Json {
+                    path: ".".into(),
+                    message: e.to_string(),
+                })?;
+                Ok(spec)
+            }
+            Err(e) => Err(locate(text, &e)),
+        }
+    }
+
+    /// Reads a spec from a JSON file ([`SpecError::Io`] if it cannot be
+    /// read, otherwise as [`from_json`](Spec::from_json)).
+    pub fn from_json_file(path: impl AsRef<Path>) -> Result<Spec, SpecError> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path).map_err(|e| SpecError::Io {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        })?;
+        Spec::from_json(&text)
+    }
+
+    /// Writes the spec as indented JSON (`type` first in every object;
+    /// numbers in shortest round-trip form, so reading it back gives the
+    /// same spec bit for bit).
+    ///
+    /// Serializing a spec cannot fail (non-finite numbers, which no valid
+    /// spec has, are written as `null`); the error is there only so that
+    /// nothing panics.
+    pub fn to_json_pretty(&self) -> Result<String, SpecError> {
+        serde_json::to_string_pretty(self).map_err(|e| SpecError::Json {
+            path: ".".into(),
+            message: e.to_string(),
+        })
+    }
+}
+
+/// The paper's model as a generic spec: `left` the MMS slider, `right` the
+/// spring (with its initial deflection `z0 = −slider0`, see
+/// [`TransmissionParams::spring_params`]), the gap as travel limits
+/// `{b: backlash, r0: slider0}`. Builds to the same model as
+/// [`TransmissionParams::build`].
+impl From<&TransmissionParams> for Spec {
+    fn from(p: &TransmissionParams) -> Self {
+        let mut spring = p.spring_params();
+        if spring.z0 == 0.0 {
+            spring.z0 = 0.0; // `−slider0` of a centred slider is −0
+        }
+        Spec::Series {
+            left: Box::new(Spec::Mms(p.friction)),
+            right: Box::new(Spec::BoucWen(spring)),
+            limits: TravelLimits::Gap {
+                b: p.backlash,
+                r0: p.slider0,
+            },
+            solver: None,
+        }
+    }
+}
+
+impl From<TransmissionParams> for Spec {
+    fn from(p: TransmissionParams) -> Self {
+        Spec::from(&p)
+    }
+}
+
+/// Checks a spec's solver options (see [`Spec::build`]).
+fn check_solver(o: &SolverOptions<f64>) -> Result<(), Error> {
+    check::non_negative("rel_tol", o.rel_tol)?;
+    check::non_negative("abs_tol", o.abs_tol)?;
+    for (name, v) in [
+        ("max_iter", o.max_iter),
+        ("max_expansions", o.max_expansions),
+    ] {
+        if !(1..=MAX_SOLVER_ITER).contains(&v) {
+            return Err(Error::InvalidParameter {
+                name: name.into(),
+                value: v as f64,
+                reason: "must lie in [1, 100000]",
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The transmission's gap is its `backlash` and `slider0`: rename the
+/// library's `limits.b` / `limits.r0`.
+fn transmission_names(e: Error) -> Error {
+    match e {
+        Error::InvalidParameter {
+            name,
+            value,
+            reason,
+        } => {
+            let name = match name.as_str() {
+                "limits.b" => "backlash".to_string(),
+                "limits.r0" => "slider0".to_string(),
+                _ => name,
+            };
+            Error::InvalidParameter {
+                name,
+                value,
+                reason,
+            }
+        }
+        other => other,
+    }
+}
+
+fn no_limits() -> TravelLimits<f64> {
+    TravelLimits::None
+}
+
+fn is_no_limits(l: &TravelLimits<f64>) -> bool {
+    matches!(l, TravelLimits::None)
+}
+
+/// Finds the path of a data error precisely. Paths are tracked through the
+/// `type` tag only when it comes first in its object (the usual order, and
+/// the one [`Spec::to_json_pretty`] writes); otherwise the document is
+/// re-read with `type` moved first and that error's path is used.
+fn locate(text: &str, e: &serde_path_to_error::Error<serde_json::Error>) -> SpecError {
+    let direct = SpecError::json(e);
+    if e.inner().classify() != serde_json::error::Category::Data {
+        return direct;
+    }
+    let Ok(value) = serde_json::from_str::<serde_json::Value>(text) else {
+        return direct;
+    };
+    let Ok(canonical) = serde_json::to_string(&TypeFirst(&value)) else {
+        return direct;
+    };
+    let mut de = serde_json::Deserializer::from_str(&canonical);
+    match serde_path_to_error::deserialize::<_, Spec>(&mut de) {
+        Err(c) if c.path().to_string() != e.path().to_string() => {
+            // The position refers to the re-written text: drop it.
+            let inner = c.inner();
+            let message = inner.to_string();
+            let suffix = format!(" at line {} column {}", inner.line(), inner.column());
+            SpecError::Json {
+                path: c.path().to_string(),
+                message: message
+                    .strip_suffix(&suffix)
+                    .map_or(message.clone(), str::to_string),
+            }
+        }
+        _ => direct,
+    }
+}
+
+/// Serializes a JSON value with the `type` key first in every object.
+struct TypeFirst<'a>(&'a serde_json::Value);
+
+impl Serialize for TypeFirst<'_> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        use serde_json::Value;
+        match self.0 {
+            Value::Object(map) => {
+                let mut m = s.serialize_map(Some(map.len()))?;
+                if let Some(t) = map.get("type") {
+                    m.serialize_entry("type", &TypeFirst(t))?;
+                }
+                for (k, v) in map.iter().filter(|(k, _)| k.as_str() != "type") {
+                    m.serialize_entry(k, &TypeFirst(v))?;
+                }
+                m.end()
+            }
+            Value::Array(items) => s.collect_seq(items.iter().map(TypeFirst)),
+            other => other.serialize(s),
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Deserialization.
+//
+// A derived internally tagged enum buffers the whole object before it looks
+// at the tag, and loses the path of any error inside it (so
+// serde_path_to_error would report every error at the root). Instead the
+// tag is read first and the rest of the object is handed, unbuffered, to an
+// externally tagged derive of the same enum (`#[serde(remote)]`): errors
+// keep their full path. Every parameter struct gets a strict mirror
+// (`deny_unknown_fields`), so a misspelt optional field is an error rather
+// than a silent default.
+// ---------------------------------------------------------------------------
+
+impl<'de> Deserialize<'de> for Spec {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        tagged::deserialize(d)
+    }
+}
+
+impl tagged::Tagged for Spec {
+    const EXPECTING: &'static str = "a spec: an object with a `type` field";
+    fn from_enum<'de, D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        SpecDef::deserialize(d)
+    }
+}
+
+impl tagged::Tagged for TravelLimits<f64> {
+    const EXPECTING: &'static str = "travel limits: an object with a `type` field";
+    fn from_enum<'de, D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        LimitsDe::deserialize(d)
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(remote = "Spec", rename_all = "snake_case", deny_unknown_fields)]
+enum SpecDef {
+    Play(#[serde(deserialize_with = "PlayDef::deserialize")] PlayParams<f64>),
+    Stop(#[serde(deserialize_with = "StopDef::deserialize")] StopParams<f64>),
+    Elastoplastic(
+        #[serde(deserialize_with = "ElastoPlasticDef::deserialize")] ElastoPlasticParams<f64>,
+    ),
+    DeadZone(#[serde(deserialize_with = "DeadZoneDef::deserialize")] DeadZoneParams<f64>),
+    Saturation(#[serde(deserialize_with = "SaturationDef::deserialize")] SaturationParams<f64>),
+    Gain {
+        k: f64,
+    },
+    Mms(#[serde(deserialize_with = "MmsDef::deserialize")] MmsParams<f64>),
+    BoucWen(#[serde(deserialize_with = "BoucWenDef::deserialize")] BoucWenParams<f64>),
+    PiBank(#[serde(deserialize_with = "PiBankDef::deserialize")] PiBankParams<f64>),
+    Transmission(#[serde(deserialize_with = "TransmissionDef::deserialize")] TransmissionParams),
+    Cascade {
+        first: Box<Spec>,
+        second: Box<Spec>,
+    },
+    Parallel {
+        left: Box<Spec>,
+        right: Box<Spec>,
+    },
+    Scaled {
+        w: f64,
+        inner: Box<Spec>,
+    },
+    Feedback {
+        forward: Box<Spec>,
+        back: Box<Spec>,
+        #[serde(default, deserialize_with = "solver")]
+        solver: Option<SolverOptions<f64>>,
+    },
+    Series {
+        left: Box<Spec>,
+        right: Box<Spec>,
+        #[serde(default = "no_limits", deserialize_with = "tagged::deserialize")]
+        limits: TravelLimits<f64>,
+        #[serde(default, deserialize_with = "solver")]
+        solver: Option<SolverOptions<f64>>,
+    },
+    Inverse {
+        inner: Box<Spec>,
+        #[serde(default, deserialize_with = "solver")]
+        solver: Option<SolverOptions<f64>>,
+    },
+}
+
+#[derive(Deserialize)]
+#[serde(
+    remote = "TravelLimits<f64>",
+    rename_all = "snake_case",
+    deny_unknown_fields
+)]
+enum LimitsDe {
+    None,
+    Range {
+        lo: f64,
+        hi: f64,
+    },
+    Gap {
+        b: f64,
+        #[serde(default)]
+        r0: f64,
+    },
+}
+
+#[derive(Serialize)]
+#[serde(remote = "TravelLimits<f64>", tag = "type", rename_all = "snake_case")]
+enum LimitsSer {
+    None,
+    Range { lo: f64, hi: f64 },
+    Gap { b: f64, r0: f64 },
+}
+
+#[derive(Deserialize)]
+#[serde(remote = "PlayParams<f64>", deny_unknown_fields)]
+struct PlayDef {
+    r: f64,
+    #[serde(default)]
+    y0: f64,
+}
+
+#[derive(Deserialize)]
+#[serde(remote = "StopParams<f64>", deny_unknown_fields)]
+struct StopDef {
+    r: f64,
+    #[serde(default)]
+    s0: f64,
+}
+
+#[derive(Deserialize)]
+#[serde(remote = "ElastoPlasticParams<f64>", deny_unknown_fields)]
+struct ElastoPlasticDef {
+    k: f64,
+    f_b: f64,
+    #[serde(default)]
+    f0: f64,
+}
+
+#[derive(Deserialize)]
+#[serde(remote = "DeadZoneParams<f64>", deny_unknown_fields)]
+struct DeadZoneDef {
+    b_l: f64,
+    b_r: f64,
+}
+
+#[derive(Deserialize)]
+#[serde(remote = "SaturationParams<f64>", deny_unknown_fields)]
+struct SaturationDef {
+    lo: f64,
+    hi: f64,
+}
+
+#[derive(Deserialize)]
+#[serde(remote = "MmsParams<f64>", deny_unknown_fields)]
+struct MmsDef {
+    f_c: f64,
+    k: f64,
+    #[serde(default)]
+    y0: f64,
+}
+
+#[derive(Deserialize)]
+#[serde(remote = "BoucWenParams<f64>", deny_unknown_fields)]
+struct BoucWenDef {
+    w: f64,
+    alpha: f64,
+    beta: f64,
+    gamma: f64,
+    n: f64,
+    #[serde(default)]
+    h0: f64,
+    #[serde(default)]
+    z0: f64,
+    #[serde(deserialize_with = "stiffness")]
+    stiffness: StiffnessMap<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(remote = "PiBankParams<f64>", deny_unknown_fields)]
+struct PiBankDef {
+    a0: f64,
+    r: Vec<f64>,
+    w: Vec<f64>,
+    #[serde(default)]
+    y0: Vec<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(remote = "TransmissionParams", deny_unknown_fields)]
+struct TransmissionDef {
+    backlash: f64,
+    #[serde(default)]
+    slider0: f64,
+    #[serde(deserialize_with = "MmsDef::deserialize")]
+    friction: MmsParams<f64>,
+    #[serde(deserialize_with = "BoucWenDef::deserialize")]
+    spring: BoucWenParams<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(remote = "SolverOptions<f64>", deny_unknown_fields)]
+struct SolverDef {
+    #[serde(default = "default_rel_tol")]
+    rel_tol: f64,
+    #[serde(default = "default_abs_tol")]
+    abs_tol: f64,
+    #[serde(default = "default_max_iter")]
+    max_iter: usize,
+    #[serde(default = "default_max_expansions")]
+    max_expansions: usize,
+}
+
+fn default_rel_tol() -> f64 {
+    SolverOptions::<f64>::default().rel_tol
+}
+
+fn default_abs_tol() -> f64 {
+    SolverOptions::<f64>::default().abs_tol
+}
+
+fn default_max_iter() -> usize {
+    SolverOptions::<f64>::default().max_iter
+}
+
+fn default_max_expansions() -> usize {
+    SolverOptions::<f64>::default().max_expansions
+}
+
+/// An optional solver, each field defaulting to [`SolverOptions::default`].
+fn solver<'de, D: Deserializer<'de>>(d: D) -> Result<Option<SolverOptions<f64>>, D::Error> {
+    #[derive(Deserialize)]
+    struct Strict(#[serde(deserialize_with = "SolverDef::deserialize")] SolverOptions<f64>);
+    Ok(Option::<Strict>::deserialize(d)?.map(|s| s.0))
+}
+
+/// The knots of a stiffness map, unvalidated (checked by `build`, which
+/// names the bad knot).
+fn stiffness<'de, D: Deserializer<'de>>(d: D) -> Result<StiffnessMap<f64>, D::Error> {
+    use serde::de::value::MapDeserializer;
+    #[derive(Deserialize)]
+    #[serde(deny_unknown_fields)]
+    struct Knots {
+        z: Vec<f64>,
+        s: Vec<f64>,
+    }
+    let Knots { z, s } = Knots::deserialize(d)?;
+    // `StiffnessMap::new` would validate here; its derived `Deserialize`
+    // does not, so the check (with the knot's name) happens at build time.
+    StiffnessMap::deserialize(MapDeserializer::<_, D::Error>::new(
+        [("z", z), ("s", s)].into_iter(),
+    ))
+}
+
+/// Internally tagged deserialization that keeps error paths.
+mod tagged {
+    use serde::de::value::MapAccessDeserializer;
+    use serde::de::{
+        self, DeserializeSeed, Deserializer, EnumAccess, IntoDeserializer, MapAccess,
+        VariantAccess, Visitor,
+    };
+    use std::fmt;
+    use std::marker::PhantomData;
+
+    /// A type deserialized from an object with a `type` tag through an
+    /// externally tagged derive: `from_enum` is given a deserializer whose
+    /// enum is the tag (the variant) and the rest of the object (its
+    /// content).
+    pub(super) trait Tagged: Sized {
+        /// What the visitor expects, for messages.
+        const EXPECTING: &'static str;
+        /// Deserializes through the externally tagged derive.
+        fn from_enum<'de, D: Deserializer<'de>>(d: D) -> Result<Self, D::Error>;
+    }
+
+    /// Deserializes a [`Tagged`] type from an object with a `type` field.
+    pub(super) fn deserialize<'de, D: Deserializer<'de>, T: Tagged>(d: D) -> Result<T, D::Error> {
+        d.deserialize_map(TaggedVisitor(PhantomData))
+    }
+
+    struct TaggedVisitor<T>(PhantomData<T>);
+
+    impl<'de, T: Tagged> Visitor<'de> for TaggedVisitor<T> {
+        type Value = T;
+
+        fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+            f.write_str(T::EXPECTING)
+        }
+
+        fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<T, A::Error> {
+            // Fields before the tag are kept as JSON values (their errors
+            // are reported with the field name in the message).
+            let mut before = Vec::new();
+            loop {
+                match map.next_key::<String>()? {
+                    None => return Err(de::Error::missing_field("type")),
+                    Some(key) if key == "type" => break,
+                    Some(key) => {
+                        let value: serde_json::Value = map.next_value()?;
+                        before.push((key, value));
+                    }
+                }
+            }
+            T::from_enum(Content {
+                rest: Rest {
+                    before: before.into_iter(),
+                    value: None,
+                    map,
+                },
+            })
+        }
+    }
+
+    /// The fields of the object other than the tag: first those read
+    /// before it, then the rest of the live map (whose errors keep their
+    /// path).
+    struct Rest<A> {
+        before: std::vec::IntoIter<(String, serde_json::Value)>,
+        value: Option<(String, serde_json::Value)>,
+        map: A,
+    }
+
+    impl<'de, A: MapAccess<'de>> MapAccess<'de> for Rest<A> {
+        type Error = A::Error;
+
+        fn next_key_seed<K: DeserializeSeed<'de>>(
+            &mut self,
+            seed: K,
+        ) -> Result<Option<K::Value>, A::Error> {
+            if let Some((key, value)) = self.before.next() {
+                let k = seed.deserialize(key.clone().into_deserializer())?;
+                self.value = Some((key, value));
+                return Ok(Some(k));
+            }
+            self.map.next_key_seed(seed)
+        }
+
+        fn next_value_seed<V: DeserializeSeed<'de>>(
+            &mut self,
+            seed: V,
+        ) -> Result<V::Value, A::Error> {
+            match self.value.take() {
+                Some((key, value)) => seed
+                    .deserialize(value)
+                    .map_err(|e| de::Error::custom(format_args!("in `{key}`: {e}"))),
+                None => self.map.next_value_seed(seed),
+            }
+        }
+    }
+
+    /// The object as an enum: the variant is the value of `type` (read
+    /// next from the live map), the content the other fields.
+    struct Content<A> {
+        rest: Rest<A>,
+    }
+
+    impl<'de, A: MapAccess<'de>> Deserializer<'de> for Content<A> {
+        type Error = A::Error;
+
+        fn deserialize_any<V: Visitor<'de>>(self, visitor: V) -> Result<V::Value, A::Error> {
+            visitor.visit_enum(self)
+        }
+
+        serde::forward_to_deserialize_any! {
+            bool i8 i16 i32 i64 i128 u8 u16 u32 u64 u128 f32 f64 char str string
+            bytes byte_buf option unit unit_struct newtype_struct seq tuple
+            tuple_struct map struct enum identifier ignored_any
+        }
+    }
+
+    impl<'de, A: MapAccess<'de>> EnumAccess<'de> for Content<A> {
+        type Error = A::Error;
+        type Variant = Self;
+
+        fn variant_seed<S: DeserializeSeed<'de>>(
+            mut self,
+            seed: S,
+        ) -> Result<(S::Value, Self), A::Error> {
+            // The live map stands right after the `type` key.
+            let variant = self.rest.map.next_value_seed(seed)?;
+            Ok((variant, self))
+        }
+    }
+
+    impl<'de, A: MapAccess<'de>> VariantAccess<'de> for Content<A> {
+        type Error = A::Error;
+
+        fn unit_variant(mut self) -> Result<(), A::Error> {
+            match self.rest.next_key::<String>()? {
+                None => Ok(()),
+                Some(key) => Err(de::Error::unknown_field(&key, &[])),
+            }
+        }
+
+        fn newtype_variant_seed<S: DeserializeSeed<'de>>(
+            self,
+            seed: S,
+        ) -> Result<S::Value, A::Error> {
+            seed.deserialize(MapAccessDeserializer::new(self.rest))
+        }
+
+        fn tuple_variant<V: Visitor<'de>>(self, _len: usize, _v: V) -> Result<V::Value, A::Error> {
+            Err(de::Error::custom("tuple variants cannot be tagged"))
+        }
+
+        fn struct_variant<V: Visitor<'de>>(
+            self,
+            _fields: &'static [&'static str],
+            visitor: V,
+        ) -> Result<V::Value, A::Error> {
+            visitor.visit_map(self.rest)
+        }
+    }
+}
