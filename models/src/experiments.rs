@@ -134,10 +134,10 @@ pub struct Experiment {
 /// Sampling rate of the paper's experiments as reproduced here (Hz).
 pub const FS: f64 = 1000.0;
 
-/// The drive of the reproduced experiments: 1.5 deg commanded, 4 Hz
+/// The drive of the reproduced experiments: 1.5 deg commanded, 2 Hz
 /// bandwidth (illustrative, like the model parameters): 1.50 deg at
-/// 0.05 Hz, 1.49 deg at 0.5 Hz, 0.94 deg at 5 Hz.
-pub const DRIVE: Drive = Drive { a0: 1.5, f_bw: 4.0 };
+/// 0.05 Hz, 1.46 deg at 0.5 Hz, 0.56 deg at 5 Hz.
+pub const DRIVE: Drive = Drive { a0: 1.5, f_bw: 2.0 };
 
 /// The paper's experiments with the given model parameters:
 ///

@@ -101,7 +101,7 @@ impl Default for TransmissionParams {
                 // A hardening stiffness map S(|z|) (Nm/deg).
                 stiffness: StiffnessMap::new(
                     vec![0.0, 0.3, 0.6, 0.9, 1.2, 1.5],
-                    vec![7.0, 8.0, 9.5, 11.5, 14.0, 16.0],
+                    vec![10.0, 11.5, 13.5, 16.0, 19.5, 22.5],
                 )
                 .expect("valid default knots"),
             },
@@ -115,7 +115,7 @@ impl TransmissionParams {
     /// [`spring`](Self::spring) is replaced).
     pub fn spring_params(&self) -> BoucWenParams<f64> {
         BoucWenParams {
-            z0: -self.slider0,
+            z0: 0.0 - self.slider0,
             ..self.spring.clone()
         }
     }
