@@ -32,6 +32,11 @@ pub use hysteron_composition as composition;
 pub use hysteron_models as models;
 pub use hysteron_operators as operators;
 
+pub mod csvio;
+pub mod paper;
+pub mod plot;
+pub mod simulate;
+
 pub use hysteron_operators::{Error, Float, Operator, Result, Trial};
 
 /// Everything needed to build and run models.

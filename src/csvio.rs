@@ -1,0 +1,430 @@
+//! CSV input and output for the command-line program, and atomic file
+//! writing.
+//!
+//! * [`read_column`] reads a CSV file with a header row and parses one
+//!   column as finite `f64` values, keeping every record verbatim so they
+//!   can be written back with an extra column;
+//! * [`write_columns`] writes named `f64` columns;
+//! * [`write_atomic`] writes any file through a temporary file in the
+//!   destination's directory, renamed over the destination only when
+//!   complete, so a reader never sees a half-written file and a failed
+//!   write leaves no file behind.
+//!
+//! Every error is a [`CsvIoError`] whose message is one line naming the
+//! file and, where relevant, the row (1-based data row, and the line in the
+//! file) and the column.
+
+use std::fmt;
+use std::fs;
+use std::io::{self, BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+/// An error reading or writing a CSV file (one-line message).
+#[derive(Debug)]
+pub enum CsvIoError {
+    /// The file could not be opened or read.
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What failed.
+        source: io::Error,
+    },
+    /// The file has no header row.
+    NoHeader {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The file has a header but no data rows.
+    NoRows {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The requested column is not in the header.
+    MissingColumn {
+        /// The file.
+        path: PathBuf,
+        /// The requested column.
+        column: String,
+        /// The columns the header has.
+        available: Vec<String>,
+    },
+    /// A cell is not a number, or not a finite one.
+    BadCell {
+        /// The file.
+        path: PathBuf,
+        /// 1-based data row (the header is row 0).
+        row: usize,
+        /// 1-based line in the file.
+        line: u64,
+        /// The column.
+        column: String,
+        /// The cell's text.
+        value: String,
+        /// `"not a number"` or `"not finite"`.
+        reason: &'static str,
+    },
+    /// The CSV structure is broken (for example a row with a different
+    /// number of fields than the header, or invalid UTF-8).
+    Malformed {
+        /// The file.
+        path: PathBuf,
+        /// 1-based data row, if known.
+        row: Option<usize>,
+        /// 1-based line in the file, if known.
+        line: Option<u64>,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+impl fmt::Display for CsvIoError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            CsvIoError::Io { path, source } => {
+                write!(f, "`{}`: {}", path.display(), one_line(&source.to_string()))
+            }
+            CsvIoError::NoHeader { path } => {
+                write!(f, "`{}`: empty file (no header row)", path.display())
+            }
+            CsvIoError::NoRows { path } => {
+                write!(f, "`{}`: no data rows after the header", path.display())
+            }
+            CsvIoError::MissingColumn {
+                path,
+                column,
+                available,
+            } => write!(
+                f,
+                "`{}`: no column `{}` in the header (columns: {})",
+                path.display(),
+                column,
+                available.join(", ")
+            ),
+            CsvIoError::BadCell {
+                path,
+                row,
+                line,
+                column,
+                value,
+                reason,
+            } => write!(
+                f,
+                "`{}`, row {} (line {}), column `{}`: `{}` is {}",
+                path.display(),
+                row,
+                line,
+                column,
+                value,
+                reason
+            ),
+            CsvIoError::Malformed {
+                path,
+                row,
+                line,
+                message,
+            } => {
+                write!(f, "`{}`", path.display())?;
+                match (row, line) {
+                    (Some(r), Some(l)) => write!(f, ", row {r} (line {l})")?,
+                    (None, Some(l)) => write!(f, ", line {l}")?,
+                    (Some(r), None) => write!(f, ", row {r}")?,
+                    (None, None) => {}
+                }
+                write!(f, ": malformed CSV: {}", one_line(message))
+            }
+        }
+    }
+}
+
+impl std::error::Error for CsvIoError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            CsvIoError::Io { source, .. } => Some(source),
+            _ => None,
+        }
+    }
+}
+
+/// Joins the lines of a message so that every error stays on one line.
+pub fn one_line(s: &str) -> String {
+    s.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+/// A CSV table read by [`read_column`]: the header, the records verbatim
+/// and the selected column parsed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Table {
+    /// Column names, as in the header.
+    pub headers: csv::StringRecord,
+    /// Data records, verbatim.
+    pub records: Vec<csv::StringRecord>,
+    /// Index of the selected column.
+    pub column: usize,
+    /// The selected column's values, one per record (all finite).
+    pub values: Vec<f64>,
+    /// 1-based line in the file of each record (for messages).
+    pub lines: Vec<u64>,
+}
+
+/// Reads `path` (a CSV file with a header row) and parses column `column`
+/// (matched after trimming spaces) as finite numbers.
+///
+/// Errors: the file cannot be read; no header; no such column; no data
+/// rows; a row with a different number of fields; a cell that is not a
+/// number or not finite (`NaN`, `inf`), naming row, line and column.
+pub fn read_column(path: &Path, column: &str) -> Result<Table, CsvIoError> {
+    let file = fs::File::open(path).map_err(|source| CsvIoError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(true)
+        .flexible(false)
+        .from_reader(io::BufReader::new(file));
+    let malformed = |e: csv::Error, row: Option<usize>| {
+        let line = e.position().map(|p| p.line());
+        let message = match e.kind() {
+            csv::ErrorKind::UnequalLengths {
+                expected_len, len, ..
+            } => format!("the row has {len} field(s), the header has {expected_len}"),
+            csv::ErrorKind::Io(io) => io.to_string(),
+            csv::ErrorKind::Utf8 { err, .. } => format!("invalid UTF-8 ({err})"),
+            _ => e.to_string(),
+        };
+        CsvIoError::Malformed {
+            path: path.to_path_buf(),
+            row,
+            line,
+            message,
+        }
+    };
+    let headers = reader.headers().map_err(|e| malformed(e, None))?.clone();
+    if headers.is_empty() || (headers.len() == 1 && headers[0].trim().is_empty()) {
+        return Err(CsvIoError::NoHeader {
+            path: path.to_path_buf(),
+        });
+    }
+    let index = headers
+        .iter()
+        .position(|h| h.trim() == column.trim())
+        .ok_or_else(|| CsvIoError::MissingColumn {
+            path: path.to_path_buf(),
+            column: column.to_string(),
+            available: headers.iter().map(|h| format!("`{h}`")).collect(),
+        })?;
+    let name = headers[index].trim().to_string();
+    let mut records = Vec::new();
+    let mut values = Vec::new();
+    let mut lines = Vec::new();
+    for (i, rec) in reader.records().enumerate() {
+        let row = i + 1;
+        let rec = rec.map_err(|e| malformed(e, Some(row)))?;
+        let line = rec.position().map_or(row as u64 + 1, |p| p.line());
+        let cell = &rec[index];
+        let bad = |reason| CsvIoError::BadCell {
+            path: path.to_path_buf(),
+            row,
+            line,
+            column: name.clone(),
+            value: cell.to_string(),
+            reason,
+        };
+        let v: f64 = cell.trim().parse().map_err(|_| bad("not a number"))?;
+        if !v.is_finite() {
+            return Err(bad("not finite"));
+        }
+        values.push(v);
+        lines.push(line);
+        records.push(rec);
+    }
+    if records.is_empty() {
+        return Err(CsvIoError::NoRows {
+            path: path.to_path_buf(),
+        });
+    }
+    Ok(Table {
+        headers,
+        records,
+        column: index,
+        values,
+        lines,
+    })
+}
+
+/// Formats a value for CSV: the shortest text that parses back to the same
+/// `f64` (so files round-trip exactly).
+pub fn fmt_f64(v: f64) -> String {
+    format!("{v}")
+}
+
+/// Writes `table`'s header and records with one more column, `name`,
+/// holding `extra` (one value per record), atomically to `path`.
+pub fn write_with_column(
+    path: &Path,
+    table: &Table,
+    name: &str,
+    extra: &[f64],
+) -> Result<(), CsvIoError> {
+    debug_assert_eq!(table.records.len(), extra.len());
+    write_atomic(path, |w| {
+        let mut out = csv::Writer::from_writer(w);
+        let mut header = table.headers.clone();
+        header.push_field(name);
+        out.write_record(&header).map_err(csv_to_io)?;
+        let mut row = csv::StringRecord::new();
+        for (rec, v) in table.records.iter().zip(extra) {
+            row.clone_from(rec);
+            row.push_field(&fmt_f64(*v));
+            out.write_record(&row).map_err(csv_to_io)?;
+        }
+        out.flush()
+    })
+}
+
+/// Writes named columns of equal length as CSV, atomically to `path`.
+pub fn write_columns(path: &Path, columns: &[(&str, &[f64])]) -> Result<(), CsvIoError> {
+    let n = columns.first().map_or(0, |c| c.1.len());
+    debug_assert!(columns.iter().all(|c| c.1.len() == n));
+    write_atomic(path, |w| {
+        let mut out = csv::Writer::from_writer(w);
+        out.write_record(columns.iter().map(|c| c.0))
+            .map_err(csv_to_io)?;
+        let mut row: Vec<String> = Vec::with_capacity(columns.len());
+        for i in 0..n {
+            row.clear();
+            row.extend(columns.iter().map(|c| fmt_f64(c.1[i])));
+            out.write_record(&row).map_err(csv_to_io)?;
+        }
+        out.flush()
+    })
+}
+
+fn csv_to_io(e: csv::Error) -> io::Error {
+    match e.into_kind() {
+        csv::ErrorKind::Io(io) => io,
+        other => io::Error::other(format!("{other:?}")),
+    }
+}
+
+/// Writes a file atomically: `write` fills a temporary file in the same
+/// directory as `path`, which is then flushed, synced and renamed over
+/// `path`. On any error the temporary file is removed and `path` is left
+/// as it was (absent or with its old contents).
+pub fn write_atomic<F>(path: &Path, write: F) -> Result<(), CsvIoError>
+where
+    F: FnOnce(&mut BufWriter<&mut fs::File>) -> io::Result<()>,
+{
+    let io_err = |source| CsvIoError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    if !dir.is_dir() {
+        return Err(io_err(io::Error::new(
+            io::ErrorKind::NotFound,
+            format!("directory `{}` does not exist", dir.display()),
+        )));
+    }
+    let mut tmp = tempfile::Builder::new()
+        .prefix(".hysteron-")
+        .suffix(".tmp")
+        .tempfile_in(&dir)
+        .map_err(io_err)?;
+    {
+        let mut w = BufWriter::new(tmp.as_file_mut());
+        write(&mut w).map_err(io_err)?;
+        w.flush().map_err(io_err)?;
+    }
+    tmp.as_file().sync_all().map_err(io_err)?;
+    // Temporary files are created private (0600); give the result the
+    // usual permissions of a data file.
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        tmp.as_file()
+            .set_permissions(fs::Permissions::from_mode(0o644))
+            .map_err(io_err)?;
+    }
+    tmp.persist(path).map_err(|e| io_err(e.error))?;
+    Ok(())
+}
+
+/// Writes `contents` to `path` atomically (see [`write_atomic`]).
+pub fn write_string_atomic(path: &Path, contents: &str) -> Result<(), CsvIoError> {
+    write_atomic(path, |w| w.write_all(contents.as_bytes()))
+}
+
+/// The canonical form of a path that may not exist yet: the canonicalized
+/// parent directory joined with the file name (or the path itself
+/// canonicalized when it exists). `None` when the parent does not exist.
+pub fn canonical_target(path: &Path) -> Option<PathBuf> {
+    if let Ok(p) = fs::canonicalize(path) {
+        return Some(p);
+    }
+    let name = path.file_name()?;
+    let parent = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    Some(fs::canonicalize(parent).ok()?.join(name))
+}
+
+/// True when `a` and `b` name the same file (after canonicalization;
+/// works for files that do not exist yet).
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    match (canonical_target(a), canonical_target(b)) {
+        (Some(x), Some(y)) => x == y,
+        _ => false,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_a_column_and_writes_it_back_with_y() {
+        let dir = tempfile::tempdir().unwrap();
+        let input = dir.path().join("in.csv");
+        fs::write(&input, "t,x\n0,0.5\n1, -1.25 \n").unwrap();
+        let table = read_column(&input, "x").unwrap();
+        assert_eq!(table.values, vec![0.5, -1.25]);
+        assert_eq!(table.lines, vec![2, 3]);
+        let out = dir.path().join("out.csv");
+        write_with_column(&out, &table, "y", &[1.0, 0.1]).unwrap();
+        assert_eq!(
+            fs::read_to_string(&out).unwrap(),
+            "t,x,y\n0,0.5,1\n1, -1.25 ,0.1\n"
+        );
+    }
+
+    #[test]
+    fn bad_cells_name_row_line_and_column() {
+        let dir = tempfile::tempdir().unwrap();
+        let input = dir.path().join("in.csv");
+        fs::write(&input, "t,x\n0,1\n1,abc\n").unwrap();
+        let e = read_column(&input, "x").unwrap_err().to_string();
+        assert!(e.contains("row 2 (line 3), column `x`"), "{e}");
+        fs::write(&input, "t,x\n0,1\n1,NaN\n").unwrap();
+        let e = read_column(&input, "x").unwrap_err().to_string();
+        assert!(e.contains("not finite"), "{e}");
+    }
+
+    #[test]
+    fn same_file_sees_through_relative_paths() {
+        let dir = tempfile::tempdir().unwrap();
+        let a = dir.path().join("a.csv");
+        fs::write(&a, "x\n1\n").unwrap();
+        let sub = dir.path().join("sub");
+        fs::create_dir(&sub).unwrap();
+        assert!(same_file(&a, &sub.join("..").join("a.csv")));
+        assert!(!same_file(&a, &dir.path().join("b.csv")));
+        assert!(same_file(
+            &dir.path().join("new.csv"),
+            &sub.join("../new.csv")
+        ));
+    }
+}

@@ -1,0 +1,524 @@
+//! The `paper` job: runs the experiments of Ruderman & Bertram (2015) with
+//! the illustrative default parameters, writes one CSV per experiment and
+//! the figures, and summarises what it did.
+//!
+//! Files written into the output directory (each atomically):
+//!
+//! * `<name>.csv` for every experiment of
+//!   [`paper_experiments`](crate::models::experiments::paper_experiments),
+//!   columns `t,x,F,z,slider,friction,h`: time (s), input (deg), force
+//!   (Nm), spring deflection (deg), slider position (deg), friction force
+//!   (Nm), spring state `h`;
+//! * `loops.svg`: force over input like the paper's Figure 3, left the
+//!   0.05, 0.5 and 5 Hz parts of the `sines` run, right the two 5 Hz runs
+//!   from the initial states I and II (with the 5 Hz part of `sines` in
+//!   grey), on the same axes;
+//! * `chirp.svg`: force and input over time for the chirp (Figure 10);
+//! * `stiffness.svg`: the stiffness map `S(|z|)` with its knots (Figure 8).
+//!
+//! # Splitting the `sines` run
+//!
+//! The `sines` signal is one record; its parts are found from the known
+//! construction in
+//! [`paper_experiments`](crate::models::experiments::paper_experiments):
+//! a sine of `c` cycles at `f` Hz has `round(c / f · FS) + 1` samples (both ends included, see
+//! [`sine`](crate::models::experiments::sine)), and a pause of `p` seconds
+//! adds `round(p · FS)` samples holding the last value (see
+//! [`Signal::then`](crate::models::experiments::Signal::then)). With
+//! `FS = 1000` Hz: 0.05 Hz × 2 cycles = 40 s → 40 001 samples, 1 s pause
+//! → 1000, 0.5 Hz × 4 cycles = 8 s → 8001, pause 1000, 5 Hz × 10 cycles =
+//! 2 s → 2001; 52 003 in all. [`sines_parts`] computes these ranges and
+//! the job checks that they add up to the signal's length (an error
+//! otherwise, so a change of the experiment cannot silently mislabel the
+//! figure).
+//!
+//! # Loop width
+//!
+//! The summary's *loop width* of a run is the vertical width of its
+//! hysteresis at zero input: at every zero crossing of `x` (a sign change
+//! between consecutive samples, `x = 0` counted as positive) the force is
+//! interpolated linearly to `x = 0`; the width is the spread (max − min)
+//! of these forces over the run, i.e. the width at `x = 0` of the widest
+//! loop traversed. *Last* is the width of the final cycle alone:
+//! `|F(last falling crossing) − F(last rising crossing)|`, which shows
+//! whether runs from different initial states ended on the same loop.
+
+use crate::csvio::{self, CsvIoError};
+use crate::models::experiments::{self, Experiment, Record, FS};
+use crate::models::TransmissionParams;
+use crate::plot::{self, Panel, PlotError, Series, Style};
+use std::fmt;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// An error of the paper job (one-line message).
+#[derive(Debug)]
+pub enum PaperError {
+    /// The output directory could not be created.
+    OutDir(PathBuf, std::io::Error),
+    /// Building the experiments failed.
+    Experiments(crate::Error),
+    /// A simulation failed.
+    Simulation(String, crate::Error),
+    /// The `sines` record does not have the expected layout.
+    Layout(String),
+    /// Writing a file failed.
+    Write(CsvIoError),
+    /// Drawing a figure failed.
+    Plot(String, PlotError),
+}
+
+impl fmt::Display for PaperError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            PaperError::OutDir(p, e) => write!(
+                f,
+                "cannot create output directory `{}`: {}",
+                p.display(),
+                csvio::one_line(&e.to_string())
+            ),
+            PaperError::Experiments(e) => write!(f, "building the experiments: {e}"),
+            PaperError::Simulation(n, e) => write!(f, "experiment `{n}`: {e}"),
+            PaperError::Layout(m) => write!(f, "{m}"),
+            PaperError::Write(e) => write!(f, "writing {e}"),
+            PaperError::Plot(n, e) => write!(f, "figure `{n}`: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for PaperError {}
+
+impl From<CsvIoError> for PaperError {
+    fn from(e: CsvIoError) -> Self {
+        PaperError::Write(e)
+    }
+}
+
+/// Options of the paper job.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PaperOptions {
+    /// Output directory (created if missing).
+    pub out: PathBuf,
+}
+
+/// Figures of one run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunSummary {
+    /// Experiment (or part) name.
+    pub name: String,
+    /// Samples simulated.
+    pub samples: usize,
+    /// Peak `|F|` (Nm).
+    pub peak_force: f64,
+    /// Loop width at `x = 0` over the run, Nm (see the module docs);
+    /// `None` without zero crossings.
+    pub loop_width: Option<f64>,
+    /// Loop width of the last cycle, Nm; `None` without a rising and a
+    /// falling crossing.
+    pub last_width: Option<f64>,
+}
+
+/// What the paper job did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PaperReport {
+    /// One entry per experiment.
+    pub runs: Vec<RunSummary>,
+    /// The parts of the `sines` run.
+    pub parts: Vec<RunSummary>,
+    /// Files written.
+    pub files: Vec<PathBuf>,
+    /// Time spent simulating.
+    pub simulation: Duration,
+    /// Wall time of the whole job (simulation, files, figures).
+    pub wall: Duration,
+}
+
+impl PaperReport {
+    /// Total samples simulated.
+    pub fn total_samples(&self) -> usize {
+        self.runs.iter().map(|r| r.samples).sum()
+    }
+
+    /// Simulated samples per second of simulation time.
+    pub fn throughput(&self) -> f64 {
+        self.total_samples() as f64 / self.simulation.as_secs_f64().max(1e-12)
+    }
+}
+
+fn opt(v: Option<f64>) -> String {
+    v.map_or_else(|| "-".to_string(), |v| format!("{v:.3}"))
+}
+
+impl fmt::Display for PaperReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "{:<16} {:>8} {:>12} {:>15} {:>13}",
+            "experiment", "samples", "peak |F| Nm", "loop width Nm", "last cycle Nm"
+        )?;
+        let row = |f: &mut fmt::Formatter<'_>, r: &RunSummary, indent: &str| {
+            writeln!(
+                f,
+                "{:<16} {:>8} {:>12.3} {:>15} {:>13}",
+                format!("{indent}{}", r.name),
+                r.samples,
+                r.peak_force,
+                opt(r.loop_width),
+                opt(r.last_width)
+            )
+        };
+        for r in &self.runs {
+            row(f, r, "")?;
+            if r.name == "sines" {
+                for p in &self.parts {
+                    row(f, p, "  ")?;
+                }
+            }
+        }
+        writeln!(
+            f,
+            "total: {} samples simulated in {:.3} s ({:.0} samples/s); wall time {:.3} s",
+            self.total_samples(),
+            self.simulation.as_secs_f64(),
+            self.throughput(),
+            self.wall.as_secs_f64()
+        )?;
+        write!(
+            f,
+            "wrote {} files to {}",
+            self.files.len(),
+            self.files
+                .first()
+                .and_then(|p| p.parent())
+                .map_or_else(|| ".".into(), |d| d.display().to_string())
+        )
+    }
+}
+
+/// Samples of a sine of `cycles` periods at `freq` Hz, sampled at `fs`
+/// (both ends included), as built by `experiments::sine`.
+fn sine_samples(freq: f64, cycles: f64, fs: f64) -> usize {
+    (cycles / freq * fs).round() as usize + 1
+}
+
+/// Samples added by a pause of `seconds`, as built by `Signal::then`.
+fn pause_samples(seconds: f64, fs: f64) -> usize {
+    (seconds * fs).round() as usize
+}
+
+/// The index ranges of the 0.05, 0.5 and 5 Hz parts of the `sines` run
+/// (pauses excluded), from its known construction (see the module docs),
+/// and the total length the run must have.
+pub fn sines_parts() -> ([(&'static str, Range<usize>); 3], usize) {
+    let parts = [
+        ("0.05 Hz", 0.05, 2.0),
+        ("0.5 Hz", 0.5, 4.0),
+        ("5 Hz", 5.0, 10.0),
+    ];
+    let pause = pause_samples(1.0, FS);
+    let mut start = 0;
+    let mut out: [(&'static str, Range<usize>); 3] = Default::default();
+    for (i, (label, f, c)) in parts.into_iter().enumerate() {
+        let n = sine_samples(f, c, FS);
+        out[i] = (label, start..start + n);
+        start += n + pause;
+    }
+    let total = start - pause;
+    (out, total)
+}
+
+/// The forces at the zero crossings of `x`, interpolated to `x = 0`, with
+/// `true` for a rising crossing.
+pub fn zero_crossings(x: &[f64], f: &[f64]) -> Vec<(f64, bool)> {
+    let mut out = Vec::new();
+    for k in 1..x.len().min(f.len()) {
+        let (a, b) = (x[k - 1], x[k]);
+        if (a < 0.0) != (b < 0.0) {
+            let s = if b == a { 1.0 } else { -a / (b - a) };
+            out.push((f[k - 1] + s * (f[k] - f[k - 1]), b >= 0.0));
+        }
+    }
+    out
+}
+
+/// Summarises a run (see the module docs for the loop widths).
+pub fn summarise(name: &str, x: &[f64], f: &[f64]) -> RunSummary {
+    let crossings = zero_crossings(x, f);
+    let loop_width = crossings
+        .iter()
+        .map(|c| c.0)
+        .fold(None, |acc: Option<(f64, f64)>, v| {
+            Some(acc.map_or((v, v), |(lo, hi)| (lo.min(v), hi.max(v))))
+        })
+        .map(|(lo, hi)| hi - lo);
+    let last_up = crossings.iter().rev().find(|c| c.1).map(|c| c.0);
+    let last_down = crossings.iter().rev().find(|c| !c.1).map(|c| c.0);
+    RunSummary {
+        name: name.to_string(),
+        samples: x.len(),
+        peak_force: f.iter().fold(0.0, |m, v| m.max(v.abs())),
+        loop_width,
+        last_width: last_up.zip(last_down).map(|(u, d)| (d - u).abs()),
+    }
+}
+
+fn points(x: &[f64], y: &[f64]) -> Vec<(f64, f64)> {
+    x.iter().copied().zip(y.iter().copied()).collect()
+}
+
+/// Runs the paper job.
+pub fn run(opts: &PaperOptions) -> Result<PaperReport, PaperError> {
+    let start = Instant::now();
+    std::fs::create_dir_all(&opts.out).map_err(|e| PaperError::OutDir(opts.out.clone(), e))?;
+    let params = TransmissionParams::default();
+    let experiments = experiments::paper_experiments(&params).map_err(PaperError::Experiments)?;
+
+    let sim_start = Instant::now();
+    let records = experiments
+        .iter()
+        .map(|e| {
+            experiments::simulate(&e.params, &e.signal)
+                .map_err(|err| PaperError::Simulation(e.name.clone(), err))
+        })
+        .collect::<Result<Vec<Record>, _>>()?;
+    let simulation = sim_start.elapsed();
+
+    let mut files = Vec::new();
+    let mut runs = Vec::new();
+    for (e, r) in experiments.iter().zip(&records) {
+        let path = opts.out.join(format!("{}.csv", e.name));
+        write_record(&path, r)?;
+        files.push(path);
+        runs.push(summarise(&e.name, &r.x, &r.force));
+    }
+
+    let find = |name: &str| {
+        experiments
+            .iter()
+            .position(|e| e.name == name)
+            .map(|i| (&experiments[i], &records[i]))
+            .ok_or_else(|| PaperError::Layout(format!("no experiment named `{name}`")))
+    };
+    let (_, sines) = find("sines")?;
+    let (ranges, total) = sines_parts();
+    if sines.x.len() != total {
+        return Err(PaperError::Layout(format!(
+            "the `sines` run has {} samples, its known construction gives {total}: \
+             update `paper::sines_parts`",
+            sines.x.len()
+        )));
+    }
+    let parts: Vec<RunSummary> = ranges
+        .iter()
+        .map(|(label, r)| summarise(label, &sines.x[r.clone()], &sines.force[r.clone()]))
+        .collect();
+
+    let figures: [(&str, String); 3] = [
+        (
+            "loops.svg",
+            loops_figure(&ranges, sines, find("sine-5hz-I")?, find("sine-5hz-II")?)?,
+        ),
+        ("chirp.svg", chirp_figure(find("chirp")?)?),
+        ("stiffness.svg", stiffness_figure(&params)?),
+    ];
+    for (name, svg) in figures {
+        let path = opts.out.join(name);
+        csvio::write_string_atomic(&path, &svg)?;
+        files.push(path);
+    }
+
+    Ok(PaperReport {
+        runs,
+        parts,
+        files,
+        simulation,
+        wall: start.elapsed(),
+    })
+}
+
+/// Writes a record as CSV with columns `t,x,F,z,slider,friction,h`.
+pub fn write_record(path: &Path, r: &Record) -> Result<(), CsvIoError> {
+    let col = |g: fn(&crate::models::TransmissionState) -> f64| -> Vec<f64> {
+        r.state.iter().map(g).collect()
+    };
+    let (z, slider, friction, h) = (
+        col(|s| s.z),
+        col(|s| s.slider),
+        col(|s| s.friction),
+        col(|s| s.h),
+    );
+    csvio::write_columns(
+        path,
+        &[
+            ("t", &r.t),
+            ("x", &r.x),
+            ("F", &r.force),
+            ("z", &z),
+            ("slider", &slider),
+            ("friction", &friction),
+            ("h", &h),
+        ],
+    )
+}
+
+fn loops_figure(
+    ranges: &[(&'static str, Range<usize>); 3],
+    sines: &Record,
+    one: (&Experiment, &Record),
+    two: (&Experiment, &Record),
+) -> Result<String, PaperError> {
+    let mut left = Panel::new(
+        "sines: 0.05, 0.5 and 5 Hz (Fig. 3)",
+        "input x [deg]",
+        "force F [Nm]",
+    );
+    // The 0.05 and 0.5 Hz loops nearly coincide (the model is
+    // rate-independent and the drive reaches almost the same amplitude):
+    // the slowest is drawn as a wide band under the others.
+    for (i, (label, r)) in ranges.iter().enumerate() {
+        let s = Series::line(
+            *label,
+            points(&sines.x[r.clone()], &sines.force[r.clone()]),
+            i,
+        );
+        left.series
+            .push(if i == 0 { s.with_style(Style::Band) } else { s });
+    }
+    let mut right = Panel::new(
+        "5 Hz from initial states I and II",
+        "input x [deg]",
+        "force F [Nm]",
+    );
+    let five = &ranges[2].1;
+    right.series.push(
+        Series::line(
+            "5 Hz in sines",
+            points(&sines.x[five.clone()], &sines.force[five.clone()]),
+            7,
+        )
+        .with_style(Style::Band),
+    );
+    right.series.push(Series::line(
+        "initial state I",
+        points(&one.1.x, &one.1.force),
+        1,
+    ));
+    right.series.push(Series::line(
+        "initial state II",
+        points(&two.1.x, &two.1.force),
+        0,
+    ));
+    // Start markers: where each run begins (x = 0, the initial force).
+    let starts: Vec<Series> = [(one.1, 1usize), (two.1, 0usize)]
+        .iter()
+        .filter_map(|(r, c)| {
+            Some(
+                Series::line("", vec![(*r.x.first()?, *r.force.first()?)], *c)
+                    .with_style(Style::Markers),
+            )
+        })
+        .collect();
+    right.series.extend(starts);
+    // Same axes on both panels.
+    let b = [left.data_bounds(), right.data_bounds()]
+        .into_iter()
+        .flatten()
+        .reduce(|a, b| (a.0.min(b.0), a.1.max(b.1), a.2.min(b.2), a.3.max(b.3)))
+        .unwrap_or((-1.0, 1.0, -1.0, 1.0));
+    let (xr, yr) = (plot::padded(b.0, b.1), plot::padded(b.2, b.3));
+    for p in [&mut left, &mut right] {
+        p.x_range = Some(xr);
+        p.y_range = Some(yr);
+    }
+    plot::render(&[left, right], 1, 2, (1200, 540))
+        .map_err(|e| PaperError::Plot("loops.svg".into(), e))
+}
+
+fn chirp_figure((e, r): (&Experiment, &Record)) -> Result<String, PaperError> {
+    let mut force = Panel::new(
+        &format!("{}: force (Fig. 10)", e.name),
+        "time t [s]",
+        "force F [Nm]",
+    );
+    force
+        .series
+        .push(Series::line("", points(&r.t, &r.force), 0));
+    let mut input = Panel::new(&format!("{}: input", e.name), "time t [s]", "input x [deg]");
+    input.series.push(Series::line("", points(&r.t, &r.x), 1));
+    plot::render(&[force, input], 2, 1, (1000, 720))
+        .map_err(|e| PaperError::Plot("chirp.svg".into(), e))
+}
+
+fn stiffness_figure(params: &TransmissionParams) -> Result<String, PaperError> {
+    let map = &params.spring.stiffness;
+    let z_last = map.knots_z().last().copied().unwrap_or(0.0);
+    let z_max = if z_last > 0.0 { 1.25 * z_last } else { 1.0 };
+    let n = 801;
+    let curve: Vec<(f64, f64)> = (0..n)
+        .map(|i| {
+            let z = -z_max + 2.0 * z_max * i as f64 / (n - 1) as f64;
+            (z, map.eval(z).0)
+        })
+        .collect();
+    let knots: Vec<(f64, f64)> = map
+        .knots_z()
+        .iter()
+        .zip(map.knots_s())
+        .flat_map(|(&z, &s)| [(-z, s), (z, s)])
+        .collect();
+    let mut p = Panel::new(
+        "stiffness map S(|z|) of the spring (Fig. 8)",
+        "deflection z [deg]",
+        "stiffness S [Nm/deg]",
+    );
+    p.series
+        .push(Series::line("S(|z|), piecewise linear", curve, 0).with_style(Style::ThickLine));
+    p.series
+        .push(Series::line("knots", knots, 1).with_style(Style::Markers));
+    p.legend = plot::Legend::LowerMiddle;
+    let (_, _, lo, hi) = p.data_bounds().unwrap_or((0.0, 1.0, 0.0, 1.0));
+    p.y_range = Some((0.0, hi + 0.1 * (hi - lo).max(hi.abs() * 0.1).max(1e-9)));
+    plot::render(&[p], 1, 1, (760, 520)).map_err(|e| PaperError::Plot("stiffness.svg".into(), e))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sines_parts_match_the_construction() {
+        let (parts, total) = sines_parts();
+        assert_eq!(parts[0].1, 0..40_001);
+        assert_eq!(parts[1].1, 41_001..49_002);
+        assert_eq!(parts[2].1, 50_002..52_003);
+        assert_eq!(total, 52_003);
+        let e = experiments::paper_experiments(&TransmissionParams::default()).unwrap();
+        let sines = e.iter().find(|e| e.name == "sines").unwrap();
+        assert_eq!(sines.signal.len(), total);
+        // Each part starts at x = 0 at a whole second (t = 0, 41, 50).
+        for (r, t0) in parts.iter().zip([0.0, 41.0, 50.0]) {
+            let i = r.1.start;
+            assert!(sines.signal.x[i].abs() < 1e-12);
+            assert!(
+                (sines.signal.t[i] - t0).abs() < 2e-3,
+                "{}",
+                sines.signal.t[i]
+            );
+        }
+    }
+
+    #[test]
+    fn loop_width_of_a_known_loop() {
+        // One cycle of a loop whose branches meet x = 0 at F = 1 (falling)
+        // and F = -1 (rising).
+        let x = [0.0, 1.0, 0.0, -1.0, 0.0, 1.0];
+        let f = [0.0, 2.0, 1.0, -2.0, -1.0, 2.0];
+        // Crossings: 0 -> -1 falling at index 3 (x=0 exactly at index 2
+        // counts as non-negative) and -1 -> 0 rising.
+        let s = summarise("t", &x, &f);
+        assert_eq!(s.peak_force, 2.0);
+        assert_eq!(s.loop_width, Some(2.0));
+        assert_eq!(s.last_width, Some(2.0));
+    }
+}

@@ -1,0 +1,256 @@
+//! The `simulate` job: runs a model spec (JSON, see
+//! [`Spec`]) over one column of a CSV file and writes
+//! the input's columns plus the output `y`, optionally with a loop figure
+//! of `y` over the input.
+//!
+//! Nothing is written unless everything before succeeded: the model is
+//! loaded and built, the input read and checked, the whole run simulated
+//! and the figure drawn in memory first; then the output (and figure) are
+//! written atomically. The output may not be the input or the model file
+//! (compared after canonicalization, also when the output does not exist
+//! yet).
+
+use crate::csvio::{self, CsvIoError};
+use crate::models::{Spec, SpecError};
+use crate::plot::{self, PlotError};
+use crate::{Error, Operator};
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// Name of the output column.
+pub const OUTPUT_COLUMN: &str = "y";
+
+/// Options of the simulate job.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SimulateOptions {
+    /// The model spec (JSON).
+    pub model: PathBuf,
+    /// The input CSV file (with a header row).
+    pub input: PathBuf,
+    /// The input column.
+    pub column: String,
+    /// The output CSV file.
+    pub output: PathBuf,
+    /// Optional SVG figure of `y` over the input column.
+    pub plot: Option<PathBuf>,
+}
+
+/// Where and how the operator failed (see [`SimulateError::Operator`]).
+#[derive(Debug)]
+pub struct OperatorFailure {
+    /// The model spec.
+    pub model: PathBuf,
+    /// The input file.
+    pub input: PathBuf,
+    /// 0-based sample index, 1-based data row and file line, if known.
+    pub at: Option<(usize, usize, u64)>,
+    /// The input column.
+    pub column: String,
+    /// The input value at that sample, if known.
+    pub value: Option<f64>,
+    /// The operator's error (without the sample wrapper).
+    pub error: Error,
+}
+
+/// An error of the simulate job (one-line message naming file, row and
+/// column where relevant).
+#[derive(Debug)]
+pub enum SimulateError {
+    /// An output path names an input file.
+    SameFile {
+        /// Which output (`output` or `plot`).
+        what: &'static str,
+        /// The output path.
+        output: PathBuf,
+        /// Which input (`input`, `model` or `output`).
+        other_what: &'static str,
+        /// The input path.
+        other: PathBuf,
+    },
+    /// The model spec could not be read, parsed or built.
+    Model(PathBuf, SpecError),
+    /// The input could not be read or is invalid.
+    Input(CsvIoError),
+    /// The input already has a column named like the output column.
+    OutputColumnExists(PathBuf),
+    /// The operator failed at a sample.
+    Operator(Box<OperatorFailure>),
+    /// Writing the output failed.
+    Write(CsvIoError),
+    /// Drawing the figure failed.
+    Plot(PathBuf, PlotError),
+}
+
+impl fmt::Display for SimulateError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SimulateError::SameFile {
+                what,
+                output,
+                other_what,
+                other,
+            } => write!(
+                f,
+                "{what} `{}` is the same file as the {other_what} `{}`: refusing to overwrite it",
+                output.display(),
+                other.display()
+            ),
+            SimulateError::Model(p, e) => match e {
+                // The I/O error already names the file; don't repeat it.
+                SpecError::Io { message, .. } => {
+                    write!(f, "model `{}`: {message}", p.display())
+                }
+                e => write!(f, "model `{}`: {e}", p.display()),
+            },
+            SimulateError::Input(e) => write!(f, "input {e}"),
+            SimulateError::OutputColumnExists(p) => write!(
+                f,
+                "input `{}` already has a column `{OUTPUT_COLUMN}`; rename it first",
+                p.display()
+            ),
+            SimulateError::Operator(o) => {
+                write!(f, "model `{}` failed", o.model.display())?;
+                match o.at {
+                    Some((i, row, line)) => write!(
+                        f,
+                        " at sample {i}: input `{}`, row {row} (line {line}), column `{}`",
+                        o.input.display(),
+                        o.column
+                    )?,
+                    None => write!(
+                        f,
+                        " on input `{}`, column `{}`",
+                        o.input.display(),
+                        o.column
+                    )?,
+                }
+                if let Some(v) = o.value {
+                    write!(f, " = {v}")?;
+                }
+                write!(f, ": {}", o.error)
+            }
+            SimulateError::Write(e) => write!(f, "output {e}"),
+            SimulateError::Plot(p, e) => write!(f, "plot `{}`: {e}", p.display()),
+        }
+    }
+}
+
+impl std::error::Error for SimulateError {}
+
+/// What the simulate job did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SimulateReport {
+    /// Samples simulated (data rows).
+    pub samples: usize,
+    /// The model's operator name.
+    pub model: &'static str,
+    /// Files written.
+    pub files: Vec<PathBuf>,
+}
+
+impl fmt::Display for SimulateReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "simulated {} samples with a `{}` model; wrote {}",
+            self.samples,
+            self.model,
+            self.files
+                .iter()
+                .map(|p| p.display().to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        )
+    }
+}
+
+fn refuse_same(
+    what: &'static str,
+    output: &Path,
+    others: &[(&'static str, &Path)],
+) -> Result<(), SimulateError> {
+    for (other_what, other) in others {
+        if csvio::same_file(output, other) {
+            return Err(SimulateError::SameFile {
+                what,
+                output: output.to_path_buf(),
+                other_what,
+                other: other.to_path_buf(),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Runs the model over the input; see the module docs.
+pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
+    let inputs = [
+        ("input", opts.input.as_path()),
+        ("model", opts.model.as_path()),
+    ];
+    refuse_same("output", &opts.output, &inputs)?;
+    if let Some(p) = &opts.plot {
+        refuse_same("plot", p, &inputs)?;
+        refuse_same("plot", p, &[("output", opts.output.as_path())])?;
+    }
+
+    let model_err = |e| SimulateError::Model(opts.model.clone(), e);
+    let spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
+    let mut model = spec.build().map_err(model_err)?;
+
+    let table = csvio::read_column(&opts.input, &opts.column).map_err(SimulateError::Input)?;
+    if table.headers.iter().any(|h| h.trim() == OUTPUT_COLUMN) {
+        return Err(SimulateError::OutputColumnExists(opts.input.clone()));
+    }
+
+    let y = model.run(&table.values).map_err(|e| {
+        let (index, error) = match e {
+            Error::AtSample { index, source } => (Some(index), *source),
+            other => (None, other),
+        };
+        SimulateError::Operator(Box::new(OperatorFailure {
+            model: opts.model.clone(),
+            input: opts.input.clone(),
+            at: index.map(|i| {
+                (
+                    i,
+                    i + 1,
+                    table.lines.get(i).copied().unwrap_or(i as u64 + 2),
+                )
+            }),
+            column: opts.column.clone(),
+            value: index.and_then(|i| table.values.get(i).copied()),
+            error,
+        }))
+    })?;
+
+    let svg = match &opts.plot {
+        Some(p) => {
+            let title = format!("{} over {}", file_name(&opts.model), file_name(&opts.input));
+            let panel = plot::loop_panel(&title, &opts.column, OUTPUT_COLUMN, &table.values, &y);
+            Some(
+                plot::render(&[panel], 1, 1, (760, 560))
+                    .map_err(|e| SimulateError::Plot(p.clone(), e))?,
+            )
+        }
+        None => None,
+    };
+
+    csvio::write_with_column(&opts.output, &table, OUTPUT_COLUMN, &y)
+        .map_err(SimulateError::Write)?;
+    let mut files = vec![opts.output.clone()];
+    if let (Some(p), Some(svg)) = (&opts.plot, svg) {
+        csvio::write_string_atomic(p, &svg).map_err(SimulateError::Write)?;
+        files.push(p.clone());
+    }
+    Ok(SimulateReport {
+        samples: y.len(),
+        model: model.name(),
+        files,
+    })
+}
+
+fn file_name(p: &Path) -> String {
+    p.file_name()
+        .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into())
+}

@@ -1,0 +1,694 @@
+//! End-to-end tests of the `hysteron` command-line program: `paper` and
+//! `simulate`, including every bad-input case of `simulate` (one-line
+//! error on stderr naming file/row/column, non-zero exit, no panic, input
+//! untouched, no output file).
+
+use assert_cmd::Command;
+use hysteron::models::experiments;
+use hysteron::models::{Spec, TransmissionParams};
+use hysteron::Operator;
+use std::fs;
+use std::path::{Path, PathBuf};
+use tempfile::TempDir;
+
+fn hysteron(dir: &Path) -> Command {
+    let mut cmd = Command::cargo_bin("hysteron").expect("binary built");
+    cmd.current_dir(dir);
+    cmd
+}
+
+fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let mut r = csv::Reader::from_path(path).expect("readable CSV");
+    let headers = r.headers().unwrap().iter().map(String::from).collect();
+    let rows = r
+        .records()
+        .map(|rec| rec.unwrap().iter().map(String::from).collect())
+        .collect();
+    (headers, rows)
+}
+
+fn column(headers: &[String], rows: &[Vec<String>], name: &str) -> Vec<f64> {
+    let i = headers.iter().position(|h| h == name).expect("column");
+    rows.iter().map(|r| r[i].parse().unwrap()).collect()
+}
+
+fn assert_svg(path: &Path) {
+    let svg = fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    assert!(svg.starts_with("<svg"), "{}", path.display());
+    assert!(svg.trim_end().ends_with("</svg>"), "{}", path.display());
+    assert!(svg.contains("<polyline"), "{}: no lines", path.display());
+    assert!(svg.contains("<text"), "{}: no labels", path.display());
+    // Well-formed enough: every opened element is closed (plotters writes
+    // only self-closing elements besides <svg> and <text>).
+    assert_eq!(svg.matches("<text").count(), svg.matches("</text>").count());
+}
+
+/// No temporary files left behind by atomic writes.
+fn assert_no_temp_files(dir: &Path) {
+    for e in fs::read_dir(dir).unwrap() {
+        let name = e.unwrap().file_name().to_string_lossy().into_owned();
+        assert!(!name.starts_with(".hysteron-"), "leftover {name}");
+    }
+}
+
+// ---------------------------------------------------------------- paper
+
+#[test]
+fn paper_writes_csvs_figures_and_summary() {
+    let tmp = TempDir::new().unwrap();
+    let out = tmp.path().join("figs");
+    let assert = hysteron(tmp.path())
+        .args(["paper", "--out"])
+        .arg(&out)
+        .assert()
+        .success();
+    let stdout = String::from_utf8(assert.get_output().stdout.clone()).unwrap();
+
+    let exps = experiments::paper_experiments(&TransmissionParams::default()).unwrap();
+    assert_eq!(exps.len(), 4);
+    let mut total = 0;
+    for e in &exps {
+        let path = out.join(format!("{}.csv", e.name));
+        let (headers, rows) = read_csv(&path);
+        assert_eq!(headers, ["t", "x", "F", "z", "slider", "friction", "h"]);
+        assert_eq!(rows.len(), e.signal.len(), "{}", e.name);
+        total += rows.len();
+        // The CSV holds exactly what the library simulates.
+        let rec = experiments::simulate(&e.params, &e.signal).unwrap();
+        assert_eq!(column(&headers, &rows, "x"), rec.x, "{}", e.name);
+        assert_eq!(column(&headers, &rows, "F"), rec.force, "{}", e.name);
+        let h: Vec<f64> = rec.state.iter().map(|s| s.h).collect();
+        assert_eq!(column(&headers, &rows, "h"), h, "{}", e.name);
+        assert!(
+            stdout.contains(&e.name),
+            "summary lacks {}: {stdout}",
+            e.name
+        );
+    }
+    for fig in ["loops.svg", "chirp.svg", "stiffness.svg"] {
+        assert_svg(&out.join(fig));
+    }
+    assert_eq!(fs::read_dir(&out).unwrap().count(), 7);
+    assert_no_temp_files(&out);
+
+    // The loops figure has the three frequencies and both initial states.
+    let loops = fs::read_to_string(out.join("loops.svg")).unwrap();
+    for label in [
+        "0.05 Hz",
+        "0.5 Hz",
+        "5 Hz",
+        "initial state I\n",
+        "initial state II\n",
+    ] {
+        assert!(loops.contains(label), "loops.svg lacks {label}");
+    }
+    // Summary: per-experiment lines, the total, the throughput.
+    assert!(stdout.contains("peak |F|") && stdout.contains("loop width"));
+    assert!(
+        stdout.contains(&format!("total: {total} samples")),
+        "{stdout}"
+    );
+    assert!(stdout.contains("samples/s") && stdout.contains("wall time"));
+}
+
+#[test]
+fn paper_defaults_to_out_and_overwrites() {
+    let tmp = TempDir::new().unwrap();
+    for _ in 0..2 {
+        hysteron(tmp.path()).arg("paper").assert().success();
+    }
+    let out = tmp.path().join("out");
+    for f in [
+        "sines.csv",
+        "sine-5hz-I.csv",
+        "sine-5hz-II.csv",
+        "chirp.csv",
+    ] {
+        assert!(out.join(f).is_file(), "{f}");
+    }
+    assert_svg(&out.join("loops.svg"));
+    assert_no_temp_files(&out);
+}
+
+#[test]
+fn paper_reports_an_unusable_out_dir_in_one_line() {
+    let tmp = TempDir::new().unwrap();
+    let file = tmp.path().join("taken");
+    fs::write(&file, "not a directory").unwrap();
+    let assert = hysteron(tmp.path())
+        .args(["paper", "--out", "taken"])
+        .assert()
+        .failure();
+    let stderr = one_line_error(&assert.get_output().stderr);
+    assert!(stderr.contains("taken"), "{stderr}");
+    assert_eq!(fs::read_to_string(&file).unwrap(), "not a directory");
+}
+
+// ------------------------------------------------------------- simulate
+
+/// A temp dir with a model spec and an input CSV.
+struct Setup {
+    tmp: TempDir,
+}
+
+const INPUT: &str = "t,x,label\n0,0,start\n0.1,0.4,\"a, b\"\n0.2,1.2,c\n0.3,-0.3,d\n0.4,0.9,e\n";
+
+impl Setup {
+    fn new() -> Self {
+        let tmp = TempDir::new().unwrap();
+        fs::write(tmp.path().join("in.csv"), INPUT).unwrap();
+        // The paper's model as a generic spec, written by the library.
+        let spec = Spec::from(&TransmissionParams::default());
+        fs::write(
+            tmp.path().join("model.json"),
+            spec.to_json_pretty().unwrap(),
+        )
+        .unwrap();
+        Setup { tmp }
+    }
+
+    fn dir(&self) -> &Path {
+        self.tmp.path()
+    }
+
+    fn path(&self, name: &str) -> PathBuf {
+        self.tmp.path().join(name)
+    }
+
+    fn write(&self, name: &str, contents: &str) {
+        fs::write(self.path(name), contents).unwrap();
+    }
+
+    fn simulate(&self, args: &[&str]) -> Command {
+        let mut cmd = hysteron(self.dir());
+        cmd.arg("simulate").args(args);
+        cmd
+    }
+
+    /// Runs `simulate` expecting failure: exit code 1, one line on stderr
+    /// starting with `error:` and containing every `expect`ed fragment,
+    /// nothing on stdout, all files in the directory unchanged and no new
+    /// file (in particular no output and no temporary file).
+    fn fails(&self, args: &[&str], expect: &[&str]) -> String {
+        let before = snapshot(self.dir());
+        let assert = self.simulate(args).assert().failure().code(1);
+        let out = assert.get_output();
+        let stderr = one_line_error(&out.stderr);
+        assert!(out.stdout.is_empty(), "stdout: {:?}", out.stdout);
+        for e in expect {
+            assert!(stderr.contains(e), "`{e}` not in: {stderr}");
+        }
+        assert_eq!(
+            snapshot(self.dir()),
+            before,
+            "files changed by a failed run"
+        );
+        stderr
+    }
+}
+
+/// All files in `dir` (recursively) with their contents.
+fn snapshot(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                out.push((p.clone(), fs::read(&p).unwrap()));
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// The error text, checked to be exactly one line `error: ...` with no
+/// panic message.
+fn one_line_error(stderr: &[u8]) -> String {
+    let s = String::from_utf8(stderr.to_vec()).unwrap();
+    assert!(!s.contains("panicked"), "panic: {s}");
+    assert!(s.starts_with("error: "), "{s}");
+    assert!(
+        s.ends_with('\n') && s.lines().count() == 1,
+        "not one line: {s:?}"
+    );
+    s.trim_end().to_string()
+}
+
+fn run_in_process(spec_path: &Path, xs: &[f64]) -> Vec<f64> {
+    let mut model = Spec::from_json_file(spec_path).unwrap().build().unwrap();
+    model.run(xs).unwrap()
+}
+
+#[test]
+fn simulate_matches_the_spec_run_in_process() {
+    let s = Setup::new();
+    let assert = s
+        .simulate(&[
+            "--model",
+            "model.json",
+            "--input",
+            "in.csv",
+            "--output",
+            "out.csv",
+            "--plot",
+            "loop.svg",
+        ])
+        .assert()
+        .success();
+    let stdout = String::from_utf8(assert.get_output().stdout.clone()).unwrap();
+    assert!(stdout.contains("simulated 5 samples"), "{stdout}");
+    let (headers, rows) = read_csv(&s.path("out.csv"));
+    assert_eq!(headers, ["t", "x", "label", "y"]);
+    // All input columns kept verbatim (the quoted comma too).
+    let (in_headers, in_rows) = read_csv(&s.path("in.csv"));
+    assert_eq!(&headers[..3], &in_headers[..]);
+    for (r, i) in rows.iter().zip(&in_rows) {
+        assert_eq!(&r[..3], &i[..]);
+    }
+    assert_eq!(rows[1][2], "a, b");
+    // y is bit for bit what the library computes.
+    let x = column(&headers, &rows, "x");
+    let y = column(&headers, &rows, "y");
+    assert_eq!(y, run_in_process(&s.path("model.json"), &x));
+    assert!(y.iter().any(|v| *v != 0.0));
+    assert_svg(&s.path("loop.svg"));
+    assert_eq!(fs::read_to_string(s.path("in.csv")).unwrap(), INPUT);
+    assert_no_temp_files(s.dir());
+}
+
+#[test]
+fn simulate_every_example_spec() {
+    let specs = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/specs");
+    let mut paths: Vec<PathBuf> = fs::read_dir(&specs)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .collect();
+    paths.sort();
+    assert!(paths.iter().any(|p| p.ends_with("paper.json")), "{paths:?}");
+    let s = Setup::new();
+    // Two cycles of a 1.2 deg sine, 400 samples.
+    let x: Vec<f64> = (0..400)
+        .map(|i| 1.2 * (std::f64::consts::TAU * i as f64 / 200.0).sin())
+        .collect();
+    let mut text = String::from("i,x\n");
+    for (i, v) in x.iter().enumerate() {
+        text.push_str(&format!("{i},{v}\n"));
+    }
+    s.write("sine.csv", &text);
+    for spec in &paths {
+        s.simulate(&[
+            "--input", "sine.csv", "--output", "o.csv", "--plot", "o.svg",
+        ])
+        .arg("--model")
+        .arg(spec)
+        .assert()
+        .success();
+        let (headers, rows) = read_csv(&s.path("o.csv"));
+        assert_eq!(headers, ["i", "x", "y"], "{}", spec.display());
+        assert_eq!(column(&headers, &rows, "x"), x);
+        assert_eq!(
+            column(&headers, &rows, "y"),
+            run_in_process(spec, &x),
+            "{}",
+            spec.display()
+        );
+        assert_svg(&s.path("o.svg"));
+    }
+}
+
+#[test]
+fn simulate_hand_written_spec_on_another_column() {
+    let s = Setup::new();
+    s.write(
+        "cascade.json",
+        r#"{
+            "type": "cascade",
+            "first": { "type": "play", "r": 0.5 },
+            "second": { "type": "dead_zone", "b_l": -0.25, "b_r": 0.25 }
+        }"#,
+    );
+    s.write("u.csv", "u;v\n0;1\n3;2\n1;3\n");
+    // Not comma-separated: one column named "u;v", so `u` is missing.
+    s.fails(
+        &[
+            "--model",
+            "cascade.json",
+            "--input",
+            "u.csv",
+            "--column",
+            "u",
+            "--output",
+            "o.csv",
+        ],
+        &["u.csv", "no column `u`"],
+    );
+    s.write("u.csv", "v,u\n1,0\n2,3\n3,1\n4,-2\n");
+    s.simulate(&[
+        "--model",
+        "cascade.json",
+        "--input",
+        "u.csv",
+        "--column",
+        "u",
+        "--output",
+        "o.csv",
+    ])
+    .assert()
+    .success();
+    let (headers, rows) = read_csv(&s.path("o.csv"));
+    assert_eq!(headers, ["v", "u", "y"]);
+    // play 0.5: 0, 2.5, 1.5, -1.5; dead-zone ±0.25: 0, 2.25, 1.25, -1.25.
+    assert_eq!(column(&headers, &rows, "y"), [0.0, 2.25, 1.25, -1.25]);
+    assert_eq!(
+        column(&headers, &rows, "y"),
+        run_in_process(&s.path("cascade.json"), &[0.0, 3.0, 1.0, -2.0])
+    );
+}
+
+#[test]
+fn simulate_overwrites_an_existing_output_atomically() {
+    let s = Setup::new();
+    s.write("out.csv", "old\n");
+    let args = [
+        "--model",
+        "model.json",
+        "--input",
+        "in.csv",
+        "--output",
+        "out.csv",
+    ];
+    s.simulate(&args).assert().success();
+    let (headers, rows) = read_csv(&s.path("out.csv"));
+    assert_eq!(headers.last().map(String::as_str), Some("y"));
+    assert_eq!(rows.len(), 5);
+    assert_no_temp_files(s.dir());
+}
+
+#[test]
+fn simulate_error_missing_model_file() {
+    let s = Setup::new();
+    s.fails(
+        &[
+            "--model",
+            "nope.json",
+            "--input",
+            "in.csv",
+            "--output",
+            "out.csv",
+        ],
+        &["model `nope.json`", "No such file"],
+    );
+}
+
+#[test]
+fn simulate_error_malformed_spec_json() {
+    let s = Setup::new();
+    s.write("bad.json", "{\"type\": \"play\",\n \"r\": }\n");
+    s.fails(
+        &[
+            "--model", "bad.json", "--input", "in.csv", "--output", "out.csv",
+        ],
+        &["model `bad.json`", "line 2"],
+    );
+    s.write("bad.json", r#"{"type": "cascade", "first": {"type": "plya", "r": 1}, "second": {"type": "gain", "k": 1}}"#);
+    s.fails(
+        &[
+            "--model", "bad.json", "--input", "in.csv", "--output", "out.csv",
+        ],
+        &["model `bad.json`", "first.type", "plya"],
+    );
+}
+
+#[test]
+fn simulate_error_invalid_spec_parameter_names_the_field() {
+    let s = Setup::new();
+    s.write(
+        "bad.json",
+        r#"{"type": "scaled", "w": 2, "inner": {"type": "play", "r": -1}}"#,
+    );
+    s.fails(
+        &[
+            "--model", "bad.json", "--input", "in.csv", "--output", "out.csv",
+        ],
+        &["model `bad.json`", "scaled.inner.play.r", "-1"],
+    );
+}
+
+#[test]
+fn simulate_error_missing_input_file() {
+    let s = Setup::new();
+    s.fails(
+        &[
+            "--model",
+            "model.json",
+            "--input",
+            "nope.csv",
+            "--output",
+            "out.csv",
+        ],
+        &["input `nope.csv`", "No such file"],
+    );
+}
+
+#[test]
+fn simulate_error_missing_column() {
+    let s = Setup::new();
+    s.fails(
+        &[
+            "--model",
+            "model.json",
+            "--input",
+            "in.csv",
+            "--column",
+            "theta",
+            "--output",
+            "out.csv",
+        ],
+        &["input `in.csv`", "no column `theta`", "`t`, `x`, `label`"],
+    );
+}
+
+#[test]
+fn simulate_error_non_numeric_cell() {
+    let s = Setup::new();
+    s.write("in2.csv", "t,x\n0,0\n1,0.5\n2,abc\n");
+    s.fails(
+        &[
+            "--model",
+            "model.json",
+            "--input",
+            "in2.csv",
+            "--output",
+            "out.csv",
+        ],
+        &[
+            "input `in2.csv`",
+            "row 3 (line 4)",
+            "column `x`",
+            "`abc` is not a number",
+        ],
+    );
+    // An empty cell is not a number either.
+    s.write("in2.csv", "t,x\n0,\n");
+    s.fails(
+        &[
+            "--model",
+            "model.json",
+            "--input",
+            "in2.csv",
+            "--output",
+            "out.csv",
+        ],
+        &["row 1 (line 2)", "column `x`", "not a number"],
+    );
+}
+
+#[test]
+fn simulate_error_non_finite_cells() {
+    let s = Setup::new();
+    for bad in ["NaN", "inf", "-inf", "infinity"] {
+        s.write("in2.csv", &format!("t,x\n0,0\n1,{bad}\n2,1\n"));
+        s.fails(
+            &[
+                "--model",
+                "model.json",
+                "--input",
+                "in2.csv",
+                "--output",
+                "out.csv",
+            ],
+            &[
+                "input `in2.csv`",
+                "row 2 (line 3)",
+                "column `x`",
+                "not finite",
+            ],
+        );
+    }
+}
+
+#[test]
+fn simulate_error_empty_files() {
+    let s = Setup::new();
+    s.write("hdr.csv", "t,x\n");
+    s.fails(
+        &[
+            "--model",
+            "model.json",
+            "--input",
+            "hdr.csv",
+            "--output",
+            "out.csv",
+        ],
+        &["input `hdr.csv`", "no data rows"],
+    );
+    s.write("empty.csv", "");
+    s.fails(
+        &[
+            "--model",
+            "model.json",
+            "--input",
+            "empty.csv",
+            "--output",
+            "out.csv",
+        ],
+        &["input `empty.csv`", "empty file"],
+    );
+}
+
+#[test]
+fn simulate_error_ragged_row() {
+    let s = Setup::new();
+    s.write("rag.csv", "t,x\n0,0\n1\n");
+    s.fails(
+        &[
+            "--model",
+            "model.json",
+            "--input",
+            "rag.csv",
+            "--output",
+            "out.csv",
+        ],
+        &["input `rag.csv`", "row 2 (line 3)", "field"],
+    );
+}
+
+#[test]
+fn simulate_error_operator_fails_at_a_sample() {
+    let s = Setup::new();
+    // The inverse of a saturation has no solution beyond the limits.
+    s.write(
+        "inv.json",
+        r#"{"type": "inverse", "inner": {"type": "saturation", "lo": -1, "hi": 1}}"#,
+    );
+    s.write("in2.csv", "t,x\n0,0\n1,0.5\n2,1.5\n3,0\n");
+    s.fails(
+        &[
+            "--model", "inv.json", "--input", "in2.csv", "--output", "out.csv",
+        ],
+        &[
+            "model `inv.json`",
+            "sample 2",
+            "`in2.csv`",
+            "row 3 (line 4)",
+            "column `x`",
+            "1.5",
+        ],
+    );
+}
+
+#[test]
+fn simulate_refuses_to_overwrite_its_inputs() {
+    let s = Setup::new();
+    fs::create_dir(s.path("sub")).unwrap();
+    for out in ["in.csv", "./in.csv", "sub/../in.csv"] {
+        s.fails(
+            &[
+                "--model",
+                "model.json",
+                "--input",
+                "in.csv",
+                "--output",
+                out,
+            ],
+            &["output", "same file as the input", "refusing"],
+        );
+    }
+    let abs = s.path("in.csv");
+    s.fails(
+        &[
+            "--model",
+            "model.json",
+            "--input",
+            "in.csv",
+            "--output",
+            abs.to_str().unwrap(),
+        ],
+        &["same file as the input"],
+    );
+    s.fails(
+        &[
+            "--model",
+            "model.json",
+            "--input",
+            "in.csv",
+            "--output",
+            "model.json",
+        ],
+        &["same file as the model"],
+    );
+    // Neither exists yet: the plot would overwrite the output.
+    s.fails(
+        &[
+            "--model",
+            "model.json",
+            "--input",
+            "in.csv",
+            "--output",
+            "o.csv",
+            "--plot",
+            "sub/../o.csv",
+        ],
+        &["plot", "same file as the output"],
+    );
+}
+
+#[test]
+fn simulate_error_output_directory_missing() {
+    let s = Setup::new();
+    s.fails(
+        &[
+            "--model",
+            "model.json",
+            "--input",
+            "in.csv",
+            "--output",
+            "nodir/out.csv",
+        ],
+        &["output `nodir/out.csv`", "does not exist"],
+    );
+}
+
+#[test]
+fn simulate_error_keeps_an_existing_output() {
+    let s = Setup::new();
+    s.write("out.csv", "previous\n");
+    s.write("in2.csv", "t,x\n0,0\n1,NaN\n");
+    s.fails(
+        &[
+            "--model",
+            "model.json",
+            "--input",
+            "in2.csv",
+            "--output",
+            "out.csv",
+        ],
+        &["not finite"],
+    );
+    assert_eq!(fs::read_to_string(s.path("out.csv")).unwrap(), "previous\n");
+}
