@@ -166,6 +166,11 @@ fn check<O: Operator<f64> + Clone + 'static>(label: &str, op: O) {
     let p = h.params();
     assert_eq!(p.len(), h.n_params(), "{label}: n_params");
     assert_eq!(h.param_names().len(), p.len(), "{label}: param_names");
+    let domains = h.param_domains();
+    assert_eq!(domains.len(), p.len(), "{label}: param_domains");
+    for ((v, d), name) in p.iter().zip(&domains).zip(h.param_names()) {
+        assert!(d.contains(*v), "{label}: {name} = {v} outside its domain {d:?}");
+    }
     h.run(&xs[..half]).unwrap();
     h.set_params(&p).unwrap();
     assert_eq!(

@@ -1,6 +1,6 @@
 //! Cascade: the output of one operator drives the next.
 
-use crate::pair::{pair_names, set_pair};
+use crate::pair::{pair_domains, pair_names, set_pair};
 use hysteron_operators::{Float, Operator, Result, Trial};
 
 /// Cascade `y = B[A[x]]` (signal-flow composition, `a.then(b)`).
@@ -86,6 +86,10 @@ where
     fn params_into(&self, out: &mut Vec<T>) {
         self.first.params_into(out);
         self.second.params_into(out);
+    }
+
+    fn param_domains(&self) -> Vec<hysteron_operators::Domain> {
+        pair_domains(&self.first, &self.second)
     }
 
     fn param_names(&self) -> Vec<String> {

@@ -1,6 +1,6 @@
 //! Feedback: `y = A[x − B[y]]`, solved implicitly every sample.
 
-use crate::pair::{pair_names, set_pair};
+use crate::pair::{pair_domains, pair_names, set_pair};
 use crate::solve::{solve, SolverOptions, Start};
 use hysteron_operators::{check_input, Float, Operator, Result, Trial};
 
@@ -123,6 +123,10 @@ where
     fn params_into(&self, out: &mut Vec<T>) {
         self.forward.params_into(out);
         self.back.params_into(out);
+    }
+
+    fn param_domains(&self) -> Vec<hysteron_operators::Domain> {
+        pair_domains(&self.forward, &self.back)
     }
 
     fn param_names(&self) -> Vec<String> {

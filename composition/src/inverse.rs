@@ -118,6 +118,10 @@ where
         self.inner.params_into(out);
     }
 
+    fn param_domains(&self) -> Vec<hysteron_operators::Domain> {
+        self.inner.param_domains()
+    }
+
     fn param_names(&self) -> Vec<String> {
         prefixed("inner", &self.inner).collect()
     }

@@ -1,6 +1,6 @@
 //! Parameter plumbing shared by the two-child combinators.
 
-use hysteron_operators::{check, Float, Operator, Result};
+use hysteron_operators::{check, Domain, Float, Operator, Result};
 
 /// Sets `[params of a, params of b]` atomically: both children are
 /// validated on copies before either is replaced. Errors name the child.
@@ -19,6 +19,18 @@ where
     *a = next_a;
     *b = next_b;
     Ok(())
+}
+
+/// Children's parameter domains, `a`'s then `b`'s.
+pub(crate) fn pair_domains<T, A, B>(a: &A, b: &B) -> Vec<Domain>
+where
+    T: Float,
+    A: Operator<T>,
+    B: Operator<T>,
+{
+    let mut d = a.param_domains();
+    d.extend(b.param_domains());
+    d
 }
 
 /// Children's parameter names, prefixed with `names[i]` and their kind:

@@ -1,6 +1,6 @@
 //! Parallel connection: outputs add.
 
-use crate::pair::{pair_names, set_pair};
+use crate::pair::{pair_domains, pair_names, set_pair};
 use hysteron_operators::{Float, Operator, Result, Trial};
 
 /// Parallel connection `y = A[x] + B[x]` (`a.plus(b)`). As mechanical
@@ -79,6 +79,10 @@ where
     fn params_into(&self, out: &mut Vec<T>) {
         self.left.params_into(out);
         self.right.params_into(out);
+    }
+
+    fn param_domains(&self) -> Vec<hysteron_operators::Domain> {
+        pair_domains(&self.left, &self.right)
     }
 
     fn param_names(&self) -> Vec<String> {

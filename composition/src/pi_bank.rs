@@ -1,7 +1,7 @@
 //! The Prandtl-Ishlinskii operator: a weighted bank of plays.
 
 use hysteron_operators::{
-    check, check_input, check_lengths, check_output, play_step, play_tangent, Error, Float,
+    check, check_input, check_lengths, check_output, play_step, play_tangent, Domain, Error, Float,
     Operator, Result, Trial,
 };
 use serde::{Deserialize, Serialize};
@@ -230,6 +230,14 @@ impl<T: Float> Operator<T> for PiBank<T> {
             .chain((0..m).map(|j| format!("r[{j}]")))
             .chain((0..m).map(|j| format!("w[{j}]")))
             .chain((0..m).map(|j| format!("y0[{j}]")))
+            .collect()
+    }
+
+    fn param_domains(&self) -> Vec<Domain> {
+        let m = self.r.len();
+        std::iter::once(Domain::Real)
+            .chain(std::iter::repeat_n(Domain::NonNegative, m))
+            .chain(std::iter::repeat_n(Domain::Real, 2 * m))
             .collect()
     }
 

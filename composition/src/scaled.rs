@@ -82,6 +82,12 @@ where
         self.inner.params_into(out);
     }
 
+    fn param_domains(&self) -> Vec<hysteron_operators::Domain> {
+        let mut d = vec![hysteron_operators::Domain::Real];
+        d.extend(self.inner.param_domains());
+        d
+    }
+
     fn param_names(&self) -> Vec<String> {
         std::iter::once("w".to_string())
             .chain(prefixed("inner", &self.inner))

@@ -1,8 +1,8 @@
 //! Mechanical series connection: equal force, displacements add.
 
-use crate::pair::{pair_names, set_pair};
+use crate::pair::{pair_domains, pair_names, set_pair};
 use crate::solve::{solve, Root, SolverOptions, Start};
-use hysteron_operators::{check, check_input, Error, Float, Operator, Result, Trial};
+use hysteron_operators::{check, check_input, Domain, Error, Float, Operator, Result, Trial};
 use serde::{Deserialize, Serialize};
 
 /// Travel limits on the left element of a [`MechanicalSeries`].
@@ -81,6 +81,14 @@ impl<T: Float> TravelLimits<T> {
             TravelLimits::None => vec![],
             TravelLimits::Range { lo, hi } => vec![lo, hi],
             TravelLimits::Gap { b, r0 } => vec![b, r0],
+        }
+    }
+
+    fn domains(&self) -> Vec<Domain> {
+        match self {
+            TravelLimits::None => vec![],
+            TravelLimits::Range { .. } => vec![Domain::NonPositive, Domain::NonNegative],
+            TravelLimits::Gap { .. } => vec![Domain::Positive, Domain::Real],
         }
     }
 
@@ -305,6 +313,12 @@ where
         out.extend(self.limits.values());
         self.left.params_into(out);
         self.right.params_into(out);
+    }
+
+    fn param_domains(&self) -> Vec<Domain> {
+        let mut d = self.limits.domains();
+        d.extend(pair_domains(&self.left, &self.right));
+        d
     }
 
     fn param_names(&self) -> Vec<String> {

@@ -1,7 +1,9 @@
 //! The Bouc-Wen-like hysteresis spring with a nonlinear stiffness map.
 
 use crate::hysteretic_state::{Power, StateEquation};
-use crate::{check, check_input, check_output, Float, Operator, Result, StiffnessMap, Trial};
+use crate::{
+    check, check_input, check_output, Domain, Float, Operator, Result, StiffnessMap, Trial,
+};
 use serde::{Deserialize, Serialize};
 
 /// Parameters of the [`BoucWen`] spring.
@@ -226,6 +228,15 @@ impl<T: Float> Operator<T> for BoucWen<T> {
                     .into_iter()
                     .map(|n| format!("stiffness.{n}")),
             )
+            .collect()
+    }
+
+    fn param_domains(&self) -> Vec<Domain> {
+        use Domain::*;
+        let knots = self.p.stiffness.len();
+        [UnitInterval, Real, Real, Real, AtLeast(1.0), Real, Real]
+            .into_iter()
+            .chain(std::iter::repeat_n(NonNegative, 2 * knots))
             .collect()
     }
 

@@ -1,7 +1,7 @@
 //! The dead-zone operator.
 
 use crate::memoryless::map_samples;
-use crate::{check, check_input, Float, Operator, Result, Trial};
+use crate::{check, check_input, Domain, Float, Operator, Result, Trial};
 use serde::{Deserialize, Serialize};
 
 /// Parameters of the [`DeadZone`] operator.
@@ -114,6 +114,10 @@ impl<T: Float> Operator<T> for DeadZone<T> {
 
     fn param_names(&self) -> Vec<String> {
         vec!["b_l".into(), "b_r".into()]
+    }
+
+    fn param_domains(&self) -> Vec<Domain> {
+        vec![Domain::NonPositive, Domain::NonNegative]
     }
 
     fn set_params(&mut self, p: &[T]) -> Result<()> {

@@ -1,6 +1,6 @@
 //! The elastoplastic (Maxwell-slip) element: a scaled stop.
 
-use crate::{check, Float, Operator, Result, Stop, StopParams, Trial};
+use crate::{check, Domain, Float, Operator, Result, Stop, StopParams, Trial};
 use serde::{Deserialize, Serialize};
 
 /// Parameters of the [`ElastoPlastic`] element.
@@ -110,6 +110,10 @@ impl<T: Float> Operator<T> for ElastoPlastic<T> {
 
     fn param_names(&self) -> Vec<String> {
         vec!["k".into(), "f_b".into(), "f0".into()]
+    }
+
+    fn param_domains(&self) -> Vec<Domain> {
+        vec![Domain::Positive, Domain::NonNegative, Domain::Real]
     }
 
     fn set_params(&mut self, p: &[T]) -> Result<()> {

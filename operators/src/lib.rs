@@ -20,6 +20,7 @@
 #![warn(missing_docs)]
 
 pub mod check;
+mod domain;
 mod error;
 mod float;
 mod memoryless;
@@ -38,6 +39,7 @@ mod stop;
 
 pub use bouc_wen::{BoucWen, BoucWenParams};
 pub use deadzone::{dead_zone, DeadZone, DeadZoneParams};
+pub use domain::Domain;
 pub use elastoplastic::{ElastoPlastic, ElastoPlasticParams};
 pub use error::{Error, Result};
 pub use float::Float;

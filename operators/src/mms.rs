@@ -1,6 +1,6 @@
 //! Modified Maxwell-slip (MMS) pre-sliding friction.
 
-use crate::{check, check_input, check_lengths, Error, Float, Operator, Result, Trial};
+use crate::{check, check_input, check_lengths, Domain, Error, Float, Operator, Result, Trial};
 use serde::{Deserialize, Serialize};
 
 /// Parameters of the [`Mms`] friction operator.
@@ -202,6 +202,10 @@ impl<T: Float> Operator<T> for Mms<T> {
 
     fn param_names(&self) -> Vec<String> {
         vec!["f_c".into(), "k".into(), "y0".into()]
+    }
+
+    fn param_domains(&self) -> Vec<Domain> {
+        vec![Domain::Positive, Domain::Positive, Domain::Real]
     }
 
     fn set_params(&mut self, p: &[T]) -> Result<()> {

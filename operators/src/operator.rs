@@ -1,7 +1,7 @@
 //! The core trait: a scalar operator with memory, driven sample by sample
 //! through a trial/commit protocol.
 
-use crate::{Error, Float, Result};
+use crate::{Domain, Error, Float, Result};
 use core::fmt::Debug;
 use dyn_clone::DynClone;
 
@@ -119,6 +119,13 @@ pub trait Operator<T: Float>: DynClone + Debug + Send + Sync {
     /// Validates and sets all parameters, then resets the operator.
     /// On error the operator is unchanged.
     fn set_params(&mut self, p: &[T]) -> Result<()>;
+
+    /// The admissible range of each parameter, in the order of
+    /// [`params`](Operator::params) (for optimizers that must stay inside
+    /// it). The default says every parameter is [`Domain::Real`].
+    fn param_domains(&self) -> Vec<Domain> {
+        vec![Domain::Real; self.n_params()]
+    }
 }
 
 dyn_clone::clone_trait_object!(<T> Operator<T> where T: Float);
@@ -160,6 +167,9 @@ impl<T: Float> Operator<T> for Box<dyn Operator<T>> {
     }
     fn set_params(&mut self, p: &[T]) -> Result<()> {
         (**self).set_params(p)
+    }
+    fn param_domains(&self) -> Vec<Domain> {
+        (**self).param_domains()
     }
 }
 

@@ -1,6 +1,6 @@
 //! The play operator (backlash).
 
-use crate::{check, check_input, check_lengths, Error, Float, Operator, Result, Trial};
+use crate::{check, check_input, check_lengths, Domain, Error, Float, Operator, Result, Trial};
 use serde::{Deserialize, Serialize};
 
 /// Parameters of the [`Play`] operator.
@@ -150,6 +150,10 @@ impl<T: Float> Operator<T> for Play<T> {
 
     fn param_names(&self) -> Vec<String> {
         vec!["r".into(), "y0".into()]
+    }
+
+    fn param_domains(&self) -> Vec<Domain> {
+        vec![Domain::NonNegative, Domain::Real]
     }
 
     fn set_params(&mut self, p: &[T]) -> Result<()> {

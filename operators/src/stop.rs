@@ -1,8 +1,8 @@
 //! The stop operator (Prandtl-Ishlinskii stop).
 
 use crate::{
-    check, check_input, check_lengths, play_step, play_tangent, Error, Float, Operator, Result,
-    Trial,
+    check, check_input, check_lengths, play_step, play_tangent, Domain, Error, Float, Operator,
+    Result, Trial,
 };
 use serde::{Deserialize, Serialize};
 
@@ -142,6 +142,10 @@ impl<T: Float> Operator<T> for Stop<T> {
 
     fn param_names(&self) -> Vec<String> {
         vec!["r".into(), "s0".into()]
+    }
+
+    fn param_domains(&self) -> Vec<Domain> {
+        vec![Domain::NonNegative, Domain::Real]
     }
 
     fn set_params(&mut self, p: &[T]) -> Result<()> {
