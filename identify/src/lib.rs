@@ -1,0 +1,24 @@
+//! # hysteron-identify
+//!
+//! Parameter identification for any hysteron model:
+//!
+//! * [`fit`]: Levenberg-Marquardt (the `levenberg-marquardt` crate, on
+//!   nalgebra) over any subset of a model's flat parameter vector, bounded
+//!   parameters fitted through a reparametrization ([`Reparam`]), central
+//!   finite-difference Jacobian with columns in parallel, and a
+//!   [`FitReport`] with standard errors and confidence intervals;
+//! * [`batch`]: many parameter sets or many records simulated in parallel.
+//!
+//! Kept in its own crate so that nalgebra stays out of the core.
+
+#![warn(missing_docs)]
+
+pub mod batch;
+mod fit;
+mod transform;
+
+pub use fit::{
+    fit, fit_with_progress, free_by_names, Fit, FitError, FitOptions, FitReport, FitStatus,
+    FittedParam, Progress,
+};
+pub use transform::{Reparam, BOUNDARY_NUDGE};

@@ -1,0 +1,100 @@
+//! Recovery of known parameters from synthetic records.
+
+use hysteron_identify::{fit, free_by_names, FitOptions};
+use hysteron_operators::{BoucWen, Operator};
+use rand::{rngs::StdRng, SeedableRng};
+use rand_distr::{Distribution, Normal};
+
+/// A decaying sine of 20 000 samples: reversals at many amplitudes.
+fn decaying_sine(n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|i| {
+            let t = i as f64 / n as f64;
+            2.0 * (-2.0 * t).exp() * (std::f64::consts::TAU * 10.0 * t).sin()
+        })
+        .collect()
+}
+
+fn truth(n: f64) -> BoucWen<f64> {
+    BoucWen::constant(3.0, 0.3, 1.0, 0.8, 0.4, n).unwrap()
+}
+
+const FREE: [&str; 4] = ["w", "beta", "gamma", "n"];
+
+fn perturbed(start: &BoucWen<f64>, factors: &[f64]) -> Box<dyn Operator<f64>> {
+    let mut m: Box<dyn Operator<f64>> = Box::new(start.clone());
+    let idx = free_by_names(m.as_ref(), &FREE).unwrap();
+    let mut p = m.params();
+    for (&i, f) in idx.iter().zip(factors) {
+        p[i] *= f;
+    }
+    m.set_params(&p).unwrap();
+    m
+}
+
+#[test]
+fn noise_free_bouc_wen_recovers_its_parameters() {
+    let x = decaying_sine(20_000);
+    let t = truth(1.5);
+    let y = t.clone().run(&x).unwrap();
+    let start = perturbed(&t, &[1.3, 0.7, 1.25, 1.2]);
+    let idx = free_by_names(start.as_ref(), &FREE).unwrap();
+    let f = fit(start.as_ref(), &x, &y, &idx, &FitOptions::default()).unwrap();
+    let r = &f.report;
+    assert!(r.status.converged(), "{:?}", r.status);
+    let want = t.params();
+    for p in &r.params {
+        let rel = (p.value - want[p.index]).abs() / want[p.index].abs();
+        assert!(
+            rel < 1e-6,
+            "{}: {} vs {} (rel {rel:e})",
+            p.name,
+            p.value,
+            want[p.index]
+        );
+    }
+    println!(
+        "noise-free: {} iterations, {} evaluations, {:?}, rms {:e}",
+        r.iterations, r.evaluations, r.wall_time, r.rms
+    );
+}
+
+#[test]
+fn noisy_bouc_wen_truth_lies_within_three_standard_errors() {
+    let x = decaying_sine(20_000);
+    let t = truth(1.5);
+    let clean = t.clone().run(&x).unwrap();
+    let sd = 0.01 * (clean.iter().map(|v| v * v).sum::<f64>() / clean.len() as f64).sqrt();
+    let mut rng = StdRng::seed_from_u64(7);
+    let noise = Normal::new(0.0, sd).unwrap();
+    let y: Vec<f64> = clean.iter().map(|v| v + noise.sample(&mut rng)).collect();
+    let start = perturbed(&t, &[1.3, 0.7, 1.25, 1.2]);
+    let idx = free_by_names(start.as_ref(), &FREE).unwrap();
+    let f = fit(start.as_ref(), &x, &y, &idx, &FitOptions::default()).unwrap();
+    let r = &f.report;
+    assert!(r.status.converged(), "{:?}", r.status);
+    let want = t.params();
+    for p in &r.params {
+        let se = p.std_error.expect("standard error");
+        let z = (p.value - want[p.index]).abs() / se;
+        println!(
+            "{}: {:.6} ± {:.2e} (true {}, z = {z:.2}), ci {:?}",
+            p.name, p.value, se, want[p.index], p.ci95
+        );
+        assert!(
+            z < 3.0,
+            "{}: {} is {z:.1} standard errors from {}",
+            p.name,
+            p.value,
+            want[p.index]
+        );
+        let (lo, hi) = p.ci95.unwrap();
+        assert!(lo < p.value && p.value < hi);
+    }
+    assert!(
+        (r.rms / sd - 1.0).abs() < 0.05,
+        "rms {} vs noise {}",
+        r.rms,
+        sd
+    );
+}
