@@ -169,7 +169,10 @@ fn check<O: Operator<f64> + Clone + 'static>(label: &str, op: O) {
     let domains = h.param_domains();
     assert_eq!(domains.len(), p.len(), "{label}: param_domains");
     for ((v, d), name) in p.iter().zip(&domains).zip(h.param_names()) {
-        assert!(d.contains(*v), "{label}: {name} = {v} outside its domain {d:?}");
+        assert!(
+            d.contains(*v),
+            "{label}: {name} = {v} outside its domain {d:?}"
+        );
     }
     h.run(&xs[..half]).unwrap();
     h.set_params(&p).unwrap();
