@@ -4,6 +4,7 @@
 //! trials leave no trace; clones are independent; boxed equals static; the
 //! flat parameter vector round-trips.
 
+use hysteron::operators::Domain;
 use hysteron::prelude::*;
 
 /// A signal with reversals of varying amplitude, repeated samples and a
@@ -173,6 +174,27 @@ fn check<O: Operator<f64> + Clone + 'static>(label: &str, op: O) {
             d.contains(*v),
             "{label}: {name} = {v} outside its domain {d:?}"
         );
+    }
+    // The domains are tight: a value just outside each bounded one is
+    // rejected by set_params.
+    for (i, d) in domains.iter().enumerate() {
+        let outside = match *d {
+            Domain::Real => continue,
+            Domain::NonNegative => vec![-1e-9],
+            Domain::Positive => vec![0.0, -1e-9],
+            Domain::NonPositive => vec![1e-9],
+            Domain::AtLeast(a) => vec![a - 1e-9],
+            Domain::UnitInterval => vec![-1e-9, 1.0 + 1e-9],
+        };
+        for v in outside {
+            let mut q = p.clone();
+            q[i] = v;
+            assert!(
+                h.clone().set_params(&q).is_err(),
+                "{label}: {} = {v} accepted outside {d:?}",
+                h.param_names()[i]
+            );
+        }
     }
     h.run(&xs[..half]).unwrap();
     h.set_params(&p).unwrap();

@@ -243,7 +243,7 @@ proptest! {
             let o = oracle.step(x);
             prop_assert!((f - o).abs() <= 1e-9 * scale, "sample {}: model {} oracle {} (x = {})", i, f, o, x);
             let st = paper_state(&model, x);
-            prop_assert!((st.slider - oracle.r).abs() <= 1e-9 * scale, "slider {} vs {}", st.slider, oracle.r);
+            prop_assert!((st.slider - oracle.r).abs() <= 1e-9 * p.backlash, "slider {} vs {}", st.slider, oracle.r);
             prop_assert!(st.slider.abs() <= p.backlash / 2.0 * (1.0 + 1e-12));
         }
     }

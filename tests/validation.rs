@@ -188,7 +188,7 @@ fn set_params_is_atomic_and_names_the_path() {
     assert_eq!(
         err,
         Error::InvalidParameter {
-            name: "second.f_c".into(),
+            name: "second.mms.f_c".into(),
             value: -1.0,
             reason: "must be > 0"
         }
@@ -202,4 +202,75 @@ fn set_params_is_atomic_and_names_the_path() {
             got: 1
         })
     ));
+}
+
+#[test]
+fn a_loop_without_solution_is_an_error_not_a_huge_number() {
+    // y = x + y has no solution; in floating point y − (x + y) rounds to 0
+    // once |y| ≥ 2^53, which must not be taken for a root.
+    let mut m = Gain::new(1.0_f64)
+        .unwrap()
+        .feedback(Gain::new(-1.0).unwrap());
+    assert!(matches!(m.trial(1.0), Err(Error::NoBracket { .. })));
+    let mut m = Gain::new(2.0_f64)
+        .unwrap()
+        .feedback(Gain::new(-0.5).unwrap());
+    assert!(m.trial(1.0).is_err());
+}
+
+#[test]
+fn extreme_but_valid_parameters_give_errors_or_numbers_never_nan() {
+    // F_b / k underflows: rejected, naming f_b.
+    names(ElastoPlastic::new(1e300_f64, 1e-30), "f_b");
+    names(ElastoPlastic::new(1e-300_f64, 1e10), "f_b");
+    // Ω = ±F_c − y_r overflows: outputs stay finite (the branch is
+    // clamped to [y_r, ±F_c]) and tangents are numbers, not NaN.
+    let mut m = Mms::new(1.7e308_f64, 1.0).unwrap();
+    let y = m.run(&[10.0, -800.0]).unwrap();
+    assert!(y.iter().all(|v| v.is_finite()) && y[1] == -1.7e308, "{y:?}");
+    let mut m = Mms::new(1.7e308_f64, 1.0).unwrap();
+    m.trial(10.0).unwrap();
+    m.commit();
+    let t = m.trial(-800.0).unwrap();
+    assert!(!t.tangent.is_nan() && t.output == -1.7e308, "{t:?}");
+    // A probe that overflows inside a solve is not blamed on the input.
+    let mut s = Gain::new(1.0_f64).unwrap().series(Gain::new(1.0).unwrap());
+    match s.run(&[1.7e308, -1.7e308]) {
+        Ok(y) => assert!(y.iter().all(|v| v.is_finite())),
+        Err(Error::AtSample { source, .. }) => {
+            assert!(!matches!(*source, Error::NonFiniteInput { .. }), "{source}")
+        }
+        Err(e) => panic!("{e}"),
+    }
+}
+
+#[test]
+fn bouc_wen_works_in_f32() {
+    let mut bw = BoucWen::<f32>::constant(2.0, 0.3, 1.0, 0.6, 0.4, 1.5).unwrap();
+    let x: Vec<f32> = (0..400).map(|i| 1.5 * (i as f32 * 0.05).sin()).collect();
+    let y = bw.run(&x).unwrap();
+    let mut bw64 = BoucWen::<f64>::constant(2.0, 0.3, 1.0, 0.6, 0.4, 1.5).unwrap();
+    let y64 = bw64
+        .run(&x.iter().map(|&v| v as f64).collect::<Vec<_>>())
+        .unwrap();
+    for (a, b) in y.iter().zip(&y64) {
+        assert!(
+            (*a as f64 - b).abs() < 1e-4 * b.abs().max(1.0),
+            "{a} vs {b}"
+        );
+    }
+}
+
+#[test]
+fn signal_generators_reject_absurd_lengths() {
+    use hysteron::models::experiments::{chirp, sine};
+    assert!(sine(1e-300, 1.0, 1.0, 1000.0).is_err());
+    assert!(sine(1e-9, 1.0, 1.0, 1000.0).is_err());
+    assert!(chirp(5.0, 0.1, 1e300, 1000.0, |_| 1.0).is_err());
+    let s = sine(1.0, 1.0, 1.0, 100.0).unwrap();
+    assert!(s.clone().then(1e300, 100.0, &s).is_err());
+    assert!(s.clone().then(-1.0, 100.0, &s).is_err());
+    let mut p = hysteron::models::TransmissionParams::default();
+    p.friction.f_c = -1.0;
+    assert!(hysteron::models::experiments::paper_experiments(&p).is_err());
 }

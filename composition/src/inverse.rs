@@ -128,7 +128,9 @@ where
 
     fn set_params(&mut self, p: &[T]) -> Result<()> {
         let mut inner = self.inner.clone();
-        inner.set_params(p).map_err(|e| e.in_path("inner"))?;
+        inner
+            .set_params(p)
+            .map_err(|e| e.in_path(&format!("inner.{}", self.inner.name())))?;
         self.inner = inner;
         self.reset();
         Ok(())

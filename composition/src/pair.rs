@@ -13,9 +13,13 @@ where
     check::count(a.n_params() + b.n_params(), p)?;
     let (pa, pb) = p.split_at(a.n_params());
     let mut next_a = a.clone();
-    next_a.set_params(pa).map_err(|e| e.in_path(names[0]))?;
+    next_a
+        .set_params(pa)
+        .map_err(|e| e.in_path(&format!("{}.{}", names[0], a.name())))?;
     let mut next_b = b.clone();
-    next_b.set_params(pb).map_err(|e| e.in_path(names[1]))?;
+    next_b
+        .set_params(pb)
+        .map_err(|e| e.in_path(&format!("{}.{}", names[1], b.name())))?;
     *a = next_a;
     *b = next_b;
     Ok(())

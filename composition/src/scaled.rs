@@ -98,7 +98,9 @@ where
         check::count(self.n_params(), p)?;
         check::finite("w", p[0])?;
         let mut inner = self.inner.clone();
-        inner.set_params(&p[1..]).map_err(|e| e.in_path("inner"))?;
+        inner
+            .set_params(&p[1..])
+            .map_err(|e| e.in_path(&format!("inner.{}", self.inner.name())))?;
         self.w = p[0];
         self.inner = inner;
         self.pending = false;

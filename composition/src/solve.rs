@@ -59,7 +59,15 @@ struct Tracked<F, T> {
 impl<T: Float, F: FnMut(T) -> Result<Eval<T>>> Tracked<F, T> {
     fn eval(&mut self, x: T) -> Result<Eval<T>> {
         self.last = Some(x);
-        let (r, d) = (self.f)(x)?;
+        // A child rejecting a non-finite input here was handed an
+        // overflowed probe, not the user's input: say so.
+        let (r, d) = (self.f)(x).map_err(|e| match e {
+            Error::NonFiniteInput { value } => Error::NonFiniteOutput {
+                operator: self.solver,
+                input: value,
+            },
+            other => other,
+        })?;
         if r.is_nan() {
             return Err(Error::NoBracket {
                 solver: self.solver,
@@ -253,6 +261,12 @@ where
                 continue;
             }
             let (r, d) = f.eval(x)?;
+            if r == T::zero() && !genuine_zero(f, x, scale, opts)? {
+                // A residual that only rounds to zero (a loop with no
+                // solution evaluated where its terms swamp each other):
+                // not a root; keep searching, and fail if nothing else is.
+                continue;
+            }
             if r == T::zero() || r.signum() != r0.signum() {
                 return Ok(Found::Bracket(make(x0, r0, d0, x, r, d)));
             }
@@ -280,6 +294,28 @@ where
         around: x0.as_f64(),
         expansions: opts.max_expansions,
     })
+}
+
+/// Whether an exact zero of the residual met while bracketing is a root:
+/// the residual just below and just above `x` must have opposite signs.
+/// (A zero that is only rounding, or the inside of a flat set of roots, is
+/// passed over; the search goes on to a sign change beyond it, which
+/// brackets the flat set for the refinement.)
+fn genuine_zero<T, F>(
+    f: &mut Tracked<F, T>,
+    x: T,
+    scale: T,
+    opts: &SolverOptions<T>,
+) -> Result<bool>
+where
+    T: Float,
+    F: FnMut(T) -> Result<Eval<T>>,
+{
+    let d = opts.tol(x, scale).max(x.abs() * T::epsilon() * T::lit(4.0));
+    let (below, _) = f.eval(x - d)?;
+    let (above, _) = f.eval(x + d)?;
+    let zero = T::zero();
+    Ok((below < zero && above > zero) || (below > zero && above < zero))
 }
 
 fn refine<T, F>(
@@ -428,6 +464,18 @@ mod tests {
         )
         .unwrap();
         assert_eq!(r, Root::Inside(0.5));
+    }
+
+    #[test]
+    fn a_residual_that_only_rounds_to_zero_is_not_a_root() {
+        // y − (1 + y): −1 everywhere, but 0 in floating point once y ≥ 2^53.
+        let e = solve(
+            "t",
+            |y: f64| Ok((y - (1.0 + y), 0.0)),
+            st(0.0, 1.0, None, None),
+            &opts(),
+        );
+        assert!(matches!(e, Err(Error::NoBracket { .. })), "{e:?}");
     }
 
     #[test]

@@ -32,12 +32,14 @@ impl Signal {
         self.x.is_empty()
     }
 
-    /// Appends `other` after a pause of `pause` seconds during which the
-    /// input holds its last value (sampled at `fs`).
-    pub fn then(mut self, pause: f64, fs: f64, other: &Signal) -> Signal {
+    /// Appends `other` after a pause of `pause ≥ 0` seconds during which
+    /// the input holds its last value (sampled at `fs > 0`).
+    pub fn then(mut self, pause: f64, fs: f64, other: &Signal) -> Result<Signal> {
+        hysteron_operators::check::non_negative("pause", pause)?;
+        check_positive("fs", fs)?;
         let t_end = self.t.last().copied().unwrap_or(0.0);
         let x_end = self.x.last().copied().unwrap_or(0.0);
-        let n_pause = (pause * fs).round() as usize;
+        let n_pause = sample_count("pause", pause, fs)?;
         for k in 1..=n_pause {
             self.t.push(t_end + k as f64 / fs);
             self.x.push(x_end);
@@ -45,12 +47,30 @@ impl Signal {
         let t0 = t_end + n_pause as f64 / fs + if self.t.is_empty() { 0.0 } else { 1.0 / fs };
         self.t.extend(other.t.iter().map(|t| t0 + t));
         self.x.extend_from_slice(&other.x);
-        self
+        Ok(self)
     }
 }
 
 fn check_positive(name: &str, v: f64) -> Result<()> {
     hysteron_operators::check::positive(name, v)
+}
+
+/// The most samples one generated signal may have (10⁹, 8 GB of `f64`).
+pub const MAX_SAMPLES: f64 = 1e9;
+
+/// `round(duration · fs)` as a count, or an error naming `name` when it is
+/// not finite or above [`MAX_SAMPLES`].
+fn sample_count(name: &str, duration: f64, fs: f64) -> Result<usize> {
+    let n = (duration * fs).round();
+    if n.is_finite() && (0.0..=MAX_SAMPLES).contains(&n) {
+        Ok(n as usize)
+    } else {
+        Err(Error::InvalidParameter {
+            name: name.into(),
+            value: duration,
+            reason: "gives more samples than MAX_SAMPLES at this sampling rate",
+        })
+    }
 }
 
 /// `x(t) = A sin(2π f t)` for `cycles` periods at sampling rate `fs`,
@@ -60,7 +80,7 @@ pub fn sine(freq: f64, amplitude: f64, cycles: f64, fs: f64) -> Result<Signal> {
     hysteron_operators::check::finite("amplitude", amplitude)?;
     check_positive("cycles", cycles)?;
     check_positive("fs", fs)?;
-    let n = (cycles / freq * fs).round() as usize + 1;
+    let n = sample_count("cycles", cycles / freq, fs)? + 1;
     let t: Vec<f64> = (0..n).map(|i| i as f64 / fs).collect();
     let x = t
         .iter()
@@ -83,7 +103,7 @@ pub fn chirp(
     check_positive("f1", f1)?;
     check_positive("duration", duration)?;
     check_positive("fs", fs)?;
-    let n = (duration * fs).round() as usize + 1;
+    let n = sample_count("duration", duration, fs)? + 1;
     let t: Vec<f64> = (0..n).map(|i| i as f64 / fs).collect();
     let k = (f1 - f0) / duration;
     let x = t
@@ -151,9 +171,12 @@ pub const DRIVE: Drive = Drive { a0: 1.5, f_bw: 2.0 };
 ///   amplitude growing as the frequency falls (Figure 10).
 pub fn paper_experiments(params: &TransmissionParams) -> Result<Vec<Experiment>> {
     let a = |f: f64| DRIVE.amplitude(f);
+    // Validate first: the initial states below are derived from the
+    // parameters.
+    params.build()?;
     let sines = sine(0.05, a(0.05), 2.0, FS)?
-        .then(1.0, FS, &sine(0.5, a(0.5), 4.0, FS)?)
-        .then(1.0, FS, &sine(5.0, a(5.0), 10.0, FS)?);
+        .then(1.0, FS, &sine(0.5, a(0.5), 4.0, FS)?)?
+        .then(1.0, FS, &sine(5.0, a(5.0), 10.0, FS)?)?;
     let five = sine(5.0, a(5.0), 10.0, FS)?;
     let loaded = |sign: f64| {
         let mut p = params.clone();

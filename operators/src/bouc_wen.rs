@@ -1,6 +1,6 @@
 //! The Bouc-Wen-like hysteresis spring with a nonlinear stiffness map.
 
-use crate::hysteretic_state::{Power, StateEquation};
+use crate::hysteretic_state::StateEquation;
 use crate::{
     check, check_input, check_output, Domain, Float, Operator, Result, StiffnessMap, Trial,
 };
@@ -65,7 +65,7 @@ struct State<T> {
 /// integrated in the input domain, `dh/dz = α − |h|^n (β sgn(ż h) + γ)`, so
 /// the operator is rate-independent. For `n = 1` each step is exact (closed
 /// form); otherwise an adaptive Dormand–Prince 5(4) scheme keeps the local
-/// error per sub-step below `rtol` relative (default `1e-10`, see
+/// error per sub-step below `rtol` relative (default `1e-10` for `f64`, see
 /// [`BoucWen::with_tolerance`]). The state update between two samples
 /// assumes the input moves monotonically between them.
 ///
@@ -96,13 +96,7 @@ impl<T: Float> BoucWen<T> {
     /// A spring from validated parameters.
     pub fn from_params(p: BoucWenParams<T>) -> Result<Self> {
         p.validate()?;
-        let eq = StateEquation {
-            alpha: p.alpha,
-            beta: p.beta,
-            gamma: p.gamma,
-            power: Power::new(p.n),
-            rtol: T::lit(1e-10),
-        };
+        let eq = StateEquation::new(p.alpha, p.beta, p.gamma, p.n, Self::default_tolerance());
         let s = State {
             z: p.z0,
             h: p.h0,
@@ -130,8 +124,14 @@ impl<T: Float> BoucWen<T> {
         })
     }
 
+    /// The default integration tolerance: `1e-10`, or `64 ε` where that is
+    /// larger (`f32`: 7.6e-6).
+    pub fn default_tolerance() -> T {
+        T::lit(1e-10).max(T::epsilon() * T::lit(64.0))
+    }
+
     /// Sets the relative local error tolerance of the adaptive integration
-    /// (used for `n ≠ 1`), `rtol ∈ [1e-14, 1e-3]` for `f64`.
+    /// (used for `n ≠ 1`), `rtol ∈ [64 ε, 1e-3]` (for `f64`: from 1.42e-14).
     pub fn with_tolerance(mut self, rtol: T) -> Result<Self> {
         check::positive("rtol", rtol)?;
         if rtol < T::epsilon() * T::lit(64.0) || rtol > T::lit(1e-3) {
@@ -141,7 +141,7 @@ impl<T: Float> BoucWen<T> {
                 reason: "must lie in [64 ε, 1e-3]",
             });
         }
-        self.eq.rtol = rtol;
+        self.eq = StateEquation::new(self.p.alpha, self.p.beta, self.p.gamma, self.p.n, rtol);
         Ok(self)
     }
 
@@ -258,7 +258,7 @@ impl<T: Float> Operator<T> for BoucWen<T> {
             z0: p[6],
             stiffness,
         })?;
-        next.eq.rtol = rtol;
+        next.eq = StateEquation::new(next.p.alpha, next.p.beta, next.p.gamma, next.p.n, rtol);
         *self = next;
         Ok(())
     }

@@ -20,7 +20,25 @@ impl<T: Float> ElastoPlasticParams<T> {
     pub fn validate(&self) -> Result<()> {
         check::positive("k", self.k)?;
         check::non_negative("f_b", self.f_b)?;
-        check::finite("f0", self.f0)
+        check::finite("f0", self.f0)?;
+        // The element works through a stop of threshold F_b/k (and initial
+        // output f0/k): those ratios must be representable.
+        let (r, s0) = (self.f_b / self.k, self.f0 / self.k);
+        if !r.is_finite() || (self.f_b > T::zero() && r == T::zero()) {
+            return Err(crate::Error::InvalidParameter {
+                name: "f_b".into(),
+                value: self.f_b.as_f64(),
+                reason: "F_b / k must be a finite, non-zero number when F_b > 0",
+            });
+        }
+        if !s0.is_finite() {
+            return Err(crate::Error::InvalidParameter {
+                name: "f0".into(),
+                value: self.f0.as_f64(),
+                reason: "f0 / k must be finite",
+            });
+        }
+        Ok(())
     }
 
     fn stop(&self) -> StopParams<T> {

@@ -78,6 +78,8 @@ pub(crate) struct StateEquation<T> {
     pub power: Power<T>,
     /// Relative local error per adaptive sub-step (`n ≠ 1`).
     pub rtol: T,
+    /// The core radius of [`StateEquation::linear_core`], cached.
+    pub core: Option<T>,
 }
 
 /// Sub-steps one input step may take before the integration gives up
@@ -85,6 +87,20 @@ pub(crate) struct StateEquation<T> {
 const MAX_SUBSTEPS: usize = 100_000;
 
 impl<T: Float> StateEquation<T> {
+    /// The state equation with shape `α, β, γ, n` and tolerance `rtol`.
+    pub(crate) fn new(alpha: T, beta: T, gamma: T, n: T, rtol: T) -> Self {
+        let mut eq = StateEquation {
+            alpha,
+            beta,
+            gamma,
+            power: Power::new(n),
+            rtol,
+            core: None,
+        };
+        eq.core = eq.linear_core();
+        eq
+    }
+
     /// `f(g) = α − |g|^n (β sgn(g) + γ)`.
     #[inline(always)]
     pub(crate) fn rate(&self, g: T) -> T {
@@ -187,7 +203,7 @@ impl<T: Float> StateEquation<T> {
         // Travel left below this (rounding noise of the sum of sub-steps, or
         // a subnormal step) is finished with one Euler step, error O(h²).
         let done = (s * T::epsilon() * l(4.0)).max(T::min_positive_value());
-        let g_min = self.linear_core();
+        let g_min = self.core;
         for _ in 0..MAX_SUBSTEPS {
             if s - t <= done {
                 return Ok(g + (s - t) * self.rate(g));
@@ -294,13 +310,7 @@ mod tests {
     use super::*;
 
     fn eq(n: f64, alpha: f64, beta: f64, gamma: f64) -> StateEquation<f64> {
-        StateEquation {
-            alpha,
-            beta,
-            gamma,
-            power: Power::new(n),
-            rtol: 1e-10,
-        }
+        StateEquation::new(alpha, beta, gamma, n, 1e-10)
     }
 
     #[test]
@@ -326,6 +336,7 @@ mod tests {
         let closed = eq(1.0, 1.0, 0.7, 0.3);
         let mut general = closed;
         general.power = Power::Real(1.0);
+        general.core = general.linear_core();
         for g0 in [-1.2, -0.5, 0.0, 0.4, 0.99, 1.3] {
             for s in [1e-6, 0.01, 0.3, 1.0, 5.0] {
                 let a = closed.advance(g0, s).unwrap();
@@ -343,8 +354,7 @@ mod tests {
     #[test]
     fn adaptive_matches_tanh_for_n2() {
         let (alpha, c) = (1.5, 0.8);
-        let e = eq(2.0, 0.5, 0.5, 0.3);
-        let e = StateEquation { alpha, ..e };
+        let e = eq(2.0, alpha, 0.5, 0.3);
         let a = (alpha / c).sqrt();
         for g0 in [0.0, 0.2, 1.0, 1.3] {
             for s in [1e-4, 0.05, 0.5, 3.0] {

@@ -1,6 +1,8 @@
 //! Modified Maxwell-slip (MMS) pre-sliding friction.
 
-use crate::{check, check_input, check_lengths, Domain, Error, Float, Operator, Result, Trial};
+use crate::{
+    check, check_input, check_lengths, check_output, Domain, Error, Float, Operator, Result, Trial,
+};
 use serde::{Deserialize, Serialize};
 
 /// Parameters of the [`Mms`] friction operator.
@@ -119,9 +121,9 @@ impl<T: Float> Mms<T> {
             (s.x_r, s.y_r)
         };
         let sign = if dir < 0 { -T::one() } else { T::one() };
-        let decay = (-p.k * (x - x_r).abs()).exp();
         // 1 − e^{−a} via expm1 keeps full accuracy near a reversal.
         let rise = -(-p.k * (x - x_r).abs()).exp_m1();
+        let decay = T::one() - rise;
         let target = sign * p.f_c;
         let omega = target - y_r;
         // The branch runs from y_r towards ±F_c; clamping to that interval
@@ -133,7 +135,9 @@ impl<T: Float> Mms<T> {
             let v = y_r + omega * rise;
             v.max(y_r.min(target)).min(y_r.max(target))
         };
-        let tangent = (p.f_c - sign * y_r) * p.k * decay;
+        // (F_c − sgn·y_r) K e^{−a}, with the decay applied first so that a
+        // huge |Ω| times a vanishing decay gives 0, not ∞·0.
+        let tangent = sign * (decay * target - decay * y_r) * p.k;
         (
             State {
                 x,
@@ -157,11 +161,16 @@ impl<T: Float> Operator<T> for Mms<T> {
         self.pending = None;
         let x = check_input(x)?;
         let (s, tangent) = Self::step(&self.p, &self.s, x);
+        let t = check_output(
+            "mms",
+            x,
+            Trial {
+                output: s.y,
+                tangent,
+            },
+        )?;
         self.pending = Some(s);
-        Ok(Trial {
-            output: s.y,
-            tangent,
-        })
+        Ok(t)
     }
 
     #[inline]
@@ -185,7 +194,16 @@ impl<T: Float> Operator<T> for Mms<T> {
                 self.s = s;
                 return Err(Error::NonFiniteInput { value: x.as_f64() }.at_sample(i));
             }
-            s = Self::step(&self.p, &s, x).0;
+            let next = Self::step(&self.p, &s, x).0;
+            if !next.y.is_finite() {
+                self.s = s;
+                return Err(Error::NonFiniteOutput {
+                    operator: "mms",
+                    input: x.as_f64(),
+                }
+                .at_sample(i));
+            }
+            s = next;
             *out = s.y;
         }
         self.s = s;

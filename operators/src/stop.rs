@@ -25,7 +25,10 @@ impl<T: Float> StopParams<T> {
 }
 
 /// Stop operator with threshold `r`: `s_r[x] = x − p_r[x]`, with `p_r` the
-/// [`Play`](crate::Play). Equivalently `s_k = clamp(s_{k−1} + Δx, −r, r)`.
+/// [`Play`](crate::Play). In exact arithmetic equivalently
+/// `s_k = clamp(s_{k−1} + Δx, −r, r)`; in floating point `s = x − p` carries
+/// the rounding of `x`, so for `|x|` so large that `ulp(x) > r` the output
+/// is resolved only to `ulp(x)`.
 ///
 /// The state kept is the play position `q = x − s`, advanced by the play's
 /// own step; this makes the operator exactly rate-independent in floating
