@@ -15,6 +15,7 @@
 
 pub mod batch;
 mod fit;
+pub mod paper;
 mod transform;
 
 pub use fit::{

@@ -1,0 +1,655 @@
+//! The paper's two identification stages on synthetic records.
+
+use hysteron_identify::paper::{
+    fit_bedstop, fit_spring, identify_paper, knots_from_points, last_increasing_branch,
+    pick_branch_points, pick_branch_points_smoothed, PaperError, PaperOptions, SpringFromPoints,
+    SpringShape,
+};
+use hysteron_identify::FitOptions;
+use hysteron_models::experiments::{chirp, sine, DRIVE, FS};
+use hysteron_models::TransmissionParams;
+use hysteron_operators::{BoucWen, Operator};
+use rand::{rngs::StdRng, SeedableRng};
+use rand_distr::{Distribution, Normal};
+use std::time::Instant;
+
+/// The truth: the illustrative defaults with `n = 1.5` (the default `n = 1`
+/// sits on the bound of `n ≥ 1`, which the fit reaches only in the limit)
+/// and a nonzero initial state `h0`.
+fn truth() -> TransmissionParams {
+    let mut p = TransmissionParams::default();
+    p.spring.n = 1.5;
+    p.spring.h0 = 0.1;
+    p
+}
+
+fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs()
+}
+
+/// The spring alone, driven at 0.5 Hz, 1.5 deg, four cycles from rest.
+fn spring_record(p: &TransmissionParams) -> (Vec<f64>, Vec<f64>) {
+    let x = sine(0.5, 1.5, 4.0, FS).unwrap().x;
+    let f = BoucWen::from_params(p.spring.clone())
+        .unwrap()
+        .run(&x)
+        .unwrap();
+    (x, f)
+}
+
+/// Points at the true knot positions, with the true spring's exact force
+/// there on the record's last complete increasing branch.
+fn points_at_true_knots(p: &TransmissionParams, x: &[f64]) -> Vec<(f64, f64)> {
+    let b = last_increasing_branch(x).unwrap();
+    let mut spring = BoucWen::from_params(p.spring.clone()).unwrap();
+    spring.run(&x[..=b.start]).unwrap();
+    p.spring
+        .stiffness
+        .knots_z()
+        .iter()
+        .map(|&z| (z, spring.trial(z).unwrap().output))
+        .collect()
+}
+
+fn perturbed_shape(p: &TransmissionParams) -> SpringShape {
+    let s = SpringShape::of(&p.spring);
+    SpringShape {
+        w: s.w * 1.25,
+        beta: s.beta * 0.75,
+        gamma: s.gamma * 1.3,
+        n: s.n * 1.2,
+        h0: s.h0 * 0.7,
+        ..s
+    }
+}
+
+const SPRING_FREE: [&str; 5] = ["w", "beta", "gamma", "n", "h0"];
+
+fn noisy(clean: &[f64], fraction: f64, seed: u64) -> (Vec<f64>, f64) {
+    let sd = fraction * (clean.iter().map(|v| v * v).sum::<f64>() / clean.len() as f64).sqrt();
+    let mut rng = StdRng::seed_from_u64(seed);
+    let noise = Normal::new(0.0, sd).unwrap();
+    (
+        clean.iter().map(|v| v + noise.sample(&mut rng)).collect(),
+        sd,
+    )
+}
+
+#[test]
+fn knot_rule_reproduces_the_true_stiffness_and_the_record() {
+    let t = truth();
+    let (x, f) = spring_record(&t);
+    let points = points_at_true_knots(&t, &x);
+    let shape = SpringShape::of(&t.spring);
+    let map = knots_from_points(&x, &points, &shape).unwrap();
+    let want = &t.spring.stiffness;
+    assert_eq!(map.knots_z(), want.knots_z());
+    let worst = map
+        .knots_s()
+        .iter()
+        .zip(want.knots_s())
+        .map(|(a, b)| rel(*a, *b))
+        .fold(0.0, f64::max);
+    println!("knots at the true positions: max relative error of S_i {worst:e}");
+    assert!(worst < 1e-12, "{worst:e}");
+    // the spring built from them replays the record
+    let mut model = SpringFromPoints::new(&x, &points, &shape).unwrap();
+    let y = model.run(&x).unwrap();
+    let scale = f.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+    let err = y
+        .iter()
+        .zip(&f)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    println!("replay: max |error| {err:e} of max |F| {scale}");
+    assert!(err < 1e-10 * scale);
+    // and passes through the points on the branch
+    let b = last_increasing_branch(&x).unwrap();
+    model.reset();
+    model.run(&x[..=b.start]).unwrap();
+    for &(px, pf) in &points {
+        let h = model.trial(px).unwrap().output;
+        assert!((h - pf).abs() <= 1e-12 * scale, "{px}: {h} vs {pf}");
+    }
+}
+
+#[test]
+fn stage1_on_the_spring_alone_recovers_the_shape() {
+    let t = truth();
+    let (x, f) = spring_record(&t);
+    let points = points_at_true_knots(&t, &x);
+    let started = Instant::now();
+    let s = fit_spring(
+        &x,
+        &f,
+        &points,
+        &perturbed_shape(&t),
+        &SPRING_FREE,
+        &FitOptions::default(),
+    )
+    .unwrap();
+    let r = &s.report;
+    assert!(r.status.converged(), "{:?}", r.status);
+    let want = SpringShape::of(&t.spring);
+    let got = SpringShape::of(&s.spring);
+    let errs = [
+        ("w", rel(got.w, want.w)),
+        ("beta", rel(got.beta, want.beta)),
+        ("gamma", rel(got.gamma, want.gamma)),
+        ("n", rel(got.n, want.n)),
+        ("h0", rel(got.h0, want.h0)),
+    ];
+    let knots = s
+        .spring
+        .stiffness
+        .knots_s()
+        .iter()
+        .zip(t.spring.stiffness.knots_s())
+        .map(|(a, b)| rel(*a, *b))
+        .fold(0.0, f64::max);
+    println!(
+        "stage 1 (spring alone, points at the true knots): {errs:?}, knots max rel {knots:e}; \
+         {} iterations, {} evaluations, rms {:e}, {:?}",
+        r.iterations,
+        r.evaluations,
+        r.rms,
+        started.elapsed()
+    );
+    for (name, e) in errs {
+        assert!(e < 1e-6, "{name}: relative error {e:e}");
+    }
+    assert!(knots < 1e-6, "{knots:e}");
+}
+
+#[test]
+fn stage1_with_evenly_picked_points_is_close() {
+    let t = truth();
+    let (x, f) = spring_record(&t);
+    let points = pick_branch_points(&x, &f, 12).unwrap();
+    let started = Instant::now();
+    let s = fit_spring(
+        &x,
+        &f,
+        &points,
+        &perturbed_shape(&t),
+        &SPRING_FREE,
+        &FitOptions::default(),
+    )
+    .unwrap();
+    let r = &s.report;
+    let want = SpringShape::of(&t.spring);
+    let got = SpringShape::of(&s.spring);
+    let errs = [
+        ("w", rel(got.w, want.w)),
+        ("beta", rel(got.beta, want.beta)),
+        ("gamma", rel(got.gamma, want.gamma)),
+        ("n", rel(got.n, want.n)),
+        ("h0", rel(got.h0, want.h0)),
+    ];
+    let map = &s.spring.stiffness;
+    let s_err = (0..=150)
+        .map(|i| {
+            let z = 1.5 * i as f64 / 150.0;
+            rel(map.eval(z).0, t.spring.stiffness.eval(z).0)
+        })
+        .fold(0.0, f64::max);
+    println!(
+        "stage 1 (spring alone, 12 points even in x): {errs:?}, S max rel {s_err:e}; \
+         nrmse {:?}, {} iterations, {:?}",
+        r.nrmse,
+        r.iterations,
+        started.elapsed()
+    );
+    assert!(r.status.converged(), "{:?}", r.status);
+}
+
+#[test]
+fn stage2_on_the_chirp_recovers_the_bedstop() {
+    let t = truth();
+    let x = chirp(5.0, 0.1, 20.0, FS, |f| DRIVE.amplitude(f)).unwrap().x;
+    let started = Instant::now();
+    let f = t.build().unwrap().run(&x).unwrap();
+    println!("chirp simulation: {:?}", started.elapsed());
+    let mut start = t.clone();
+    start.friction.f_c *= 1.3;
+    start.friction.k *= 0.7;
+    start.backlash *= 1.3;
+    let started = Instant::now();
+    let s = fit_bedstop(
+        &x,
+        &f,
+        &start,
+        &["limits.b", "f_c", "k"],
+        &FitOptions::default(),
+    )
+    .unwrap();
+    let r = &s.report;
+    let errs = [
+        ("b", rel(s.params.backlash, t.backlash)),
+        ("f_c", rel(s.params.friction.f_c, t.friction.f_c)),
+        ("k", rel(s.params.friction.k, t.friction.k)),
+    ];
+    println!(
+        "stage 2 (chirp, spring at truth): {errs:?}; {} iterations, {} evaluations, rms {:e}, {:?}",
+        r.iterations,
+        r.evaluations,
+        r.rms,
+        started.elapsed()
+    );
+    assert!(r.status.converged(), "{:?}", r.status);
+    for (name, e) in errs {
+        assert!(e < 1e-6, "{name}: relative error {e:e}");
+    }
+}
+
+#[test]
+fn stage2_noisy_truth_within_three_standard_errors() {
+    let t = truth();
+    let x = chirp(5.0, 0.1, 20.0, FS, |f| DRIVE.amplitude(f)).unwrap().x;
+    let clean = t.build().unwrap().run(&x).unwrap();
+    let (f, sd) = noisy(&clean, 0.01, 11);
+    let mut start = t.clone();
+    start.friction.f_c *= 0.7;
+    start.friction.k *= 1.3;
+    start.backlash *= 0.7;
+    let started = Instant::now();
+    let s = fit_bedstop(
+        &x,
+        &f,
+        &start,
+        &["limits.b", "f_c", "k"],
+        &FitOptions::default(),
+    )
+    .unwrap();
+    let r = &s.report;
+    assert!(r.status.converged(), "{:?}", r.status);
+    let want = t.build().unwrap().params();
+    for p in &r.params {
+        let se = p.std_error.expect("standard error");
+        let z = (p.value - want[p.index]).abs() / se;
+        println!(
+            "stage 2 noisy: {}: {:.6} ± {:.2e} (true {}, rel {:.2e}, z = {z:.2})",
+            p.name,
+            p.value,
+            se,
+            want[p.index],
+            rel(p.value, want[p.index])
+        );
+        assert!(z < 3.0, "{}: {z:.1} standard errors off", p.name);
+    }
+    println!(
+        "stage 2 noisy: rms {:e} vs noise {sd:e}, {:?}",
+        r.rms,
+        started.elapsed()
+    );
+    assert!((r.rms / sd - 1.0).abs() < 0.05);
+}
+
+/// Stage 1 with 1 % noise on the force. The knot rule passes the spring
+/// exactly through the picked points, so their noise goes into the knots
+/// unaveraged (12 points against 8001 samples), and the fit's standard
+/// errors treat the knots as exact: raw points give errors of 8–44 % and
+/// the truth 1–17 standard errors away. Smoothing the picked forces with a
+/// local linear fit over ±25 samples brings the errors to ≤ 9 % (β, γ),
+/// 5 % (n), 0.06 % (w), 0.8 % (h0), the truth within about 2.4 standard
+/// errors (measured, seed 5). Asserted with margin.
+#[test]
+fn stage1_noisy_spring_alone_with_smoothed_points() {
+    let t = truth();
+    let (x, clean) = spring_record(&t);
+    let (f, sd) = noisy(&clean, 0.01, 5);
+    let started = Instant::now();
+    let points = pick_branch_points_smoothed(&x, &f, 12, 25).unwrap();
+    let s = fit_spring(
+        &x,
+        &f,
+        &points,
+        &perturbed_shape(&t),
+        &SPRING_FREE,
+        &FitOptions::default(),
+    )
+    .unwrap();
+    let r = &s.report;
+    assert!(r.status.converged(), "{:?}", r.status);
+    let want = SpringShape::of(&t.spring);
+    let bounds = [
+        (want.w, 0.005),
+        (want.beta, 0.15),
+        (want.gamma, 0.15),
+        (want.n, 0.1),
+        (want.h0, 0.05),
+    ];
+    for (p, (w, bound)) in r.params.iter().zip(bounds) {
+        let e = rel(p.value, w);
+        println!(
+            "stage 1 noisy (m = 25): {}: {:.6} ± {:.2e} (true {w}, rel {e:.2e}, z = {:.2})",
+            p.name,
+            p.value,
+            p.std_error.unwrap_or(f64::NAN),
+            p.std_error.map_or(f64::NAN, |se| (p.value - w).abs() / se)
+        );
+        assert!(e < bound, "{}: relative error {e:e}", p.name);
+    }
+    println!(
+        "stage 1 noisy: rms {:e} vs noise {sd:e}, {:?}",
+        r.rms,
+        started.elapsed()
+    );
+    assert!(r.rms < 1.05 * sd);
+}
+
+fn perturbed_start(t: &TransmissionParams) -> TransmissionParams {
+    let mut start = t.clone();
+    let s0 = perturbed_shape(t);
+    start.spring.w = s0.w;
+    start.spring.beta = s0.beta;
+    start.spring.gamma = s0.gamma;
+    start.spring.n = s0.n;
+    start.spring.h0 = s0.h0;
+    start.friction.f_c *= 1.3;
+    start.friction.k *= 0.7;
+    start.backlash *= 1.3;
+    start
+}
+
+/// The full model's own records: its 0.5 Hz major loop (4 cycles at the
+/// drive's amplitude, 1.455 deg) and the down-chirp.
+fn full_model_records(t: &TransmissionParams) -> [Vec<f64>; 4] {
+    let loop_x = sine(0.5, DRIVE.amplitude(0.5), 4.0, FS).unwrap().x;
+    let loop_f = t.build().unwrap().run(&loop_x).unwrap();
+    let chirp_x = chirp(5.0, 0.1, 20.0, FS, |f| DRIVE.amplitude(f)).unwrap().x;
+    let chirp_f = t.build().unwrap().run(&chirp_x).unwrap();
+    [loop_x, loop_f, chirp_x, chirp_f]
+}
+
+fn errors(p: &TransmissionParams, t: &TransmissionParams) -> [(&'static str, f64); 9] {
+    let s_err = (0..=145)
+        .map(|i| {
+            let z = 0.01 * i as f64;
+            rel(p.spring.stiffness.eval(z).0, t.spring.stiffness.eval(z).0)
+        })
+        .fold(0.0, f64::max);
+    [
+        ("w", rel(p.spring.w, t.spring.w)),
+        ("beta", rel(p.spring.beta, t.spring.beta)),
+        ("gamma", rel(p.spring.gamma, t.spring.gamma)),
+        ("n", rel(p.spring.n, t.spring.n)),
+        ("h0", rel(p.spring.h0, t.spring.h0)),
+        ("S on [0, 1.45]", s_err),
+        ("b", rel(p.backlash, t.backlash)),
+        ("f_c", rel(p.friction.f_c, t.friction.f_c)),
+        ("k", rel(p.friction.k, t.friction.k)),
+    ]
+}
+
+/// `identify_paper` as the paper does it, on the full model's own loop and
+/// chirp with the default backlash (b = 0.3 deg, a fifth of the loop's
+/// amplitude). Stage 1 reads the loop as the spring's own, but the spring
+/// sees `z = x − r`: the slider's travel across the gap flattens the loop
+/// near zero force, and the spring absorbs it (measured: S off by up to
+/// 67 %, w 21 %, β 23 %, n 178 %, h0 103 %). With that spring fixed, stage 2
+/// finds a degenerate bedstop: b → 0.02 (−93 %), F_c 3×, K → ∞ (a pure
+/// Coulomb step). The parameters are **not** recovered; what is achieved is
+/// a model that reproduces the loop (nrmse 0.006) and the chirp (nrmse
+/// 0.058, from 0.30 at stage 2's start; the starting model, which has the
+/// true knots, gives 0.10). Asserted: both fits converge, these nrmse
+/// levels (with margin), and stage 2 improves on its start.
+#[test]
+fn end_to_end_paper_procedure_on_the_full_model() {
+    let t = truth();
+    let [loop_x, loop_f, chirp_x, chirp_f] = full_model_records(&t);
+    let start = perturbed_start(&t);
+    let start_nrmse = {
+        let y = start.build().unwrap().run(&chirp_x).unwrap();
+        nrmse(&y, &chirp_f)
+    };
+    let started = Instant::now();
+    let id = identify_paper(
+        &loop_x,
+        &loop_f,
+        &chirp_x,
+        &chirp_f,
+        &start,
+        &PaperOptions::default(),
+    )
+    .unwrap();
+    let (s1, s2) = (&id.spring.report, &id.bedstop);
+    println!(
+        "end to end (paper's procedure, b = 0.3): {:?}",
+        errors(&id.params, &t)
+    );
+    println!(
+        "  stage 1 nrmse {:?} ({} it); stage 2 nrmse {:?} ({} it, start {start_nrmse:.3}); {:?}",
+        s1.nrmse,
+        s1.iterations,
+        s2.nrmse,
+        s2.iterations,
+        started.elapsed()
+    );
+    assert!(s1.status.converged(), "{:?}", s1.status);
+    assert!(s2.status.converged(), "{:?}", s2.status);
+    assert!(s1.nrmse.unwrap() < 0.01);
+    assert!(s2.nrmse.unwrap() < 0.08);
+    // stage 2 improves on its own start (the stage-1 spring with the
+    // starting bedstop) and on the whole starting model
+    let stage2_start = TransmissionParams {
+        spring: id.spring.spring.clone(),
+        ..start.clone()
+    };
+    let y = stage2_start.build().unwrap().run(&chirp_x).unwrap();
+    let stage2_start_nrmse = nrmse(&y, &chirp_f);
+    println!("  chirp nrmse at stage 2's start {stage2_start_nrmse:.3}");
+    assert!(s2.nrmse.unwrap() < stage2_start_nrmse);
+    assert!(s2.nrmse.unwrap() < start_nrmse);
+}
+
+fn nrmse(y: &[f64], d: &[f64]) -> f64 {
+    let m = d.len() as f64;
+    let mean = d.iter().sum::<f64>() / m;
+    let sd = (d.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / m).sqrt();
+    let rms = (y.iter().zip(d).map(|(a, b)| (a - b).powi(2)).sum::<f64>() / m).sqrt();
+    rms / sd
+}
+
+/// Where the paper's assumption holds better (a small backlash, b = 0.05
+/// deg, so the slow major loop is mostly the spring's), stage 1 alone gets
+/// the spring within 1–36 % (h0 worst), but stage 2 with that spring fixed
+/// still collapses (measured: b −94 %, F_c → ∞ with K → 0, a linear spring
+/// in place of the friction). Freeing the spring in stage 2 as well
+/// ([`PaperOptions::refine_spring_in_stage2`]: shape and knot values,
+/// knot positions from stage 1) recovers everything within 5 %: measured
+/// b 4.7 %, F_c 0.85 %, K 4.2 %, w 0.11 %, β 0.83 %, γ 0.32 %, n 0.44 %,
+/// h0 0.44 %, S 0.9 % (the knots sit at 12 points even in x, not at the
+/// true knots, so S cannot be exact).
+#[test]
+fn end_to_end_small_backlash_with_the_spring_refined_in_stage2() {
+    let mut t = truth();
+    t.backlash = 0.05;
+    let [loop_x, loop_f, chirp_x, chirp_f] = full_model_records(&t);
+    let start = perturbed_start(&t);
+    let started = Instant::now();
+    let opts = PaperOptions::default().refine_spring_in_stage2();
+    let id = identify_paper(&loop_x, &loop_f, &chirp_x, &chirp_f, &start, &opts).unwrap();
+    let errs = errors(&id.params, &t);
+    println!("end to end (b = 0.05, spring refined in stage 2): {errs:?}");
+    println!(
+        "  stage 1 nrmse {:?} ({} it); stage 2 nrmse {:?} ({} it); {:?}",
+        id.spring.report.nrmse,
+        id.spring.report.iterations,
+        id.bedstop.nrmse,
+        id.bedstop.iterations,
+        started.elapsed()
+    );
+    assert!(id.bedstop.status.converged(), "{:?}", id.bedstop.status);
+    for (name, e) in errs {
+        assert!(e < 0.1, "{name}: relative error {e:e}");
+    }
+    assert!(id.bedstop.nrmse.unwrap() < 0.002);
+}
+
+#[test]
+fn spring_from_points_is_a_well_behaved_operator() {
+    let t = truth();
+    let (x, _) = spring_record(&t);
+    let points = points_at_true_knots(&t, &x);
+    let shape = SpringShape::of(&t.spring);
+    let mut m = SpringFromPoints::new(&x, &points, &shape).unwrap();
+    assert_eq!(m.name(), "spring-from-points");
+    assert_eq!(m.param_names(), ["w", "beta", "gamma", "n", "h0"]);
+    assert_eq!(m.param_domains().len(), 5);
+    let p = m.params();
+    assert_eq!(p, vec![0.6, 2.5, 1.5, 1.5, 0.1]);
+    for (d, v) in m.param_domains().iter().zip(&p) {
+        assert!(d.contains(*v));
+    }
+    // invalid vectors leave it unchanged
+    let y0 = m.clone().run(&x).unwrap();
+    for bad in [
+        vec![1.5, 2.5, 1.5, 1.5, 0.1],
+        vec![0.6, 2.5, 1.5, 0.5, 0.1],
+        vec![0.6, f64::NAN, 1.5, 1.5, 0.1],
+        vec![0.6, 2.5, 1.5],
+    ] {
+        assert!(m.set_params(&bad).is_err(), "{bad:?}");
+        assert_eq!(m.params(), p);
+    }
+    // a shape whose denominator vanishes at the z = 0 knot: α = 0 keeps
+    // h at h0 = 0, so w·0 + (1 − w)·0 = 0 there
+    let flat = SpringShape {
+        alpha: 0.0,
+        h0: 0.0,
+        ..shape
+    };
+    assert!(matches!(
+        SpringFromPoints::new(&x, &points, &flat),
+        Err(PaperError::Denominator { index: 0, .. })
+    ));
+    let mut m2 = m.clone();
+    m2.set_params(&[0.5, 2.0, 1.0, 1.2, 0.0]).unwrap();
+    assert_ne!(m2.run(&x).unwrap(), y0);
+    // a clone replays the original
+    m.reset();
+    assert_eq!(m.run(&x).unwrap(), y0);
+}
+
+#[test]
+fn bad_inputs_are_typed_errors() {
+    let t = truth();
+    let (x, f) = spring_record(&t);
+    let shape = SpringShape::of(&t.spring);
+    let opts = FitOptions::default();
+    let data = |r: Result<Vec<(f64, f64)>, PaperError>| matches!(r, Err(PaperError::Data { .. }));
+    assert!(data(pick_branch_points(&[], &[], 12)));
+    assert!(data(pick_branch_points(&x, &f[1..], 12)));
+    let mut nan = f.clone();
+    nan[100] = f64::NAN;
+    assert!(data(pick_branch_points(&x, &nan, 12)));
+    let mut inf = x.clone();
+    inf[7] = f64::INFINITY;
+    assert!(data(pick_branch_points(&inf, &f, 12)));
+    assert!(matches!(
+        pick_branch_points(&x, &f, 1),
+        Err(PaperError::TooFewPoints { needed: 2, got: 1 })
+    ));
+    // a record without a complete increasing branch: one rise, then a fall
+    let ramp: Vec<f64> = (0..100).map(|i| (i as f64 * 0.03).sin()).collect();
+    assert!(matches!(
+        pick_branch_points(&ramp, &ramp, 12),
+        Err(PaperError::NoIncreasingBranch { .. })
+    ));
+    assert!(matches!(
+        last_increasing_branch(&[]),
+        Err(PaperError::Data { .. })
+    ));
+
+    let good = pick_branch_points(&x, &f, 12).unwrap();
+    let bad_point = |pts: &[(f64, f64)]| {
+        matches!(
+            knots_from_points(&x, pts, &shape),
+            Err(PaperError::BadPoint { .. })
+        )
+    };
+    assert!(bad_point(&[(-0.1, 1.0), (0.5, 5.0)]));
+    assert!(bad_point(&[(0.1, 1.0), (2.0, 5.0)]));
+    assert!(bad_point(&[(0.1, 1.0), (0.1, 1.0)]));
+    assert!(bad_point(&[(0.1, f64::NAN)]));
+    assert!(matches!(
+        knots_from_points(&x, &[], &shape),
+        Err(PaperError::TooFewPoints { .. })
+    ));
+    // a negative force on the loaded part: a negative stiffness
+    let mut neg = good.clone();
+    neg[3].1 = -1.0;
+    assert!(matches!(
+        knots_from_points(&x, &neg, &shape),
+        Err(PaperError::Model(_))
+    ));
+    let invalid = SpringShape { n: 0.5, ..shape };
+    assert!(matches!(
+        knots_from_points(&x, &good, &invalid),
+        Err(PaperError::Model(_))
+    ));
+    assert!(matches!(
+        fit_spring(&x, &nan, &good, &shape, &SPRING_FREE, &opts),
+        Err(PaperError::Data { .. })
+    ));
+    assert!(matches!(
+        fit_spring(&x, &f, &good, &shape, &["alpha"], &opts),
+        Err(PaperError::Fit { stage: 1, .. })
+    ));
+    assert!(matches!(
+        fit_spring(&x, &f, &good, &shape, &[], &opts),
+        Err(PaperError::Fit { stage: 1, .. })
+    ));
+    assert!(matches!(
+        fit_bedstop(&x, &f, &t, &["nope"], &opts),
+        Err(PaperError::Fit { stage: 2, .. })
+    ));
+    let mut broken = t.clone();
+    broken.backlash = -1.0;
+    assert!(matches!(
+        fit_bedstop(&x, &f, &broken, &["f_c"], &opts),
+        Err(PaperError::Model(_))
+    ));
+
+    let p = PaperOptions::default();
+    let run = |lx: &[f64], lf: &[f64], cx: &[f64], cf: &[f64]| {
+        identify_paper(lx, lf, cx, cf, &t, &p).map(|_| ())
+    };
+    assert!(matches!(
+        run(&x, &f, &[], &[]),
+        Err(PaperError::Data {
+            record: "chirp",
+            ..
+        })
+    ));
+    assert!(matches!(
+        run(&[], &[], &x, &f),
+        Err(PaperError::Data { record: "loop", .. })
+    ));
+    assert!(matches!(
+        run(&x, &f, &x, &nan),
+        Err(PaperError::Data {
+            record: "chirp",
+            ..
+        })
+    ));
+    assert!(matches!(
+        run(&ramp, &ramp, &x, &f),
+        Err(PaperError::NoIncreasingBranch { record: "loop" })
+    ));
+    let few = PaperOptions {
+        points: 0,
+        ..PaperOptions::default()
+    };
+    assert!(matches!(
+        identify_paper(&x, &f, &x, &f, &t, &few),
+        Err(PaperError::TooFewPoints { .. })
+    ));
+    // errors print as one line
+    let e = run(&ramp, &ramp, &x, &f).unwrap_err().to_string();
+    assert!(
+        e.starts_with("loop record: no complete increasing branch"),
+        "{e}"
+    );
+}
