@@ -3,7 +3,8 @@
 //!
 //! * [`read_column`] reads a CSV file with a header row and parses one
 //!   column as finite `f64` values, keeping every record verbatim so they
-//!   can be written back with an extra column;
+//!   can be written back with an extra column; [`read_columns`] parses
+//!   several;
 //! * [`write_columns`] writes named `f64` columns;
 //! * [`write_atomic`] writes any file through a temporary file in the
 //!   destination's directory, renamed over the destination only when
@@ -173,6 +174,52 @@ pub struct Table {
 /// rows; a row with a different number of fields; a cell that is not a
 /// number or not finite (`NaN`, `inf`), naming row, line and column.
 pub fn read_column(path: &Path, column: &str) -> Result<Table, CsvIoError> {
+    let mut read = read_parsed(path, &[column])?;
+    Ok(Table {
+        headers: read.headers,
+        records: read.records,
+        column: read.indices[0],
+        values: read.values.swap_remove(0),
+        lines: read.lines,
+    })
+}
+
+/// Several numeric columns of a CSV file, read by [`read_columns`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Columns {
+    /// Column names, as in the header.
+    pub headers: csv::StringRecord,
+    /// Index in the header of each requested column.
+    pub indices: Vec<usize>,
+    /// Each requested column's values, one per data row (all finite).
+    pub values: Vec<Vec<f64>>,
+    /// 1-based line in the file of each data row (for messages).
+    pub lines: Vec<u64>,
+}
+
+/// Reads `path` like [`read_column`], parsing each of `columns` (in that
+/// order; a column may be named twice) as finite numbers. A row's cells
+/// are checked in the order of `columns`, so the first bad cell of the
+/// first bad row is the one reported.
+pub fn read_columns(path: &Path, columns: &[&str]) -> Result<Columns, CsvIoError> {
+    let read = read_parsed(path, columns)?;
+    Ok(Columns {
+        headers: read.headers,
+        indices: read.indices,
+        values: read.values,
+        lines: read.lines,
+    })
+}
+
+struct Parsed {
+    headers: csv::StringRecord,
+    records: Vec<csv::StringRecord>,
+    indices: Vec<usize>,
+    values: Vec<Vec<f64>>,
+    lines: Vec<u64>,
+}
+
+fn read_parsed(path: &Path, columns: &[&str]) -> Result<Parsed, CsvIoError> {
     let file = fs::File::open(path).map_err(|source| CsvIoError::Io {
         path: path.to_path_buf(),
         source,
@@ -204,36 +251,46 @@ pub fn read_column(path: &Path, column: &str) -> Result<Table, CsvIoError> {
             path: path.to_path_buf(),
         });
     }
-    let index = headers
+    let indices = columns
         .iter()
-        .position(|h| h.trim() == column.trim())
-        .ok_or_else(|| CsvIoError::MissingColumn {
-            path: path.to_path_buf(),
-            column: column.to_string(),
-            available: headers.iter().map(|h| format!("`{h}`")).collect(),
-        })?;
-    let name = headers[index].trim().to_string();
+        .map(|column| {
+            headers
+                .iter()
+                .position(|h| h.trim() == column.trim())
+                .ok_or_else(|| CsvIoError::MissingColumn {
+                    path: path.to_path_buf(),
+                    column: column.to_string(),
+                    available: headers.iter().map(|h| format!("`{h}`")).collect(),
+                })
+        })
+        .collect::<Result<Vec<usize>, _>>()?;
+    let names: Vec<String> = indices
+        .iter()
+        .map(|&i| headers[i].trim().to_string())
+        .collect();
     let mut records = Vec::new();
-    let mut values = Vec::new();
+    let mut values = vec![Vec::new(); columns.len()];
     let mut lines = Vec::new();
     for (i, rec) in reader.records().enumerate() {
         let row = i + 1;
         let rec = rec.map_err(|e| malformed(e, Some(row)))?;
         let line = rec.position().map_or(row as u64 + 1, |p| p.line());
-        let cell = &rec[index];
-        let bad = |reason| CsvIoError::BadCell {
-            path: path.to_path_buf(),
-            row,
-            line,
-            column: name.clone(),
-            value: cell.to_string(),
-            reason,
-        };
-        let v: f64 = cell.trim().parse().map_err(|_| bad("not a number"))?;
-        if !v.is_finite() {
-            return Err(bad("not finite"));
+        for ((&index, name), column) in indices.iter().zip(&names).zip(&mut values) {
+            let cell = &rec[index];
+            let bad = |reason| CsvIoError::BadCell {
+                path: path.to_path_buf(),
+                row,
+                line,
+                column: name.clone(),
+                value: cell.to_string(),
+                reason,
+            };
+            let v: f64 = cell.trim().parse().map_err(|_| bad("not a number"))?;
+            if !v.is_finite() {
+                return Err(bad("not finite"));
+            }
+            column.push(v);
         }
-        values.push(v);
         lines.push(line);
         records.push(rec);
     }
@@ -242,10 +299,10 @@ pub fn read_column(path: &Path, column: &str) -> Result<Table, CsvIoError> {
             path: path.to_path_buf(),
         });
     }
-    Ok(Table {
+    Ok(Parsed {
         headers,
         records,
-        column: index,
+        indices,
         values,
         lines,
     })
@@ -411,6 +468,25 @@ mod tests {
         fs::write(&input, "t,x\n0,1\n1,NaN\n").unwrap();
         let e = read_column(&input, "x").unwrap_err().to_string();
         assert!(e.contains("not finite"), "{e}");
+    }
+
+    #[test]
+    fn reads_two_columns_checking_cells_in_order() {
+        let dir = tempfile::tempdir().unwrap();
+        let input = dir.path().join("in.csv");
+        fs::write(&input, "t, x ,F\n0,0.5,1\n1,-1.25,2\n").unwrap();
+        let c = read_columns(&input, &["x", "F"]).unwrap();
+        assert_eq!(c.indices, vec![1, 2]);
+        assert_eq!(c.values, vec![vec![0.5, -1.25], vec![1.0, 2.0]]);
+        assert_eq!(c.lines, vec![2, 3]);
+        fs::write(&input, "t,x,F\n0,0.5,1\n1,abc,NaN\n").unwrap();
+        let e = read_columns(&input, &["F", "x"]).unwrap_err().to_string();
+        assert!(
+            e.contains("row 2 (line 3), column `F`: `NaN` is not finite"),
+            "{e}"
+        );
+        let e = read_columns(&input, &["x", "G"]).unwrap_err().to_string();
+        assert!(e.contains("no column `G`"), "{e}");
     }
 
     #[test]

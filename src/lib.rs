@@ -8,7 +8,8 @@
 //!   saturation, gain, Modified Maxwell-slip friction, Bouc-Wen spring);
 //! * [`composition`]: combinators (cascade, parallel, scaled, PI bank,
 //!   feedback, mechanical series, inverse) and their solver;
-//! * [`models`]: composed models.
+//! * [`models`]: composed models;
+//! * [`identify`]: parameter identification (Levenberg-Marquardt).
 //!
 //! ```
 //! use hysteron::prelude::*;
@@ -29,10 +30,13 @@
 //! ```
 
 pub use hysteron_composition as composition;
+pub use hysteron_identify as identify;
 pub use hysteron_models as models;
 pub use hysteron_operators as operators;
 
 pub mod csvio;
+pub mod fit_cmd;
+pub mod identify_paper;
 pub mod paper;
 pub mod plot;
 pub mod simulate;

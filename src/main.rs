@@ -4,13 +4,21 @@
 //!   CSV per experiment and the figures (see [`hysteron::paper`]);
 //! * `hysteron simulate --model SPEC.json --input IN.csv [--column x]
 //!   --output OUT.csv [--plot LOOP.svg]`: runs a model spec over one column
-//!   of a CSV file (see [`hysteron::simulate`]).
+//!   of a CSV file (see [`hysteron::simulate`]);
+//! * `hysteron fit --model SPEC.json --data DATA.csv [--input-column x]
+//!   [--output-column y] --free a,b,c --output FITTED.json [--plot FIT.svg]`:
+//!   fits parameters of a model spec to a record (see
+//!   [`hysteron::fit_cmd`]);
+//! * `hysteron identify-paper --loop LOOP.csv --chirp CHIRP.csv --output
+//!   FITTED.json [--plot DIR]`: the paper's two-stage identification (see
+//!   [`hysteron::identify_paper`]).
 //!
 //! Errors are one line on stderr (`error: ...`) and exit code 1; usage
-//! errors are clap's, exit code 2.
+//! errors are clap's, exit code 2; a fit that ran but did not converge
+//! exits with code 3 (its report says so and its result is written).
 
 use clap::{Parser, Subcommand};
-use hysteron::{csvio, paper, simulate};
+use hysteron::{csvio, fit_cmd, identify_paper, paper, simulate};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -54,13 +62,160 @@ enum Command {
         #[arg(long, value_name = "LOOP.svg")]
         plot: Option<PathBuf>,
     },
+    /// Fit parameters of a model spec (JSON) to a record (input and
+    /// measured output columns of a CSV file) with Levenberg-Marquardt,
+    /// starting from the spec's values; prints a report and writes the
+    /// fitted spec. Exit code 3 when the fit ran but did not converge.
+    Fit {
+        /// The model spec (JSON); its parameters are the starting values.
+        #[arg(long, value_name = "SPEC.json")]
+        model: PathBuf,
+        /// The record: a CSV file with a header row.
+        #[arg(long, value_name = "DATA.csv")]
+        data: PathBuf,
+        /// The input column of the record.
+        #[arg(long, value_name = "NAME", default_value = "x")]
+        input_column: String,
+        /// The measured output column of the record.
+        #[arg(long, value_name = "NAME", default_value = "y")]
+        output_column: String,
+        /// Parameters to fit, comma-separated: full names as the model
+        /// lists them (left.mms.f_c) or unique suffixes (f_c).
+        #[arg(long, value_name = "NAMES", value_delimiter = ',', required = true)]
+        free: Vec<String>,
+        /// Where to write the fitted spec (JSON, written atomically; may
+        /// not be the model or data file).
+        #[arg(long, value_name = "FITTED.json")]
+        output: PathBuf,
+        /// Also draw measured and fitted output (over the input and over
+        /// the sample index) and the residual as an SVG figure.
+        #[arg(long, value_name = "FIT.svg")]
+        plot: Option<PathBuf>,
+        /// Evaluation budget: at most PATIENCE·(free + 1) model runs over
+        /// the record.
+        #[arg(long, value_name = "N", default_value_t = 200, value_parser = clap::value_parser!(u64).range(1..))]
+        patience: u64,
+        /// Do not draw the progress line (it is only drawn when stderr is
+        /// a terminal anyway).
+        #[arg(long)]
+        no_progress: bool,
+    },
+    /// The two-stage identification of Ruderman & Bertram (2015): the
+    /// spring's shape from a major loop (knots through points of its last
+    /// increasing branch), then the bedstop (backlash, F_c, K) from a
+    /// down-chirp. Writes the identified model as a `transmission` spec
+    /// (JSON) and prints both stage reports. Exit code 3 when a stage did
+    /// not converge.
+    IdentifyPaper {
+        /// The major-loop record (CSV with a header row; e.g. the `paper`
+        /// job's sines.csv).
+        #[arg(long = "loop", value_name = "LOOP.csv")]
+        loop_record: PathBuf,
+        /// The down-chirp record (CSV with a header row; e.g. the `paper`
+        /// job's chirp.csv).
+        #[arg(long, value_name = "CHIRP.csv")]
+        chirp: PathBuf,
+        /// The input column of both records.
+        #[arg(long, value_name = "NAME", default_value = "x")]
+        input_column: String,
+        /// The force column of both records.
+        #[arg(long, value_name = "NAME", default_value = "F")]
+        output_column: String,
+        /// Starting values: a `transmission` spec (default: the
+        /// illustrative defaults of the `paper` job).
+        #[arg(long, value_name = "START.json")]
+        start: Option<PathBuf>,
+        /// Where to write the identified model: a `transmission` spec
+        /// (JSON, written atomically).
+        #[arg(long, value_name = "FITTED.json")]
+        output: PathBuf,
+        /// Also write the figures loop.svg and chirp.svg into DIR (created
+        /// if missing).
+        #[arg(long, value_name = "DIR")]
+        plot: Option<PathBuf>,
+        /// Points picked on the loop's increasing branch (the knots of the
+        /// stiffness map).
+        #[arg(long, value_name = "N", default_value_t = 12, value_parser = clap::value_parser!(u64).range(2..1000))]
+        points: u64,
+        /// Evaluation budget of each stage: at most PATIENCE·(free + 1)
+        /// model runs over its record.
+        #[arg(long, value_name = "N", default_value_t = 200, value_parser = clap::value_parser!(u64).range(1..))]
+        patience: u64,
+        /// Do not draw the progress line (it is only drawn when stderr is
+        /// a terminal anyway).
+        #[arg(long)]
+        no_progress: bool,
+    },
 }
 
 fn main() -> ExitCode {
     let result = match Cli::parse().command {
         Command::Paper { out } => paper::run(&paper::PaperOptions { out })
-            .map(|report| println!("{report}"))
+            .map(|report| {
+                println!("{report}");
+                None
+            })
             .map_err(|e| e.to_string()),
+        Command::Fit {
+            model,
+            data,
+            input_column,
+            output_column,
+            free,
+            output,
+            plot,
+            patience,
+            no_progress,
+        } => fit_cmd::run(&fit_cmd::FitCmdOptions {
+            model,
+            data,
+            input_column,
+            output_column,
+            free,
+            output,
+            plot,
+            patience: usize::try_from(patience).unwrap_or(usize::MAX),
+            progress: !no_progress,
+        })
+        .map(|report| {
+            println!("{report}");
+            if !report.converged() {
+                return Some(ExitCode::from(fit_cmd::EXIT_NOT_CONVERGED));
+            }
+            None
+        })
+        .map_err(|e| e.to_string()),
+        Command::IdentifyPaper {
+            loop_record,
+            chirp,
+            input_column,
+            output_column,
+            start,
+            output,
+            plot,
+            points,
+            patience,
+            no_progress,
+        } => identify_paper::run(&identify_paper::IdentifyPaperOptions {
+            loop_record,
+            chirp,
+            input_column,
+            output_column,
+            start,
+            output,
+            plot,
+            points: usize::try_from(points).unwrap_or(usize::MAX),
+            patience: usize::try_from(patience).unwrap_or(usize::MAX),
+            progress: !no_progress,
+        })
+        .map(|report| {
+            println!("{report}");
+            if !report.converged() {
+                return Some(ExitCode::from(fit_cmd::EXIT_NOT_CONVERGED));
+            }
+            None
+        })
+        .map_err(|e| e.to_string()),
         Command::Simulate {
             model,
             input,
@@ -74,11 +229,14 @@ fn main() -> ExitCode {
             output,
             plot,
         })
-        .map(|report| println!("{report}"))
+        .map(|report| {
+            println!("{report}");
+            None
+        })
         .map_err(|e| e.to_string()),
     };
     match result {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(code) => code.unwrap_or(ExitCode::SUCCESS),
         Err(e) => {
             eprintln!("error: {}", csvio::one_line(&e));
             ExitCode::FAILURE

@@ -424,6 +424,250 @@ impl Spec {
             message: e.to_string(),
         })
     }
+
+    /// The same spec with the parameters `p`, given in the order of the
+    /// built operator's [`params`](Operator::params) (depth-first, as
+    /// [`param_names`](Operator::param_names) lists them): the inverse of
+    /// `spec.build()?.params()`. Everything that is not a parameter (the
+    /// tree, solver options, the kind of travel limits, the number of
+    /// knots or plays) is kept.
+    ///
+    /// * `spec.with_params(&spec.build()?.params())? == spec`;
+    /// * `spec.with_params(&p)?.build()?.params() == p`.
+    ///
+    /// A PI bank given without `y0` keeps it left out when the new values
+    /// are all zero. In a `transmission` spec the spring's initial
+    /// deflection is not a parameter of its own (the model uses
+    /// `z0 = −slider0`), so its entry in `p` must equal `−slider0`
+    /// (otherwise an error naming `spring.z0`; a generic `series` spec,
+    /// `Spec::from(&TransmissionParams)`, has no such tie).
+    ///
+    /// Errors: the spec itself does not build; `p` has the wrong length;
+    /// the new spec does not build (a value outside its parameter's range),
+    /// each as [`SpecError::Invalid`] naming the path like
+    /// [`build`](Spec::build).
+    ///
+    /// ```
+    /// use hysteron_models::Spec;
+    /// let spec = Spec::from_json(r#"{"type": "scaled", "w": 2,
+    ///     "inner": {"type": "play", "r": 0.5}}"#)?;
+    /// let model = spec.build()?;
+    /// assert_eq!(model.param_names(), ["w", "inner.play.r", "inner.play.y0"]);
+    /// let fitted = spec.with_params(&[3.0, 0.25, 0.0])?;
+    /// assert_eq!(fitted.build()?.params(), [3.0, 0.25, 0.0]);
+    /// assert_eq!(spec.with_params(&model.params())?, spec);
+    /// let err = spec.with_params(&[3.0, -1.0, 0.0]).unwrap_err();
+    /// assert_eq!(err.to_string(), "scaled.inner.play.r: must be ≥ 0 (got -1)");
+    /// # Ok::<(), hysteron_models::SpecError>(())
+    /// ```
+    pub fn with_params(&self, p: &[f64]) -> Result<Spec, SpecError> {
+        let root = self.kind();
+        let expected = self.build()?.n_params();
+        if p.len() != expected {
+            return Err(SpecError::invalid(
+                root,
+                Error::ParamCount {
+                    expected,
+                    got: p.len(),
+                },
+            ));
+        }
+        let mut rest = p;
+        let spec = self.fill(root, &mut rest)?;
+        if !rest.is_empty() {
+            // Cannot happen for a spec that builds (the walk mirrors
+            // `params_into`); an error rather than a panic all the same.
+            return Err(SpecError::invalid(
+                root,
+                Error::ParamCount {
+                    expected: p.len() - rest.len(),
+                    got: p.len(),
+                },
+            ));
+        }
+        spec.build()?;
+        Ok(spec)
+    }
+
+    /// [`with_params`](Spec::with_params) of the node at `path`, taking its
+    /// parameters from the front of `rest` (in the order of `params_into`
+    /// of the operator it builds).
+    fn fill(&self, path: &str, rest: &mut &[f64]) -> Result<Spec, SpecError> {
+        fn take<'a>(rest: &mut &'a [f64], n: usize) -> Result<&'a [f64], SpecError> {
+            if rest.len() < n {
+                return Err(SpecError::invalid(
+                    ".",
+                    Error::ParamCount {
+                        expected: n,
+                        got: rest.len(),
+                    },
+                ));
+            }
+            let (head, tail) = rest.split_at(n);
+            *rest = tail;
+            Ok(head)
+        }
+        let child = |field: &str, spec: &Spec, rest: &mut &[f64]| -> Result<Box<Spec>, SpecError> {
+            Ok(Box::new(
+                spec.fill(&format!("{path}.{field}.{}", spec.kind()), rest)?,
+            ))
+        };
+        let knots = |at: &str, old: &StiffnessMap<f64>, rest: &mut &[f64]| {
+            let m = old.len();
+            let z = take(rest, m)?.to_vec();
+            let s = take(rest, m)?.to_vec();
+            StiffnessMap::new(z, s).map_err(|e| SpecError::invalid(at, e.in_path("stiffness")))
+        };
+        let bouc_wen = |at: &str,
+                        old: &BoucWenParams<f64>,
+                        rest: &mut &[f64]|
+         -> Result<BoucWenParams<f64>, SpecError> {
+            let v = take(rest, 7)?;
+            Ok(BoucWenParams {
+                w: v[0],
+                alpha: v[1],
+                beta: v[2],
+                gamma: v[3],
+                n: v[4],
+                h0: v[5],
+                z0: v[6],
+                stiffness: knots(at, &old.stiffness, rest)?,
+            })
+        };
+        let mms = |rest: &mut &[f64]| -> Result<MmsParams<f64>, SpecError> {
+            let v = take(rest, 3)?;
+            Ok(MmsParams {
+                f_c: v[0],
+                k: v[1],
+                y0: v[2],
+            })
+        };
+        Ok(match self {
+            Spec::Play(_) => {
+                let v = take(rest, 2)?;
+                Spec::Play(PlayParams { r: v[0], y0: v[1] })
+            }
+            Spec::Stop(_) => {
+                let v = take(rest, 2)?;
+                Spec::Stop(StopParams { r: v[0], s0: v[1] })
+            }
+            Spec::Elastoplastic(_) => {
+                let v = take(rest, 3)?;
+                Spec::Elastoplastic(ElastoPlasticParams {
+                    k: v[0],
+                    f_b: v[1],
+                    f0: v[2],
+                })
+            }
+            Spec::DeadZone(_) => {
+                let v = take(rest, 2)?;
+                Spec::DeadZone(DeadZoneParams {
+                    b_l: v[0],
+                    b_r: v[1],
+                })
+            }
+            Spec::Saturation(_) => {
+                let v = take(rest, 2)?;
+                Spec::Saturation(SaturationParams { lo: v[0], hi: v[1] })
+            }
+            Spec::Gain { .. } => Spec::Gain {
+                k: take(rest, 1)?[0],
+            },
+            Spec::Mms(_) => Spec::Mms(mms(rest)?),
+            Spec::BoucWen(old) => Spec::BoucWen(bouc_wen(path, old, rest)?),
+            Spec::PiBank(old) => {
+                let m = old.r.len();
+                let a0 = take(rest, 1)?[0];
+                let r = take(rest, m)?.to_vec();
+                let w = take(rest, m)?.to_vec();
+                let y0 = take(rest, m)?;
+                // An omitted y0 means all zero: keep it omitted if it still is.
+                let y0 = if old.y0.is_empty() && y0.iter().all(|&v| v == 0.0) {
+                    Vec::new()
+                } else {
+                    y0.to_vec()
+                };
+                Spec::PiBank(PiBankParams { a0, r, w, y0 })
+            }
+            Spec::Transmission(old) => {
+                // `TransmissionParams::build`: gap (b, r0), friction, spring
+                // with z0 = −slider0.
+                let gap = take(rest, 2)?;
+                let (backlash, slider0) = (gap[0], gap[1]);
+                let friction = mms(rest)?;
+                let spring_at = format!("{path}.spring");
+                let mut spring = bouc_wen(&spring_at, &old.spring, rest)?;
+                if spring.z0 != 0.0 - slider0 {
+                    return Err(SpecError::invalid(
+                        path,
+                        Error::InvalidParameter {
+                            name: "spring.z0".into(),
+                            value: spring.z0,
+                            reason: "must equal −slider0 in a `transmission` spec \
+                                     (use a generic `series` spec to set it on its own)",
+                        },
+                    ));
+                }
+                // Not used by the model: keep what the spec said.
+                spring.z0 = old.spring.z0;
+                Spec::Transmission(TransmissionParams {
+                    backlash,
+                    slider0,
+                    friction,
+                    spring,
+                })
+            }
+            Spec::Cascade { first, second } => Spec::Cascade {
+                first: child("first", first, rest)?,
+                second: child("second", second, rest)?,
+            },
+            Spec::Parallel { left, right } => Spec::Parallel {
+                left: child("left", left, rest)?,
+                right: child("right", right, rest)?,
+            },
+            Spec::Scaled { inner, .. } => Spec::Scaled {
+                w: take(rest, 1)?[0],
+                inner: child("inner", inner, rest)?,
+            },
+            Spec::Feedback {
+                forward,
+                back,
+                solver,
+            } => Spec::Feedback {
+                forward: child("forward", forward, rest)?,
+                back: child("back", back, rest)?,
+                solver: *solver,
+            },
+            Spec::Series {
+                left,
+                right,
+                limits,
+                solver,
+            } => {
+                let limits = match limits {
+                    TravelLimits::None => TravelLimits::None,
+                    TravelLimits::Range { .. } => {
+                        let v = take(rest, 2)?;
+                        TravelLimits::Range { lo: v[0], hi: v[1] }
+                    }
+                    TravelLimits::Gap { .. } => {
+                        let v = take(rest, 2)?;
+                        TravelLimits::Gap { b: v[0], r0: v[1] }
+                    }
+                };
+                Spec::Series {
+                    left: child("left", left, rest)?,
+                    right: child("right", right, rest)?,
+                    limits,
+                    solver: *solver,
+                }
+            }
+            Spec::Inverse { inner, solver } => Spec::Inverse {
+                inner: child("inner", inner, rest)?,
+                solver: *solver,
+            },
+        })
+    }
 }
 
 /// The paper's model as a generic spec: `left` the MMS slider, `right` the
@@ -971,5 +1215,247 @@ mod tagged {
         ) -> Result<V::Value, A::Error> {
             visitor.visit_map(self.rest)
         }
+    }
+}
+
+#[cfg(test)]
+mod with_params_tests {
+    use super::*;
+
+    /// The example specs of the repository (`examples/specs/*.json`).
+    fn example_specs() -> Vec<(String, Spec)> {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/specs");
+        let mut paths: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|e| e == "json"))
+            .collect();
+        paths.sort();
+        assert!(paths.len() >= 4, "{paths:?}");
+        paths
+            .into_iter()
+            .map(|p| {
+                let spec = Spec::from_json_file(&p).unwrap();
+                (p.display().to_string(), spec)
+            })
+            .collect()
+    }
+
+    /// One tree with every variant and every kind of travel limits.
+    fn every_variant() -> Spec {
+        let b = Box::new;
+        let spring = BoucWenParams {
+            w: 0.6,
+            alpha: 1.0,
+            beta: 2.5,
+            gamma: 1.5,
+            n: 1.5,
+            h0: 0.1,
+            z0: -0.05,
+            stiffness: StiffnessMap::new(vec![0.0, 0.4, 1.0], vec![10.0, 12.0, 18.0]).unwrap(),
+        };
+        let transmission = TransmissionParams {
+            slider0: 0.05,
+            ..TransmissionParams::default()
+        };
+        Spec::Cascade {
+            first: b(Spec::Parallel {
+                left: b(Spec::Scaled {
+                    w: 0.5,
+                    inner: b(Spec::Play(PlayParams { r: 0.2, y0: 0.1 })),
+                }),
+                right: b(Spec::Cascade {
+                    first: b(Spec::Stop(StopParams { r: 0.3, s0: -0.1 })),
+                    second: b(Spec::Elastoplastic(ElastoPlasticParams {
+                        k: 20.0,
+                        f_b: 1.0,
+                        f0: 0.2,
+                    })),
+                }),
+            }),
+            second: b(Spec::Parallel {
+                left: b(Spec::Feedback {
+                    forward: b(Spec::DeadZone(DeadZoneParams {
+                        b_l: -0.1,
+                        b_r: 0.2,
+                    })),
+                    back: b(Spec::Saturation(SaturationParams { lo: -1.0, hi: 2.0 })),
+                    solver: Some(SolverOptions::default()),
+                }),
+                right: b(Spec::Parallel {
+                    left: b(Spec::Series {
+                        left: b(Spec::Mms(MmsParams {
+                            f_c: 1.5,
+                            k: 30.0,
+                            y0: 0.2,
+                        })),
+                        right: b(Spec::BoucWen(spring.clone())),
+                        limits: TravelLimits::Range { lo: -0.2, hi: 0.3 },
+                        solver: None,
+                    }),
+                    right: b(Spec::Parallel {
+                        left: b(Spec::Series {
+                            left: b(Spec::Gain { k: 3.0 }),
+                            right: b(Spec::PiBank(PiBankParams {
+                                a0: 0.5,
+                                r: vec![0.0, 0.1, 0.4],
+                                w: vec![1.0, -0.5, 2.0],
+                                y0: Vec::new(),
+                            })),
+                            limits: TravelLimits::None,
+                            solver: None,
+                        }),
+                        right: b(Spec::Parallel {
+                            left: b(Spec::Inverse {
+                                inner: b(Spec::Gain { k: 2.0 }),
+                                solver: None,
+                            }),
+                            right: b(Spec::Parallel {
+                                left: b(Spec::Transmission(transmission)),
+                                right: b(Spec::PiBank(PiBankParams {
+                                    a0: 0.0,
+                                    r: vec![0.2],
+                                    w: vec![1.0],
+                                    y0: vec![0.1],
+                                })),
+                            }),
+                        }),
+                    }),
+                }),
+            }),
+        }
+    }
+
+    fn all_specs() -> Vec<(String, Spec)> {
+        let mut specs = example_specs();
+        specs.push(("every variant".into(), every_variant()));
+        specs.push((
+            "transmission".into(),
+            Spec::Transmission(TransmissionParams::default()),
+        ));
+        specs.push((
+            "paper as series".into(),
+            Spec::from(&TransmissionParams::default()),
+        ));
+        specs
+    }
+
+    fn bits(p: &[f64]) -> Vec<u64> {
+        p.iter().map(|v| v.to_bits()).collect()
+    }
+
+    #[test]
+    fn with_params_of_own_params_is_the_same_spec() {
+        for (name, spec) in all_specs() {
+            let p = spec.build().unwrap().params();
+            let back = spec.with_params(&p).unwrap();
+            assert_eq!(back, spec, "{name}");
+            // bit for bit, signed zeros included
+            assert_eq!(
+                back.to_json_pretty().unwrap(),
+                spec.to_json_pretty().unwrap(),
+                "{name}"
+            );
+            assert_eq!(bits(&back.build().unwrap().params()), bits(&p), "{name}");
+        }
+    }
+
+    /// Each parameter changed on its own ends up in the place `params()`
+    /// reads it from: the new spec builds to exactly `p`.
+    #[test]
+    fn every_parameter_is_written_to_its_own_field() {
+        for (name, spec) in all_specs() {
+            let model = spec.build().unwrap();
+            let p = model.params();
+            let names = model.param_names();
+            let domains = model.param_domains();
+            let mut checked = 0;
+            for i in 0..p.len() {
+                let candidates = [p[i] * 0.9375, p[i] * 1.0625, p[i] + 0.0625, p[i] - 0.0625];
+                let Some(v) = candidates
+                    .into_iter()
+                    .find(|&v| v != p[i] && domains[i].contains(v))
+                else {
+                    continue;
+                };
+                let mut q = p.clone();
+                q[i] = v;
+                let accepted = model.clone().set_params(&q).is_ok();
+                match spec.with_params(&q) {
+                    Ok(new) => {
+                        assert!(accepted, "{name}: {} = {v} accepted", names[i]);
+                        assert_eq!(
+                            bits(&new.build().unwrap().params()),
+                            bits(&q),
+                            "{name}: {}",
+                            names[i]
+                        );
+                        assert_ne!(new, spec, "{name}: {}", names[i]);
+                        checked += 1;
+                    }
+                    Err(e) => assert!(
+                        !accepted || e.to_string().contains("spring.z0"),
+                        "{name}: {} = {v}: {e}",
+                        names[i]
+                    ),
+                }
+            }
+            assert!(
+                checked * 4 >= p.len() * 3,
+                "{name}: {checked} of {}",
+                p.len()
+            );
+        }
+    }
+
+    #[test]
+    fn with_params_errors_name_the_path() {
+        let spec = Spec::from(&TransmissionParams::default());
+        let p = spec.build().unwrap().params();
+        let e = spec.with_params(&p[1..]).unwrap_err();
+        assert!(e.to_string().contains("parameter vector has"), "{e}");
+        let mut q = p.clone();
+        q[0] = -0.3; // limits.b
+        assert_eq!(
+            spec.with_params(&q).unwrap_err().to_string(),
+            "series.limits.b: must be > 0 (got -0.3)"
+        );
+        let names = spec.build().unwrap().param_names();
+        let s1 = names
+            .iter()
+            .position(|n| n == "right.bouc-wen.stiffness.s[1]")
+            .unwrap();
+        let mut q = p.clone();
+        q[s1] = -1.0;
+        assert_eq!(
+            spec.with_params(&q).unwrap_err().to_string(),
+            "series.right.bouc_wen.stiffness.s[1]: must be ≥ 0 (got -1)"
+        );
+        // A transmission spec ties the spring's z0 to −slider0.
+        let spec = Spec::Transmission(TransmissionParams::default());
+        let mut q = spec.build().unwrap().params();
+        q[1] = 0.1; // slider0, z0 left at 0
+        let e = spec.with_params(&q).unwrap_err().to_string();
+        assert!(
+            e.starts_with("transmission.spring.z0: must equal −slider0"),
+            "{e}"
+        );
+        let z0 = spec
+            .build()
+            .unwrap()
+            .param_names()
+            .iter()
+            .position(|n| n == "right.bouc-wen.z0")
+            .unwrap();
+        q[z0] = -0.1;
+        let new = spec.with_params(&q).unwrap();
+        assert_eq!(bits(&new.build().unwrap().params()), bits(&q));
+        let Spec::Transmission(t) = new else {
+            panic!("{new:?}")
+        };
+        assert_eq!(t.slider0, 0.1);
+        // and a spec that does not build is an error, not a panic
+        let bad = Spec::Play(PlayParams { r: -1.0, y0: 0.0 });
+        assert!(bad.with_params(&[1.0, 0.0]).is_err());
     }
 }

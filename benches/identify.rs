@@ -1,0 +1,200 @@
+//! Cost of identification: one model evaluation over a record, and whole
+//! Levenberg-Marquardt fits.
+//!
+//! * `paper_model_eval`: one run (`reset` + `process`) of the paper's
+//!   model, `TransmissionParams::default().build()`, over `N = 20 000`
+//!   samples of a decaying sine (throughput: samples);
+//! * `bouc_wen_fit_5`: a fit of 5 parameters of a Bouc-Wen spring with a
+//!   constant stiffness (`stiffness.s[0]`, `w`, `beta`, `gamma`, `n`) to
+//!   `N` samples of its response to a decaying sine with 1 % Gaussian noise
+//!   (fixed seed), starting from values perturbed by ±20 %; one iteration
+//!   is one whole fit (throughput: samples of the record);
+//! * `bouc_wen_eval`: one run of that spring (at the true parameters) over
+//!   the record, the unit the fit's cost is made of;
+//! * `paper_two_stages`: [`identify_paper`] on records of the paper's model
+//!   sampled at 250 Hz (a 0.5 Hz major loop, 2 cycles, 2001 samples; the
+//!   5 → 0.1 Hz down-chirp over 20 s, 5001 samples), with the truth's
+//!   spring `n = 1.5`, `h0 = 0.1` and a start 20 % off in backlash, `F_c`
+//!   and `K` (throughput: samples of both records).
+//!
+//! Small sample sizes and short measurement times keep the whole run
+//! within a few minutes. Run with `cargo bench --bench identify`.
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use hysteron::identify::paper::{identify_paper, PaperOptions};
+use hysteron::identify::{fit, free_by_names, FitOptions};
+use hysteron::models::experiments::{chirp, sine, DRIVE};
+use hysteron::models::TransmissionParams;
+use hysteron::prelude::*;
+use rand::rngs::StdRng;
+use rand::SeedableRng;
+use rand_distr::{Distribution, Normal};
+use std::f64::consts::TAU;
+use std::hint::black_box;
+use std::time::Duration;
+
+/// Samples of every record.
+const N: usize = 20_000;
+
+/// A decaying sine: 10 cycles, amplitude `a` decaying to `a e^{-3}`.
+fn decaying_sine(a: f64) -> Vec<f64> {
+    (0..N)
+        .map(|i| {
+            let t = i as f64 / N as f64;
+            a * (-3.0 * t).exp() * (TAU * 10.0 * t).sin()
+        })
+        .collect()
+}
+
+fn paper_model_eval(c: &mut Criterion) {
+    let mut model = TransmissionParams::default()
+        .build()
+        .expect("default paper model");
+    let x = decaying_sine(1.5);
+    let mut y = vec![0.0; N];
+    model.process(&x, &mut y).expect("paper model runs");
+    let mut g = c.benchmark_group("identify");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(3))
+        .throughput(Throughput::Elements(N as u64));
+    g.bench_function("paper_model_eval", |b| {
+        b.iter(|| {
+            model.reset();
+            model.process(black_box(&x), &mut y).expect("process");
+            black_box(&mut y);
+        })
+    });
+    g.finish();
+}
+
+/// True spring: `S = 10`, `w = 0.6`, `α = 1`, `β = 2.5`, `γ = 1.5`,
+/// `n = 1.5`.
+const TRUE: [f64; 5] = [10.0, 0.6, 2.5, 1.5, 1.5];
+/// The fitted parameters, in the order of `TRUE`.
+const FREE: [&str; 5] = ["stiffness.s[0]", "w", "beta", "gamma", "n"];
+
+fn bouc_wen_fit(c: &mut Criterion) {
+    let [k, w, beta, gamma, n] = TRUE;
+    let truth = BoucWen::constant(k, w, 1.0, beta, gamma, n)
+        .expect("true spring")
+        .boxed();
+    let x = decaying_sine(1.2);
+    let clean = truth.clone().run(&x).expect("true response");
+    let rms = (clean.iter().map(|v| v * v).sum::<f64>() / N as f64).sqrt();
+    let noise = Normal::new(0.0, 0.01 * rms).expect("noise");
+    let mut rng = StdRng::seed_from_u64(20_150_601);
+    let y: Vec<f64> = clean.iter().map(|v| v + noise.sample(&mut rng)).collect();
+
+    let free = free_by_names(truth.as_ref(), &FREE).expect("free names");
+    let mut start = truth.clone();
+    let mut p = start.params();
+    for (j, &i) in free.iter().enumerate() {
+        // ±20 %, alternating
+        p[i] *= if j % 2 == 0 { 1.2 } else { 0.8 };
+    }
+    start.set_params(&p).expect("perturbed start");
+    let opts = FitOptions::default();
+
+    // One untimed fit: check it recovers the truth and show its report.
+    let f = fit(start.as_ref(), &x, &y, &free, &opts).expect("fit runs");
+    let r = &f.report;
+    eprintln!(
+        "bouc_wen_fit_5: {} iterations, {} evaluations, {:.3} s, NRMSE {:.3e}, {:?}",
+        r.iterations,
+        r.evaluations,
+        r.wall_time.as_secs_f64(),
+        r.nrmse.unwrap_or(f64::NAN),
+        r.status
+    );
+    for (fp, t) in r.params.iter().zip(TRUE) {
+        eprintln!(
+            "  {:<16} start {:>8.4}  fitted {:>9.5}  true {:>6.3}  se {:.1e}",
+            fp.name,
+            fp.start,
+            fp.value,
+            t,
+            fp.std_error.unwrap_or(f64::NAN)
+        );
+        assert!(
+            (fp.value - t).abs() <= 0.05 * t.abs(),
+            "{} not recovered",
+            fp.name
+        );
+    }
+
+    let mut g = c.benchmark_group("identify");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(10))
+        .throughput(Throughput::Elements(N as u64));
+    g.bench_function("bouc_wen_fit_5", |b| {
+        b.iter(|| {
+            let f = fit(start.as_ref(), black_box(&x), black_box(&y), &free, &opts).expect("fit");
+            black_box(f.report.cost)
+        })
+    });
+    g.measurement_time(Duration::from_secs(3));
+    let mut spring = truth.clone();
+    let mut out = vec![0.0; N];
+    g.bench_function("bouc_wen_eval", |b| {
+        b.iter(|| {
+            spring.reset();
+            spring.process(black_box(&x), &mut out).expect("process");
+            black_box(&mut out);
+        })
+    });
+    g.finish();
+}
+
+fn paper_two_stages(c: &mut Criterion) {
+    let fs = 250.0;
+    let mut truth = TransmissionParams::default();
+    truth.spring.n = 1.5;
+    truth.spring.h0 = 0.1;
+    let model = truth.build().expect("true model");
+    let loop_x = sine(0.5, DRIVE.amplitude(0.5), 2.0, fs).expect("loop").x;
+    let loop_f = model.clone().run(&loop_x).expect("loop record");
+    let chirp_x = chirp(5.0, 0.1, 20.0, fs, |f| DRIVE.amplitude(f))
+        .expect("chirp")
+        .x;
+    let chirp_f = model.clone().run(&chirp_x).expect("chirp record");
+    let mut start = TransmissionParams::default();
+    start.backlash *= 1.2;
+    start.friction.f_c *= 1.2;
+    start.friction.k *= 0.8;
+    let opts = PaperOptions::default();
+
+    let run = || {
+        identify_paper(&loop_x, &loop_f, &chirp_x, &chirp_f, &start, &opts)
+            .expect("identification runs")
+    };
+    let r = run();
+    eprintln!(
+        "paper_two_stages: stage 1 {} iterations, {} evaluations, {:.3} s, NRMSE {:.3e}, {:?}; \
+         stage 2 {} iterations, {} evaluations, {:.3} s, NRMSE {:.3e}, {:?}",
+        r.spring.report.iterations,
+        r.spring.report.evaluations,
+        r.spring.report.wall_time.as_secs_f64(),
+        r.spring.report.nrmse.unwrap_or(f64::NAN),
+        r.spring.report.status,
+        r.bedstop.iterations,
+        r.bedstop.evaluations,
+        r.bedstop.wall_time.as_secs_f64(),
+        r.bedstop.nrmse.unwrap_or(f64::NAN),
+        r.bedstop.status,
+    );
+
+    let mut g = c.benchmark_group("identify");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(100))
+        .measurement_time(Duration::from_secs(20))
+        .throughput(Throughput::Elements((loop_x.len() + chirp_x.len()) as u64));
+    g.bench_function("paper_two_stages", |b| {
+        b.iter(|| black_box(run().params.backlash))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, paper_model_eval, bouc_wen_fit, paper_two_stages);
+criterion_main!(benches);

@@ -1,0 +1,862 @@
+//! End-to-end tests of `hysteron fit` and `hysteron identify-paper`: known
+//! parameters recovered from noise-free synthetic records made in the
+//! test, the written spec simulating back to the record, the report, the
+//! exit code of a fit that did not converge, and every bad-input case (one
+//! line on stderr starting with `error:`, exit code 1, nothing on stdout,
+//! no file changed or created).
+
+use assert_cmd::Command;
+use hysteron::models::experiments::{chirp, sine, DRIVE};
+use hysteron::models::{Spec, TransmissionParams};
+use hysteron::Operator;
+use std::fs;
+use std::path::{Path, PathBuf};
+use tempfile::TempDir;
+
+fn hysteron(dir: &Path) -> Command {
+    let mut cmd = Command::cargo_bin("hysteron").expect("binary built");
+    cmd.current_dir(dir);
+    cmd
+}
+
+/// All files in `dir` (recursively) with their contents.
+fn snapshot(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                out.push((p.clone(), fs::read(&p).unwrap()));
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// The error text, checked to be exactly one line `error: ...` with no
+/// panic message.
+fn one_line_error(stderr: &[u8]) -> String {
+    let s = String::from_utf8(stderr.to_vec()).unwrap();
+    assert!(!s.contains("panicked"), "panic: {s}");
+    assert!(s.starts_with("error: "), "{s}");
+    assert!(
+        s.ends_with('\n') && s.lines().count() == 1,
+        "not one line: {s:?}"
+    );
+    s.trim_end().to_string()
+}
+
+fn read_csv_column(path: &Path, name: &str) -> Vec<f64> {
+    let mut r = csv::Reader::from_path(path).expect("readable CSV");
+    let i = r
+        .headers()
+        .unwrap()
+        .iter()
+        .position(|h| h == name)
+        .expect("column");
+    r.records()
+        .map(|rec| rec.unwrap()[i].parse().unwrap())
+        .collect()
+}
+
+fn assert_svg(path: &Path) {
+    let svg = fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    assert!(svg.starts_with("<svg"), "{}", path.display());
+    assert!(svg.trim_end().ends_with("</svg>"), "{}", path.display());
+    assert!(svg.contains("<polyline"), "{}: no lines", path.display());
+    assert_eq!(svg.matches("<text").count(), svg.matches("</text>").count());
+}
+
+fn assert_no_temp_files(dir: &Path) {
+    for e in fs::read_dir(dir).unwrap() {
+        let name = e.unwrap().file_name().to_string_lossy().into_owned();
+        assert!(!name.starts_with(".hysteron-"), "leftover {name}");
+    }
+}
+
+fn csv_text(header: &str, columns: &[&[f64]]) -> String {
+    let mut s = format!("{header}\n");
+    for i in 0..columns[0].len() {
+        let row: Vec<String> = columns.iter().map(|c| format!("{}", c[i])).collect();
+        s.push_str(&row.join(","));
+        s.push('\n');
+    }
+    s
+}
+
+// ------------------------------------------------------------------ fit
+
+/// The true model: the paper's model as a generic spec.
+fn truth() -> Spec {
+    Spec::from(&TransmissionParams::default())
+}
+
+/// Parameters freed in the happy path (suffixes and a full name) and the
+/// full names they resolve to.
+const FREE: &str = "f_c,left.mms.k,w,beta,gamma";
+const FREE_FULL: [&str; 5] = [
+    "left.mms.f_c",
+    "left.mms.k",
+    "right.bouc-wen.w",
+    "right.bouc-wen.beta",
+    "right.bouc-wen.gamma",
+];
+
+/// Two thousand samples of a decaying 5-cycle sine, 1.4 deg.
+fn input() -> Vec<f64> {
+    (0..2000)
+        .map(|i| {
+            let t = i as f64 / 2000.0;
+            1.4 * (-1.5 * t).exp() * (std::f64::consts::TAU * 5.0 * t).sin()
+        })
+        .collect()
+}
+
+struct Setup {
+    tmp: TempDir,
+    x: Vec<f64>,
+    y: Vec<f64>,
+}
+
+impl Setup {
+    /// `data.csv` (t,x,y: the true model's noise-free response), `in.csv`
+    /// (t,x), `truth.json` and `start.json` (the free parameters off by
+    /// ±20 %).
+    fn new() -> Self {
+        let tmp = TempDir::new().unwrap();
+        let x = input();
+        let spec = truth();
+        let y = spec.build().unwrap().run(&x).unwrap();
+        let t: Vec<f64> = (0..x.len()).map(|i| i as f64 * 1e-3).collect();
+        fs::write(
+            tmp.path().join("data.csv"),
+            csv_text("t,x,y", &[&t, &x, &y]),
+        )
+        .unwrap();
+        fs::write(tmp.path().join("in.csv"), csv_text("t,x", &[&t, &x])).unwrap();
+        fs::write(
+            tmp.path().join("truth.json"),
+            spec.to_json_pretty().unwrap(),
+        )
+        .unwrap();
+        let model = spec.build().unwrap();
+        let names = model.param_names();
+        let mut p = model.params();
+        for (j, name) in FREE_FULL.iter().enumerate() {
+            let i = names.iter().position(|n| n == name).unwrap();
+            p[i] *= if j % 2 == 0 { 1.2 } else { 0.8 };
+        }
+        let start = spec.with_params(&p).unwrap();
+        fs::write(
+            tmp.path().join("start.json"),
+            start.to_json_pretty().unwrap(),
+        )
+        .unwrap();
+        Setup { tmp, x, y }
+    }
+
+    fn dir(&self) -> &Path {
+        self.tmp.path()
+    }
+
+    fn path(&self, name: &str) -> PathBuf {
+        self.tmp.path().join(name)
+    }
+
+    fn write(&self, name: &str, contents: &str) {
+        fs::write(self.path(name), contents).unwrap();
+    }
+
+    fn fit(&self, args: &[&str]) -> Command {
+        let mut cmd = hysteron(self.dir());
+        cmd.arg("fit").args(args);
+        cmd
+    }
+
+    /// Runs `hysteron <args>` expecting failure: exit code 1, one line on
+    /// stderr containing every `expect`ed fragment, nothing on stdout, no
+    /// file changed or created.
+    fn fails_cmd(&self, args: &[&str], expect: &[&str]) -> String {
+        let before = snapshot(self.dir());
+        let assert = hysteron(self.dir()).args(args).assert().failure().code(1);
+        let out = assert.get_output();
+        let stderr = one_line_error(&out.stderr);
+        assert!(out.stdout.is_empty(), "stdout: {:?}", out.stdout);
+        for e in expect {
+            assert!(stderr.contains(e), "`{e}` not in: {stderr}");
+        }
+        assert_eq!(
+            snapshot(self.dir()),
+            before,
+            "files changed by a failed run"
+        );
+        stderr
+    }
+
+    /// `fit` with the standard arguments, `overrides` replacing or adding
+    /// options, expected to fail as [`fails_cmd`](Self::fails_cmd).
+    fn fails(&self, overrides: &[(&str, &str)], expect: &[&str]) -> String {
+        let mut opts: Vec<(String, String)> = [
+            ("--model", "start.json"),
+            ("--data", "data.csv"),
+            ("--free", FREE),
+            ("--output", "fitted.json"),
+        ]
+        .iter()
+        .map(|(a, b)| (a.to_string(), b.to_string()))
+        .collect();
+        for (k, v) in overrides {
+            match opts.iter_mut().find(|(a, _)| a == k) {
+                Some(o) => o.1 = v.to_string(),
+                None => opts.push((k.to_string(), v.to_string())),
+            }
+        }
+        let mut args = vec!["fit"];
+        for (k, v) in &opts {
+            args.push(k);
+            args.push(v);
+        }
+        self.fails_cmd(&args, expect)
+    }
+}
+
+#[test]
+fn fit_recovers_known_parameters_and_the_spec_simulates_back() {
+    let s = Setup::new();
+    let assert = s
+        .fit(&[
+            "--model",
+            "start.json",
+            "--data",
+            "data.csv",
+            "--free",
+            FREE,
+            "--output",
+            "fitted.json",
+            "--plot",
+            "fit.svg",
+        ])
+        .assert()
+        .success()
+        .code(0);
+    let out = assert.get_output();
+    // Not a terminal: no progress display, nothing on stderr at all.
+    assert!(out.stderr.is_empty(), "stderr: {:?}", out.stderr);
+    let stdout = String::from_utf8(out.stdout.clone()).unwrap();
+    println!("{stdout}");
+    for want in [
+        "fit of `start.json` (series, 24 parameters, 5 free) to `data.csv`: 2000 samples, x -> y",
+        "parameter",
+        "start",
+        "std error",
+        "95% CI",
+        "cost ",
+        "RMS ",
+        "NRMSE ",
+        "iterations ",
+        "evaluations ",
+        "wall time ",
+        "status       converged",
+        "wrote fitted.json, fit.svg",
+    ] {
+        assert!(stdout.contains(want), "`{want}` not in:\n{stdout}");
+    }
+    for name in FREE_FULL {
+        assert!(
+            stdout.lines().any(|l| l.starts_with(name)),
+            "{name}:\n{stdout}"
+        );
+    }
+    assert!(!stdout.contains("NOT CONVERGED"));
+
+    // The parameters: free ones recovered, the others untouched (bit for
+    // bit).
+    let want_model = truth().build().unwrap();
+    let want = want_model.params();
+    let names = want_model.param_names();
+    let start = Spec::from_json_file(s.path("start.json"))
+        .unwrap()
+        .build()
+        .unwrap()
+        .params();
+    let fitted_spec = Spec::from_json_file(s.path("fitted.json")).unwrap();
+    assert_eq!(fitted_spec.kind(), "series");
+    let got = fitted_spec.build().unwrap().params();
+    for (i, name) in names.iter().enumerate() {
+        if FREE_FULL.contains(&name.as_str()) {
+            let rel = (got[i] - want[i]).abs() / want[i].abs();
+            assert!(rel < 1e-6, "{name}: {} vs {} ({rel:e})", got[i], want[i]);
+        } else {
+            assert_eq!(got[i].to_bits(), start[i].to_bits(), "{name}");
+        }
+    }
+
+    // `simulate` accepts the written spec and reproduces the record.
+    hysteron(s.dir())
+        .args([
+            "simulate",
+            "--model",
+            "fitted.json",
+            "--input",
+            "in.csv",
+            "--output",
+            "sim.csv",
+        ])
+        .assert()
+        .success();
+    let sim = read_csv_column(&s.path("sim.csv"), "y");
+    assert_eq!(sim.len(), s.y.len());
+    let scale = s.y.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+    let worst = sim
+        .iter()
+        .zip(&s.y)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(worst <= 1e-6 * scale, "max |error| {worst:e} of {scale}");
+    assert_eq!(read_csv_column(&s.path("sim.csv"), "x"), s.x);
+
+    assert_svg(&s.path("fit.svg"));
+    let svg = fs::read_to_string(s.path("fit.svg")).unwrap();
+    for label in ["measured", "fitted", "residual"] {
+        assert!(svg.contains(label), "{label}");
+    }
+    assert_no_temp_files(s.dir());
+}
+
+#[test]
+fn fit_on_other_columns_and_overwrites_its_old_output_atomically() {
+    let s = Setup::new();
+    // Columns `u` (input) and `F` (output), in another order.
+    let t: Vec<f64> = (0..s.x.len()).map(|i| i as f64).collect();
+    s.write("other.csv", &csv_text("F,t,u", &[&s.y, &t, &s.x]));
+    s.write("fitted.json", "old\n");
+    // Only f_c and k off.
+    let mut start = TransmissionParams::default();
+    start.friction.f_c *= 1.2;
+    start.friction.k *= 0.8;
+    s.write("start2.json", &Spec::from(&start).to_json_pretty().unwrap());
+    let assert = s
+        .fit(&[
+            "--model",
+            "start2.json",
+            "--data",
+            "other.csv",
+            "--input-column",
+            "u",
+            "--output-column",
+            "F",
+            "--free",
+            " f_c , k ",
+            "--output",
+            "fitted.json",
+            "--no-progress",
+        ])
+        .assert()
+        .success();
+    let stdout = String::from_utf8(assert.get_output().stdout.clone()).unwrap();
+    assert!(stdout.contains("2000 samples, u -> F"), "{stdout}");
+    assert!(stdout.contains("2 free"), "{stdout}");
+    let fitted = Spec::from_json_file(s.path("fitted.json")).unwrap();
+    let Spec::Series { left, .. } = fitted else {
+        panic!("{fitted:?}")
+    };
+    let Spec::Mms(m) = *left else {
+        panic!("{left:?}")
+    };
+    assert!((m.f_c - 1.5).abs() < 1.5e-6, "{m:?}");
+    assert!((m.k - 30.0).abs() < 30e-6, "{m:?}");
+    assert_no_temp_files(s.dir());
+}
+
+#[test]
+fn fit_that_runs_out_of_budget_exits_3_and_says_so() {
+    let s = Setup::new();
+    let assert = s
+        .fit(&[
+            "--model",
+            "start.json",
+            "--data",
+            "data.csv",
+            "--free",
+            FREE,
+            "--output",
+            "fitted.json",
+            "--patience",
+            "1",
+        ])
+        .assert()
+        .failure()
+        .code(3);
+    let out = assert.get_output();
+    assert!(out.stderr.is_empty(), "stderr: {:?}", out.stderr);
+    let stdout = String::from_utf8(out.stdout.clone()).unwrap();
+    assert!(stdout.contains("status       NOT CONVERGED"), "{stdout}");
+    assert!(stdout.contains("the fit did not converge"), "{stdout}");
+    assert!(stdout.contains("exit code 3"), "{stdout}");
+    // The last iterate is written and is a valid spec.
+    Spec::from_json_file(s.path("fitted.json"))
+        .unwrap()
+        .build()
+        .unwrap();
+}
+
+#[test]
+fn fit_error_missing_model_file() {
+    let s = Setup::new();
+    s.fails(
+        &[("--model", "nope.json")],
+        &["model `nope.json`", "No such file"],
+    );
+}
+
+#[test]
+fn fit_error_malformed_or_invalid_spec() {
+    let s = Setup::new();
+    s.write("bad.json", "{\"type\": \"play\",\n \"r\": }\n");
+    s.fails(&[("--model", "bad.json")], &["model `bad.json`", "line 2"]);
+    s.write(
+        "bad.json",
+        r#"{"type": "scaled", "w": 2, "inner": {"type": "play", "r": -1}}"#,
+    );
+    s.fails(
+        &[("--model", "bad.json")],
+        &["model `bad.json`", "scaled.inner.play.r", "-1"],
+    );
+}
+
+#[test]
+fn fit_error_missing_data_file() {
+    let s = Setup::new();
+    s.fails(
+        &[("--data", "nope.csv")],
+        &["data `nope.csv`", "No such file"],
+    );
+}
+
+#[test]
+fn fit_error_missing_columns() {
+    let s = Setup::new();
+    s.fails(
+        &[("--input-column", "theta")],
+        &["data `data.csv`", "no column `theta`", "`t`, `x`, `y`"],
+    );
+    s.fails(
+        &[("--output-column", "F")],
+        &["data `data.csv`", "no column `F`", "`t`, `x`, `y`"],
+    );
+}
+
+#[test]
+fn fit_error_same_input_and_output_column() {
+    let s = Setup::new();
+    s.fails(
+        &[("--output-column", "x")],
+        &["--input-column and --output-column", "`x`"],
+    );
+}
+
+#[test]
+fn fit_error_non_numeric_cells() {
+    let s = Setup::new();
+    s.write("d.csv", "t,x,y\n0,0,0\n1,0.5,abc\n");
+    s.fails(
+        &[("--data", "d.csv")],
+        &[
+            "data `d.csv`",
+            "row 2 (line 3)",
+            "column `y`",
+            "`abc` is not a number",
+        ],
+    );
+    s.write("d.csv", "t,x,y\n0,,1\n");
+    s.fails(
+        &[("--data", "d.csv")],
+        &["row 1 (line 2)", "column `x`", "not a number"],
+    );
+}
+
+#[test]
+fn fit_error_non_finite_cells() {
+    let s = Setup::new();
+    for (bad, col) in [("NaN", "x"), ("inf", "y"), ("-inf", "x"), ("nan", "y")] {
+        let row = if col == "x" {
+            format!("1,{bad},0.1")
+        } else {
+            format!("1,0.1,{bad}")
+        };
+        s.write("d.csv", &format!("t,x,y\n0,0,0\n{row}\n2,1,1\n"));
+        s.fails(
+            &[("--data", "d.csv")],
+            &[
+                "data `d.csv`",
+                "row 2 (line 3)",
+                &format!("column `{col}`"),
+                "not finite",
+            ],
+        );
+    }
+}
+
+#[test]
+fn fit_error_empty_files_and_ragged_rows() {
+    let s = Setup::new();
+    s.write("hdr.csv", "t,x,y\n");
+    s.fails(
+        &[("--data", "hdr.csv")],
+        &["data `hdr.csv`", "no data rows"],
+    );
+    s.write("empty.csv", "");
+    s.fails(
+        &[("--data", "empty.csv")],
+        &["data `empty.csv`", "empty file"],
+    );
+    s.write("rag.csv", "t,x,y\n0,0,0\n1,1\n");
+    s.fails(
+        &[("--data", "rag.csv")],
+        &["data `rag.csv`", "row 2 (line 3)", "field"],
+    );
+}
+
+#[test]
+fn fit_error_unknown_free_name_lists_the_parameters() {
+    let s = Setup::new();
+    let e = s.fails(
+        &[("--free", "f_c,mu")],
+        &[
+            "--free",
+            "model `start.json`",
+            "unknown parameter `mu`",
+            "the model has: limits.b, limits.r0, left.mms.f_c, left.mms.k",
+            "right.bouc-wen.stiffness.s[5]",
+        ],
+    );
+    assert!(!e.contains("`f_c`"), "{e}");
+}
+
+#[test]
+fn fit_error_ambiguous_empty_and_duplicate_free_names() {
+    let s = Setup::new();
+    s.write(
+        "two.json",
+        r#"{"type": "parallel", "left": {"type": "gain", "k": 1},
+            "right": {"type": "mms", "f_c": 1, "k": 5}}"#,
+    );
+    s.fails(
+        &[("--model", "two.json"), ("--free", "k")],
+        &["--free", "`k` is ambiguous", "left.gain.k", "right.mms.k"],
+    );
+    s.fails(
+        &[("--free", "")],
+        &["--free names no parameter", "the model has: limits.b"],
+    );
+    s.fails(&[("--free", " , ")], &["--free names no parameter"]);
+    s.fails(
+        &[("--free", "f_c,left.mms.f_c")],
+        &["parameter `left.mms.f_c`", "named twice"],
+    );
+}
+
+#[test]
+fn fit_error_tied_parameter_of_a_transmission_spec() {
+    let s = Setup::new();
+    s.write(
+        "tr.json",
+        &Spec::Transmission(TransmissionParams::default())
+            .to_json_pretty()
+            .unwrap(),
+    );
+    for name in ["r0", "right.bouc-wen.z0"] {
+        s.fails(
+            &[("--model", "tr.json"), ("--free", name)],
+            &[
+                "--free",
+                "model `tr.json`",
+                "cannot be fitted on its own",
+                "z0 is -slider0",
+                "generic `series` spec",
+            ],
+        );
+    }
+    // The rest of a transmission spec fits as usual.
+    s.fit(&[
+        "--model",
+        "tr.json",
+        "--data",
+        "data.csv",
+        "--free",
+        "f_c",
+        "--output",
+        "fitted.json",
+    ])
+    .assert()
+    .success();
+    assert_eq!(
+        Spec::from_json_file(s.path("fitted.json")).unwrap().kind(),
+        "transmission"
+    );
+}
+
+#[test]
+fn fit_error_model_fails_at_the_start() {
+    let s = Setup::new();
+    // The inverse of a saturation has no solution beyond its limits.
+    s.write(
+        "inv.json",
+        r#"{"type": "inverse", "inner": {"type": "saturation", "lo": -1, "hi": 1}}"#,
+    );
+    s.write("d.csv", "t,x,y\n0,0,0\n1,0.5,0.5\n2,1.5,1\n3,0,0\n");
+    s.fails(
+        &[
+            ("--model", "inv.json"),
+            ("--data", "d.csv"),
+            ("--free", "hi"),
+        ],
+        &[
+            "model `inv.json` fails at the starting parameters",
+            "sample 2",
+            "data `d.csv`",
+            "row 3 (line 4)",
+            "column `x`",
+            "1.5",
+        ],
+    );
+}
+
+#[test]
+fn fit_refuses_to_overwrite_its_inputs() {
+    let s = Setup::new();
+    fs::create_dir(s.path("sub")).unwrap();
+    for out in ["data.csv", "./data.csv", "sub/../data.csv"] {
+        s.fails(
+            &[("--output", out)],
+            &["output", "same file as the data", "refusing"],
+        );
+    }
+    let abs = s.path("start.json");
+    s.fails(
+        &[("--output", abs.to_str().unwrap())],
+        &["same file as the model"],
+    );
+    s.fails(
+        &[("--output", "o.json"), ("--plot", "sub/../o.json")],
+        &["plot", "same file as the output"],
+    );
+    s.fails(
+        &[("--plot", "data.csv")],
+        &["plot", "same file as the data"],
+    );
+}
+
+#[test]
+fn fit_error_output_directory_missing_and_keeps_old_output() {
+    let s = Setup::new();
+    s.fails(
+        &[("--output", "nodir/fitted.json")],
+        &["output `nodir/fitted.json`", "does not exist"],
+    );
+    s.write("fitted.json", "previous\n");
+    s.write("d.csv", "t,x,y\n0,0,0\n1,NaN,0\n");
+    s.fails(&[("--data", "d.csv")], &["not finite"]);
+    assert_eq!(
+        fs::read_to_string(s.path("fitted.json")).unwrap(),
+        "previous\n"
+    );
+}
+
+#[test]
+fn fit_usage_errors_are_clap_errors() {
+    let s = Setup::new();
+    // --free is required; --patience must be ≥ 1.
+    hysteron(s.dir())
+        .args([
+            "fit",
+            "--model",
+            "start.json",
+            "--data",
+            "data.csv",
+            "--output",
+            "o.json",
+        ])
+        .assert()
+        .failure()
+        .code(2);
+    hysteron(s.dir())
+        .args([
+            "fit",
+            "--model",
+            "start.json",
+            "--data",
+            "data.csv",
+            "--output",
+            "o.json",
+            "--free",
+            "k",
+            "--patience",
+            "0",
+        ])
+        .assert()
+        .failure()
+        .code(2);
+    assert!(!s.path("o.json").exists());
+}
+
+// ------------------------------------------------------- identify-paper
+
+/// Short records of the paper's model (250 Hz): the 0.5 Hz major loop, two
+/// cycles, and a 5 → 0.1 Hz down-chirp over 20 s, written as `t,x,F`.
+fn paper_records(dir: &Path) {
+    let fs_hz = 250.0;
+    let p = TransmissionParams::default();
+    let sig = sine(0.5, DRIVE.amplitude(0.5), 2.0, fs_hz).unwrap();
+    let f = p.build().unwrap().run(&sig.x).unwrap();
+    fs::write(
+        dir.join("loop.csv"),
+        csv_text("t,x,F", &[&sig.t, &sig.x, &f]),
+    )
+    .unwrap();
+    let sig = chirp(5.0, 0.1, 20.0, fs_hz, |f| DRIVE.amplitude(f)).unwrap();
+    let f = p.build().unwrap().run(&sig.x).unwrap();
+    fs::write(
+        dir.join("chirp.csv"),
+        csv_text("t,x,F", &[&sig.t, &sig.x, &f]),
+    )
+    .unwrap();
+}
+
+#[test]
+fn identify_paper_writes_a_transmission_spec_and_both_reports() {
+    let s = Setup::new();
+    paper_records(s.dir());
+    let assert = hysteron(s.dir())
+        .args([
+            "identify-paper",
+            "--loop",
+            "loop.csv",
+            "--chirp",
+            "chirp.csv",
+            "--output",
+            "ident.json",
+            "--plot",
+            "figs",
+        ])
+        .assert();
+    let out = assert.get_output();
+    let stdout = String::from_utf8(out.stdout.clone()).unwrap();
+    println!("{stdout}");
+    let code = out.status.code();
+    assert!(code == Some(0) || code == Some(3), "{code:?}: {out:?}");
+    assert!(out.stderr.is_empty(), "stderr: {:?}", out.stderr);
+    for want in [
+        "stage 1: the spring",
+        "stage 2: the bedstop",
+        "limits.b",
+        "left.mms.f_c",
+        "knots S",
+        "RMS error of the identified model",
+        "wrote ident.json, figs/loop.svg, figs/chirp.svg",
+    ] {
+        assert!(stdout.contains(want), "`{want}` not in:\n{stdout}");
+    }
+    assert_eq!(stdout.matches("95% CI").count(), 2, "{stdout}");
+    assert_eq!(code == Some(3), stdout.contains("NOT CONVERGED"));
+    let spec = Spec::from_json_file(s.path("ident.json")).unwrap();
+    assert_eq!(spec.kind(), "transmission");
+    assert_svg(&s.path("figs/loop.svg"));
+    assert_svg(&s.path("figs/chirp.svg"));
+    // and `simulate` runs it
+    hysteron(s.dir())
+        .args([
+            "simulate",
+            "--model",
+            "ident.json",
+            "--input",
+            "in.csv",
+            "--output",
+            "sim.csv",
+        ])
+        .assert()
+        .success();
+    assert_no_temp_files(s.dir());
+}
+
+#[test]
+fn identify_paper_bad_inputs() {
+    let s = Setup::new();
+    paper_records(s.dir());
+    let base = |over: &[(&str, &str)]| -> Vec<String> {
+        let mut opts = vec![
+            ("--loop", "loop.csv"),
+            ("--chirp", "chirp.csv"),
+            ("--output", "ident.json"),
+        ];
+        for (k, v) in over {
+            match opts.iter_mut().find(|(a, _)| a == k) {
+                Some(o) => o.1 = v,
+                None => opts.push((k, v)),
+            }
+        }
+        let mut args = vec!["identify-paper".to_string()];
+        for (k, v) in opts {
+            args.push(k.into());
+            args.push(v.into());
+        }
+        args
+    };
+    let fails = |over: &[(&str, &str)], expect: &[&str]| {
+        let args = base(over);
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        s.fails_cmd(&args, expect);
+    };
+    fails(
+        &[("--loop", "nope.csv")],
+        &["record `nope.csv`", "No such file"],
+    );
+    fails(
+        &[("--chirp", "data.csv")],
+        &["record `data.csv`", "no column `F`"],
+    );
+    s.write("nan.csv", "t,x,F\n0,0,0\n1,0.5,NaN\n");
+    fails(
+        &[("--chirp", "nan.csv")],
+        &["`nan.csv`", "row 2 (line 3)", "column `F`", "not finite"],
+    );
+    s.write("hdr.csv", "t,x,F\n");
+    fails(&[("--loop", "hdr.csv")], &["`hdr.csv`", "no data rows"]);
+    // A record without a complete increasing branch.
+    s.write("flat.csv", "t,x,F\n0,0,0\n1,0.1,1\n2,0.2,2\n");
+    fails(
+        &[("--loop", "flat.csv")],
+        &["loop `flat.csv`", "no complete increasing branch"],
+    );
+    for out in ["loop.csv", "./chirp.csv"] {
+        fails(&[("--output", out)], &["same file as the", "refusing"]);
+    }
+    fails(
+        &[
+            ("--output", "o.json"),
+            ("--plot", "."),
+            ("--loop", "loop.svg"),
+        ],
+        &["plot", "same file as the loop record"],
+    );
+    fails(
+        &[("--start", "truth.json")],
+        &[
+            "start `truth.json`",
+            "must be a `transmission` spec",
+            "series",
+        ],
+    );
+    fails(
+        &[("--start", "nope.json")],
+        &["start `nope.json`", "No such file"],
+    );
+    fails(
+        &[("--output-column", "x")],
+        &["--input-column and --output-column"],
+    );
+}
