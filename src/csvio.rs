@@ -363,6 +363,27 @@ fn csv_to_io(e: csv::Error) -> io::Error {
     }
 }
 
+/// The directory a file at `path` would be written into, or an error if
+/// it does not exist (checked before anything is written, so that a job
+/// writing several files fails before the first).
+pub fn target_dir(path: &Path) -> Result<PathBuf, CsvIoError> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    if dir.is_dir() {
+        Ok(dir)
+    } else {
+        Err(CsvIoError::Io {
+            path: path.to_path_buf(),
+            source: io::Error::new(
+                io::ErrorKind::NotFound,
+                format!("directory `{}` does not exist", dir.display()),
+            ),
+        })
+    }
+}
+
 /// Writes a file atomically: `write` fills a temporary file in the same
 /// directory as `path`, which is then flushed, synced and renamed over
 /// `path`. On any error the temporary file is removed and `path` is left
@@ -375,16 +396,7 @@ where
         path: path.to_path_buf(),
         source,
     };
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    if !dir.is_dir() {
-        return Err(io_err(io::Error::new(
-            io::ErrorKind::NotFound,
-            format!("directory `{}` does not exist", dir.display()),
-        )));
-    }
+    let dir = target_dir(path)?;
     let mut tmp = tempfile::Builder::new()
         .prefix(".hysteron-")
         .suffix(".tmp")

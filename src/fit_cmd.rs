@@ -570,6 +570,11 @@ pub fn run(opts: &FitCmdOptions) -> Result<FitCmdReport, FitCmdError> {
         None => None,
     };
 
+    // Both destinations must be writable before either is written.
+    csvio::target_dir(&opts.output).map_err(FitCmdError::Write)?;
+    if let Some(p) = &opts.plot {
+        csvio::target_dir(p).map_err(FitCmdError::Write)?;
+    }
     csvio::write_string_atomic(&opts.output, &(json + "\n")).map_err(FitCmdError::Write)?;
     let mut files = vec![opts.output.clone()];
     if let (Some(p), Some(svg)) = (&opts.plot, svg) {

@@ -365,6 +365,7 @@ pub fn run(opts: &IdentifyPaperOptions) -> Result<IdentifyPaperReport, IdentifyP
         svgs.push((path.clone(), svg));
     }
 
+    csvio::target_dir(&opts.output).map_err(IdentifyPaperError::Write)?;
     if let Some(dir) = &opts.plot {
         std::fs::create_dir_all(dir).map_err(|e| IdentifyPaperError::PlotDir(dir.clone(), e))?;
     }

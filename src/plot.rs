@@ -148,10 +148,15 @@ fn color(i: usize) -> RGBColor {
     PALETTE[i % PALETTE.len()]
 }
 
+/// The largest axis value a figure accepts (far below `f64::MAX`, so spans
+/// and tick arithmetic cannot overflow).
+pub const MAX_AXIS: f64 = 1e300;
+
 /// Pads a range by 5 % on each side; a degenerate range becomes ±1 (or
 /// ±10 % of its value) around it.
 pub fn padded(lo: f64, hi: f64) -> (f64, f64) {
-    let span = hi - lo;
+    // half-values first: hi − lo itself may overflow
+    let span = 2.0 * (0.5 * hi - 0.5 * lo);
     if span > f64::EPSILON * hi.abs().max(lo.abs()).max(1e-300) {
         (lo - 0.05 * span, hi + 0.05 * span)
     } else {
@@ -209,6 +214,13 @@ fn draw_panel(panel: &Panel, area: &DrawingArea<SVGBackend<'_>, Shift>) -> Resul
     let bounds = panel.data_bounds().unwrap_or((-1.0, 1.0, -1.0, 1.0));
     let (x0, x1) = panel.x_range.unwrap_or_else(|| padded(bounds.0, bounds.1));
     let (y0, y1) = panel.y_range.unwrap_or_else(|| padded(bounds.2, bounds.3));
+    // Axis arithmetic (spans, ticks) must stay finite: refuse ranges whose
+    // span would overflow instead of handing them to the plotting library.
+    if ![x0, x1, y0, y1].iter().all(|v| v.abs() <= MAX_AXIS) {
+        return Err(PlotError(format!(
+            "values beyond ±{MAX_AXIS:e} cannot be plotted (axis range x [{x0:e}, {x1:e}], y [{y0:e}, {y1:e}])"
+        )));
+    }
     let mut chart = ChartBuilder::on(area)
         .caption(&panel.title, ("sans-serif", 18))
         .margin(10)
@@ -297,6 +309,17 @@ pub fn loop_panel(title: &str, x_label: &str, y_label: &str, x: &[f64], y: &[f64
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn huge_values_are_an_error_not_a_hang() {
+        // A span that overflows f64 once hung the plotting library.
+        let p = loop_panel("t", "x", "y", &[-1.0, 1.0], &[-1.7e308, 1.7e308]);
+        assert!(render(&[p], 1, 1, (200, 200)).is_err());
+        let p = loop_panel("t", "x", "y", &[-1.7e308, 1.7e308], &[0.0, 1.0]);
+        assert!(render(&[p], 1, 1, (200, 200)).is_err());
+        let p = loop_panel("t", "x", "y", &[-1.0, 1.0], &[-1e6, 1e6]);
+        assert!(render(&[p], 1, 1, (200, 200)).is_ok());
+    }
 
     #[test]
     fn renders_text_without_system_fonts() {

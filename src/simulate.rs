@@ -236,6 +236,11 @@ pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
         None => None,
     };
 
+    // Both destinations must be writable before either is written.
+    csvio::target_dir(&opts.output).map_err(SimulateError::Write)?;
+    if let Some(p) = &opts.plot {
+        csvio::target_dir(p).map_err(SimulateError::Write)?;
+    }
     csvio::write_with_column(&opts.output, &table, OUTPUT_COLUMN, &y)
         .map_err(SimulateError::Write)?;
     let mut files = vec![opts.output.clone()];

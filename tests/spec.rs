@@ -843,3 +843,19 @@ fn example_specs_parse_build_and_run() {
         );
     }
 }
+
+#[test]
+fn loose_solver_tolerances_and_deep_implicit_nesting_are_rejected() {
+    let loose = r#"{"type":"series","left":{"type":"gain","k":1.0},"right":{"type":"gain","k":1.0},
+        "solver":{"rel_tol":0.5}}"#;
+    let e = Spec::from_json(loose).unwrap().build().unwrap_err();
+    assert!(e.to_string().contains("rel_tol"), "{e}");
+    let mut spec = r#"{"type":"gain","k":2.0}"#.to_string();
+    for _ in 0..5 {
+        spec = format!(r#"{{"type":"inverse","inner":{spec}}}"#);
+    }
+    let s = Spec::from_json(&spec).unwrap();
+    assert_eq!(s.implicit_depth(), 5);
+    let e = s.build().unwrap_err();
+    assert!(e.to_string().contains("nesting"), "{e}");
+}

@@ -223,16 +223,23 @@ impl SpecError {
 }
 
 /// Largest `max_iter` / `max_expansions` a spec's solver may ask for (a
-/// bound on the work per sample, so that no spec can make a model hang).
+/// bound on the work per solve).
 const MAX_SOLVER_ITER: usize = 100_000;
+
+/// Most implicit combinators nested on one path: each level solves its
+/// equation by probing the level inside it, so the work per sample grows
+/// geometrically with the depth (about 8× per level, measured with nested
+/// inverses).
+const MAX_IMPLICIT_DEPTH: usize = 4;
 
 impl Spec {
     /// Builds the model, validating every parameter.
     ///
     /// Errors are [`SpecError::Invalid`], naming the path through the tree
     /// (`series.right.bouc_wen.stiffness.s[3]`). Besides what the operators
-    /// check, a `solver` must have finite `rel_tol, abs_tol ≥ 0` and
-    /// `max_iter, max_expansions` in `[1, 100000]`.
+    /// check, a `solver` must have `rel_tol, abs_tol ∈ [0, 1e-3]` and
+    /// `max_iter, max_expansions` in `[1, 100000]`, and at most 4 implicit
+    /// combinators may be nested on one path.
     ///
     /// ```
     /// use hysteron_models::Spec;
@@ -245,7 +252,36 @@ impl Spec {
     /// assert_eq!(err.to_string(), "scaled.inner.play.r: must be ≥ 0 (got -1)");
     /// ```
     pub fn build(&self) -> Result<Box<dyn Operator<f64>>, SpecError> {
+        let depth = self.implicit_depth();
+        if depth > MAX_IMPLICIT_DEPTH {
+            return Err(SpecError::invalid(
+                self.kind(),
+                Error::InvalidParameter {
+                    name: "nesting".into(),
+                    value: depth as f64,
+                    reason: "at most 4 implicit combinators (feedback, series, inverse, transmission) may be nested on one path: each level multiplies the work per sample",
+                },
+            ));
+        }
         self.build_at(self.kind())
+    }
+
+    /// The largest number of implicit combinators (solved per sample) on
+    /// one path from the root to a leaf.
+    pub fn implicit_depth(&self) -> usize {
+        let own = usize::from(matches!(
+            self,
+            Spec::Feedback { .. }
+                | Spec::Series { .. }
+                | Spec::Inverse { .. }
+                | Spec::Transmission(_)
+        ));
+        own + self
+            .children()
+            .into_iter()
+            .map(|(_, c)| c.implicit_depth())
+            .max()
+            .unwrap_or(0)
     }
 
     fn build_at(&self, path: &str) -> Result<Box<dyn Operator<f64>>, SpecError> {
@@ -703,6 +739,17 @@ impl From<TransmissionParams> for Spec {
 fn check_solver(o: &SolverOptions<f64>) -> Result<(), Error> {
     check::non_negative("rel_tol", o.rel_tol)?;
     check::non_negative("abs_tol", o.abs_tol)?;
+    // A loose tolerance silently returns wrong answers (rel_tol = 0.5
+    // halves a spring): cap both.
+    for (name, v, cap) in [("rel_tol", o.rel_tol, 1e-3), ("abs_tol", o.abs_tol, 1e-3)] {
+        if v > cap {
+            return Err(Error::InvalidParameter {
+                name: name.into(),
+                value: v,
+                reason: "must be ≤ 1e-3",
+            });
+        }
+    }
     for (name, v) in [
         ("max_iter", o.max_iter),
         ("max_expansions", o.max_expansions),
