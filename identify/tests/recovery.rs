@@ -98,3 +98,35 @@ fn noisy_bouc_wen_truth_lies_within_three_standard_errors() {
         sd
     );
 }
+
+#[test]
+fn batches_equal_sequential_runs_and_report_errors_per_entry() {
+    use hysteron_identify::batch::{simulate_parameter_sets, simulate_records};
+    let model: Box<dyn Operator<f64>> = Box::new(truth(1.0));
+    let x = decaying_sine(2_000);
+    let base = model.params();
+    let mut bad = base.clone();
+    bad[0] = 2.0; // w outside [0, 1]
+    let sets: Vec<Vec<f64>> = vec![
+        base.clone(),
+        {
+            let mut p = base.clone();
+            p[2] = 1.1;
+            p
+        },
+        bad,
+    ];
+    let out = simulate_parameter_sets(model.as_ref(), &sets, &x);
+    assert_eq!(out.len(), 3);
+    for (p, r) in sets.iter().zip(&out).take(2) {
+        let mut m = model.clone();
+        m.set_params(p).unwrap();
+        assert_eq!(r.as_ref().unwrap(), &m.run(&x).unwrap());
+    }
+    assert!(out[2].is_err());
+    let records = vec![x.clone(), x[..500].to_vec(), vec![0.1, f64::NAN]];
+    let out = simulate_records(model.as_ref(), &records);
+    assert_eq!(out[0].as_ref().unwrap(), &model.clone().run(&x).unwrap());
+    assert_eq!(out[1].as_ref().unwrap().len(), 500);
+    assert!(out[2].is_err());
+}
