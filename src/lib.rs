@@ -50,8 +50,9 @@ pub mod prelude {
         SolverOptions, TravelLimits,
     };
     pub use hysteron_operators::{
-        BoucWen, BoucWenParams, DeadZone, ElastoPlastic, Error, Float, Gain, Mms, MmsParams,
-        Operator, Play, PlayParams, Result, Saturation, StiffnessMap, Stop, Trial,
+        BoucWen, BoucWenParams, DeadZone, ElastoPlastic, Error, Float, Gain, MassSpringDamper, Mms,
+        MmsParams, Operator, Play, PlayParams, Result, Saturation, StiffnessMap, Stop, Trial,
+        ViscousDamper,
     };
 }
 

@@ -264,6 +264,11 @@ fn leaves() {
     check("bouc-wen n=2", spring(2.0));
     check("bouc-wen n=2.7", spring(2.7));
     check("pi bank", pi());
+    check(
+        "mass-spring-damper",
+        MassSpringDamper::new(2.0, 10.0, 5e4, 1.0 / 750.0).unwrap(),
+    );
+    check("viscous damper", ViscousDamper::new(3.0, 0.01).unwrap());
 }
 
 #[test]
@@ -302,6 +307,12 @@ fn combinators() {
             .series(spring(2.0))
             .with_limits(TravelLimits::Range { lo: -0.05, hi: 0.2 })
             .unwrap(),
+    );
+    check(
+        "feedback rate-dependent",
+        MassSpringDamper::new(2.0, 10.0, 5e4, 1.0 / 15000.0)
+            .unwrap()
+            .feedback(BoucWen::constant(1.0, 0.0, 5e4, 800.0, -1100.0, 1.0).unwrap()),
     );
     check("inverse", pi().inverse());
     check("inverse bouc-wen", spring(1.0).inverse());

@@ -14,6 +14,8 @@
 //! | [`Gain`] | `k x` |
 //! | [`Mms`] | `y = y_r + (sgn(ẋ) F_c − y_r)(1 − e^{−K|x − x_r|})` |
 //! | [`BoucWen`] | `H = w S(z) z + (1 − w) S(z) h`, `dh/dz = α − \|h\|^n (β sgn(ż h) + γ)` |
+//! | [`MassSpringDamper`] | `m ÿ + c ẏ + k y = u` (rate-dependent, Newmark) |
+//! | [`ViscousDamper`] | `F = c ẋ` (rate-dependent, trapezoidal) |
 //!
 //! Combinators live in `hysteron-composition`.
 
@@ -31,11 +33,13 @@ mod deadzone;
 mod elastoplastic;
 mod gain;
 mod hysteretic_state;
+mod mass_spring_damper;
 mod mms;
 mod play;
 mod saturation;
 mod stiffness;
 mod stop;
+mod viscous_damper;
 
 pub use bouc_wen::{BoucWen, BoucWenParams};
 pub use deadzone::{dead_zone, DeadZone, DeadZoneParams};
@@ -44,9 +48,11 @@ pub use elastoplastic::{ElastoPlastic, ElastoPlasticParams};
 pub use error::{Error, Result};
 pub use float::Float;
 pub use gain::Gain;
+pub use mass_spring_damper::{MassSpringDamper, MassSpringDamperParams};
 pub use mms::{Mms, MmsParams};
 pub use operator::{check_input, check_lengths, check_output, Operator, Trial};
 pub use play::{play_step, play_tangent, Play, PlayParams};
 pub use saturation::{Saturation, SaturationParams};
 pub use stiffness::StiffnessMap;
 pub use stop::{stop_step, Stop, StopParams};
+pub use viscous_damper::ViscousDamper;
