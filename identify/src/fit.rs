@@ -75,6 +75,11 @@ pub struct FitOptions {
     pub step: f64,
     /// Compute the Jacobian's columns in parallel (rayon).
     pub parallel: bool,
+    /// Compare every `stride`-th model output with the record: the model
+    /// runs on `x` (for example an input upsampled `stride` times for a
+    /// rate-dependent model) and its output at index `j · stride` is
+    /// compared with `y[j]`, so `x.len() = stride · y.len()`. Default 1.
+    pub stride: usize,
 }
 
 impl Default for FitOptions {
@@ -88,6 +93,7 @@ impl Default for FitOptions {
             patience: 200,
             step: f64::EPSILON.cbrt(),
             parallel: true,
+            stride: 1,
         }
     }
 }
@@ -203,13 +209,13 @@ pub fn free_by_names(
         .collect()
 }
 
-fn check_record(x: &[f64], y: &[f64]) -> Result<(), FitError> {
-    if x.is_empty() {
+fn check_record(x: &[f64], y: &[f64], stride: usize) -> Result<(), FitError> {
+    if x.is_empty() || y.is_empty() {
         return Err(FitError::Data("the record is empty".into()));
     }
-    if x.len() != y.len() {
+    if stride == 0 || x.len() != y.len().saturating_mul(stride) {
         return Err(FitError::Data(format!(
-            "input has {} samples, output {}",
+            "input has {} samples, output {} (stride {stride})",
             x.len(),
             y.len()
         )));
@@ -252,6 +258,7 @@ struct Problem<'a> {
     penalty: f64,
     step: f64,
     parallel: bool,
+    stride: usize,
     evaluations: AtomicUsize,
     jacobians: AtomicUsize,
 }
@@ -273,8 +280,11 @@ impl Problem<'_> {
         let mut out = vec![0.0; self.x.len()];
         model.process(self.x, &mut out)?;
         Ok(DVector::from_iterator(
-            out.len(),
-            out.iter().zip(self.y).map(|(m, d)| m - d),
+            self.y.len(),
+            out.iter()
+                .step_by(self.stride)
+                .zip(self.y)
+                .map(|(m, d)| m - d),
         ))
     }
 
@@ -292,7 +302,7 @@ impl Problem<'_> {
             (Some(p), Some(m), _) => (p - m) / (2.0 * h),
             (Some(p), None, Some(c)) => (p - c) / h,
             (None, Some(m), Some(c)) => (c - m) / h,
-            _ => DVector::zeros(self.x.len()),
+            _ => DVector::zeros(self.y.len()),
         }
     }
 
@@ -338,6 +348,7 @@ impl<'a> Problem<'a> {
             penalty: 1e3 * scale,
             step: opts.step,
             parallel: opts.parallel,
+            stride: opts.stride.max(1),
             evaluations: AtomicUsize::new(0),
             jacobians: AtomicUsize::new(0),
         };
@@ -371,7 +382,7 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
         Some(
             self.current
                 .clone()
-                .unwrap_or_else(|| DVector::from_element(self.x.len(), self.penalty)),
+                .unwrap_or_else(|| DVector::from_element(self.y.len(), self.penalty)),
         )
     }
 
@@ -418,7 +429,7 @@ pub fn fit_with_progress(
     on_iteration: &(dyn Fn(Progress) + Sync),
 ) -> Result<Fit, FitError> {
     let started = Instant::now();
-    check_record(x, y)?;
+    check_record(x, y, opts.stride)?;
     if free.is_empty() {
         return Err(FitError::NoFreeParameters);
     }
@@ -457,9 +468,9 @@ pub fn fit_with_progress(
     problem.set_params(&theta);
     let residuals = problem
         .residuals()
-        .unwrap_or_else(|| DVector::zeros(x.len()));
+        .unwrap_or_else(|| DVector::zeros(y.len()));
     let jac = problem.jacobian_matrix();
-    let m = x.len();
+    let m = y.len();
     let k = free.len();
     let ssr = residuals.norm_squared();
     let dof = m.saturating_sub(k).max(1) as f64;
@@ -590,6 +601,23 @@ mod tests {
         // and the serial path gives the same matrix bit for bit
         problem.parallel = false;
         assert_eq!(problem.jacobian().unwrap(), ours);
+    }
+
+    #[test]
+    fn stride_compares_every_stride_th_output() {
+        use hysteron_operators::Gain;
+        let model: Box<dyn Operator<f64>> = Gain::new(1.0).unwrap().boxed();
+        let x: Vec<f64> = (0..42).map(|i| (i as f64 * 0.3).sin()).collect();
+        // y[j] = 2.5 x[3 j]; the samples in between are left out
+        let y: Vec<f64> = x.iter().step_by(3).map(|v| 2.5 * v).collect();
+        let x = &x[..3 * y.len()];
+        let opts = FitOptions {
+            stride: 3,
+            ..FitOptions::default()
+        };
+        let f = fit(model.as_ref(), x, &y, &[0], &opts).unwrap();
+        assert!((f.report.params[0].value - 2.5).abs() < 1e-12);
+        assert!(fit(model.as_ref(), &x[1..], &y, &[0], &opts).is_err());
     }
 
     #[test]
