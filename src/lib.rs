@@ -46,8 +46,8 @@ pub use hysteron_operators::{Error, Float, Operator, Result, Trial};
 /// Everything needed to build and run models.
 pub mod prelude {
     pub use hysteron_composition::{
-        Cascade, Feedback, Inverse, MechanicalSeries, OperatorExt, Parallel, PiBank, Scaled,
-        SolverOptions, TravelLimits,
+        Cascade, Feedback, Inverse, MechanicalSeries, OperatorExt, Oversample, Parallel, PiBank,
+        Scaled, SolverOptions, TravelLimits,
     };
     pub use hysteron_operators::{
         BoucWen, BoucWenParams, DeadZone, ElastoPlastic, Error, Float, Gain, MassSpringDamper, Mms,

@@ -314,6 +314,28 @@ fn combinators() {
             .unwrap()
             .feedback(BoucWen::constant(1.0, 0.0, 5e4, 800.0, -1100.0, 1.0).unwrap()),
     );
+    check(
+        "oversample bouc-wen",
+        Oversample::new(spring(1.5), 5).unwrap(),
+    );
+    check(
+        "oversample mass-spring-damper",
+        Oversample::new(
+            MassSpringDamper::new(2.0, 10.0, 5e4, 1.0 / 15000.0).unwrap(),
+            20,
+        )
+        .unwrap(),
+    );
+    check(
+        "oversample rate-dependent loop",
+        Oversample::new(
+            MassSpringDamper::new(2.0, 10.0, 5e4, 1.0 / 15000.0)
+                .unwrap()
+                .feedback(BoucWen::constant(1.0, 0.0, 5e4, 800.0, -1100.0, 1.0).unwrap()),
+            20,
+        )
+        .unwrap(),
+    );
     check("inverse", pi().inverse());
     check("inverse bouc-wen", spring(1.0).inverse());
 }

@@ -14,6 +14,7 @@
 //! | [`Feedback`] | `y = A[x − B[y]]`, solved each sample |
 //! | [`MechanicalSeries`] | `F = L[x_L] = R[x_R]`, `x = x_L + x_R`, optional travel limits |
 //! | [`Inverse`] | `u = A⁻¹[x]` for non-decreasing `A` |
+//! | [`Oversample`] | `A` run at `q` sub-steps per sample, input interpolated linearly |
 //!
 //! The implicit ones share one solver ([`SolverOptions`]): a bracket search
 //! then a safeguarded Newton iteration with bisection fallback.
@@ -24,6 +25,7 @@ mod cascade;
 mod ext;
 mod feedback;
 mod inverse;
+mod oversample;
 mod pair;
 mod parallel;
 mod pi_bank;
@@ -35,6 +37,7 @@ pub use cascade::Cascade;
 pub use ext::OperatorExt;
 pub use feedback::Feedback;
 pub use inverse::Inverse;
+pub use oversample::Oversample;
 pub use parallel::Parallel;
 pub use pi_bank::{PiBank, PiBankParams};
 pub use scaled::Scaled;

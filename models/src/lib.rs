@@ -8,11 +8,17 @@
 //!   gap) in mechanical series with a Bouc-Wen-like spring, composed from
 //!   the algebra, with any friction element or spring swappable;
 //! * [`experiments`]: the excitation signals of the paper and a simulation
-//!   loop that records the internal states.
+//!   loop that records the internal states;
+//! * [`benchmark`]: the Bouc-Wen hysteretic benchmark of Noël & Schoukens
+//!   (2016), a mass-spring-damper in feedback with a Bouc-Wen spring;
+//! * [`signal`]: band-limited upsampling and FIR decimation of periodic
+//!   records.
 
 #![warn(missing_docs)]
 
+pub mod benchmark;
 pub mod experiments;
+pub mod signal;
 pub mod spec;
 mod transmission;
 
