@@ -14,6 +14,7 @@
 #![warn(missing_docs)]
 
 pub mod batch;
+pub mod benchmark;
 mod fit;
 pub mod paper;
 mod transform;
