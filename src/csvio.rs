@@ -64,6 +64,20 @@ pub enum CsvIoError {
         /// `"not a number"` or `"not finite"`.
         reason: &'static str,
     },
+    /// A time column is not uniformly spaced (or does not increase, or
+    /// has fewer than two rows).
+    NotUniform {
+        /// The file.
+        path: PathBuf,
+        /// 1-based data row where the spacing breaks.
+        row: usize,
+        /// 1-based line in the file of that row.
+        line: u64,
+        /// The time column.
+        column: String,
+        /// What is wrong.
+        message: String,
+    },
     /// The CSV structure is broken (for example a row with a different
     /// number of fields than the header, or invalid UTF-8).
     Malformed {
@@ -117,6 +131,21 @@ impl fmt::Display for CsvIoError {
                 column,
                 value,
                 reason
+            ),
+            CsvIoError::NotUniform {
+                path,
+                row,
+                line,
+                column,
+                message,
+            } => write!(
+                f,
+                "`{}`, row {} (line {}), column `{}`: {}",
+                path.display(),
+                row,
+                line,
+                column,
+                message
             ),
             CsvIoError::Malformed {
                 path,
@@ -209,6 +238,69 @@ pub fn read_columns(path: &Path, columns: &[&str]) -> Result<Columns, CsvIoError
         values: read.values,
         lines: read.lines,
     })
+}
+
+/// Largest relative deviation of a time step from the first one that
+/// [`read_time_step`] accepts.
+pub const TIME_STEP_REL_TOL: f64 = 1e-9;
+
+/// Reads the time column `column` of `path` (like [`read_columns`]) and
+/// returns its sample period: the mean step `(t_last − t_first)/(n − 1)`.
+///
+/// The column must have at least two rows, increase, and be uniformly
+/// spaced: every step within [`TIME_STEP_REL_TOL`] (relative) of the first
+/// one. Otherwise [`CsvIoError::NotUniform`] names the row where it breaks.
+pub fn read_time_step(path: &Path, column: &str) -> Result<f64, CsvIoError> {
+    let read = read_columns(path, &[column])?;
+    let name = read.headers[read.indices[0]].trim().to_string();
+    uniform_step(path, &name, &read.values[0], &read.lines)
+}
+
+/// The sample period of a time column (see [`read_time_step`]); `lines`
+/// are the file lines of its rows.
+pub fn uniform_step(
+    path: &Path,
+    column: &str,
+    t: &[f64],
+    lines: &[u64],
+) -> Result<f64, CsvIoError> {
+    let err = |i: usize, message: String| CsvIoError::NotUniform {
+        path: path.to_path_buf(),
+        row: i + 1,
+        line: lines.get(i).copied().unwrap_or(i as u64 + 2),
+        column: column.to_string(),
+        message,
+    };
+    let n = t.len();
+    if n < 2 {
+        return Err(err(
+            0,
+            format!("a time column needs at least 2 rows to give a sample period (got {n})"),
+        ));
+    }
+    let first = t[1] - t[0];
+    if !(first > 0.0 && first.is_finite()) {
+        return Err(err(
+            1,
+            format!("time does not increase ({} after {})", t[1], t[0]),
+        ));
+    }
+    for i in 2..n {
+        let step = t[i] - t[i - 1];
+        if (step - first).abs() > TIME_STEP_REL_TOL * first {
+            return Err(err(
+                i,
+                format!(
+                    "time step {step} (from {} to {}) differs from the first step {first} \
+                     by more than {TIME_STEP_REL_TOL:e} relative: the time column must be \
+                     uniformly spaced",
+                    t[i - 1],
+                    t[i]
+                ),
+            ));
+        }
+    }
+    Ok((t[n - 1] - t[0]) / (n - 1) as f64)
 }
 
 struct Parsed {

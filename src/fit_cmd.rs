@@ -37,6 +37,7 @@ use crate::identify::{
 };
 use crate::models::{Spec, SpecError};
 use crate::plot::{self, Panel, PlotError, Series, Style};
+use crate::simulate::DtSource;
 use crate::{Error, Operator};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::fmt;
@@ -69,6 +70,9 @@ pub struct FitCmdOptions {
     pub patience: usize,
     /// Draw the progress display (only ever on a terminal).
     pub progress: bool,
+    /// Where the sample period of the rate-dependent nodes comes from (a
+    /// time column is read from `data`); the fitted spec keeps it.
+    pub dt: DtSource,
 }
 
 /// Where the model failed at the starting parameters.
@@ -471,6 +475,7 @@ pub fn run(opts: &FitCmdOptions) -> Result<FitCmdReport, FitCmdError> {
 
     let model_err = |e| FitCmdError::Model(opts.model.clone(), e);
     let spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
+    let spec = opts.dt.apply(spec, &opts.data).map_err(FitCmdError::Data)?;
     let model = spec.build().map_err(model_err)?;
 
     let names: Vec<&str> = opts

@@ -3,10 +3,13 @@
 //! * `hysteron paper [--out DIR]`: runs the paper's experiments, writes a
 //!   CSV per experiment and the figures (see [`hysteron::paper`]);
 //! * `hysteron simulate --model SPEC.json --input IN.csv [--column x]
-//!   --output OUT.csv [--plot LOOP.svg]`: runs a model spec over one column
-//!   of a CSV file (see [`hysteron::simulate`]);
+//!   --output OUT.csv [--plot LOOP.svg] [--dt SECONDS | --time-column t]`:
+//!   runs a model spec over one column of a CSV file (see
+//!   [`hysteron::simulate`]); `--dt` or a uniformly spaced time column sets
+//!   the sample period of the spec's rate-dependent nodes;
 //! * `hysteron fit --model SPEC.json --data DATA.csv [--input-column x]
-//!   [--output-column y] --free a,b,c --output FITTED.json [--plot FIT.svg]`:
+//!   [--output-column y] --free a,b,c --output FITTED.json [--plot FIT.svg]
+//!   [--dt SECONDS | --time-column t]`:
 //!   fits parameters of a model spec to a record (see
 //!   [`hysteron::fit_cmd`]);
 //! * `hysteron identify-paper --loop LOOP.csv --chirp CHIRP.csv --output
@@ -61,6 +64,14 @@ enum Command {
         /// Also draw y over the input column as an SVG figure.
         #[arg(long, value_name = "LOOP.svg")]
         plot: Option<PathBuf>,
+        /// Sample period (s) of every rate-dependent node of the model
+        /// (mass_spring_damper, viscous_damper), overriding the spec's dt.
+        #[arg(long, value_name = "SECONDS", conflicts_with = "time_column")]
+        dt: Option<f64>,
+        /// Take the sample period from this time column of the CSV file
+        /// (uniformly spaced within 1e-9 relative), overriding the spec's dt.
+        #[arg(long, value_name = "NAME")]
+        time_column: Option<String>,
     },
     /// Fit parameters of a model spec (JSON) to a record (input and
     /// measured output columns of a CSV file) with Levenberg-Marquardt,
@@ -99,6 +110,14 @@ enum Command {
         /// a terminal anyway).
         #[arg(long)]
         no_progress: bool,
+        /// Sample period (s) of every rate-dependent node of the model
+        /// (mass_spring_damper, viscous_damper), overriding the spec's dt.
+        #[arg(long, value_name = "SECONDS", conflicts_with = "time_column")]
+        dt: Option<f64>,
+        /// Take the sample period from this time column of the CSV file
+        /// (uniformly spaced within 1e-9 relative), overriding the spec's dt.
+        #[arg(long, value_name = "NAME")]
+        time_column: Option<String>,
     },
     /// The two-stage identification of Ruderman & Bertram (2015): the
     /// spring's shape from a major loop (knots through points of its last
@@ -166,6 +185,8 @@ fn main() -> ExitCode {
             plot,
             patience,
             no_progress,
+            dt,
+            time_column,
         } => fit_cmd::run(&fit_cmd::FitCmdOptions {
             model,
             data,
@@ -176,6 +197,7 @@ fn main() -> ExitCode {
             plot,
             patience: usize::try_from(patience).unwrap_or(usize::MAX),
             progress: !no_progress,
+            dt: simulate::DtSource::from_options(dt, time_column),
         })
         .map(|report| {
             println!("{report}");
@@ -222,12 +244,15 @@ fn main() -> ExitCode {
             column,
             output,
             plot,
+            dt,
+            time_column,
         } => simulate::run(&simulate::SimulateOptions {
             model,
             input,
             column,
             output,
             plot,
+            dt: simulate::DtSource::from_options(dt, time_column),
         })
         .map(|report| {
             println!("{report}");

@@ -33,6 +33,45 @@ pub struct SimulateOptions {
     pub output: PathBuf,
     /// Optional SVG figure of `y` over the input column.
     pub plot: Option<PathBuf>,
+    /// Where the sample period of the rate-dependent nodes of the model
+    /// comes from (default: the spec's own `dt`).
+    pub dt: DtSource,
+}
+
+/// Where the sample period of a model's rate-dependent nodes
+/// (`mass_spring_damper`, `viscous_damper`) comes from; it overrides every
+/// `dt` of the spec ([`Spec::with_dt`]).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub enum DtSource {
+    /// The spec's own values.
+    #[default]
+    Spec,
+    /// This value (seconds).
+    Value(f64),
+    /// The step of this time column of the input CSV file (uniformly
+    /// spaced within 1e-9 relative, see [`csvio::read_time_step`]).
+    TimeColumn(String),
+}
+
+impl DtSource {
+    /// The spec with the sample period applied (`data` is the CSV file a
+    /// time column is read from).
+    pub fn apply(&self, spec: Spec, data: &Path) -> Result<Spec, CsvIoError> {
+        Ok(match self {
+            DtSource::Spec => spec,
+            DtSource::Value(dt) => spec.with_dt(*dt),
+            DtSource::TimeColumn(column) => spec.with_dt(csvio::read_time_step(data, column)?),
+        })
+    }
+
+    /// From the CLI options `--dt` and `--time-column` (at most one given).
+    pub fn from_options(dt: Option<f64>, time_column: Option<String>) -> Self {
+        match (dt, time_column) {
+            (Some(dt), _) => DtSource::Value(dt),
+            (None, Some(c)) => DtSource::TimeColumn(c),
+            (None, None) => DtSource::Spec,
+        }
+    }
 }
 
 /// Where and how the operator failed (see [`SimulateError::Operator`]).
@@ -196,6 +235,10 @@ pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
 
     let model_err = |e| SimulateError::Model(opts.model.clone(), e);
     let spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
+    let spec = opts
+        .dt
+        .apply(spec, &opts.input)
+        .map_err(SimulateError::Input)?;
     let mut model = spec.build().map_err(model_err)?;
 
     let table = csvio::read_column(&opts.input, &opts.column).map_err(SimulateError::Input)?;

@@ -692,3 +692,163 @@ fn simulate_error_keeps_an_existing_output() {
     );
     assert_eq!(fs::read_to_string(s.path("out.csv")).unwrap(), "previous\n");
 }
+
+// ------------------------------------------------- rate-dependent models
+
+/// A mass-spring-damper spec whose own `dt` (1) is not the data's.
+const MSD_SPEC: &str = r#"{"type": "mass_spring_damper", "m": 0.5, "c": 3, "k": 200, "dt": 1}"#;
+
+/// A force record sampled every 1/128 s (exact in binary and in the CSV),
+/// with a time column `t`.
+fn msd_record() -> (String, Vec<f64>) {
+    let dt = 1.0 / 128.0;
+    let x: Vec<f64> = (0..200)
+        .map(|i| 10.0 * (std::f64::consts::TAU * i as f64 * dt).sin())
+        .collect();
+    let mut text = String::from("t,x\n");
+    for (i, v) in x.iter().enumerate() {
+        text.push_str(&format!("{},{v}\n", i as f64 * dt));
+    }
+    (text, x)
+}
+
+#[test]
+fn simulate_mass_spring_damper_with_time_column_matches_in_process() {
+    let s = Setup::new();
+    s.write("msd.json", MSD_SPEC);
+    let (text, x) = msd_record();
+    s.write("f.csv", &text);
+    let expected = {
+        let spec = Spec::from_json(MSD_SPEC).unwrap().with_dt(1.0 / 128.0);
+        spec.build().unwrap().run(&x).unwrap()
+    };
+    for dt_args in [&["--time-column", "t"][..], &["--dt", "0.0078125"][..]] {
+        s.simulate(&[
+            "--model", "msd.json", "--input", "f.csv", "--output", "o.csv",
+        ])
+        .args(dt_args)
+        .assert()
+        .success();
+        let (headers, rows) = read_csv(&s.path("o.csv"));
+        assert_eq!(headers, ["t", "x", "y"]);
+        assert_eq!(column(&headers, &rows, "y"), expected, "{dt_args:?}");
+    }
+    // Without either, the spec's own dt (1 s) is used: a different output.
+    s.simulate(&[
+        "--model", "msd.json", "--input", "f.csv", "--output", "o.csv",
+    ])
+    .assert()
+    .success();
+    let (headers, rows) = read_csv(&s.path("o.csv"));
+    let y = column(&headers, &rows, "y");
+    assert_eq!(y, run_in_process(&s.path("msd.json"), &x));
+    assert_ne!(y, expected);
+    assert_no_temp_files(s.dir());
+}
+
+#[test]
+fn simulate_error_non_uniform_time_column_names_the_row() {
+    let s = Setup::new();
+    s.write("msd.json", MSD_SPEC);
+    s.write("f.csv", "t,x\n0,0\n0.5,1\n1,2\n1.6,3\n2.1,4\n");
+    let args = [
+        "--model",
+        "msd.json",
+        "--input",
+        "f.csv",
+        "--output",
+        "o.csv",
+        "--time-column",
+        "t",
+    ];
+    s.fails(
+        &args,
+        &[
+            "input `f.csv`",
+            "row 4 (line 5)",
+            "column `t`",
+            "uniformly spaced",
+        ],
+    );
+    // time running backwards, a missing time column, a single row
+    s.write("f.csv", "t,x\n1,0\n0.5,1\n");
+    s.fails(
+        &args,
+        &["row 2 (line 3)", "column `t`", "does not increase"],
+    );
+    s.write("f.csv", "u,x\n0,0\n1,1\n");
+    s.fails(&args, &["f.csv", "no column `t`"]);
+    s.write("f.csv", "t,x\n0,0\n");
+    s.fails(&args, &["row 1 (line 2)", "at least 2 rows"]);
+    // --dt overrides and is checked like the spec's own dt
+    s.write("f.csv", "t,x\n0,0\n1,1\n");
+    s.fails(
+        &[
+            "--model", "msd.json", "--input", "f.csv", "--output", "o.csv", "--dt", "0",
+        ],
+        &[
+            "model `msd.json`",
+            "mass_spring_damper.dt: must be > 0 (got 0)",
+        ],
+    );
+    // the two options exclude each other (a usage error, exit code 2)
+    s.simulate(&[
+        "--model",
+        "msd.json",
+        "--input",
+        "f.csv",
+        "--output",
+        "o.csv",
+        "--dt",
+        "0.1",
+        "--time-column",
+        "t",
+    ])
+    .assert()
+    .failure()
+    .code(2);
+    assert!(!s.path("o.csv").exists());
+}
+
+#[test]
+fn fit_mass_spring_damper_with_time_column() {
+    let s = Setup::new();
+    let (text, x) = msd_record();
+    // The measured output: the same oscillator with c = 5 at the data rate.
+    let truth = Spec::from_json(MSD_SPEC)
+        .unwrap()
+        .with_dt(1.0 / 128.0)
+        .with_params(&[0.5, 5.0, 200.0])
+        .unwrap();
+    let y = truth.build().unwrap().run(&x).unwrap();
+    let mut data = String::from("t,x,y\n");
+    for (line, v) in text.lines().skip(1).zip(&y) {
+        data.push_str(&format!("{line},{v}\n"));
+    }
+    s.write("data.csv", &data);
+    s.write("msd.json", MSD_SPEC);
+    hysteron(s.dir())
+        .args([
+            "fit",
+            "--model",
+            "msd.json",
+            "--data",
+            "data.csv",
+            "--free",
+            "c",
+            "--output",
+            "fitted.json",
+            "--time-column",
+            "t",
+            "--no-progress",
+        ])
+        .assert()
+        .success();
+    let fitted = Spec::from_json_file(s.path("fitted.json")).unwrap();
+    let Spec::MassSpringDamper(p) = fitted else {
+        panic!("{fitted:?}")
+    };
+    assert_eq!(p.dt, 1.0 / 128.0);
+    assert!((p.c - 5.0).abs() < 1e-6, "{p:?}");
+    assert_eq!((p.m, p.k), (0.5, 200.0));
+}

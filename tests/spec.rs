@@ -6,11 +6,11 @@
 //! `cargo test --test spec -- --ignored write_example_specs` rewrites the
 //! example files from the generators below.
 
-use hysteron::composition::{PiBankParams, SolverOptions, TravelLimits};
+use hysteron::composition::{Oversample, PiBankParams, SolverOptions, TravelLimits};
 use hysteron::models::{Spec, SpecError, TransmissionParams};
 use hysteron::operators::{
-    BoucWenParams, DeadZoneParams, ElastoPlasticParams, MmsParams, PlayParams, SaturationParams,
-    StiffnessMap, StopParams,
+    BoucWenParams, DeadZoneParams, ElastoPlasticParams, MassSpringDamper, MassSpringDamperParams,
+    MmsParams, PlayParams, SaturationParams, StiffnessMap, StopParams, ViscousDamper,
 };
 use hysteron::{Error, Operator};
 use proptest::prelude::*;
@@ -123,6 +123,10 @@ fn leaf() -> BoxedStrategy<Spec> {
         bouc_wen().prop_map(Spec::BoucWen),
         pi_bank().prop_map(Spec::PiBank),
         transmission().prop_map(Spec::Transmission),
+        (0.1..2.0f64, num(0.0, 5.0), num(0.0, 100.0), 0.001..0.1f64).prop_map(|(m, c, k, dt)| {
+            Spec::MassSpringDamper(MassSpringDamperParams { m, c, k, dt })
+        }),
+        (num(0.0, 3.0), 0.001..0.1f64).prop_map(|(c, dt)| Spec::ViscousDamper { c, dt }),
     ]
     .boxed()
 }
@@ -182,6 +186,12 @@ fn spec(depth: u32, implicit: u32) -> BoxedStrategy<Spec> {
             1,
             (num(-2.0, 2.0), sub())
                 .prop_map(move |(w, a)| Spec::Scaled { w, inner: boxed(a) })
+                .boxed(),
+        ),
+        (
+            1,
+            (sub(), 1..4usize)
+                .prop_map(move |(a, q)| Spec::Oversample { inner: boxed(a), q })
                 .boxed(),
         ),
     ];
@@ -858,4 +868,245 @@ fn loose_solver_tolerances_and_deep_implicit_nesting_are_rejected() {
     assert_eq!(s.implicit_depth(), 5);
     let e = s.build().unwrap_err();
     assert!(e.to_string().contains("nesting"), "{e}");
+}
+
+// ---------------------------------------------------------------------------
+// Rate-dependent operators
+// ---------------------------------------------------------------------------
+
+fn msd_params(dt: f64) -> MassSpringDamperParams<f64> {
+    MassSpringDamperParams {
+        m: 0.5,
+        c: 3.0,
+        k: 200.0,
+        dt,
+    }
+}
+
+/// The three rate-dependent variants read from JSON, written back
+/// unchanged, and built into exactly the library's operators.
+#[test]
+fn rate_dependent_specs_round_trip_build_and_run() {
+    let xs = sine(300, 1.2);
+    let check = |text: &str, expected: &Spec, mut direct: Box<dyn Operator<f64>>| {
+        let spec = Spec::from_json(text).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(&spec, expected);
+        let json = spec.to_json_pretty().unwrap();
+        assert_eq!(Spec::from_json(&json).unwrap(), spec);
+        let mut model = spec.build().unwrap();
+        assert_eq!(model.param_names(), direct.param_names(), "{text}");
+        assert_eq!(bits(&model.params()), bits(&direct.params()));
+        let ys = model.run(&xs).unwrap();
+        assert!(ys.iter().any(|&y| y != 0.0), "{text}");
+        assert_eq!(bits(&ys), bits(&direct.run(&xs).unwrap()), "{text}");
+        // with_params of its own parameters is the same spec
+        assert_eq!(spec.with_params(&model.params()).unwrap(), spec);
+        spec
+    };
+    let msd = check(
+        r#"{"type": "mass_spring_damper", "m": 0.5, "c": 3, "k": 200, "dt": 0.01}"#,
+        &Spec::MassSpringDamper(msd_params(0.01)),
+        Box::new(MassSpringDamper::from_params(msd_params(0.01)).unwrap()),
+    );
+    assert_eq!(msd.kind(), "mass_spring_damper");
+    assert_eq!(msd.build().unwrap().param_names().len(), 3);
+    let damper = check(
+        r#"{"type": "viscous_damper", "c": 2.5, "dt": 0.02}"#,
+        &Spec::ViscousDamper { c: 2.5, dt: 0.02 },
+        Box::new(ViscousDamper::new(2.5, 0.02).unwrap()),
+    );
+    assert_eq!(damper.kind(), "viscous_damper");
+    assert_eq!(damper.describe(), "viscous_damper[dt=0.02]");
+    let over = check(
+        r#"{"type": "oversample", "q": 4,
+            "inner": {"type": "mass_spring_damper", "m": 0.5, "c": 3, "k": 200, "dt": 0.0025}}"#,
+        &Spec::Oversample {
+            inner: Box::new(Spec::MassSpringDamper(msd_params(0.0025))),
+            q: 4,
+        },
+        Box::new(
+            Oversample::new(
+                MassSpringDamper::from_params(msd_params(0.0025)).unwrap(),
+                4,
+            )
+            .unwrap(),
+        ),
+    );
+    assert_eq!(over.kind(), "oversample");
+    assert_eq!(
+        over.describe(),
+        "oversample[q=4](mass_spring_damper[dt=0.0025])"
+    );
+    assert_eq!(over.implicit_depth(), 0);
+    assert_eq!(over.children().len(), 1);
+    // oversample is not implicit itself, but counts what it holds
+    let inv = Spec::from_json(
+        r#"{"type": "oversample", "q": 2, "inner": {"type": "inverse", "inner": {"type": "gain", "k": 2}}}"#,
+    )
+    .unwrap();
+    assert_eq!(inv.implicit_depth(), 1);
+    // q = 1 runs the inner operator itself, bit for bit
+    let one = check(
+        r#"{"type": "oversample", "q": 1, "inner": {"type": "viscous_damper", "c": 2.5, "dt": 0.02}}"#,
+        &Spec::Oversample {
+            inner: Box::new(Spec::ViscousDamper { c: 2.5, dt: 0.02 }),
+            q: 1,
+        },
+        Box::new(Oversample::new(ViscousDamper::new(2.5, 0.02).unwrap(), 1).unwrap()),
+    );
+    assert_eq!(
+        bits(&one.build().unwrap().run(&xs).unwrap()),
+        bits(&damper.build().unwrap().run(&xs).unwrap())
+    );
+}
+
+#[test]
+fn rate_dependent_errors_name_the_path() {
+    invalid(
+        &Spec::MassSpringDamper(msd_params(0.0)),
+        "mass_spring_damper.dt: must be > 0 (got 0)",
+    );
+    invalid(
+        &Spec::MassSpringDamper(MassSpringDamperParams {
+            m: -1.0,
+            ..msd_params(0.01)
+        }),
+        "mass_spring_damper.m: must be > 0 (got -1)",
+    );
+    invalid(
+        &Spec::ViscousDamper { c: -1.0, dt: 0.01 },
+        "viscous_damper.c: must be ≥ 0 (got -1)",
+    );
+    invalid(
+        &Spec::Scaled {
+            w: 2.0,
+            inner: Box::new(Spec::Oversample {
+                inner: Box::new(Spec::ViscousDamper { c: 1.0, dt: -0.1 }),
+                q: 2,
+            }),
+        },
+        "scaled.inner.oversample.inner.viscous_damper.dt: must be > 0 (got -0.1)",
+    );
+    invalid(
+        &Spec::Oversample {
+            inner: Box::new(Spec::Gain { k: 1.0 }),
+            q: 0,
+        },
+        "oversample.q: must lie in [1, 100000] (got 0)",
+    );
+    invalid(
+        &Spec::Oversample {
+            inner: Box::new(Spec::Gain { k: 1.0 }),
+            q: 1_000_000,
+        },
+        "oversample.q: must lie in [1, 100000] (got 1000000)",
+    );
+    // JSON errors: dt is required, fields are strict, q is a count
+    json_error(
+        r#"{"type": "mass_spring_damper", "m": 1, "c": 0, "k": 1}"#,
+        ".",
+        "missing field `dt`",
+    );
+    json_error(
+        r#"{"type": "viscous_damper", "c": 1}"#,
+        ".",
+        "missing field `dt`",
+    );
+    json_error(
+        r#"{"type": "viscous_damper", "c": 1, "dt": 0.1, "k": 2}"#,
+        "k",
+        "unknown field `k`",
+    );
+    json_error(
+        r#"{"type": "cascade", "first": {"type": "gain", "k": 1},
+            "second": {"type": "mass_spring_damper", "m": 1, "c": 0, "k": 1, "dt": 0.1, "mass": 1}}"#,
+        "second.mass",
+        "unknown field `mass`",
+    );
+    json_error(
+        r#"{"type": "oversample", "q": -1, "inner": {"type": "gain", "k": 1}}"#,
+        "q",
+        "invalid value",
+    );
+    json_error(
+        r#"{"type": "oversample", "q": 2.5, "inner": {"type": "gain", "k": 1}}"#,
+        "q",
+        "invalid type",
+    );
+    json_error(
+        r#"{"type": "oversample", "q": 2, "inner": {"type": "viscous_damper", "dt": 0.1}}"#,
+        "inner",
+        "missing field `c`",
+    );
+}
+
+/// `with_dt` sets the sample period of every rate-dependent node and keeps
+/// everything else; `with_params` keeps the dt (it is not a parameter).
+#[test]
+fn with_dt_overrides_every_rate_dependent_node() {
+    let spec = Spec::Cascade {
+        first: Box::new(Spec::Oversample {
+            inner: Box::new(Spec::MassSpringDamper(msd_params(0.01))),
+            q: 3,
+        }),
+        second: Box::new(Spec::Parallel {
+            left: Box::new(Spec::ViscousDamper { c: 2.0, dt: 0.02 }),
+            right: Box::new(Spec::Play(PlayParams { r: 0.1, y0: 0.0 })),
+        }),
+    };
+    let expected = Spec::Cascade {
+        first: Box::new(Spec::Oversample {
+            inner: Box::new(Spec::MassSpringDamper(msd_params(0.5))),
+            q: 3,
+        }),
+        second: Box::new(Spec::Parallel {
+            left: Box::new(Spec::ViscousDamper { c: 2.0, dt: 0.5 }),
+            right: Box::new(Spec::Play(PlayParams { r: 0.1, y0: 0.0 })),
+        }),
+    };
+    assert_eq!(spec.with_dt(0.5), expected);
+    assert!(spec.is_rate_dependent());
+    // rate-independent trees are unchanged
+    let paper = Spec::from(&TransmissionParams::default());
+    assert_eq!(paper.with_dt(0.5), paper);
+    assert!(!paper.is_rate_dependent());
+    // parameters: m, c, k of the oscillator, c of the damper, r, y0 of the play
+    let model = spec.build().unwrap();
+    let p = model.params();
+    assert_eq!(p, [0.5, 3.0, 200.0, 2.0, 0.1, 0.0]);
+    let q = [1.0, 4.0, 100.0, 0.5, 0.2, 0.0];
+    let new = spec.with_params(&q).unwrap();
+    assert_eq!(bits(&new.build().unwrap().params()), bits(&q));
+    assert_eq!(new.with_dt(0.5), expected.with_params(&q).unwrap());
+    let Spec::Cascade { first, second } = &new else {
+        panic!("{new:?}")
+    };
+    assert_eq!(
+        **first,
+        Spec::Oversample {
+            inner: Box::new(Spec::MassSpringDamper(MassSpringDamperParams {
+                m: 1.0,
+                c: 4.0,
+                k: 100.0,
+                dt: 0.01,
+            })),
+            q: 3,
+        }
+    );
+    assert!(matches!(**second, Spec::Parallel { ref left, .. }
+        if **left == Spec::ViscousDamper { c: 0.5, dt: 0.02 }));
+    // a new value out of range names the path
+    let e = spec
+        .with_params(&[1.0, -4.0, 100.0, 0.5, 0.2, 0.0])
+        .unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "cascade.first.oversample.inner.mass_spring_damper.c: must be ≥ 0 (got -4)"
+    );
+    // a bad dt is reported by build
+    let e = spec.with_dt(0.0).build().unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "cascade.first.oversample.inner.mass_spring_damper.dt: must be > 0 (got 0)"
+    );
 }

@@ -26,11 +26,13 @@
 //! (`series.right.bouc_wen.stiffness.s[3]: must be ≥ 0 (got -1)`).
 
 use crate::TransmissionParams;
-use hysteron_composition::{OperatorExt, PiBank, PiBankParams, SolverOptions, TravelLimits};
+use hysteron_composition::{
+    OperatorExt, Oversample, PiBank, PiBankParams, SolverOptions, TravelLimits,
+};
 use hysteron_operators::{
     check, BoucWen, BoucWenParams, DeadZone, DeadZoneParams, ElastoPlastic, ElastoPlasticParams,
-    Error, Gain, Mms, MmsParams, Operator, Play, PlayParams, Saturation, SaturationParams,
-    StiffnessMap, Stop, StopParams,
+    Error, Gain, MassSpringDamper, MassSpringDamperParams, Mms, MmsParams, Operator, Play,
+    PlayParams, Saturation, SaturationParams, StiffnessMap, Stop, StopParams, ViscousDamper,
 };
 use serde::{Deserialize, Deserializer, Serialize};
 use std::path::Path;
@@ -145,6 +147,23 @@ pub enum Spec {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         solver: Option<SolverOptions<f64>>,
     },
+    /// Linear mass-spring-damper driven by force, [`MassSpringDamper`]
+    /// (rate-dependent: `dt` is its sample period, not a parameter).
+    MassSpringDamper(MassSpringDamperParams<f64>),
+    /// Viscous damper `F = c ẋ`, [`ViscousDamper`] (rate-dependent).
+    ViscousDamper {
+        /// Damping coefficient `c ≥ 0`.
+        c: f64,
+        /// Sample period `dt > 0` (s), not a parameter.
+        dt: f64,
+    },
+    /// `inner` run at `q` sub-steps per data sample, [`Oversample`].
+    Oversample {
+        /// The oversampled operator.
+        inner: Box<Spec>,
+        /// Sub-steps per data sample (`≥ 1`), not a parameter.
+        q: usize,
+    },
 }
 
 /// What can go wrong reading or building a [`Spec`].
@@ -231,6 +250,9 @@ const MAX_SOLVER_ITER: usize = 100_000;
 /// geometrically with the depth (about 8× per level, measured with nested
 /// inverses).
 const MAX_IMPLICIT_DEPTH: usize = 4;
+
+/// Largest `q` of an `oversample` spec (a bound on the work per sample).
+const MAX_OVERSAMPLE: usize = 100_000;
 
 impl Spec {
     /// Builds the model, validating every parameter.
@@ -354,6 +376,21 @@ impl Spec {
                 let opts = solver(opts)?;
                 child("inner", inner)?.inverse().with_solver(opts).boxed()
             }
+            Spec::MassSpringDamper(p) => {
+                MassSpringDamper::from_params(*p).map_err(invalid)?.boxed()
+            }
+            Spec::ViscousDamper { c, dt } => ViscousDamper::new(*c, *dt).map_err(invalid)?.boxed(),
+            Spec::Oversample { inner, q } => {
+                if *q == 0 || *q > MAX_OVERSAMPLE {
+                    return Err(invalid(Error::InvalidParameter {
+                        name: "q".into(),
+                        value: *q as f64,
+                        reason: "must lie in [1, 100000]",
+                    }));
+                }
+                let a = child("inner", inner)?;
+                Oversample::new(a, *q).map_err(invalid)?.boxed()
+            }
         })
     }
 
@@ -376,6 +413,9 @@ impl Spec {
             Spec::Feedback { .. } => "feedback",
             Spec::Series { .. } => "series",
             Spec::Inverse { .. } => "inverse",
+            Spec::MassSpringDamper(_) => "mass_spring_damper",
+            Spec::ViscousDamper { .. } => "viscous_damper",
+            Spec::Oversample { .. } => "oversample",
         }
     }
 
@@ -386,7 +426,9 @@ impl Spec {
             Spec::Parallel { left, right } | Spec::Series { left, right, .. } => {
                 vec![("left", left), ("right", right)]
             }
-            Spec::Scaled { inner, .. } | Spec::Inverse { inner, .. } => vec![("inner", inner)],
+            Spec::Scaled { inner, .. }
+            | Spec::Inverse { inner, .. }
+            | Spec::Oversample { inner, .. } => vec![("inner", inner)],
             Spec::Feedback { forward, back, .. } => vec![("forward", forward), ("back", back)],
             _ => Vec::new(),
         }
@@ -403,6 +445,9 @@ impl Spec {
     pub fn describe(&self) -> String {
         let attrs = match self {
             Spec::Scaled { w, .. } => format!("[w={w}]"),
+            Spec::MassSpringDamper(p) => format!("[dt={}]", p.dt),
+            Spec::ViscousDamper { dt, .. } => format!("[dt={dt}]"),
+            Spec::Oversample { q, .. } => format!("[q={q}]"),
             Spec::Series { limits, .. } => match limits {
                 TravelLimits::None => String::new(),
                 TravelLimits::Range { lo, hi } => format!("[range lo={lo} hi={hi}]"),
@@ -459,6 +504,91 @@ impl Spec {
             path: ".".into(),
             message: e.to_string(),
         })
+    }
+
+    /// The same spec with the sample period of every rate-dependent node
+    /// (`mass_spring_damper`, `viscous_damper`) set to `dt`; the rest of
+    /// the tree is kept. The value is checked by [`build`](Spec::build).
+    ///
+    /// ```
+    /// use hysteron_models::Spec;
+    /// let spec = Spec::from_json(r#"{"type": "oversample", "q": 4,
+    ///     "inner": {"type": "viscous_damper", "c": 2, "dt": 0.1}}"#)?;
+    /// assert_eq!(
+    ///     spec.with_dt(0.01),
+    ///     Spec::from_json(r#"{"type": "oversample", "q": 4,
+    ///         "inner": {"type": "viscous_damper", "c": 2, "dt": 0.01}}"#)?
+    /// );
+    /// # Ok::<(), hysteron_models::SpecError>(())
+    /// ```
+    pub fn with_dt(&self, dt: f64) -> Spec {
+        let b = |s: &Spec| Box::new(s.with_dt(dt));
+        match self {
+            Spec::MassSpringDamper(p) => {
+                Spec::MassSpringDamper(MassSpringDamperParams { dt, ..*p })
+            }
+            Spec::ViscousDamper { c, .. } => Spec::ViscousDamper { c: *c, dt },
+            Spec::Oversample { inner, q } => Spec::Oversample {
+                inner: b(inner),
+                q: *q,
+            },
+            Spec::Cascade { first, second } => Spec::Cascade {
+                first: b(first),
+                second: b(second),
+            },
+            Spec::Parallel { left, right } => Spec::Parallel {
+                left: b(left),
+                right: b(right),
+            },
+            Spec::Scaled { w, inner } => Spec::Scaled {
+                w: *w,
+                inner: b(inner),
+            },
+            Spec::Feedback {
+                forward,
+                back,
+                solver,
+            } => Spec::Feedback {
+                forward: b(forward),
+                back: b(back),
+                solver: *solver,
+            },
+            Spec::Series {
+                left,
+                right,
+                limits,
+                solver,
+            } => Spec::Series {
+                left: b(left),
+                right: b(right),
+                limits: *limits,
+                solver: *solver,
+            },
+            Spec::Inverse { inner, solver } => Spec::Inverse {
+                inner: b(inner),
+                solver: *solver,
+            },
+            Spec::Play(_)
+            | Spec::Stop(_)
+            | Spec::Elastoplastic(_)
+            | Spec::DeadZone(_)
+            | Spec::Saturation(_)
+            | Spec::Gain { .. }
+            | Spec::Mms(_)
+            | Spec::BoucWen(_)
+            | Spec::PiBank(_)
+            | Spec::Transmission(_) => self.clone(),
+        }
+    }
+
+    /// Whether any node of the tree is rate-dependent (`mass_spring_damper`
+    /// or `viscous_damper`).
+    pub fn is_rate_dependent(&self) -> bool {
+        matches!(self, Spec::MassSpringDamper(_) | Spec::ViscousDamper { .. })
+            || self
+                .children()
+                .into_iter()
+                .any(|(_, c)| c.is_rate_dependent())
     }
 
     /// The same spec with the parameters `p`, given in the order of the
@@ -702,6 +832,23 @@ impl Spec {
                 inner: child("inner", inner, rest)?,
                 solver: *solver,
             },
+            Spec::MassSpringDamper(old) => {
+                let v = take(rest, 3)?;
+                Spec::MassSpringDamper(MassSpringDamperParams {
+                    m: v[0],
+                    c: v[1],
+                    k: v[2],
+                    dt: old.dt,
+                })
+            }
+            Spec::ViscousDamper { dt, .. } => Spec::ViscousDamper {
+                c: take(rest, 1)?[0],
+                dt: *dt,
+            },
+            Spec::Oversample { inner, q } => Spec::Oversample {
+                inner: child("inner", inner, rest)?,
+                q: *q,
+            },
         })
     }
 }
@@ -935,6 +1082,17 @@ enum SpecDef {
         #[serde(default, deserialize_with = "solver")]
         solver: Option<SolverOptions<f64>>,
     },
+    MassSpringDamper(
+        #[serde(deserialize_with = "MassSpringDamperDef::deserialize")] MassSpringDamperParams<f64>,
+    ),
+    ViscousDamper {
+        c: f64,
+        dt: f64,
+    },
+    Oversample {
+        inner: Box<Spec>,
+        q: usize,
+    },
 }
 
 #[derive(Deserialize)]
@@ -1001,6 +1159,15 @@ struct DeadZoneDef {
 struct SaturationDef {
     lo: f64,
     hi: f64,
+}
+
+#[derive(Deserialize)]
+#[serde(remote = "MassSpringDamperParams<f64>", deny_unknown_fields)]
+struct MassSpringDamperDef {
+    m: f64,
+    c: f64,
+    k: f64,
+    dt: f64,
 }
 
 #[derive(Deserialize)]
@@ -1383,6 +1550,21 @@ mod with_params_tests {
         specs.push((
             "paper as series".into(),
             Spec::from(&TransmissionParams::default()),
+        ));
+        specs.push((
+            "rate-dependent".into(),
+            Spec::Parallel {
+                left: Box::new(Spec::Oversample {
+                    inner: Box::new(Spec::MassSpringDamper(MassSpringDamperParams {
+                        m: 0.5,
+                        c: 3.0,
+                        k: 200.0,
+                        dt: 0.0025,
+                    })),
+                    q: 4,
+                }),
+                right: Box::new(Spec::ViscousDamper { c: 2.0, dt: 0.01 }),
+            },
         ));
         specs
     }
