@@ -535,6 +535,27 @@ pub fn canonical_target(path: &Path) -> Option<PathBuf> {
 
 /// True when `a` and `b` name the same file (after canonicalization;
 /// works for files that do not exist yet).
+/// `a, b, c` of the paths.
+pub fn join_paths(files: &[PathBuf]) -> String {
+    files
+        .iter()
+        .map(|p| p.display().to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The first entry of `others` that `output` names (compared with
+/// [`same_file`]), for refusing to overwrite an input.
+pub fn clash<'a>(
+    output: &Path,
+    others: &[(&'static str, &'a Path)],
+) -> Option<(&'static str, &'a Path)> {
+    others
+        .iter()
+        .find(|(_, other)| same_file(output, other))
+        .copied()
+}
+
 pub fn same_file(a: &Path, b: &Path) -> bool {
     match (canonical_target(a), canonical_target(b)) {
         (Some(x), Some(y)) => x == y,

@@ -360,17 +360,8 @@ impl fmt::Display for FitCmdReport {
             self.columns.1
         )?;
         write!(f, "{}", ReportTable(&self.report))?;
-        write!(f, "wrote {}", join_paths(&self.files))
+        write!(f, "wrote {}", csvio::join_paths(&self.files))
     }
-}
-
-/// `a, b, c` of the paths.
-pub fn join_paths(files: &[PathBuf]) -> String {
-    files
-        .iter()
-        .map(|p| p.display().to_string())
-        .collect::<Vec<_>>()
-        .join(", ")
 }
 
 /// Fails with [`FitCmdError::SameFile`] when `output` names one of
@@ -380,15 +371,13 @@ fn refuse_same(
     output: &Path,
     others: &[(&'static str, &Path)],
 ) -> Result<(), FitCmdError> {
-    for (other_what, other) in others {
-        if csvio::same_file(output, other) {
-            return Err(FitCmdError::SameFile {
-                what,
-                output: output.to_path_buf(),
-                other_what,
-                other: other.to_path_buf(),
-            });
-        }
+    if let Some((other_what, other)) = csvio::clash(output, others) {
+        return Err(FitCmdError::SameFile {
+            what,
+            output: output.to_path_buf(),
+            other_what,
+            other: other.to_path_buf(),
+        });
     }
     Ok(())
 }

@@ -25,8 +25,9 @@
 //! identification whose stages ran but did not both converge exits with
 //! code [`EXIT_NOT_CONVERGED`](crate::fit_cmd::EXIT_NOT_CONVERGED) (3) after writing its result.
 
+use crate::csvio::join_paths;
 use crate::csvio::{self, CsvIoError};
-use crate::fit_cmd::{join_paths, Display, ReportTable};
+use crate::fit_cmd::{Display, ReportTable};
 use crate::identify::paper::{identify_paper, PaperError, PaperIdentification, PaperOptions};
 use crate::models::{Spec, SpecError, TransmissionParams};
 use crate::operators::BoucWen;

@@ -194,11 +194,7 @@ impl fmt::Display for SimulateReport {
             "simulated {} samples with a `{}` model; wrote {}",
             self.samples,
             self.model,
-            self.files
-                .iter()
-                .map(|p| p.display().to_string())
-                .collect::<Vec<_>>()
-                .join(", ")
+            crate::csvio::join_paths(&self.files)
         )
     }
 }
@@ -208,15 +204,13 @@ fn refuse_same(
     output: &Path,
     others: &[(&'static str, &Path)],
 ) -> Result<(), SimulateError> {
-    for (other_what, other) in others {
-        if csvio::same_file(output, other) {
-            return Err(SimulateError::SameFile {
-                what,
-                output: output.to_path_buf(),
-                other_what,
-                other: other.to_path_buf(),
-            });
-        }
+    if let Some((other_what, other)) = csvio::clash(output, others) {
+        return Err(SimulateError::SameFile {
+            what,
+            output: output.to_path_buf(),
+            other_what,
+            other: other.to_path_buf(),
+        });
     }
     Ok(())
 }
