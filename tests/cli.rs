@@ -11,11 +11,8 @@ use std::fs;
 use std::path::{Path, PathBuf};
 use tempfile::TempDir;
 
-fn hysteron(dir: &Path) -> Command {
-    let mut cmd = Command::cargo_bin("hysteron").expect("binary built");
-    cmd.current_dir(dir);
-    cmd
-}
+mod common;
+use common::*;
 
 fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
     let mut r = csv::Reader::from_path(path).expect("readable CSV");
@@ -30,25 +27,6 @@ fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
 fn column(headers: &[String], rows: &[Vec<String>], name: &str) -> Vec<f64> {
     let i = headers.iter().position(|h| h == name).expect("column");
     rows.iter().map(|r| r[i].parse().unwrap()).collect()
-}
-
-fn assert_svg(path: &Path) {
-    let svg = fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    assert!(svg.starts_with("<svg"), "{}", path.display());
-    assert!(svg.trim_end().ends_with("</svg>"), "{}", path.display());
-    assert!(svg.contains("<polyline"), "{}: no lines", path.display());
-    assert!(svg.contains("<text"), "{}: no labels", path.display());
-    // Well-formed enough: every opened element is closed (plotters writes
-    // only self-closing elements besides <svg> and <text>).
-    assert_eq!(svg.matches("<text").count(), svg.matches("</text>").count());
-}
-
-/// No temporary files left behind by atomic writes.
-fn assert_no_temp_files(dir: &Path) {
-    for e in fs::read_dir(dir).unwrap() {
-        let name = e.unwrap().file_name().to_string_lossy().into_owned();
-        assert!(!name.starts_with(".hysteron-"), "leftover {name}");
-    }
 }
 
 // ---------------------------------------------------------------- paper
@@ -205,37 +183,6 @@ impl Setup {
         );
         stderr
     }
-}
-
-/// All files in `dir` (recursively) with their contents.
-fn snapshot(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
-    let mut out = Vec::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        for e in fs::read_dir(&d).unwrap() {
-            let p = e.unwrap().path();
-            if p.is_dir() {
-                stack.push(p);
-            } else {
-                out.push((p.clone(), fs::read(&p).unwrap()));
-            }
-        }
-    }
-    out.sort();
-    out
-}
-
-/// The error text, checked to be exactly one line `error: ...` with no
-/// panic message.
-fn one_line_error(stderr: &[u8]) -> String {
-    let s = String::from_utf8(stderr.to_vec()).unwrap();
-    assert!(!s.contains("panicked"), "panic: {s}");
-    assert!(s.starts_with("error: "), "{s}");
-    assert!(
-        s.ends_with('\n') && s.lines().count() == 1,
-        "not one line: {s:?}"
-    );
-    s.trim_end().to_string()
 }
 
 fn run_in_process(spec_path: &Path, xs: &[f64]) -> Vec<f64> {
