@@ -629,3 +629,76 @@ mod tests {
         ));
     }
 }
+
+/// Where a model failed while running over a column of a data file: the
+/// sample, its row and line in the file, the column and value, and the
+/// operator's error (without the sample wrapper).
+#[derive(Debug)]
+pub struct SampleFailure {
+    /// The model spec.
+    pub model: PathBuf,
+    /// The data file.
+    pub file: PathBuf,
+    /// What the file is called in messages (`input`, `data`).
+    pub role: &'static str,
+    /// 0-based sample index, 1-based data row and file line, if known.
+    pub at: Option<(usize, usize, u64)>,
+    /// The column the model ran over.
+    pub column: String,
+    /// The input value at that sample, if known.
+    pub value: Option<f64>,
+    /// The operator's error.
+    pub error: hysteron_operators::Error,
+}
+
+impl SampleFailure {
+    /// Locates `error` (an [`Error::AtSample`](hysteron_operators::Error::AtSample)
+    /// or any other) in a run over `values`, whose records sit at `lines`.
+    pub fn locate(
+        model: &Path,
+        file: &Path,
+        role: &'static str,
+        column: &str,
+        values: &[f64],
+        lines: &[u64],
+        error: hysteron_operators::Error,
+    ) -> Self {
+        let (index, error) = match error {
+            hysteron_operators::Error::AtSample { index, source } => (Some(index), *source),
+            other => (None, other),
+        };
+        SampleFailure {
+            model: model.to_path_buf(),
+            file: file.to_path_buf(),
+            role,
+            at: index.map(|i| (i, i + 1, lines.get(i).copied().unwrap_or(i as u64 + 2))),
+            column: column.to_string(),
+            value: index.and_then(|i| values.get(i).copied()),
+            error,
+        }
+    }
+
+    /// Writes ` at sample i: input `f`, row r (line l), column `c` = v: error`.
+    pub fn fmt_location(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.at {
+            Some((i, row, line)) => write!(
+                f,
+                " at sample {i}: {} `{}`, row {row} (line {line}), column `{}`",
+                self.role,
+                self.file.display(),
+                self.column
+            )?,
+            None => write!(
+                f,
+                " on {} `{}`, column `{}`",
+                self.role,
+                self.file.display(),
+                self.column
+            )?,
+        }
+        if let Some(v) = self.value {
+            write!(f, " = {v}")?;
+        }
+        write!(f, ": {}", self.error)
+    }
+}

@@ -75,23 +75,6 @@ pub struct FitCmdOptions {
     pub dt: DtSource,
 }
 
-/// Where the model failed at the starting parameters.
-#[derive(Debug)]
-pub struct StartFailure {
-    /// The model spec.
-    pub model: PathBuf,
-    /// The data file.
-    pub data: PathBuf,
-    /// 0-based sample index, 1-based data row and file line, if known.
-    pub at: Option<(usize, usize, u64)>,
-    /// The input column.
-    pub column: String,
-    /// The input value at that sample, if known.
-    pub value: Option<f64>,
-    /// The operator's error (without the sample wrapper).
-    pub error: Error,
-}
-
 /// An error of the fit job (one-line message naming file, row and column
 /// where relevant).
 #[derive(Debug)]
@@ -140,7 +123,7 @@ pub enum FitCmdError {
     },
     /// The model cannot be simulated over the record with the starting
     /// parameters.
-    Start(Box<StartFailure>),
+    Start(Box<csvio::SampleFailure>),
     /// The fit could not run.
     Fit(FitError),
     /// The fitted parameters could not be written into the spec, or the
@@ -202,19 +185,7 @@ impl fmt::Display for FitCmdError {
                     "model `{}` fails at the starting parameters",
                     s.model.display()
                 )?;
-                match s.at {
-                    Some((i, row, line)) => write!(
-                        f,
-                        " at sample {i}: data `{}`, row {row} (line {line}), column `{}`",
-                        s.data.display(),
-                        s.column
-                    )?,
-                    None => write!(f, " on data `{}`, column `{}`", s.data.display(), s.column)?,
-                }
-                if let Some(v) = s.value {
-                    write!(f, " = {v}")?;
-                }
-                write!(f, ": {}", s.error)
+                s.fmt_location(f)
             }
             FitCmdError::Fit(e) => write!(f, "fit: {e}"),
             FitCmdError::Fitted(p, e) => {
@@ -512,26 +483,15 @@ pub fn run(opts: &FitCmdOptions) -> Result<FitCmdReport, FitCmdError> {
         })
     }
     .map_err(|e| match e {
-        FitError::Start(error) => {
-            let (index, error) = match error {
-                Error::AtSample { index, source } => (Some(index), *source),
-                other => (None, other),
-            };
-            FitCmdError::Start(Box::new(StartFailure {
-                model: opts.model.clone(),
-                data: opts.data.clone(),
-                at: index.map(|i| {
-                    (
-                        i,
-                        i + 1,
-                        columns.lines.get(i).copied().unwrap_or(i as u64 + 2),
-                    )
-                }),
-                column: input_name.clone(),
-                value: index.and_then(|i| x.get(i).copied()),
-                error,
-            }))
-        }
+        FitError::Start(error) => FitCmdError::Start(Box::new(csvio::SampleFailure::locate(
+            &opts.model,
+            &opts.data,
+            "data",
+            &input_name,
+            x,
+            &columns.lines,
+            error,
+        ))),
         other => FitCmdError::Fit(other),
     })?;
     let report = fit.report;

@@ -13,7 +13,7 @@
 use crate::csvio::{self, CsvIoError};
 use crate::models::{Spec, SpecError};
 use crate::plot::{self, PlotError};
-use crate::{Error, Operator};
+use crate::Operator;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -74,23 +74,6 @@ impl DtSource {
     }
 }
 
-/// Where and how the operator failed (see [`SimulateError::Operator`]).
-#[derive(Debug)]
-pub struct OperatorFailure {
-    /// The model spec.
-    pub model: PathBuf,
-    /// The input file.
-    pub input: PathBuf,
-    /// 0-based sample index, 1-based data row and file line, if known.
-    pub at: Option<(usize, usize, u64)>,
-    /// The input column.
-    pub column: String,
-    /// The input value at that sample, if known.
-    pub value: Option<f64>,
-    /// The operator's error (without the sample wrapper).
-    pub error: Error,
-}
-
 /// An error of the simulate job (one-line message naming file, row and
 /// column where relevant).
 #[derive(Debug)]
@@ -113,7 +96,7 @@ pub enum SimulateError {
     /// The input already has a column named like the output column.
     OutputColumnExists(PathBuf),
     /// The operator failed at a sample.
-    Operator(Box<OperatorFailure>),
+    Operator(Box<csvio::SampleFailure>),
     /// Writing the output failed.
     Write(CsvIoError),
     /// Drawing the figure failed.
@@ -149,24 +132,7 @@ impl fmt::Display for SimulateError {
             ),
             SimulateError::Operator(o) => {
                 write!(f, "model `{}` failed", o.model.display())?;
-                match o.at {
-                    Some((i, row, line)) => write!(
-                        f,
-                        " at sample {i}: input `{}`, row {row} (line {line}), column `{}`",
-                        o.input.display(),
-                        o.column
-                    )?,
-                    None => write!(
-                        f,
-                        " on input `{}`, column `{}`",
-                        o.input.display(),
-                        o.column
-                    )?,
-                }
-                if let Some(v) = o.value {
-                    write!(f, " = {v}")?;
-                }
-                write!(f, ": {}", o.error)
+                o.fmt_location(f)
             }
             SimulateError::Write(e) => write!(f, "output {e}"),
             SimulateError::Plot(p, e) => write!(f, "plot `{}`: {e}", p.display()),
@@ -241,24 +207,15 @@ pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
     }
 
     let y = model.run(&table.values).map_err(|e| {
-        let (index, error) = match e {
-            Error::AtSample { index, source } => (Some(index), *source),
-            other => (None, other),
-        };
-        SimulateError::Operator(Box::new(OperatorFailure {
-            model: opts.model.clone(),
-            input: opts.input.clone(),
-            at: index.map(|i| {
-                (
-                    i,
-                    i + 1,
-                    table.lines.get(i).copied().unwrap_or(i as u64 + 2),
-                )
-            }),
-            column: opts.column.clone(),
-            value: index.and_then(|i| table.values.get(i).copied()),
-            error,
-        }))
+        SimulateError::Operator(Box::new(csvio::SampleFailure::locate(
+            &opts.model,
+            &opts.input,
+            "input",
+            &opts.column,
+            &table.values,
+            &table.lines,
+            e,
+        )))
     })?;
 
     let svg = match &opts.plot {
