@@ -16,12 +16,15 @@
 //!   FITTED.json [--plot DIR]`: the paper's two-stage identification (see
 //!   [`hysteron::identify_paper`]).
 //!
+//! * `hysteron bench [--samples N] [--runs R] [--kernel NAME]`: times the
+//!   kernel table of the performance issue (see [`hysteron::bench`]).
+//!
 //! Errors are one line on stderr (`error: ...`) and exit code 1; usage
 //! errors are clap's, exit code 2; a fit that ran but did not converge
 //! exits with code 3 (its report says so and its result is written).
 
 use clap::{Parser, Subcommand};
-use hysteron::{csvio, fit_cmd, identify_paper, paper, simulate};
+use hysteron::{bench, csvio, fit_cmd, identify_paper, paper, simulate};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -165,6 +168,23 @@ enum Command {
         #[arg(long)]
         no_progress: bool,
     },
+    /// Time the operator kernels (play, 64-play PI, Bouc-Wen n = 1 and
+    /// 1.5, MMS, the paper's model static and boxed from JSON, rayon
+    /// batches on 1 and 2 threads) on the input
+    /// x_i = 2.5 sin(2πi/2000) + 0.3 sin(2πi/97.3); prints one table row
+    /// per kernel: | hysteron | kernel | runs | samples/s | ns/sample | min..max |.
+    /// Build with --release.
+    Bench {
+        /// Samples of the kernel input per run.
+        #[arg(long, value_name = "N", default_value_t = 10_000_000, value_parser = clap::value_parser!(u64).range(1..=1_000_000_000))]
+        samples: u64,
+        /// Timed runs per kernel (after one untimed run).
+        #[arg(long, value_name = "R", default_value_t = 5, value_parser = clap::value_parser!(u64).range(1..=1000))]
+        runs: u64,
+        /// Only the kernels whose name contains this.
+        #[arg(long, value_name = "NAME")]
+        kernel: Option<String>,
+    },
 }
 
 fn main() -> ExitCode {
@@ -259,6 +279,19 @@ fn main() -> ExitCode {
             None
         })
         .map_err(|e| e.to_string()),
+        Command::Bench {
+            samples,
+            runs,
+            kernel,
+        } => bench::run(&bench::BenchOptions {
+            samples: usize::try_from(samples).unwrap_or(usize::MAX),
+            runs: usize::try_from(runs).unwrap_or(usize::MAX),
+            filter: kernel,
+        })
+        .map(|report| {
+            print!("{report}");
+            None
+        }),
     };
     match result {
         Ok(code) => code.unwrap_or(ExitCode::SUCCESS),

@@ -128,6 +128,9 @@ fn non_finite_inputs_are_errors_with_the_sample_index() {
         BoucWen::constant(1.0, 0.5, 1.0, 0.5, 0.5, 1.5)
             .unwrap()
             .boxed(),
+        BoucWen::constant(1.0, 0.5, 1.0, 0.5, 0.5, 1.0)
+            .unwrap()
+            .boxed(),
         PiBank::new(1.0, vec![0.1], vec![1.0]).unwrap().boxed(),
         Gain::new(1.0)
             .unwrap()

@@ -1,8 +1,9 @@
 //! The Bouc-Wen-like hysteresis spring with a nonlinear stiffness map.
 
-use crate::hysteretic_state::StateEquation;
+use crate::hysteretic_state::{Branch, Power, StateEquation};
 use crate::{
-    check, check_input, check_output, Domain, Float, Operator, Result, StiffnessMap, Trial,
+    check, check_input, check_lengths, check_output, Domain, Float, Operator, Result, StiffnessMap,
+    Trial,
 };
 use serde::{Deserialize, Serialize};
 
@@ -55,6 +56,22 @@ struct State<T> {
     z: T,
     h: T,
     dir: i8,
+    /// For `n = 1`: the input where the current branch started and the
+    /// branch (in the direction frame `g = sgn(ż) h`).
+    z_a: T,
+    branch: Option<Branch<T>>,
+}
+
+impl<T: Float> State<T> {
+    fn initial(p: &BoucWenParams<T>) -> Self {
+        State {
+            z: p.z0,
+            h: p.h0,
+            dir: 0,
+            z_a: p.z0,
+            branch: None,
+        }
+    }
 }
 
 /// Bouc-Wen-like hysteresis spring (Ruderman & Bertram 2015, eqs. 1–2):
@@ -63,8 +80,10 @@ struct State<T> {
 /// `ḣ = α ż − β |ż| |h|^{n−1} h − γ ż |h|^n`,
 ///
 /// integrated in the input domain, `dh/dz = α − |h|^n (β sgn(ż h) + γ)`, so
-/// the operator is rate-independent. For `n = 1` each step is exact (closed
-/// form); otherwise an adaptive Dormand–Prince 5(4) scheme keeps the local
+/// the operator is rate-independent. For `n = 1` every sample is evaluated
+/// in closed form from the start of its branch (the last reversal), so the
+/// output is exact to rounding and exactly rate-independent (refining the
+/// sampling of a path does not change a bit); otherwise an adaptive Dormand–Prince 5(4) scheme keeps the local
 /// error per sub-step below `rtol` relative (default `1e-10` for `f64`, see
 /// [`BoucWen::with_tolerance`]). The state update between two samples
 /// assumes the input moves monotonically between them.
@@ -97,11 +116,7 @@ impl<T: Float> BoucWen<T> {
     pub fn from_params(p: BoucWenParams<T>) -> Result<Self> {
         p.validate()?;
         let eq = StateEquation::new(p.alpha, p.beta, p.gamma, p.n, Self::default_tolerance());
-        let s = State {
-            z: p.z0,
-            h: p.h0,
-            dir: 0,
-        };
+        let s = State::initial(&p);
         Ok(Self {
             p,
             eq,
@@ -155,6 +170,68 @@ impl<T: Float> BoucWen<T> {
         self.s.h
     }
 
+    /// The state after input `z` (finite), from the committed state.
+    #[inline]
+    fn step(&self, z: T) -> Result<State<T>> {
+        let c = &self.s;
+        let dz = z - c.z;
+        let dir = if dz > T::zero() {
+            1
+        } else if dz < T::zero() {
+            -1
+        } else {
+            c.dir
+        };
+        let sign = if dir < 0 { -T::one() } else { T::one() };
+        if self.eq.power != Power::One {
+            let h = sign * self.eq.advance(sign * c.h, dz.abs())?;
+            return Ok(State { z, h, dir, ..*c });
+        }
+        // n = 1: closed form along the branch that started at the last
+        // reversal (a new one starts when the direction changes).
+        let (z_a, branch) = match c.branch {
+            Some(b) if dir == c.dir => (c.z_a, b),
+            _ if dir == 0 => return Ok(*c),
+            _ => (c.z, self.eq.branch(sign * c.h)),
+        };
+        let h = sign * branch.at(sign * (z - z_a));
+        if !h.is_finite() {
+            return Err(crate::Error::NonFiniteOutput {
+                operator: "bouc-wen",
+                input: z.as_f64(),
+            });
+        }
+        Ok(State {
+            z,
+            h,
+            dir,
+            z_a,
+            branch: Some(branch),
+        })
+    }
+
+    /// `H = w S(z) z + (1 − w) S(z) h` for `S = S(z)`.
+    #[inline(always)]
+    fn force(&self, s: T, z: T, h: T) -> T {
+        let w = self.p.w;
+        w * s * z + (T::one() - w) * s * h
+    }
+
+    /// [`force`](Self::force) at sample `i`, an error if not finite.
+    #[inline(always)]
+    fn checked_force(&self, z: T, h: T, i: usize) -> Result<T> {
+        let y = self.force(self.p.stiffness.eval(z).0, z, h);
+        if y.is_finite() {
+            Ok(y)
+        } else {
+            Err(crate::Error::NonFiniteOutput {
+                operator: "bouc-wen",
+                input: z.as_f64(),
+            }
+            .at_sample(i))
+        }
+    }
+
     /// `dh/dz` at state `h` moving in direction `dir`.
     #[inline(always)]
     fn slope(&self, h: T, sign: T) -> T {
@@ -171,24 +248,74 @@ impl<T: Float> Operator<T> for BoucWen<T> {
     fn trial(&mut self, z: T) -> Result<Trial<T>> {
         self.pending = None;
         let z = check_input(z)?;
-        let dz = z - self.s.z;
-        let dir = if dz > T::zero() {
-            1
-        } else if dz < T::zero() {
-            -1
-        } else {
-            self.s.dir
-        };
-        let sign = if dir < 0 { -T::one() } else { T::one() };
-        let h = sign * self.eq.advance(sign * self.s.h, dz.abs())?;
+        let next = self.step(z)?;
+        let sign = if next.dir < 0 { -T::one() } else { T::one() };
         let (s, ds) = self.p.stiffness.eval(z);
         let w = self.p.w;
         let one_w = T::one() - w;
-        let output = w * s * z + one_w * s * h;
+        let h = next.h;
+        let output = self.force(s, z, h);
         let tangent = w * (s + ds * z) + one_w * (ds * h + s * self.slope(h, sign));
         let t = check_output("bouc-wen", z, Trial { output, tangent })?;
-        self.pending = Some(State { z, h, dir });
+        self.pending = Some(next);
         Ok(t)
+    }
+
+    fn process(&mut self, zs: &[T], ys: &mut [T]) -> Result<()> {
+        check_lengths(zs, ys)?;
+        self.pending = None;
+        if self.eq.power != Power::One {
+            // The adaptive integration dominates; the default loop is as fast.
+            for (i, (z, y)) in zs.iter().zip(ys.iter_mut()).enumerate() {
+                let t = self.trial(*z).map_err(|e| e.at_sample(i))?;
+                self.commit();
+                *y = t.output;
+            }
+            return Ok(());
+        }
+        // n = 1: the first sample of each monotone run goes through `step`
+        // (which starts a new branch on a reversal); the rest of the run
+        // evaluates the same branch in closed form, sample by sample
+        // independent, which is what `step` computes for them too.
+        let mut i = 0;
+        while i < zs.len() {
+            let z = zs[i];
+            let next = check_input(z).and_then(|z| self.step(z));
+            let next = next.map_err(|e| e.at_sample(i))?;
+            ys[i] = self.checked_force(next.z, next.h, i)?;
+            self.s = next;
+            i += 1;
+            let (Some(branch), sign) = (
+                self.s.branch,
+                if self.s.dir < 0 { -T::one() } else { T::one() },
+            ) else {
+                continue;
+            };
+            let z_a = self.s.z_a;
+            let (mut z_prev, mut h_prev) = (self.s.z, self.s.h);
+            while i < zs.len() {
+                let z = zs[i];
+                // Same direction (or standing still); a non-finite sample
+                // ends the run here and is reported by `step` above.
+                if !(sign * (z - z_prev) >= T::zero() && z.is_finite()) {
+                    break;
+                }
+                let h = sign * branch.at(sign * (z - z_a));
+                ys[i] = match self.checked_force(z, h, i) {
+                    Ok(y) => y,
+                    Err(e) => {
+                        self.s.z = z_prev;
+                        self.s.h = h_prev;
+                        return Err(e);
+                    }
+                };
+                (z_prev, h_prev) = (z, h);
+                i += 1;
+            }
+            self.s.z = z_prev;
+            self.s.h = h_prev;
+        }
+        Ok(())
     }
 
     #[inline]
@@ -199,11 +326,7 @@ impl<T: Float> Operator<T> for BoucWen<T> {
     }
 
     fn reset(&mut self) {
-        self.s = State {
-            z: self.p.z0,
-            h: self.p.h0,
-            dir: 0,
-        };
+        self.s = State::initial(&self.p);
         self.pending = None;
     }
 

@@ -82,6 +82,53 @@ pub(crate) struct StateEquation<T> {
     pub core: Option<T>,
 }
 
+/// A branch of the `n = 1` state equation from its start `g_a`: on each
+/// side of zero `f = α − c g` is linear, so
+///
+/// `g(s) = g_a + f(g_a) (1 − e^{−c_a s}) / c_a` for `s ≤ s0`, and
+/// `g(s) = α (1 − e^{−c_0 (s − s0)}) / c_0` beyond the zero crossing at
+/// travel `s0` (`g + f s` where a `c` is 0).
+///
+/// Evaluating every sample from the branch start (not step by step) makes
+/// the `n = 1` spring exactly rate-independent: the output at an input does
+/// not depend on how many samples led there along the branch.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Branch<T> {
+    g_a: T,
+    f_a: T,
+    c_a: T,
+    /// `f_a / c_a`, cached.
+    fc_a: T,
+    /// Travel to the zero crossing (`+∞` if the branch does not cross).
+    s0: T,
+    f_0: T,
+    c_0: T,
+    /// `f_0 / c_0`, cached.
+    fc_0: T,
+}
+
+impl<T: Float> Branch<T> {
+    /// The state after travel `s ≥ 0` along the branch.
+    #[inline(always)]
+    pub(crate) fn at(&self, s: T) -> T {
+        if self.s0 < s {
+            closed_form(T::zero(), self.f_0, self.c_0, self.fc_0, s - self.s0)
+        } else {
+            closed_form(self.g_a, self.f_a, self.c_a, self.fc_a, s)
+        }
+    }
+}
+
+/// `g + (f/c) (1 − e^{−c s})`, or `g + f s` for `c = 0`.
+#[inline(always)]
+fn closed_form<T: Float>(g: T, f: T, c: T, f_over_c: T, s: T) -> T {
+    if c == T::zero() {
+        g + f * s
+    } else {
+        g - f_over_c * (-c * s).exp_m1()
+    }
+}
+
 /// Sub-steps one input step may take before the integration gives up
 /// (only reached by a state that diverges).
 const MAX_SUBSTEPS: usize = 100_000;
@@ -152,6 +199,51 @@ impl<T: Float> StateEquation<T> {
                 })
             }
             _ => None,
+        }
+    }
+
+    /// For `n = 1`: the branch of solutions starting at `g_a` (travel 0),
+    /// with its zero crossing precomputed, so that every point of the branch
+    /// is one closed-form evaluation from the branch's start (see
+    /// [`Branch::at`]).
+    pub(crate) fn branch(&self, g_a: T) -> Branch<T> {
+        let zero = T::zero();
+        let f_a = self.rate(g_a);
+        let c_a = self.side_coefficient(g_a, f_a);
+        let toward_zero = (g_a > zero && f_a < zero) || (g_a < zero && f_a > zero);
+        let mut s0 = T::infinity();
+        if toward_zero {
+            // g(s0) = 0  ⇔  e^{−c s0} = 1 + g c / f  (s0 = −g/f for c = 0).
+            let s = if c_a == zero {
+                -g_a / f_a
+            } else {
+                -(g_a * c_a / f_a).ln_1p() / c_a
+            };
+            if s.is_finite() {
+                s0 = s;
+            }
+        }
+        let c_0 = self.side_coefficient(zero, self.alpha);
+        Branch {
+            g_a,
+            f_a,
+            c_a,
+            fc_a: f_a / c_a,
+            s0,
+            f_0: self.alpha,
+            c_0,
+            fc_0: self.alpha / c_0,
+        }
+    }
+
+    /// `β + γ` on the upper side (`g > 0`, or `g = 0` moving up), else
+    /// `β − γ`: the decay rate of `f` there for `n = 1`.
+    #[inline(always)]
+    fn side_coefficient(&self, g: T, f: T) -> T {
+        if g > T::zero() || (g == T::zero() && f > T::zero()) {
+            self.beta + self.gamma
+        } else {
+            self.beta - self.gamma
         }
     }
 

@@ -122,18 +122,13 @@ impl<T: Float> Mms<T> {
         };
         let sign = if dir < 0 { -T::one() } else { T::one() };
         // 1 − e^{−a} via expm1 keeps full accuracy near a reversal.
-        let rise = -(-p.k * (x - x_r).abs()).exp_m1();
+        let rise = rise(p.k, x, x_r);
         let decay = T::one() - rise;
         let target = sign * p.f_c;
-        let omega = target - y_r;
-        // The branch runs from y_r towards ±F_c; clamping to that interval
-        // keeps a rounded value from overshooting ±F_c by an ulp (which
-        // would flip the sign of Ω on the next branch).
         let y = if x == s.x {
             s.y
         } else {
-            let v = y_r + omega * rise;
-            v.max(y_r.min(target)).min(y_r.max(target))
+            on_branch(rise, target, y_r)
         };
         // (F_c − sgn·y_r) K e^{−a}, with the decay applied first so that a
         // huge |Ω| times a vanishing decay gives 0, not ∞·0.
@@ -148,6 +143,35 @@ impl<T: Float> Mms<T> {
             },
             tangent,
         )
+    }
+}
+
+/// `1 − e^{−K |x − x_r|}`, via `expm1` for full accuracy near a reversal.
+#[inline(always)]
+fn rise<T: Float>(k: T, x: T, x_r: T) -> T {
+    -(-k * (x - x_r).abs()).exp_m1()
+}
+
+/// The branch value `y_r + Ω · rise`, `Ω = target − y_r`.
+///
+/// The branch runs from `y_r` towards `target = ±F_c`; clamping to that
+/// interval keeps a rounded value from overshooting `±F_c` by an ulp (which
+/// would flip the sign of `Ω` on the next branch).
+#[inline(always)]
+fn on_branch<T: Float>(rise: T, target: T, y_r: T) -> T {
+    let v = y_r + (target - y_r) * rise;
+    // Compare-and-select (all values finite): cheaper than `max`/`min`,
+    // which also handle NaN.
+    let (lo, hi) = if y_r < target {
+        (y_r, target)
+    } else {
+        (target, y_r)
+    };
+    let v = if v < hi { v } else { hi };
+    if v > lo {
+        v
+    } else {
+        lo
     }
 }
 
@@ -188,8 +212,19 @@ impl<T: Float> Operator<T> for Mms<T> {
     fn process(&mut self, xs: &[T], ys: &mut [T]) -> Result<()> {
         check_lengths(xs, ys)?;
         self.pending = None;
+        let non_finite = |x: T, i: usize| {
+            Error::NonFiniteOutput {
+                operator: "mms",
+                input: x.as_f64(),
+            }
+            .at_sample(i)
+        };
         let mut s = self.s;
-        for (i, (&x, out)) in xs.iter().zip(ys.iter_mut()).enumerate() {
+        let mut i = 0;
+        while i < xs.len() {
+            // The first sample of a monotone run goes through `step` (which
+            // starts a new branch on a reversal) ...
+            let x = xs[i];
             if !x.is_finite() {
                 self.s = s;
                 return Err(Error::NonFiniteInput { value: x.as_f64() }.at_sample(i));
@@ -197,14 +232,40 @@ impl<T: Float> Operator<T> for Mms<T> {
             let next = Self::step(&self.p, &s, x).0;
             if !next.y.is_finite() {
                 self.s = s;
-                return Err(Error::NonFiniteOutput {
-                    operator: "mms",
-                    input: x.as_f64(),
-                }
-                .at_sample(i));
+                return Err(non_finite(x, i));
             }
             s = next;
-            *out = s.y;
+            ys[i] = s.y;
+            i += 1;
+            if s.dir == 0 {
+                continue;
+            }
+            // ... the rest of the run stays on that branch: the same
+            // formula as `step`, with the branch constants hoisted, and no
+            // dependency from one sample to the next.
+            let up = s.dir > 0;
+            let target = if up { self.p.f_c } else { -self.p.f_c };
+            while i < xs.len() {
+                let x = xs[i];
+                // A non-finite sample ends the run here and is reported above.
+                let same_run = if up { x >= s.x } else { x <= s.x };
+                if !(same_run && x.is_finite()) {
+                    break;
+                }
+                let y = if x == s.x {
+                    s.y
+                } else {
+                    on_branch(rise(self.p.k, x, s.x_r), target, s.y_r)
+                };
+                if !y.is_finite() {
+                    self.s = s;
+                    return Err(non_finite(x, i));
+                }
+                s.x = x;
+                s.y = y;
+                ys[i] = y;
+                i += 1;
+            }
         }
         self.s = s;
         Ok(())

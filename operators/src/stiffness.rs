@@ -82,6 +82,9 @@ impl<T: Float> StiffnessMap<T> {
     /// on the segment to the right of `|z|`).
     #[inline]
     pub fn eval(&self, z: T) -> (T, T) {
+        if let [s] = self.s[..] {
+            return (s, T::zero());
+        }
         let a = z.abs();
         let i = self.z.partition_point(|&zi| zi <= a);
         if i == 0 {

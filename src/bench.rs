@@ -1,0 +1,310 @@
+//! `hysteron bench`: the kernel table of the performance issue, timed on
+//! its defined input, one line per kernel in a format that reads side by
+//! side with other implementations:
+//!
+//! `| hysteron | <kernel> | <runs> | <samples/s median> | <ns/sample median> | <min..max> |`
+//!
+//! The kernels (also used by the criterion benches in `benches/`):
+//!
+//! * input `x_i = 2.5 sin(2π i/2000) + 0.3 sin(2π i/97.3)`, `f64`, read from
+//!   one buffer and written to another (`reset` + `process` per run);
+//! * `play`: threshold 0.5;
+//! * `pi64`: `0.1 x + Σ_j w_j play_{r_j}(x)`, `r_j = 3j/64`,
+//!   `w_j = exp(−r_j)/64`, `j = 0..63`;
+//! * `bouc-wen n=1`, `bouc-wen n=1.5`: `ż = ẋ − β|ẋ||z|^{n−1}z − γẋ|z|^n`,
+//!   `H = a k x + (1 − a) k z`, `β = 0.7`, `γ = 0.3`, `a = 0.1`, `k = 1`
+//!   (the library's [`BoucWen`] with `w = a`, `α = 1`, constant `S = k`);
+//!   `n = 1.5` runs at [`BW15_RTOL`], and the command prints its measured
+//!   error against a tight-tolerance run;
+//! * `mms`: `F_c = 1`, `K = 5`;
+//! * `paper model`: the paper's composed model (MMS bedstop with backlash
+//!   in series with the Bouc-Wen spring, [`TransmissionParams::default`]),
+//!   static, and the same model boxed from its JSON spec;
+//! * `paper model batch`: [`BATCH`] copies of the input through the boxed
+//!   paper model with rayon, on 1 and on 2 threads.
+
+use hysteron_composition::PiBank;
+use hysteron_identify::batch::simulate_records;
+use hysteron_models::{Spec, TransmissionParams};
+use hysteron_operators::{BoucWen, Error, Mms, Operator, Play, Result};
+use std::f64::consts::TAU;
+use std::fmt;
+use std::time::Instant;
+
+/// Relative local error tolerance of the `bouc-wen n=1.5` kernel.
+pub const BW15_RTOL: f64 = 1e-10;
+
+/// Signals in the batch kernels.
+pub const BATCH: usize = 8;
+
+/// The kernel input `x_i = 2.5 sin(2π i/2000) + 0.3 sin(2π i/97.3)`.
+pub fn kernel_input(n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|i| {
+            let i = i as f64;
+            2.5 * (TAU * i / 2000.0).sin() + 0.3 * (TAU * i / 97.3).sin()
+        })
+        .collect()
+}
+
+/// The play kernel: threshold 0.5.
+pub fn play() -> Result<Play<f64>> {
+    Play::new(0.5)
+}
+
+/// The PI kernel with `m` plays: `0.1 x + Σ_j w_j play_{r_j}(x)`,
+/// `r_j = 3j/m`, `w_j = exp(−r_j)/m`.
+pub fn pi_bank(m: usize) -> Result<PiBank<f64>> {
+    let r: Vec<f64> = (0..m).map(|j| 3.0 * j as f64 / m as f64).collect();
+    let w: Vec<f64> = r.iter().map(|&r| (-r).exp() / m as f64).collect();
+    PiBank::new(0.1, r, w)
+}
+
+/// The Bouc-Wen kernel with exponent `n`: `a = 0.1`, `k = 1`, `A = 1`,
+/// `β = 0.7`, `γ = 0.3`.
+pub fn bouc_wen(n: f64) -> Result<BoucWen<f64>> {
+    BoucWen::constant(1.0, 0.1, 1.0, 0.7, 0.3, n)
+}
+
+/// The MMS kernel: `F_c = 1`, `K = 5`.
+pub fn mms() -> Result<Mms<f64>> {
+    Mms::new(1.0, 5.0)
+}
+
+/// The paper's model with its default parameters, built statically.
+pub fn paper_model() -> Result<hysteron_models::PaperModel> {
+    TransmissionParams::default().build()
+}
+
+/// The same model built from its JSON spec (a boxed `series` tree).
+pub fn paper_model_from_json() -> std::result::Result<Box<dyn Operator<f64>>, String> {
+    let json = Spec::from(&TransmissionParams::default())
+        .to_json_pretty()
+        .map_err(|e| e.to_string())?;
+    Spec::from_json(&json)
+        .and_then(|s| s.build())
+        .map_err(|e| e.to_string())
+}
+
+/// Timings of one kernel over `runs` runs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Timing {
+    /// Kernel name.
+    pub kernel: String,
+    /// Samples per run.
+    pub samples: usize,
+    /// Nanoseconds per sample of each run, sorted.
+    pub ns_per_sample: Vec<f64>,
+}
+
+impl Timing {
+    fn median(&self) -> f64 {
+        let v = &self.ns_per_sample;
+        let m = v.len() / 2;
+        if v.len() % 2 == 1 {
+            v[m]
+        } else {
+            0.5 * (v[m - 1] + v[m])
+        }
+    }
+}
+
+impl fmt::Display for Timing {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let med = self.median();
+        write!(
+            f,
+            "| hysteron | {} | {} | {:.4e} | {:.2} | {:.2}..{:.2} |",
+            self.kernel,
+            self.ns_per_sample.len(),
+            1e9 / med,
+            med,
+            self.ns_per_sample[0],
+            self.ns_per_sample[self.ns_per_sample.len() - 1],
+        )
+    }
+}
+
+/// Options of [`run`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct BenchOptions {
+    /// Samples of the kernel input (default 10⁷).
+    pub samples: usize,
+    /// Timed runs per kernel (after one untimed warm-up run).
+    pub runs: usize,
+    /// Only kernels whose name contains this.
+    pub filter: Option<String>,
+}
+
+/// What [`run`] measured.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BenchReport {
+    /// One timing per kernel run.
+    pub timings: Vec<Timing>,
+    /// Notes on accuracy and scaling, one line each.
+    pub notes: Vec<String>,
+}
+
+impl fmt::Display for BenchReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "| implementation | kernel | runs | samples/s (median) | ns/sample (median) | ns/sample min..max |"
+        )?;
+        writeln!(f, "|---|---|---|---|---|---|")?;
+        for t in &self.timings {
+            writeln!(f, "{t}")?;
+        }
+        for n in &self.notes {
+            writeln!(f, "{n}")?;
+        }
+        Ok(())
+    }
+}
+
+/// Times `reset` + `process` of `op` over `x`, `runs` times after one
+/// untimed run (which also checks that the kernel runs without error).
+fn time_op<O: Operator<f64> + ?Sized>(
+    kernel: &str,
+    op: &mut O,
+    x: &[f64],
+    y: &mut [f64],
+    runs: usize,
+) -> std::result::Result<Timing, String> {
+    time_with(kernel, x.len(), runs, || {
+        op.reset();
+        op.process(x, y)
+    })
+}
+
+fn time_with(
+    kernel: &str,
+    samples: usize,
+    runs: usize,
+    mut f: impl FnMut() -> Result<()>,
+) -> std::result::Result<Timing, String> {
+    f().map_err(|e| format!("kernel {kernel}: {e}"))?;
+    let mut ns = Vec::with_capacity(runs);
+    for _ in 0..runs {
+        let start = Instant::now();
+        let r = f();
+        let elapsed = start.elapsed();
+        std::hint::black_box(&r);
+        r.map_err(|e| format!("kernel {kernel}: {e}"))?;
+        ns.push(elapsed.as_secs_f64() * 1e9 / samples as f64);
+    }
+    ns.sort_by(f64::total_cmp);
+    Ok(Timing {
+        kernel: kernel.to_string(),
+        samples,
+        ns_per_sample: ns,
+    })
+}
+
+/// Runs the kernel table.
+pub fn run(opts: &BenchOptions) -> std::result::Result<BenchReport, String> {
+    if opts.samples == 0 || opts.runs == 0 {
+        return Err("--samples and --runs must be at least 1".into());
+    }
+    let x = kernel_input(opts.samples);
+    let mut y = vec![0.0; x.len()];
+    let wanted = |k: &str| opts.filter.as_deref().is_none_or(|f| k.contains(f));
+    let lib = |e: Error| e.to_string();
+    let mut timings = Vec::new();
+    let mut notes = Vec::new();
+    let runs = opts.runs;
+
+    if wanted("play") {
+        timings.push(time_op(
+            "play",
+            &mut play().map_err(lib)?,
+            &x,
+            &mut y,
+            runs,
+        )?);
+    }
+    if wanted("pi64") {
+        timings.push(time_op(
+            "pi64",
+            &mut pi_bank(64).map_err(lib)?,
+            &x,
+            &mut y,
+            runs,
+        )?);
+    }
+    if wanted("bouc-wen n=1") {
+        let mut bw = bouc_wen(1.0).map_err(lib)?;
+        timings.push(time_op("bouc-wen n=1", &mut bw, &x, &mut y, runs)?);
+    }
+    if wanted("bouc-wen n=1.5") {
+        let mut bw = bouc_wen(1.5)
+            .map_err(lib)?
+            .with_tolerance(BW15_RTOL)
+            .map_err(lib)?;
+        timings.push(time_op("bouc-wen n=1.5", &mut bw, &x, &mut y, runs)?);
+        let mut reference = bouc_wen(1.5)
+            .map_err(lib)?
+            .with_tolerance(1e-13)
+            .map_err(lib)?;
+        let want = reference.run(&x).map_err(lib)?;
+        let scale = want.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        let err = y
+            .iter()
+            .zip(&want)
+            .fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
+        notes.push(format!(
+            "bouc-wen n=1.5 (rtol {BW15_RTOL:e}): max |error| {:.2e} of max |H| {scale:.3} (relative {:.2e}) against rtol 1e-13",
+            err,
+            err / scale
+        ));
+    }
+    if wanted("mms") {
+        timings.push(time_op("mms", &mut mms().map_err(lib)?, &x, &mut y, runs)?);
+    }
+    if wanted("paper model") {
+        let mut stat = paper_model().map_err(lib)?;
+        let t_static = time_op("paper model", &mut stat, &x, &mut y, runs)?;
+        let static_y = y.clone();
+        let mut boxed = paper_model_from_json()?;
+        let t_boxed = time_op("paper model, boxed from JSON", &mut boxed, &x, &mut y, runs)?;
+        if y != static_y {
+            return Err("paper model: boxed and static outputs differ".into());
+        }
+        notes.push(format!(
+            "paper model: boxed from JSON / static = {:.2}",
+            t_boxed.median() / t_static.median()
+        ));
+        timings.push(t_static);
+        timings.push(t_boxed);
+    }
+    if wanted("batch") {
+        let model = paper_model_from_json()?;
+        let records = vec![x.clone(); BATCH];
+        let mut medians = Vec::new();
+        for threads in [1, 2] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .map_err(|e| e.to_string())?;
+            let kernel = format!("paper model batch x{BATCH}, {threads} thread(s)");
+            let t = time_with(&kernel, BATCH * x.len(), runs, || {
+                pool.install(|| simulate_records(model.as_ref(), &records))
+                    .into_iter()
+                    .try_for_each(|r| r.map(|_| ()))
+            })?;
+            medians.push(t.median());
+            timings.push(t);
+        }
+        notes.push(format!(
+            "paper model batch: 2 threads are {:.2}x 1 thread",
+            medians[0] / medians[1]
+        ));
+    }
+    if timings.is_empty() {
+        return Err(format!(
+            "no kernel matches {:?}",
+            opts.filter.as_deref().unwrap_or("")
+        ));
+    }
+    Ok(BenchReport { timings, notes })
+}
