@@ -28,6 +28,7 @@ mod inverse;
 mod oversample;
 mod pair;
 mod parallel;
+mod pi_avx2;
 mod pi_bank;
 mod scaled;
 mod series;

@@ -139,7 +139,9 @@ const LANES: usize = 8;
 /// order, so `trial` and `process` agree bit for bit).
 #[inline(always)]
 fn bank_step<T: Float>(r: &[T], w: &[T], prev: &[T], next: &mut [T], x: T) -> T {
-    let m = r.len() / LANES * LANES;
+    let n = r.len().min(w.len()).min(prev.len()).min(next.len());
+    let (r, w, prev, next) = (&r[..n], &w[..n], &prev[..n], &mut next[..n]);
+    let m = n / LANES * LANES;
     let mut acc = [T::zero(); LANES];
     for (((r, w), prev), next) in r[..m]
         .chunks_exact(LANES)
@@ -147,19 +149,59 @@ fn bank_step<T: Float>(r: &[T], w: &[T], prev: &[T], next: &mut [T], x: T) -> T 
         .zip(prev[..m].chunks_exact(LANES))
         .zip(next[..m].chunks_exact_mut(LANES))
     {
-        for l in 0..LANES {
-            let p = play_step(r[l], prev[l], x);
-            next[l] = p;
-            acc[l] = acc[l] + w[l] * p;
-        }
+        // Each chunk as arrays: independent lanes the compiler maps onto
+        // vector registers.
+        let r: [T; LANES] = r.try_into().unwrap_or([T::zero(); LANES]);
+        let w: [T; LANES] = w.try_into().unwrap_or([T::zero(); LANES]);
+        let prev: [T; LANES] = prev.try_into().unwrap_or([T::zero(); LANES]);
+        let y: [T; LANES] = core::array::from_fn(|l| play_step(r[l], prev[l], x));
+        acc = core::array::from_fn(|l| acc[l] + w[l] * y[l]);
+        next.copy_from_slice(&y);
     }
     let mut tail = T::zero();
-    for j in m..r.len() {
-        let p = play_step(r[j], prev[j], x);
-        next[j] = p;
-        tail = tail + w[j] * p;
+    for (((&r, &w), &prev), next) in r[m..]
+        .iter()
+        .zip(&w[m..])
+        .zip(&prev[m..])
+        .zip(&mut next[m..])
+    {
+        *next = play_step(r, prev, x);
+        tail = tail + w * *next;
     }
     ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7])) + tail
+}
+
+impl<T: Float> PiBank<T> {
+    /// This bank as a bank of `f64` (for the vectorized batch loop).
+    #[cfg(target_arch = "x86_64")]
+    fn as_f64_mut(&mut self) -> Option<&mut PiBank<f64>> {
+        (self as &mut dyn core::any::Any).downcast_mut::<PiBank<f64>>()
+    }
+
+    /// The portable batch loop (lengths checked by the caller).
+    fn process_loop(
+        &mut self,
+        xs: &[T],
+        ys: &mut [T],
+        step: impl Fn(&[T], &[T], &[T], &mut [T], T) -> T,
+    ) -> Result<()> {
+        for (i, (&x, out)) in xs.iter().zip(ys.iter_mut()).enumerate() {
+            if !x.is_finite() {
+                return Err(Error::NonFiniteInput { value: x.as_f64() }.at_sample(i));
+            }
+            let y = self.a0 * x + step(&self.r, &self.w, &self.y, &mut self.pending, x);
+            if !y.is_finite() {
+                return Err(Error::NonFiniteOutput {
+                    operator: "pi",
+                    input: x.as_f64(),
+                }
+                .at_sample(i));
+            }
+            std::mem::swap(&mut self.y, &mut self.pending);
+            *out = y;
+        }
+        Ok(())
+    }
 }
 
 impl<T: Float> Operator<T> for PiBank<T> {
@@ -195,22 +237,30 @@ impl<T: Float> Operator<T> for PiBank<T> {
     fn process(&mut self, xs: &[T], ys: &mut [T]) -> Result<()> {
         check_lengths(xs, ys)?;
         self.has_pending = false;
-        for (i, (&x, out)) in xs.iter().zip(ys.iter_mut()).enumerate() {
-            if !x.is_finite() {
-                return Err(Error::NonFiniteInput { value: x.as_f64() }.at_sample(i));
+        #[cfg(target_arch = "x86_64")]
+        if let (Some(isa), Some(xs), Some(ys), Some(bank)) = (
+            crate::pi_avx2::Isa::detect(),
+            crate::pi_avx2::as_f64(xs),
+            crate::pi_avx2::as_f64_mut(ys),
+            self.as_f64_mut(),
+        ) {
+            let mut b = crate::pi_avx2::Bank {
+                a0: bank.a0,
+                r: &bank.r,
+                w: &bank.w,
+                y: &mut bank.y,
+                pending: &mut bank.pending,
+            };
+            let (applied, error) = crate::pi_avx2::process(isa, &mut b, xs, ys);
+            if applied % 2 == 1 {
+                std::mem::swap(&mut bank.y, &mut bank.pending);
             }
-            let y = self.a0 * x + bank_step(&self.r, &self.w, &self.y, &mut self.pending, x);
-            if !y.is_finite() {
-                return Err(Error::NonFiniteOutput {
-                    operator: "pi",
-                    input: x.as_f64(),
-                }
-                .at_sample(i));
-            }
-            std::mem::swap(&mut self.y, &mut self.pending);
-            *out = y;
+            return match error {
+                Some(e) => Err(e.at_sample(applied)),
+                None => Ok(()),
+            };
         }
-        Ok(())
+        self.process_loop(xs, ys, bank_step)
     }
 
     fn n_params(&self) -> usize {

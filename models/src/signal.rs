@@ -75,7 +75,7 @@ pub fn fft_upsample(x: &[f64], q: usize) -> Result<Vec<f64>> {
     for j in 1..half {
         padded[fine - j] = spectrum[n - j];
     }
-    if n % 2 == 0 {
+    if n.is_multiple_of(2) {
         let nyquist = spectrum[n / 2] * 0.5;
         padded[n / 2] = nyquist;
         padded[fine - n / 2] = nyquist;
@@ -130,7 +130,7 @@ pub fn decimate_fir_periodic(x: &[f64], r: usize) -> Result<Vec<f64>> {
     if r == 0 {
         return Err(invalid("r", 0.0, "must be ≥ 1"));
     }
-    if x.len() % r != 0 {
+    if !x.len().is_multiple_of(r) {
         return Err(invalid(
             "x",
             x.len() as f64,
@@ -161,7 +161,7 @@ fn prime_factors(mut r: usize) -> Vec<usize> {
     let mut out = Vec::new();
     let mut p = 2;
     while p * p <= r {
-        while r % p == 0 {
+        while r.is_multiple_of(p) {
             out.push(p);
             r /= p;
         }

@@ -1,0 +1,220 @@
+//! The Prandtl-Ishlinskii batch loop for `f64` on AVX2 and AVX-512: the
+//! same operations as the portable loop in [`pi_bank`](crate::pi_bank), in
+//! the same order, four or eight plays per instruction, so the results are
+//! bit-identical.
+//!
+//! Per play `y_j = max(min(y_j, x + r_j), x − r_j)` (`vminpd`/`vmaxpd`
+//! return their second operand when the comparison is false, exactly the
+//! compare-and-select of [`play_step`](hysteron_operators::play_step)), and
+//! `Σ w_j y_j` in eight interleaved partial sums (lane `l` sums the plays
+//! `j ≡ l mod 8`), multiply then add, no fused multiply-add.
+
+#![cfg(target_arch = "x86_64")]
+
+use core::any::TypeId;
+use core::arch::x86_64::*;
+use hysteron_operators::{play_step, Error};
+
+/// The bank's slices, all of the same length.
+pub(crate) struct Bank<'a> {
+    pub a0: f64,
+    pub r: &'a [f64],
+    pub w: &'a [f64],
+    /// The committed play outputs.
+    pub y: &'a mut [f64],
+    /// Scratch of the same length: each sample reads the play outputs from
+    /// one of `y`, `pending` and writes them to the other.
+    pub pending: &'a mut [f64],
+}
+
+/// Which vector instructions to use, detected at run time.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Isa {
+    Avx2,
+    Avx512,
+}
+
+impl Isa {
+    /// The widest supported, if any.
+    pub(crate) fn detect() -> Option<Isa> {
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            Some(Isa::Avx512)
+        } else if std::arch::is_x86_feature_detected!("avx2") {
+            Some(Isa::Avx2)
+        } else {
+            None
+        }
+    }
+}
+
+/// `s` as a slice of `f64`, if `T` is `f64`.
+pub(crate) fn as_f64<T: 'static>(s: &[T]) -> Option<&[f64]> {
+    // SAFETY: `T` and `f64` are the same type (equal type ids).
+    (TypeId::of::<T>() == TypeId::of::<f64>())
+        .then(|| unsafe { &*(s as *const [T] as *const [f64]) })
+}
+
+/// `s` as a mutable slice of `f64`, if `T` is `f64`.
+pub(crate) fn as_f64_mut<T: 'static>(s: &mut [T]) -> Option<&mut [f64]> {
+    // SAFETY: `T` and `f64` are the same type (equal type ids).
+    (TypeId::of::<T>() == TypeId::of::<f64>())
+        .then(|| unsafe { &mut *(s as *mut [T] as *mut [f64]) })
+}
+
+/// Runs `xs` through the bank into `ys` (same lengths). Returns the
+/// number of samples applied and the error that stopped it, if any (a
+/// non-finite input or output at that sample, which is not applied). The
+/// play outputs after the applied samples are in `bank.y` if that number
+/// is even, else in `bank.pending`.
+pub(crate) fn process(
+    isa: Isa,
+    bank: &mut Bank<'_>,
+    xs: &[f64],
+    ys: &mut [f64],
+) -> (usize, Option<Error>) {
+    // SAFETY: `isa` was detected on this CPU.
+    unsafe {
+        match isa {
+            Isa::Avx2 => process_avx2(bank, xs, ys),
+            Isa::Avx512 => process_avx512(bank, xs, ys),
+        }
+    }
+}
+
+/// `Σ` of the eight partial sums and the tail, in the portable loop's order.
+#[inline(always)]
+fn total(acc: &[f64; 8], tail: f64) -> f64 {
+    ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7])) + tail
+}
+
+/// The scalar plays beyond the last full chunk of eight.
+#[inline(always)]
+fn tail(r: &[f64], w: &[f64], prev: &[f64], next: &mut [f64], x: f64) -> f64 {
+    let mut sum = 0.0;
+    for (((&r, &w), &p), y) in r.iter().zip(w).zip(prev).zip(next) {
+        *y = play_step(r, p, x);
+        sum += w * *y;
+    }
+    sum
+}
+
+/// The output `a0 x + Σ`, an error if not finite.
+#[inline(always)]
+fn output(a0: f64, x: f64, bank_sum: f64, _i: usize) -> Result<f64, Error> {
+    let y = a0 * x + bank_sum;
+    if y.is_finite() {
+        Ok(y)
+    } else {
+        Err(Error::NonFiniteOutput {
+            operator: "pi",
+            input: x,
+        })
+    }
+}
+
+#[target_feature(enable = "avx2")]
+unsafe fn process_avx2(bank: &mut Bank<'_>, xs: &[f64], ys: &mut [f64]) -> (usize, Option<Error>) {
+    let n = bank
+        .r
+        .len()
+        .min(bank.w.len())
+        .min(bank.y.len())
+        .min(bank.pending.len());
+    let m = n / 8 * 8;
+    let (r, w) = (&bank.r[..n], &bank.w[..n]);
+    let (mut prev, mut next) = (&mut bank.y[..n], &mut bank.pending[..n]);
+    for (i, (&x, out)) in xs.iter().zip(ys.iter_mut()).enumerate() {
+        if !x.is_finite() {
+            return (i, Some(Error::NonFiniteInput { value: x }));
+        }
+        let mut acc = [0.0; 8];
+        let xv = _mm256_set1_pd(x);
+        let (mut acc0, mut acc1) = (_mm256_setzero_pd(), _mm256_setzero_pd());
+        let mut j = 0;
+        while j < m {
+            // SAFETY: j + 8 ≤ m ≤ n, the length of every slice.
+            unsafe {
+                let (rp, wp) = (r.as_ptr().add(j), w.as_ptr().add(j));
+                let (yp, np) = (prev.as_ptr().add(j), next.as_mut_ptr().add(j));
+                let (r0, r1) = (_mm256_loadu_pd(rp), _mm256_loadu_pd(rp.add(4)));
+                let (p0, p1) = (_mm256_loadu_pd(yp), _mm256_loadu_pd(yp.add(4)));
+                let y0 = _mm256_max_pd(
+                    _mm256_min_pd(p0, _mm256_add_pd(xv, r0)),
+                    _mm256_sub_pd(xv, r0),
+                );
+                let y1 = _mm256_max_pd(
+                    _mm256_min_pd(p1, _mm256_add_pd(xv, r1)),
+                    _mm256_sub_pd(xv, r1),
+                );
+                _mm256_storeu_pd(np, y0);
+                _mm256_storeu_pd(np.add(4), y1);
+                acc0 = _mm256_add_pd(acc0, _mm256_mul_pd(_mm256_loadu_pd(wp), y0));
+                acc1 = _mm256_add_pd(acc1, _mm256_mul_pd(_mm256_loadu_pd(wp.add(4)), y1));
+            }
+            j += 8;
+        }
+        // SAFETY: `acc` holds 8 values.
+        unsafe {
+            _mm256_storeu_pd(acc.as_mut_ptr(), acc0);
+            _mm256_storeu_pd(acc.as_mut_ptr().add(4), acc1);
+        }
+        let t = tail(&r[m..], &w[m..], &prev[m..], &mut next[m..], x);
+        match output(bank.a0, x, total(&acc, t), i) {
+            Ok(y) => *out = y,
+            Err(e) => return (i, Some(e)),
+        }
+        core::mem::swap(&mut prev, &mut next);
+    }
+    (xs.len().min(ys.len()), None)
+}
+
+#[target_feature(enable = "avx512f")]
+unsafe fn process_avx512(
+    bank: &mut Bank<'_>,
+    xs: &[f64],
+    ys: &mut [f64],
+) -> (usize, Option<Error>) {
+    let n = bank
+        .r
+        .len()
+        .min(bank.w.len())
+        .min(bank.y.len())
+        .min(bank.pending.len());
+    let m = n / 8 * 8;
+    let (r, w) = (&bank.r[..n], &bank.w[..n]);
+    let (mut prev, mut next) = (&mut bank.y[..n], &mut bank.pending[..n]);
+    for (i, (&x, out)) in xs.iter().zip(ys.iter_mut()).enumerate() {
+        if !x.is_finite() {
+            return (i, Some(Error::NonFiniteInput { value: x }));
+        }
+        let mut acc = [0.0; 8];
+        let xv = _mm512_set1_pd(x);
+        let mut acc0 = _mm512_setzero_pd();
+        let mut j = 0;
+        while j < m {
+            // SAFETY: j + 8 ≤ m ≤ n, the length of every slice.
+            unsafe {
+                let (rp, wp) = (r.as_ptr().add(j), w.as_ptr().add(j));
+                let (yp, np) = (prev.as_ptr().add(j), next.as_mut_ptr().add(j));
+                let r0 = _mm512_loadu_pd(rp);
+                let p0 = _mm512_loadu_pd(yp);
+                let y0 = _mm512_max_pd(
+                    _mm512_min_pd(p0, _mm512_add_pd(xv, r0)),
+                    _mm512_sub_pd(xv, r0),
+                );
+                _mm512_storeu_pd(np, y0);
+                acc0 = _mm512_add_pd(acc0, _mm512_mul_pd(_mm512_loadu_pd(wp), y0));
+            }
+            j += 8;
+        }
+        // SAFETY: `acc` holds 8 values.
+        unsafe { _mm512_storeu_pd(acc.as_mut_ptr(), acc0) };
+        let t = tail(&r[m..], &w[m..], &prev[m..], &mut next[m..], x);
+        match output(bank.a0, x, total(&acc, t), i) {
+            Ok(y) => *out = y,
+            Err(e) => return (i, Some(e)),
+        }
+        core::mem::swap(&mut prev, &mut next);
+    }
+    (xs.len().min(ys.len()), None)
+}
