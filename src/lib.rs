@@ -47,7 +47,7 @@ pub use hysteron_operators::{Error, Float, Operator, Result, Trial};
 pub mod prelude {
     pub use hysteron_composition::{
         Cascade, Feedback, Inverse, MechanicalSeries, OperatorExt, Oversample, Parallel, PiBank,
-        Scaled, SolverOptions, TravelLimits,
+        PiInverse, Scaled, SolverOptions, TravelLimits,
     };
     pub use hysteron_operators::{
         BoucWen, BoucWenParams, DeadZone, ElastoPlastic, Error, Float, Gain, MassSpringDamper, Mms,
