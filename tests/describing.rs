@@ -77,7 +77,11 @@ fn linear_gain_is_exact() {
                 assert!(d.im.abs() <= tol, "k={k} N={n}: im {}", d.im);
                 assert!((d.gain - k.abs()).abs() <= tol);
                 let expected_phase = if k > 0.0 { 0.0 } else { PI };
-                assert!((d.phase.abs() - expected_phase).abs() <= 1e-12, "{}", d.phase);
+                assert!(
+                    (d.phase.abs() - expected_phase).abs() <= 1e-12,
+                    "{}",
+                    d.phase
+                );
                 for (j, &(ak, bk)) in d.harmonics.iter().enumerate() {
                     if j != 1 {
                         assert!(ak.abs() + bk.abs() <= tol * a, "harmonic {j}: {ak} {bk}");
@@ -137,7 +141,12 @@ fn play_matches_the_backlash_closed_form() {
 /// [`saturation_describing_function`].
 #[test]
 fn saturation_matches_its_closed_form() {
-    for &(k, delta, a) in &[(1.0, 0.5, 1.0), (1.0, 0.9, 1.0), (3.0, 0.2, 2.0), (1.0, 2.0, 1.0)] {
+    for &(k, delta, a) in &[
+        (1.0, 0.5, 1.0),
+        (1.0, 0.9, 1.0),
+        (3.0, 0.2, 2.0),
+        (1.0, 2.0, 1.0),
+    ] {
         let sat = Gain::new(k)
             .unwrap()
             .then(Saturation::new(-k * delta, k * delta).unwrap());
@@ -152,7 +161,10 @@ fn saturation_matches_its_closed_form() {
         }
         if a <= delta {
             // linear inside the limits: exact up to rounding
-            eprintln!("saturation k={k} δ={delta} A={a}: linear, max error {:.2e}", errs.iter().fold(0.0_f64, |m, &e| m.max(e)));
+            eprintln!(
+                "saturation k={k} δ={delta} A={a}: linear, max error {:.2e}",
+                errs.iter().fold(0.0_f64, |m, &e| m.max(e))
+            );
             assert!(errs.iter().all(|&e| e < 1e-12), "{errs:?}");
         } else {
             let p = order(&ns, &errs);
@@ -176,9 +188,7 @@ fn relay_is_the_limit_of_a_steep_saturation() {
     let relay = 4.0 * m / (PI * a);
     let mut last = f64::INFINITY;
     for &k in &[10.0, 100.0, 1000.0, 1e4] {
-        let sat = Gain::new(k)
-            .unwrap()
-            .then(Saturation::new(-m, m).unwrap());
+        let sat = Gain::new(k).unwrap().then(Saturation::new(-m, m).unwrap());
         let closed = saturation_describing_function(k, m / k, a);
         let d = describing_function(&sat, a, &opts(4096)).unwrap();
         let to_relay = (d.gain - relay).abs();
@@ -211,7 +221,10 @@ fn bad_arguments_are_typed_errors() {
         );
     }
     for n in [0, 4, 6, 10, 1 << 25] {
-        assert_eq!(name(describing_function(&play, 1.0, &opts(n))), "samples_per_period");
+        assert_eq!(
+            name(describing_function(&play, 1.0, &opts(n))),
+            "samples_per_period"
+        );
     }
     for p in [0, 1] {
         let o = SineOptions {

@@ -91,7 +91,9 @@ pub enum AnalysisError {
         reason: &'static str,
     },
     /// The operator failed while driven by the sine.
-    #[error("the operator failed in period {period} (of the sine of amplitude {amplitude}): {source}")]
+    #[error(
+        "the operator failed in period {period} (of the sine of amplitude {amplitude}): {source}"
+    )]
     Operator {
         /// The period (0-based) in which it failed.
         period: usize,
@@ -134,7 +136,8 @@ impl SineOptions {
             return Err(AnalysisError::InvalidArgument {
                 name: "settle_periods",
                 value: self.settle_periods as f64,
-                reason: "must lie in [2, 1000000] (the last period is compared with the one before)",
+                reason:
+                    "must lie in [2, 1000000] (the last period is compared with the one before)",
             });
         }
         if !(self.steady_tol.is_finite() && self.steady_tol >= 0.0) {

@@ -81,7 +81,11 @@ impl SteadyCycle {
 /// let e = loop_energy(&Stop::new(0.25_f64).unwrap(), 1.0, &SineOptions::default()).unwrap();
 /// assert!((e.work - 4.0 * 0.25 * (1.0 - 0.25)).abs() < 1e-5);
 /// ```
-pub fn loop_energy<O>(op: &O, amplitude: f64, opts: &SineOptions) -> Result<LoopEnergy, AnalysisError>
+pub fn loop_energy<O>(
+    op: &O,
+    amplitude: f64,
+    opts: &SineOptions,
+) -> Result<LoopEnergy, AnalysisError>
 where
     O: Operator<f64> + Clone,
 {
@@ -100,8 +104,7 @@ where
 /// enclose nothing. The initial states do not matter (wiped out by the
 /// first extremum).
 pub fn pi_bank_loop_work(p: &PiBankParams<f64>, amplitude: f64) -> f64 {
-    -p.r
-        .iter()
+    -p.r.iter()
         .zip(&p.w)
         .filter(|(&r, _)| r < amplitude)
         .map(|(&r, &w)| 4.0 * w * r * (amplitude - r))
@@ -169,7 +172,13 @@ pub fn bouc_wen_n1_loop(
     k: f64,
     amplitude: f64,
 ) -> Result<BoucWenLoop, AnalysisError> {
-    let bad = |name, value, reason| Err(AnalysisError::InvalidArgument { name, value, reason });
+    let bad = |name, value, reason| {
+        Err(AnalysisError::InvalidArgument {
+            name,
+            value,
+            reason,
+        })
+    };
     if !(amplitude.is_finite() && amplitude > 0.0) {
         return bad("amplitude", amplitude, "must be finite and > 0");
     }
@@ -184,7 +193,11 @@ pub fn bouc_wen_n1_loop(
     }
     let (a, b) = (beta + gamma, beta - gamma);
     if !(beta.is_finite() && gamma.is_finite() && a > 0.0 && b >= 0.0) {
-        return bad("beta", beta, "needs β + γ > 0 and β − γ ≥ 0 (bounded class)");
+        return bad(
+            "beta",
+            beta,
+            "needs β + γ > 0 and β − γ ≥ 0 (bounded class)",
+        );
     }
     // travel from the reversal to h = 0
     let d1 = |h: f64| {
