@@ -34,6 +34,7 @@ pub use hysteron_identify as identify;
 pub use hysteron_models as models;
 pub use hysteron_operators as operators;
 
+pub mod analyze;
 pub mod csvio;
 pub mod fit_cmd;
 pub mod identify_paper;
