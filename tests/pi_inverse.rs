@@ -489,3 +489,32 @@ fn pi_inverse_spec_builds_the_analytic_inverse() {
         "{e}"
     );
 }
+
+/// The inverse's parameters are the forward ones, so fitting the inverse
+/// as a compensator (input: the measured output `y`, target: the input
+/// `x` that produced it) identifies the forward model.
+#[test]
+fn fitting_the_inverse_identifies_the_forward_model() {
+    use hysteron::identify::{fit, FitOptions};
+    let truth = PiBank::new(0.5, vec![0.2, 0.5, 0.9], vec![0.8, 0.4, 0.2]).unwrap();
+    let x: Vec<f64> = (0..600)
+        .map(|i| {
+            let t = i as f64 / 100.0;
+            (0.3 + 0.25 * t) * (std::f64::consts::TAU * t).sin()
+        })
+        .collect();
+    let y = truth.clone().run(&x).unwrap();
+    // start: a0 and weights off by 20–40 %, thresholds known
+    let start = PiBank::new(0.4, vec![0.2, 0.5, 0.9], vec![1.1, 0.3, 0.28])
+        .unwrap()
+        .analytic_inverse()
+        .unwrap();
+    let free = [0, 4, 5, 6]; // a0, w[0], w[1], w[2]
+    let fitted = fit(&start, &y, &x, &free, &FitOptions::default()).unwrap();
+    let p = fitted.model.params();
+    let t = truth.params();
+    eprintln!("fitted forward parameters through the inverse: {p:?}");
+    for i in free {
+        assert!((p[i] - t[i]).abs() < 1e-8, "parameter {i}: {} vs {}", p[i], t[i]);
+    }
+}
