@@ -515,6 +515,11 @@ fn fitting_the_inverse_identifies_the_forward_model() {
     let t = truth.params();
     eprintln!("fitted forward parameters through the inverse: {p:?}");
     for i in free {
-        assert!((p[i] - t[i]).abs() < 1e-8, "parameter {i}: {} vs {}", p[i], t[i]);
+        assert!(
+            (p[i] - t[i]).abs() < 1e-8,
+            "parameter {i}: {} vs {}",
+            p[i],
+            t[i]
+        );
     }
 }
