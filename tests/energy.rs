@@ -134,9 +134,11 @@ fn bouc_wen_n1_loop_matches_the_closed_form() {
             assert!((exact.h_turn - hm).abs() <= 4.0 * EPS * hm);
         }
         let mut errs = Vec::new();
+        let mut works = Vec::new();
         let ns = [256, 512, 1024, 2048, 4096, 8192, 16384, 32768, 65536];
         for &n in &ns {
             let c = SteadyCycle::compute(&spring, a, &opts(n, 60)).unwrap();
+            works.push(c.loop_work());
             errs.push((c.loop_work() - exact.work).abs() / exact.work);
             // the turning state matches the fixed point
             let h_top = (c.y[n / 4] - w * k * a) / ((1.0 - w) * k);
@@ -145,15 +147,24 @@ fn bouc_wen_n1_loop_matches_the_closed_form() {
             }
         }
         let ratios: Vec<f64> = errs.windows(2).map(|e| e[0] / e[1]).collect();
+        // One Richardson step removes the N⁻² term: what is left checks
+        // the closed form far below the trapezoid error.
+        let j = ns.len() - 3;
+        let richardson = (4.0 * works[j + 1] - works[j]) / 3.0;
+        let rich_err = (richardson - exact.work).abs() / exact.work;
         eprintln!(
             "Bouc-Wen n=1 k={k} w={w} α={alpha} β={beta} γ={gamma} A={a}: ∮ H dz = {:.12}, \
-             h_m = {:.12}; relative error {:.2e} at N=256, {:.2e} at N=65536; ratios {:?}",
+             h_m = {:.12}; relative error {:.2e} at N=256, {:.2e} at N=65536; ratios {:?}; \
+             Richardson (N = {}, {}) {rich_err:.2e}",
             exact.work,
             exact.h_turn,
             errs[0],
             errs[ns.len() - 1],
-            ratios.iter().map(|r| format!("{r:.3}")).collect::<Vec<_>>()
+            ratios.iter().map(|r| format!("{r:.3}")).collect::<Vec<_>>(),
+            ns[j],
+            ns[j + 1]
         );
+        assert!(rich_err < 1e-11, "Richardson {rich_err:e}");
         assert!(errs[ns.len() - 1] < 2e-9, "{:e}", errs[ns.len() - 1]);
         // O(N⁻²) while the truncation error dominates rounding
         for (i, r) in ratios.iter().enumerate().take(5) {
