@@ -34,6 +34,7 @@ pub use hysteron_identify as identify;
 pub use hysteron_models as models;
 pub use hysteron_operators as operators;
 
+pub mod analyze;
 pub mod bench;
 pub mod csvio;
 pub mod fit_cmd;
@@ -48,7 +49,7 @@ pub use hysteron_operators::{Error, Float, Operator, Result, Trial};
 pub mod prelude {
     pub use hysteron_composition::{
         Cascade, Feedback, Inverse, MechanicalSeries, OperatorExt, Oversample, Parallel, PiBank,
-        Scaled, SolverOptions, TravelLimits,
+        PiInverse, Scaled, SolverOptions, TravelLimits,
     };
     pub use hysteron_operators::{
         BoucWen, BoucWenParams, DeadZone, ElastoPlastic, Error, Float, Gain, MassSpringDamper, Mms,

@@ -370,4 +370,19 @@ fn nested_and_boxed() {
             .then(Saturation::new(-3.0, 3.0).unwrap()),
     );
     check("inverse in cascade", pi().inverse().then(pi()));
+    check("pi inverse", pi().analytic_inverse().unwrap());
+    check(
+        "pi inverse y0",
+        PiInverse::from_params(hysteron::composition::PiBankParams {
+            a0: 0.5,
+            r: vec![0.0, 0.3, 0.3, 0.8],
+            w: vec![0.2, 1.0, -0.3, 0.6],
+            y0: vec![0.0, 0.2, 0.2, -0.1],
+        })
+        .unwrap(),
+    );
+    check(
+        "pi inverse in cascade",
+        pi().analytic_inverse().unwrap().then(pi()),
+    );
 }

@@ -96,6 +96,36 @@ fn pi_bank() -> impl Strategy<Value = PiBankParams<f64>> {
         })
 }
 
+/// A forward PI bank the analytic inverse accepts: `a0 > 0`, positive
+/// weights, and initial play outputs some history reaches (the plays'
+/// states after the input `0 → c → 0`), or none.
+fn pi_inverse() -> impl Strategy<Value = PiBankParams<f64>> {
+    (
+        0.1..1.0f64,
+        prop::collection::vec((0.0..1.0f64, 0.0..2.0f64), 0..6),
+        prop_oneof![Just(None), (-0.5..0.5f64).prop_map(Some)],
+    )
+        .prop_map(|(a0, plays, c)| {
+            let r: Vec<f64> = plays.iter().map(|p| p.0).collect();
+            let y0 = match c {
+                None => Vec::new(),
+                Some(c) => r
+                    .iter()
+                    .map(|&r| {
+                        let y: f64 = 0.0_f64.clamp(c - r, c + r);
+                        y.clamp(-r, r)
+                    })
+                    .collect(),
+            };
+            PiBankParams {
+                a0,
+                r,
+                w: plays.iter().map(|p| p.1).collect(),
+                y0,
+            }
+        })
+}
+
 fn transmission() -> impl Strategy<Value = TransmissionParams> {
     (0.05..0.6f64, -0.5..0.5f64, mms(), bouc_wen()).prop_map(|(backlash, s, friction, spring)| {
         TransmissionParams {
@@ -122,6 +152,7 @@ fn leaf() -> BoxedStrategy<Spec> {
         mms().prop_map(Spec::Mms),
         bouc_wen().prop_map(Spec::BoucWen),
         pi_bank().prop_map(Spec::PiBank),
+        pi_inverse().prop_map(Spec::PiInverse),
         transmission().prop_map(Spec::Transmission),
         (0.1..2.0f64, num(0.0, 5.0), num(0.0, 100.0), 0.001..0.1f64).prop_map(|(m, c, k, dt)| {
             Spec::MassSpringDamper(MassSpringDamperParams { m, c, k, dt })
@@ -768,6 +799,17 @@ fn examples() -> Vec<(&'static str, Spec)> {
                 y0: vec![],
             }),
         ),
+        // The analytic inverse of that operator (a compensator): the same
+        // fields, type `pi_inverse`.
+        (
+            "pi-inverse.json",
+            Spec::PiInverse(PiBankParams {
+                a0: 0.2,
+                r: vec![0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7],
+                w: vec![1.0, 0.6, 0.4, 0.3, 0.2, 0.15, 0.1, 0.05],
+                y0: vec![],
+            }),
+        ),
         // Backlash (play) followed by a dead-zone.
         (
             "play-deadzone.json",
@@ -816,7 +858,7 @@ fn write_example_specs() {
 }
 
 /// Every file in `examples/specs/` parses, builds and runs on a sine; the
-/// four documented ones hold exactly what their generators give.
+/// documented ones hold exactly what their generators give.
 #[test]
 fn example_specs_parse_build_and_run() {
     let xs = sine(300, 1.2);

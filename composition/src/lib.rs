@@ -11,6 +11,7 @@
 //! | [`Parallel`] | `y = A[x] + B[x]` |
 //! | [`Scaled`] | `y = w · A[x]` |
 //! | [`PiBank`] | `y = a0 x + Σ w_j play_{r_j}[x]` |
+//! | [`PiInverse`] | `x = P⁻¹[y]` of a PI bank, again a PI bank (Krejčí–Kuhnen) |
 //! | [`Feedback`] | `y = A[x − B[y]]`, solved each sample |
 //! | [`MechanicalSeries`] | `F = L[x_L] = R[x_R]`, `x = x_L + x_R`, optional travel limits |
 //! | [`Inverse`] | `u = A⁻¹[x]` for non-decreasing `A` |
@@ -30,6 +31,7 @@ mod pair;
 mod parallel;
 mod pi_avx2;
 mod pi_bank;
+mod pi_inverse;
 mod scaled;
 mod series;
 mod solve;
@@ -41,6 +43,7 @@ pub use inverse::Inverse;
 pub use oversample::Oversample;
 pub use parallel::Parallel;
 pub use pi_bank::{PiBank, PiBankParams};
+pub use pi_inverse::PiInverse;
 pub use scaled::Scaled;
 pub use series::{MechanicalSeries, TravelLimits};
 pub use solve::SolverOptions;

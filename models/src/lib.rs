@@ -11,12 +11,18 @@
 //!   loop that records the internal states;
 //! * [`benchmark`]: the Bouc-Wen hysteretic benchmark of Noël & Schoukens
 //!   (2016), a mass-spring-damper in feedback with a Bouc-Wen spring;
+//! * [`describing`]: the describing function (first-harmonic gain) of any
+//!   operator driven by a sine, in steady state;
+//! * [`energy`]: the work per closed loop `∮ y dx` of the same steady
+//!   cycle, and closed forms (PI bank, Bouc-Wen with `n = 1`);
 //! * [`signal`]: band-limited upsampling and FIR decimation of periodic
 //!   records.
 
 #![warn(missing_docs)]
 
 pub mod benchmark;
+pub mod describing;
+pub mod energy;
 pub mod experiments;
 pub mod signal;
 pub mod spec;

@@ -27,7 +27,7 @@
 
 use crate::TransmissionParams;
 use hysteron_composition::{
-    OperatorExt, Oversample, PiBank, PiBankParams, SolverOptions, TravelLimits,
+    OperatorExt, Oversample, PiBank, PiBankParams, PiInverse, SolverOptions, TravelLimits,
 };
 use hysteron_operators::{
     check, BoucWen, BoucWenParams, DeadZone, DeadZoneParams, ElastoPlastic, ElastoPlasticParams,
@@ -84,6 +84,11 @@ pub enum Spec {
     BoucWen(BoucWenParams<f64>),
     /// Prandtl-Ishlinskii bank of plays, [`PiBank`].
     PiBank(PiBankParams<f64>),
+    /// The analytic inverse [`PiInverse`] of the Prandtl-Ishlinskii bank
+    /// with these (forward) parameters, same fields as `pi_bank`: the
+    /// bank's cumulative weights must be positive and its initial states
+    /// reachable (see [`PiInverse`]).
+    PiInverse(PiBankParams<f64>),
     /// The paper's model from its named parameters (built by
     /// [`TransmissionParams::build`]); a convenience for the generic
     /// `series` that `Spec::from(&TransmissionParams)` gives.
@@ -325,6 +330,7 @@ impl Spec {
             Spec::Mms(p) => Mms::from_params(*p).map_err(invalid)?.boxed(),
             Spec::BoucWen(p) => BoucWen::from_params(p.clone()).map_err(invalid)?.boxed(),
             Spec::PiBank(p) => PiBank::from_params(p.clone()).map_err(invalid)?.boxed(),
+            Spec::PiInverse(p) => PiInverse::from_params(p.clone()).map_err(invalid)?.boxed(),
             Spec::Transmission(p) => p
                 .build()
                 .map_err(|e| invalid(transmission_names(e)))?
@@ -406,6 +412,7 @@ impl Spec {
             Spec::Mms(_) => "mms",
             Spec::BoucWen(_) => "bouc_wen",
             Spec::PiBank(_) => "pi_bank",
+            Spec::PiInverse(_) => "pi_inverse",
             Spec::Transmission(_) => "transmission",
             Spec::Cascade { .. } => "cascade",
             Spec::Parallel { .. } => "parallel",
@@ -577,6 +584,7 @@ impl Spec {
             | Spec::Mms(_)
             | Spec::BoucWen(_)
             | Spec::PiBank(_)
+            | Spec::PiInverse(_)
             | Spec::Transmission(_) => self.clone(),
         }
     }
@@ -741,7 +749,7 @@ impl Spec {
             },
             Spec::Mms(_) => Spec::Mms(mms(rest)?),
             Spec::BoucWen(old) => Spec::BoucWen(bouc_wen(path, old, rest)?),
-            Spec::PiBank(old) => {
+            Spec::PiBank(old) | Spec::PiInverse(old) => {
                 let m = old.r.len();
                 let a0 = take(rest, 1)?[0];
                 let r = take(rest, m)?.to_vec();
@@ -753,7 +761,12 @@ impl Spec {
                 } else {
                     y0.to_vec()
                 };
-                Spec::PiBank(PiBankParams { a0, r, w, y0 })
+                let p = PiBankParams { a0, r, w, y0 };
+                if matches!(self, Spec::PiInverse(_)) {
+                    Spec::PiInverse(p)
+                } else {
+                    Spec::PiBank(p)
+                }
             }
             Spec::Transmission(old) => {
                 // `TransmissionParams::build`: gap (b, r0), friction, spring
@@ -1050,6 +1063,7 @@ enum SpecDef {
     Mms(#[serde(deserialize_with = "MmsDef::deserialize")] MmsParams<f64>),
     BoucWen(#[serde(deserialize_with = "BoucWenDef::deserialize")] BoucWenParams<f64>),
     PiBank(#[serde(deserialize_with = "PiBankDef::deserialize")] PiBankParams<f64>),
+    PiInverse(#[serde(deserialize_with = "PiBankDef::deserialize")] PiBankParams<f64>),
     Transmission(#[serde(deserialize_with = "TransmissionDef::deserialize")] TransmissionParams),
     Cascade {
         first: Box<Spec>,

@@ -1,0 +1,202 @@
+//! The `analyze` job: the describing function and the work per loop of a
+//! model spec (JSON, see [`Spec`]) driven by sines of given amplitudes.
+//!
+//! For every amplitude `A` the model (built once, reset for each
+//! amplitude) runs `settle_periods` periods of `x = A sin θ` with
+//! `samples_per_period` samples each; the last period must be steady (its
+//! first harmonic within `steady_tol · max|y|` of the period before's,
+//! otherwise an error). From it come the describing function
+//! `N(A) = (b_1 + i a_1)/A` ([`crate::models::describing`]) and the work
+//! per loop `∮ y dx` by the trapezoid rule ([`crate::models::energy`];
+//! positive for clockwise, dissipative loops, negative for a play's
+//! counterclockwise one). The table is printed; with an output path it is
+//! also written as CSV (atomically, after every amplitude succeeded;
+//! columns `amplitude, gain, phase_deg, re, im, work`).
+
+use crate::csvio::{self, CsvIoError};
+use crate::models::describing::{AnalysisError, DescribingFunction, SineOptions, SteadyCycle};
+use crate::models::{Spec, SpecError};
+use std::fmt;
+use std::path::PathBuf;
+
+/// Options of the analyze job.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AnalyzeOptions {
+    /// The model spec (JSON).
+    pub model: PathBuf,
+    /// The amplitudes (each finite and `> 0`).
+    pub amplitudes: Vec<f64>,
+    /// Samples per period, periods to settle, steadiness tolerance and
+    /// harmonics ([`SineOptions`]).
+    pub sine: SineOptions,
+    /// Sample period (s) of the spec's rate-dependent nodes, overriding
+    /// their `dt` (default: the spec's).
+    pub dt: Option<f64>,
+    /// Optional CSV output.
+    pub output: Option<PathBuf>,
+}
+
+/// An error of the analyze job (one-line message).
+#[derive(Debug)]
+pub enum AnalyzeError {
+    /// The output path names the model file.
+    SameFile(PathBuf),
+    /// No amplitudes were given.
+    NoAmplitudes,
+    /// The model spec could not be read, parsed or built.
+    Model(PathBuf, SpecError),
+    /// An amplitude or option is outside its range.
+    Argument(AnalysisError),
+    /// The analysis of the model at one amplitude failed (operator error,
+    /// no steady state).
+    Analysis(PathBuf, AnalysisError),
+    /// Writing the output failed.
+    Write(CsvIoError),
+}
+
+impl fmt::Display for AnalyzeError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            AnalyzeError::SameFile(p) => write!(
+                f,
+                "output `{}` is the same file as the model: refusing to overwrite it",
+                p.display()
+            ),
+            AnalyzeError::NoAmplitudes => write!(f, "no amplitudes given"),
+            AnalyzeError::Model(p, e) => match e {
+                SpecError::Io { message, .. } => {
+                    write!(f, "model `{}`: {message}", p.display())
+                }
+                e => write!(f, "model `{}`: {e}", p.display()),
+            },
+            AnalyzeError::Argument(e) => write!(f, "{e}"),
+            AnalyzeError::Analysis(p, e) => write!(f, "model `{}`: {e}", p.display()),
+            AnalyzeError::Write(e) => write!(f, "output {e}"),
+        }
+    }
+}
+
+impl std::error::Error for AnalyzeError {}
+
+/// One row of the table.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AnalyzeRow {
+    /// The describing function at this amplitude.
+    pub describing: DescribingFunction,
+    /// `∮ y dx` over the steady loop.
+    pub work: f64,
+}
+
+/// What the analyze job computed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AnalyzeReport {
+    /// The model's operator name.
+    pub model: &'static str,
+    /// The options used.
+    pub sine: SineOptions,
+    /// One row per amplitude, in the order given.
+    pub rows: Vec<AnalyzeRow>,
+    /// Files written.
+    pub files: Vec<PathBuf>,
+}
+
+impl fmt::Display for AnalyzeReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "analyzed a `{}` model driven by A sin θ ({} samples per period, {} settle periods)",
+            self.model, self.sine.samples_per_period, self.sine.settle_periods
+        )?;
+        writeln!(
+            f,
+            "{:>22} {:>22} {:>22} {:>22}",
+            "A", "|N|", "phase_deg", "energy_per_loop"
+        )?;
+        for row in &self.rows {
+            let d = &row.describing;
+            writeln!(
+                f,
+                "{:>22.15e} {:>22.15e} {:>22.15e} {:>22.15e}",
+                d.amplitude,
+                d.gain,
+                d.phase.to_degrees(),
+                row.work
+            )?;
+        }
+        write!(
+            f,
+            "|N|, phase: first-harmonic gain (negative phase = lag); energy_per_loop = ∮ y dx \
+             (> 0 dissipative, clockwise)"
+        )?;
+        if !self.files.is_empty() {
+            write!(f, "\nwrote {}", csvio::join_paths(&self.files))?;
+        }
+        Ok(())
+    }
+}
+
+/// Runs the analysis; see the module docs.
+pub fn run(opts: &AnalyzeOptions) -> Result<AnalyzeReport, AnalyzeError> {
+    if let Some(out) = &opts.output {
+        if csvio::same_file(out, &opts.model) {
+            return Err(AnalyzeError::SameFile(out.clone()));
+        }
+    }
+    if opts.amplitudes.is_empty() {
+        return Err(AnalyzeError::NoAmplitudes);
+    }
+    opts.sine.validate().map_err(AnalyzeError::Argument)?;
+    for &a in &opts.amplitudes {
+        if !(a.is_finite() && a > 0.0) {
+            return Err(AnalyzeError::Argument(AnalysisError::InvalidArgument {
+                name: "amplitude",
+                value: a,
+                reason: "must be finite and > 0",
+            }));
+        }
+    }
+    let model_err = |e| AnalyzeError::Model(opts.model.clone(), e);
+    let mut spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
+    if let Some(dt) = opts.dt {
+        spec = spec.with_dt(dt);
+    }
+    let model = spec.build().map_err(model_err)?;
+    let analysis_err = |e| AnalyzeError::Analysis(opts.model.clone(), e);
+    let mut rows = Vec::with_capacity(opts.amplitudes.len());
+    for &a in &opts.amplitudes {
+        let cycle = SteadyCycle::compute(&model, a, &opts.sine).map_err(analysis_err)?;
+        rows.push(AnalyzeRow {
+            describing: cycle.describing_function(opts.sine.harmonics),
+            work: cycle.loop_work(),
+        });
+    }
+    let mut files = Vec::new();
+    if let Some(out) = &opts.output {
+        let col = |f: fn(&AnalyzeRow) -> f64| rows.iter().map(f).collect::<Vec<f64>>();
+        let amplitude = col(|r| r.describing.amplitude);
+        let gain = col(|r| r.describing.gain);
+        let phase = col(|r| r.describing.phase.to_degrees());
+        let re = col(|r| r.describing.re);
+        let im = col(|r| r.describing.im);
+        let work = col(|r| r.work);
+        csvio::write_columns(
+            out,
+            &[
+                ("amplitude", &amplitude),
+                ("gain", &gain),
+                ("phase_deg", &phase),
+                ("re", &re),
+                ("im", &im),
+                ("work", &work),
+            ],
+        )
+        .map_err(AnalyzeError::Write)?;
+        files.push(out.clone());
+    }
+    Ok(AnalyzeReport {
+        model: model.name(),
+        sine: opts.sine,
+        rows,
+        files,
+    })
+}

@@ -1,0 +1,275 @@
+//! End-to-end tests of `hysteron analyze`: the printed describing
+//! function and loop work of a play against their closed forms, the CSV
+//! output, and bad inputs (one-line error, exit code 1, no panic, nothing
+//! written).
+
+use hysteron::models::describing::play_describing_function;
+use std::f64::consts::PI;
+use std::fs;
+use std::path::Path;
+use tempfile::TempDir;
+
+mod common;
+use common::*;
+
+const PLAY: &str = r#"{"type": "play", "r": 0.3}"#;
+
+/// The table rows of the report: `A, |N|, phase_deg, energy_per_loop`.
+fn rows(stdout: &str) -> Vec<[f64; 4]> {
+    stdout
+        .lines()
+        .filter_map(|line| {
+            let v: Vec<f64> = line
+                .split_whitespace()
+                .map(|t| t.parse::<f64>())
+                .collect::<Result<_, _>>()
+                .ok()?;
+            (v.len() == 4).then(|| [v[0], v[1], v[2], v[3]])
+        })
+        .collect()
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> std::path::PathBuf {
+    let p = dir.join(name);
+    fs::write(&p, text).unwrap();
+    p
+}
+
+#[test]
+fn play_matches_the_closed_forms() {
+    let tmp = TempDir::new().unwrap();
+    let spec = write(tmp.path(), "play.json", PLAY);
+    let out = tmp.path().join("table.csv");
+    let n = 4096;
+    let assert = hysteron(tmp.path())
+        .args([
+            "analyze",
+            "--model",
+            "play.json",
+            "--amplitudes",
+            "1,0.5,2.75,0.2",
+        ])
+        .args([
+            "--samples-per-period",
+            &n.to_string(),
+            "--settle-periods",
+            "3",
+        ])
+        .arg("--output")
+        .arg(&out)
+        .assert()
+        .success();
+    let stdout = String::from_utf8(assert.get_output().stdout.clone()).unwrap();
+    let table = rows(&stdout);
+    assert_eq!(table.len(), 4, "{stdout}");
+    let r = 0.3;
+    let h = 2.0 * PI / n as f64;
+    // quadrature bound of the describing function (see tests/describing.rs:
+    // two kinks, slope 1): √2 h² (2/(8π) + 2/3)
+    let df_bound = 2f64.sqrt() * h * h * (2.0 / (8.0 * PI) + 2.0 / 3.0);
+    for (row, a) in table.iter().zip([1.0, 0.5, 2.75, 0.2]) {
+        assert_eq!(row[0], a);
+        let (re, im) = play_describing_function(r, a);
+        let gain = re.hypot(im);
+        assert!(
+            (row[1] - gain).abs() <= df_bound,
+            "A={a}: |N| {} vs {gain}",
+            row[1]
+        );
+        if gain > 0.0 {
+            let phase = im.atan2(re).to_degrees();
+            // |Δ arg| ≤ |ΔN| / |N| (radians)
+            let tol = (df_bound / gain).to_degrees();
+            assert!(
+                (row[2] - phase).abs() <= tol,
+                "A={a}: phase {} vs {phase}",
+                row[2]
+            );
+            assert!(row[2] < 0.0, "a play lags");
+        } else {
+            assert_eq!((row[1], row[2]), (0.0, 0.0));
+        }
+        // ∮ y dx = −4 r (A − r) for A > r, within the trapezoid rule's
+        // kink bound 2 Δx²/8, Δx ≤ 2A sin(π/N), plus rounding
+        let work = if a > r { -4.0 * r * (a - r) } else { 0.0 };
+        let dx = 2.0 * a * (PI / n as f64).sin();
+        let bound = 2.0 * dx * dx / 8.0 + 1e-12 * a;
+        assert!(
+            (row[3] - work).abs() <= bound,
+            "A={a}: work {} vs {work}",
+            row[3]
+        );
+    }
+    assert!(stdout.contains("wrote"), "{stdout}");
+
+    // The CSV holds the same numbers at full precision.
+    let mut reader = csv::Reader::from_path(&out).unwrap();
+    assert_eq!(
+        reader.headers().unwrap().iter().collect::<Vec<_>>(),
+        ["amplitude", "gain", "phase_deg", "re", "im", "work"]
+    );
+    let recs: Vec<Vec<f64>> = reader
+        .records()
+        .map(|r| r.unwrap().iter().map(|c| c.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(recs.len(), 4);
+    for (rec, row) in recs.iter().zip(&table) {
+        // printed with 16 significant digits
+        for (i, j) in [(0, 0), (1, 1), (2, 2), (5, 3)] {
+            assert!(
+                (rec[i] - row[j]).abs() <= 1e-15 * rec[i].abs().max(1e-300),
+                "{rec:?} {row:?}"
+            );
+        }
+        assert!((rec[3].hypot(rec[4]) - rec[1]).abs() <= 1e-15);
+    }
+    assert_no_temp_files(tmp.path());
+    assert_eq!(fs::read_to_string(&spec).unwrap(), PLAY);
+}
+
+/// Bad inputs: exit code 1 and one line on stderr naming the problem;
+/// nothing written.
+#[test]
+fn bad_inputs_are_one_line_errors() {
+    let tmp = TempDir::new().unwrap();
+    write(tmp.path(), "play.json", PLAY);
+    write(tmp.path(), "broken.json", r#"{"type": "play", "r": "#);
+    write(tmp.path(), "invalid.json", r#"{"type": "play", "r": -1}"#);
+    write(tmp.path(), "unknown.json", r#"{"type": "relay", "m": 1}"#);
+    write(
+        tmp.path(),
+        "ringing.json",
+        r#"{"type": "mass_spring_damper", "m": 1, "c": 0.05, "k": 40, "dt": 0.01}"#,
+    );
+    write(
+        tmp.path(),
+        "noinverse.json",
+        r#"{"type": "inverse", "inner": {"type": "saturation", "lo": -1, "hi": 1}}"#,
+    );
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (
+            vec!["--model", "play.json", "--amplitudes", "-1"],
+            "invalid amplitude = -1",
+        ),
+        (
+            vec!["--model", "play.json", "--amplitudes", "1,-0.5"],
+            "invalid amplitude = -0.5",
+        ),
+        (
+            vec!["--model", "play.json", "--amplitudes", "-1,2"],
+            "invalid amplitude = -1",
+        ),
+        (
+            vec!["--model", "play.json", "--amplitudes=0"],
+            "invalid amplitude = 0",
+        ),
+        (
+            vec!["--model", "play.json", "--amplitudes", "nan"],
+            "invalid amplitude = NaN",
+        ),
+        (
+            vec!["--model", "play.json", "--amplitudes", "inf"],
+            "invalid amplitude = inf",
+        ),
+        (
+            vec!["--model", "missing.json", "--amplitudes", "1"],
+            "missing.json",
+        ),
+        (
+            vec!["--model", "broken.json", "--amplitudes", "1"],
+            "broken.json",
+        ),
+        (
+            vec!["--model", "invalid.json", "--amplitudes", "1"],
+            "must be ≥ 0",
+        ),
+        (
+            vec!["--model", "unknown.json", "--amplitudes", "1"],
+            "relay",
+        ),
+        (
+            vec![
+                "--model",
+                "play.json",
+                "--amplitudes",
+                "1",
+                "--samples-per-period",
+                "10",
+            ],
+            "samples_per_period",
+        ),
+        (
+            vec![
+                "--model",
+                "play.json",
+                "--amplitudes",
+                "1",
+                "--settle-periods",
+                "1",
+            ],
+            "settle_periods",
+        ),
+        (
+            vec![
+                "--model",
+                "play.json",
+                "--amplitudes",
+                "1",
+                "--steady-tol",
+                "-1",
+            ],
+            "steady_tol",
+        ),
+        (
+            vec![
+                "--model",
+                "ringing.json",
+                "--amplitudes",
+                "1",
+                "--samples-per-period",
+                "64",
+                "--settle-periods",
+                "3",
+            ],
+            "not periodic",
+        ),
+        (
+            vec!["--model", "noinverse.json", "--amplitudes", "2"],
+            "failed in period 0",
+        ),
+        (
+            vec![
+                "--model",
+                "play.json",
+                "--amplitudes",
+                "1",
+                "--output",
+                "play.json",
+            ],
+            "same file as the model",
+        ),
+        (
+            vec![
+                "--model",
+                "play.json",
+                "--amplitudes",
+                "1",
+                "--output",
+                "nodir/out.csv",
+            ],
+            "does not exist",
+        ),
+    ];
+    let before = snapshot(tmp.path());
+    for (args, expected) in cases {
+        let assert = hysteron(tmp.path())
+            .arg("analyze")
+            .args(&args)
+            .assert()
+            .code(1);
+        let err = one_line_error(&assert.get_output().stderr);
+        assert!(err.contains(expected), "{args:?}: {err}");
+        assert!(assert.get_output().stdout.is_empty(), "{args:?}");
+        assert_eq!(snapshot(tmp.path()), before, "{args:?} wrote something");
+    }
+}
