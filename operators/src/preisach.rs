@@ -42,7 +42,8 @@ pub enum PreisachMeasure<T> {
     /// and zero on `α = β`: the cell's mass sits on the diagonal (relays
     /// without hysteresis, a reversible part). Every cell's mass must be
     /// `≥ 0`: `E(x[i+1], x[j]) + E(x[i], x[j+1]) − E(x[i], x[j]) −
-    /// E(x[i+1], x[j+1]) ≥ 0` and `e[k][k] ≥ 0`. The input range is
+    /// E(x[i+1], x[j+1]) ≥ −8 ε Σ|corners|` (zero up to the rounding of
+    /// its four values) and `e[k][k] ≥ 0`. The input range is
     /// `[x[0], x[m]]`.
     Table {
         /// Nodes, strictly increasing (at least two).
@@ -174,8 +175,13 @@ impl<T: Float> PreisachMeasure<T> {
                 let at = |p: usize, q: usize| if p == q { T::zero() } else { e[p - 1][q] };
                 for i in 1..m {
                     for j in 0..i {
-                        let mass = at(i + 1, j) + at(i, j + 1) - at(i, j) - at(i + 1, j + 1);
-                        if mass < T::zero() {
+                        let (a, b, c, d) = (at(i + 1, j), at(i, j + 1), at(i, j), at(i + 1, j + 1));
+                        let mass = a + b - c - d;
+                        // A mass below the rounding of its corners is zero
+                        // to the table's precision (tables summed from
+                        // cell masses round like that).
+                        let noise = T::lit(8.0) * T::epsilon() * (a + b + c + d);
+                        if mass < -noise {
                             return Err(invalid(
                                 format!("e[{i}][{j}]"),
                                 e[i][j],
@@ -210,7 +216,8 @@ impl<T: Float> PreisachMeasure<T> {
         matches!(self, PreisachMeasure::Grid { .. })
     }
 
-    fn n_params(&self) -> usize {
+    /// The number of values in the flat parameter vector.
+    pub fn n_params(&self) -> usize {
         match self {
             PreisachMeasure::Grid { t, mu } => t.len() + mu.iter().map(Vec::len).sum::<usize>(),
             PreisachMeasure::Table { x, e } => x.len() + e.iter().map(Vec::len).sum::<usize>(),
@@ -273,8 +280,8 @@ impl<T: Float> PreisachMeasure<T> {
     }
 
     /// The same representation and shape with the values `p` (in the order
-    /// of `params_into`); unvalidated.
-    fn from_flat(&self, p: &[T]) -> Result<Self> {
+    /// of [`Operator::params`] of the model), unvalidated.
+    pub fn from_flat(&self, p: &[T]) -> Result<Self> {
         check::count(self.n_params(), p)?;
         let refill = |a: &[T], rows: &[Vec<T>]| -> (Vec<T>, Vec<Vec<T>>) {
             let (head, mut rest) = p.split_at(a.len());
