@@ -714,3 +714,66 @@ fn invalid_measures_are_typed_errors() {
     assert_eq!(p.param_names()[7], "e[0][0]");
 }
 
+
+// ---------------------------------------------------------------------------
+// Specs
+// ---------------------------------------------------------------------------
+
+/// A Preisach spec in JSON builds the same model as the library, its
+/// parameters round-trip through `with_params`, and errors name the path
+/// in the document (JSON errors) or through the tree (parameter errors).
+#[test]
+fn preisach_specs_build_and_name_their_errors() {
+    use hysteron::models::Spec;
+    let json = r#"{"type": "preisach", "start": "from_above",
+        "measure": {"table": {"x": [-1, 0, 1], "e": [[0.5], [2, 0.5]]}}}"#;
+    let spec = Spec::from_json(json).unwrap();
+    let mut built = spec.build().unwrap();
+    let mut direct = build(
+        PreisachMeasure::Table {
+            x: vec![-1.0, 0.0, 1.0],
+            e: vec![vec![0.5], vec![2.0, 0.5]],
+        },
+        PreisachStart::FromAbove,
+    );
+    let xs = [0.3, -0.4, 0.9, -2.0, 0.1];
+    assert_eq!(
+        bits(&built.run(&xs).unwrap()),
+        bits(&direct.run(&xs).unwrap())
+    );
+    assert_eq!(
+        built.param_names(),
+        ["x[0]", "x[1]", "x[2]", "e[0][0]", "e[1][0]", "e[1][1]"]
+    );
+    let mut p = built.params();
+    assert_eq!(spec.with_params(&p).unwrap(), spec);
+    p[4] = 3.0;
+    assert_eq!(spec.with_params(&p).unwrap().build().unwrap().params(), p);
+    // A misspelt field inside the measure: named by its JSON path.
+    let err = Spec::from_json(
+        r#"{"type": "preisach", "measure": {"uniform": {"mu": 1, "x_min": -1, "xmax": 1}}}"#,
+    )
+    .unwrap_err();
+    assert_eq!(err.path(), "measure.uniform.xmax", "{err}");
+    assert!(err.to_string().contains("xmax"), "{err}");
+    // An unknown representation.
+    let err = Spec::from_json(r#"{"type": "preisach", "measure": {"spline": {}}}"#).unwrap_err();
+    assert_eq!(err.path(), "measure", "{err}");
+    // A table with negative mass: named through the tree.
+    let err = Spec::from_json(
+        r#"{"type": "preisach", "measure": {"table": {"x": [0, 1, 2], "e": [[1], [1, 1]]}}}"#,
+    )
+    .unwrap()
+    .build()
+    .unwrap_err();
+    assert_eq!(err.path(), "preisach.e[1][0]", "{err}");
+    // Inside a combinator.
+    let err = Spec::from_json(
+        r#"{"type": "inverse", "inner": {"type": "preisach",
+            "measure": {"tanh": {"amplitude": 1, "hc": 0.2, "w": -1, "x_min": -1, "x_max": 1}}}}"#,
+    )
+    .unwrap()
+    .build()
+    .unwrap_err();
+    assert_eq!(err.to_string(), "inverse.inner.preisach.w: must be > 0 (got -1)");
+}
