@@ -43,11 +43,16 @@ fn simulate_runs_the_preisach_example() {
     let assert = hysteron(tmp.path())
         .args(["simulate", "--model"])
         .arg(example())
-        .args(["--input", "in.csv", "--output", "out.csv", "--plot", "loop.svg"])
+        .args([
+            "--input", "in.csv", "--output", "out.csv", "--plot", "loop.svg",
+        ])
         .assert()
         .success();
     let stdout = String::from_utf8(assert.get_output().stdout.clone()).unwrap();
-    assert!(stdout.contains(&format!("simulated {} samples", xs.len())), "{stdout}");
+    assert!(
+        stdout.contains(&format!("simulated {} samples", xs.len())),
+        "{stdout}"
+    );
     let out = tmp.path().join("out.csv");
     assert_eq!(column(&out, "x"), xs);
     let y = column(&out, "y");
@@ -75,7 +80,9 @@ fn simulate_names_a_bad_preisach_weight() {
     )
     .unwrap();
     let assert = hysteron(tmp.path())
-        .args(["simulate", "--model", "bad.json", "--input", "in.csv", "--output", "out.csv"])
+        .args([
+            "simulate", "--model", "bad.json", "--input", "in.csv", "--output", "out.csv",
+        ])
         .assert()
         .failure()
         .code(1);

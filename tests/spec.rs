@@ -126,7 +126,10 @@ fn axis(start: f64, steps: &[f64]) -> Vec<f64> {
 /// on the diagonal), so its Everett values are valid by construction:
 /// `E(x[p], x[q]) = Σ_{q ≤ j ≤ i < p} m[i][j]`.
 fn preisach() -> impl Strategy<Value = PreisachParams<f64>> {
-    let start = prop_oneof![Just(PreisachStart::FromBelow), Just(PreisachStart::FromAbove)];
+    let start = prop_oneof![
+        Just(PreisachStart::FromBelow),
+        Just(PreisachStart::FromAbove)
+    ];
     let tri = |n: usize| {
         (0..n)
             .map(|i| prop::collection::vec(num(0.0, 1.0), i + 1..=i + 1))
@@ -158,15 +161,20 @@ fn preisach() -> impl Strategy<Value = PreisachParams<f64>> {
             x_max: x_min + d,
         }
     });
-    let tanh = (num(0.0, 3.0), num(-0.5, 0.8), 0.05..1.0f64, -2.0..0.0f64, 0.1..3.0f64).prop_map(
-        |(amplitude, hc, w, x_min, d)| PreisachMeasure::Tanh {
+    let tanh = (
+        num(0.0, 3.0),
+        num(-0.5, 0.8),
+        0.05..1.0f64,
+        -2.0..0.0f64,
+        0.1..3.0f64,
+    )
+        .prop_map(|(amplitude, hc, w, x_min, d)| PreisachMeasure::Tanh {
             amplitude,
             hc,
             w,
             x_min,
             x_max: x_min + d,
-        },
-    );
+        });
     (prop_oneof![grid, table, uniform, tanh], start)
         .prop_map(|(measure, start)| PreisachParams { measure, start })
 }

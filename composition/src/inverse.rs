@@ -100,7 +100,6 @@ where
             return Err(Error::Jump {
                 solver: "inverse",
                 at: u.as_f64(),
-                target: x.as_f64(),
                 below: lo.as_f64(),
                 above: hi.as_f64(),
             });

@@ -75,14 +75,12 @@ pub enum Error {
     /// residual jumps there instead of passing through zero: the operator
     /// it solves for is discontinuous (a relay, a discrete Preisach grid)
     /// and no input gives the target.
-    #[error("{solver}: the operator jumps from {below} to {above} at input {at}, across the target {target}: no input reaches it")]
+    #[error("{solver}: the operator jumps from {below} to {above} at input {at}: no input reaches a target in between")]
     Jump {
         /// Which solver failed.
         solver: &'static str,
         /// The input where the jump is.
         at: f64,
-        /// The output wanted.
-        target: f64,
         /// The output just below the jump.
         below: f64,
         /// The output just above the jump.

@@ -173,9 +173,10 @@ impl<T: Float> PreisachMeasure<T> {
                 check_triangle("e", e, m)?;
                 // E at node pairs (p ≥ q); E(p, p) = 0.
                 let at = |p: usize, q: usize| if p == q { T::zero() } else { e[p - 1][q] };
-                for i in 1..m {
-                    for j in 0..i {
-                        let (a, b, c, d) = (at(i + 1, j), at(i, j + 1), at(i, j), at(i + 1, j + 1));
+                // Row i of `e` is E(x[i+1], ·): the cells (i, j), j < i.
+                for (i, row) in e.iter().enumerate().skip(1) {
+                    for (j, &a) in row.iter().enumerate().take(i) {
+                        let (b, c, d) = (at(i, j + 1), at(i, j), at(i + 1, j + 1));
                         let mass = a + b - c - d;
                         // A mass below the rounding of its corners is zero
                         // to the table's precision (tables summed from
@@ -184,7 +185,7 @@ impl<T: Float> PreisachMeasure<T> {
                         if mass < -noise {
                             return Err(invalid(
                                 format!("e[{i}][{j}]"),
-                                e[i][j],
+                                a,
                                 "the Everett table has negative mass on the cell [x[i], x[i+1]] × [x[j], x[j+1]]: need E(x[i+1], x[j]) + E(x[i], x[j+1]) ≥ E(x[i], x[j]) + E(x[i+1], x[j+1])",
                             ));
                         }
@@ -249,9 +250,11 @@ impl<T: Float> PreisachMeasure<T> {
         let tri = |axis: &str, n: usize, name: &str, rows: &[Vec<T>]| -> Vec<String> {
             (0..n)
                 .map(|k| format!("{axis}[{k}]"))
-                .chain(rows.iter().enumerate().flat_map(|(i, r)| {
-                    (0..r.len()).map(move |j| format!("{name}[{i}][{j}]"))
-                }))
+                .chain(
+                    rows.iter()
+                        .enumerate()
+                        .flat_map(|(i, r)| (0..r.len()).map(move |j| format!("{name}[{i}][{j}]"))),
+                )
                 .collect()
         };
         match self {
@@ -453,7 +456,7 @@ impl<T: Float> Kernel<T> {
     fn everett(&self, a: T, b: T) -> T {
         match self {
             Kernel::Grid { c, .. } => {
-                let up = (a.to_usize().unwrap_or(0) + 1) / 2; // relays with i < up are reached
+                let up = a.to_usize().unwrap_or(0).div_ceil(2); // relays with i < up are reached
                 let down = b.to_usize().unwrap_or(0) / 2; // relays with j ≥ down
                 if up == 0 || up - 1 < down {
                     T::zero()
@@ -510,8 +513,7 @@ impl<T: Float> Kernel<T> {
                 let r = (b - x[j]) / (x[j + 1] - x[j]);
                 let e01 = e[tri(i, j + 1)];
                 let one = T::one();
-                ((one - r) * (e[tri(i + 1, j)] - e[tri(i, j)])
-                    + r * (e[tri(i + 1, j + 1)] - e01))
+                ((one - r) * (e[tri(i + 1, j)] - e[tri(i, j)]) + r * (e[tri(i + 1, j + 1)] - e01))
                     / hi
             }
             Kernel::Uniform { half_mu } => (*half_mu + *half_mu) * (a - b),
@@ -741,7 +743,13 @@ impl<T: Float> Preisach<T> {
         let continuing = n >= 1 && (top.v > s[n - 1].v) == up;
         let mut keep = if continuing { n } else { n + 1 };
         // Wipe-out: passing (or reaching) the extremum two back closes its loop.
-        while keep >= 2 && (if up { v >= s[keep - 2].v } else { v <= s[keep - 2].v }) {
+        while keep >= 2
+            && (if up {
+                v >= s[keep - 2].v
+            } else {
+                v <= s[keep - 2].v
+            })
+        {
             keep -= 2;
         }
         let p = if keep == 0 {
@@ -822,7 +830,10 @@ impl<T: Float> Operator<T> for Preisach<T> {
         self.stack.clear();
         let (lo, hi) = (self.lo, self.hi);
         let zero = self.kernel.coord(T::zero(), lo, hi);
-        self.stack.push(Entry { v: lo, p: T::zero() });
+        self.stack.push(Entry {
+            v: lo,
+            p: T::zero(),
+        });
         if self.p.start == PreisachStart::FromAbove {
             self.stack.push(Entry {
                 v: hi,
