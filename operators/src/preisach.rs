@@ -870,3 +870,52 @@ impl<T: Float> Operator<T> for Preisach<T> {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The model is generic: in `f32` the uniform density's ascending
+    /// branch `y = −E₀ + μ (x − x_min)²` holds to a few ulps of `E₀`, and
+    /// the grid's staircase levels are exact sums of its weights.
+    #[test]
+    fn works_in_f32() {
+        let mut p = Preisach::from_params(PreisachParams {
+            measure: PreisachMeasure::Uniform {
+                mu: 0.5_f32,
+                x_min: -1.0,
+                x_max: 1.0,
+            },
+            start: PreisachStart::FromBelow,
+        })
+        .unwrap();
+        let e0 = p.saturation();
+        assert_eq!(e0, 1.0);
+        p.run(&[-2.0]).unwrap();
+        for k in 0..=20 {
+            let x = -1.0 + 0.1 * k as f32;
+            let y = p.run(&[x]).unwrap()[0];
+            let expected = -e0 + 0.5 * (x + 1.0) * (x + 1.0);
+            assert!(
+                (y - expected).abs() <= 4.0 * f32::EPSILON * e0,
+                "{x}: {y} vs {expected}"
+            );
+        }
+        let mut g = Preisach::from_params(PreisachParams {
+            measure: PreisachMeasure::Grid {
+                t: vec![-0.5_f32, 0.5],
+                mu: vec![vec![0.25], vec![0.5, 0.125]],
+            },
+            start: PreisachStart::FromBelow,
+        })
+        .unwrap();
+        // E₀ = 0.875, all down at −1; the diagonal relay at −0.5 goes up
+        // there (+0.5), the relays with α = 0.5 at 0.5 (+1.25); back at 0
+        // the diagonal relay at 0.5 is down again (x ≤ β = 0.5: −0.25), at
+        // −0.5 every relay is down (β ≥ −0.5 for all).
+        assert_eq!(
+            g.run(&[-1.0, -0.5, 0.0, 0.5, 0.0, -0.5]).unwrap(),
+            vec![-0.875, -0.375, -0.375, 0.875, 0.625, -0.875]
+        );
+    }
+}
