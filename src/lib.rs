@@ -5,7 +5,8 @@
 //!
 //! * [`operators`]: the [`Operator`] trait, errors and
 //!   the elementary operators (play, stop, elastoplastic, dead-zone,
-//!   saturation, gain, Modified Maxwell-slip friction, Bouc-Wen spring);
+//!   saturation, gain, Modified Maxwell-slip friction, Bouc-Wen spring,
+//!   Preisach model);
 //! * [`composition`]: combinators (cascade, parallel, scaled, PI bank,
 //!   feedback, mechanical series, inverse) and their solver;
 //! * [`models`]: composed models;
@@ -53,8 +54,8 @@ pub mod prelude {
     };
     pub use hysteron_operators::{
         BoucWen, BoucWenParams, DeadZone, ElastoPlastic, Error, Float, Gain, MassSpringDamper, Mms,
-        MmsParams, Operator, Play, PlayParams, Result, Saturation, StiffnessMap, Stop, Trial,
-        ViscousDamper,
+        MmsParams, Operator, Play, PlayParams, Preisach, PreisachMeasure, PreisachParams,
+        PreisachStart, Result, Saturation, StiffnessMap, Stop, Trial, ViscousDamper,
     };
 }
 

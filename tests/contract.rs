@@ -269,6 +269,63 @@ fn leaves() {
         MassSpringDamper::new(2.0, 10.0, 5e4, 1.0 / 750.0).unwrap(),
     );
     check("viscous damper", ViscousDamper::new(3.0, 0.01).unwrap());
+    for (label, measure) in preisach_measures() {
+        for (start_label, start) in [
+            ("", PreisachStart::FromBelow),
+            (" from above", PreisachStart::FromAbove),
+        ] {
+            check(
+                &format!("{label}{start_label}"),
+                Preisach::from_params(PreisachParams {
+                    measure: measure.clone(),
+                    start,
+                })
+                .unwrap(),
+            );
+        }
+    }
+}
+
+/// One Preisach model per representation, ranges inside and outside the
+/// contract signal's (≈ ±1.9, probes to ±5.7).
+fn preisach_measures() -> Vec<(&'static str, PreisachMeasure<f64>)> {
+    let x = vec![-1.5, -0.7, 0.0, 0.4, 1.2];
+    let e = (1..x.len())
+        .map(|p| {
+            (0..p)
+                .map(|q| {
+                    let d: f64 = x[p] - x[q];
+                    0.3 * d * d + 0.1 * d // uniform density 0.6 plus diagonal mass
+                })
+                .collect()
+        })
+        .collect();
+    vec![
+        (
+            "preisach grid",
+            PreisachParams::grid_from_density(-1.6, 1.8, 9, |a: f64, b: f64| 1.0 + a * b * 0.1)
+                .measure,
+        ),
+        ("preisach table", PreisachMeasure::Table { x, e }),
+        (
+            "preisach uniform",
+            PreisachMeasure::Uniform {
+                mu: 0.8,
+                x_min: -1.0,
+                x_max: 2.5,
+            },
+        ),
+        (
+            "preisach tanh",
+            PreisachMeasure::Tanh {
+                amplitude: 1.5,
+                hc: 0.3,
+                w: 0.4,
+                x_min: -2.0,
+                x_max: 2.0,
+            },
+        ),
+    ]
 }
 
 #[test]
@@ -338,6 +395,16 @@ fn combinators() {
     );
     check("inverse", pi().inverse());
     check("inverse bouc-wen", spring(1.0).inverse());
+    check(
+        "inverse preisach + gain",
+        Preisach::from_params(PreisachParams {
+            measure: preisach_measures()[3].1.clone(),
+            start: PreisachStart::FromBelow,
+        })
+        .unwrap()
+        .plus(Gain::new(0.2).unwrap())
+        .inverse(),
+    );
 }
 
 #[test]

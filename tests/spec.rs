@@ -10,7 +10,8 @@ use hysteron::composition::{Oversample, PiBankParams, SolverOptions, TravelLimit
 use hysteron::models::{Spec, SpecError, TransmissionParams};
 use hysteron::operators::{
     BoucWenParams, DeadZoneParams, ElastoPlasticParams, MassSpringDamper, MassSpringDamperParams,
-    MmsParams, PlayParams, SaturationParams, StiffnessMap, StopParams, ViscousDamper,
+    MmsParams, PlayParams, PreisachMeasure, PreisachParams, PreisachStart, SaturationParams,
+    StiffnessMap, StopParams, ViscousDamper,
 };
 use hysteron::{Error, Operator};
 use proptest::prelude::*;
@@ -137,6 +138,77 @@ fn transmission() -> impl Strategy<Value = TransmissionParams> {
     })
 }
 
+/// A strictly increasing axis of `n` points from `start`.
+fn axis(start: f64, steps: &[f64]) -> Vec<f64> {
+    let mut v = start;
+    steps
+        .iter()
+        .map(|&d| {
+            let here = v;
+            v += d;
+            here
+        })
+        .collect()
+}
+
+/// A Preisach model in each representation. A table is built from random
+/// non-negative cell masses (`m[i][j]` on cell `(i, j)`, the diagonal ones
+/// on the diagonal), so its Everett values are valid by construction:
+/// `E(x[p], x[q]) = Σ_{q ≤ j ≤ i < p} m[i][j]`.
+fn preisach() -> impl Strategy<Value = PreisachParams<f64>> {
+    let start = prop_oneof![
+        Just(PreisachStart::FromBelow),
+        Just(PreisachStart::FromAbove)
+    ];
+    let tri = |n: usize| {
+        (0..n)
+            .map(|i| prop::collection::vec(num(0.0, 1.0), i + 1..=i + 1))
+            .collect::<Vec<_>>()
+    };
+    let grid = (num(-1.5, 0.5), prop::collection::vec(0.05..0.8f64, 1..6))
+        .prop_flat_map(move |(t0, steps)| (Just(axis(t0, &steps)), tri(steps.len())))
+        .prop_map(|(t, mu)| PreisachMeasure::Grid { t, mu });
+    let table = (num(-1.5, 0.0), prop::collection::vec(0.05..0.8f64, 2..6))
+        .prop_flat_map(move |(x0, steps)| (Just(axis(x0, &steps)), tri(steps.len() - 1)))
+        .prop_map(|(x, m)| {
+            let cells = m.len();
+            let e = (0..cells)
+                .map(|k| {
+                    (0..=k)
+                        .map(|q| {
+                            // E(x[k+1], x[q]) = Σ_{q ≤ j ≤ i ≤ k} m[i][j]
+                            (q..=k).map(|i| m[i][q..=i].iter().sum::<f64>()).sum()
+                        })
+                        .collect()
+                })
+                .collect();
+            PreisachMeasure::Table { x, e }
+        });
+    let uniform = (num(0.0, 2.0), -2.0..0.0f64, 0.1..2.0f64).prop_map(|(mu, x_min, d)| {
+        PreisachMeasure::Uniform {
+            mu,
+            x_min,
+            x_max: x_min + d,
+        }
+    });
+    let tanh = (
+        num(0.0, 3.0),
+        num(-0.5, 0.8),
+        0.05..1.0f64,
+        -2.0..0.0f64,
+        0.1..3.0f64,
+    )
+        .prop_map(|(amplitude, hc, w, x_min, d)| PreisachMeasure::Tanh {
+            amplitude,
+            hc,
+            w,
+            x_min,
+            x_max: x_min + d,
+        });
+    (prop_oneof![grid, table, uniform, tanh], start)
+        .prop_map(|(measure, start)| PreisachParams { measure, start })
+}
+
 /// Every elementary operator, with valid random parameters.
 fn leaf() -> BoxedStrategy<Spec> {
     prop_oneof![
@@ -153,6 +225,7 @@ fn leaf() -> BoxedStrategy<Spec> {
         bouc_wen().prop_map(Spec::BoucWen),
         pi_bank().prop_map(Spec::PiBank),
         pi_inverse().prop_map(Spec::PiInverse),
+        preisach().prop_map(Spec::Preisach),
         transmission().prop_map(Spec::Transmission),
         (0.1..2.0f64, num(0.0, 5.0), num(0.0, 100.0), 0.001..0.1f64).prop_map(|(m, c, k, dt)| {
             Spec::MassSpringDamper(MassSpringDamperParams { m, c, k, dt })
@@ -808,6 +881,20 @@ fn examples() -> Vec<(&'static str, Spec)> {
                 r: vec![0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7],
                 w: vec![1.0, 0.6, 0.4, 0.3, 0.2, 0.15, 0.1, 0.05],
                 y0: vec![],
+            }),
+        ),
+        // A Preisach model with the closed-form two-peak Everett function.
+        (
+            "preisach.json",
+            Spec::Preisach(PreisachParams {
+                measure: PreisachMeasure::Tanh {
+                    amplitude: 1.0,
+                    hc: 0.4,
+                    w: 0.25,
+                    x_min: -1.5,
+                    x_max: 1.5,
+                },
+                start: PreisachStart::FromBelow,
             }),
         ),
         // Backlash (play) followed by a dead-zone.

@@ -2,7 +2,7 @@
 
 use crate::pair::prefixed;
 use crate::solve::{solve, SolverOptions, Start};
-use hysteron_operators::{check_input, Float, Operator, Result, Trial};
+use hysteron_operators::{check_input, Error, Float, Operator, Result, Trial};
 
 /// Inverse `u = A⁻¹[x]` of a non-decreasing operator `A` (`a.inverse()`):
 /// every sample solves `A[u] = x` for `u` from `A`'s committed state (its
@@ -12,6 +12,16 @@ use hysteron_operators::{check_input, Float, Operator, Result, Trial};
 /// plateau) is an [`Error::NoBracket`](hysteron_operators::Error::NoBracket).
 /// Where `A` is flat the inverse is not unique; the solver returns one
 /// point of the flat set.
+///
+/// Where `A` jumps over the target (a relay, the staircase of a discrete
+/// Preisach grid) there is no solution either: the solver closes in on the
+/// jump, and the inverse reports an [`Error::Jump`](hysteron_operators::Error::Jump)
+/// instead of the input at the jump. The test: at the returned `u` the
+/// residual `|A(u) − x|` exceeds what the local slope allows over the
+/// solver tolerance `τ = abs_tol + rel_tol · max(|u|, scale)`
+/// (`2 |A'(u)| τ + 8 ε (|x| + |A(u)|)`); then `A` is probed at `u ∓ 2τ` on
+/// the far side of the sign change, and a change of `A` there larger than
+/// `8 max|A'| τ + √ε max|A|` is a jump.
 ///
 /// Tangent: `1 / A'(u)` (`+∞` where `A` is flat).
 ///
@@ -54,6 +64,52 @@ impl<T: Float, A> Inverse<T, A> {
     }
 }
 
+impl<T, A> Inverse<T, A>
+where
+    T: Float,
+    A: Operator<T>,
+{
+    /// After a solve that ended at `u` with `A(u) = out`, `A'(u) = slope`:
+    /// fails with [`Error::Jump`] if `A` jumps across `x` there (see the
+    /// type's documentation), and leaves `A`'s pending trial at `u`.
+    fn check_jump(&mut self, x: T, u: T, out: T, slope: T, scale: T) -> Result<()> {
+        let r = out - x;
+        let tau = self.opts.abs_tol + self.opts.rel_tol * u.abs().max(scale);
+        let eps = T::epsilon();
+        let two = T::lit(2.0);
+        let small = two * slope.abs() * tau + T::lit(8.0) * eps * (x.abs() + out.abs());
+        // `!(a <= b)` also probes when the bound is NaN.
+        if r == T::zero() || r.abs() <= small {
+            return Ok(());
+        }
+        let u2 = if r > T::zero() {
+            u - two * tau
+        } else {
+            u + two * tau
+        };
+        let far = self.inner.trial(u2)?;
+        let lip = slope.abs().max(far.tangent.abs());
+        let bound = T::lit(8.0) * lip * tau + eps.sqrt() * out.abs().max(far.output.abs());
+        let across = (far.output - x) * r < T::zero();
+        if across && (far.output - out).abs() > bound {
+            let (lo, hi) = if far.output < out {
+                (far.output, out)
+            } else {
+                (out, far.output)
+            };
+            return Err(Error::Jump {
+                solver: "inverse",
+                at: u.as_f64(),
+                below: lo.as_f64(),
+                above: hi.as_f64(),
+            });
+        }
+        // Leave the inner operator's pending trial at the root.
+        self.inner.trial(u)?;
+        Ok(())
+    }
+}
+
 impl<T, A> Operator<T> for Inverse<T, A>
 where
     T: Float,
@@ -68,9 +124,11 @@ where
         let x = check_input(x)?;
         let inner = &mut self.inner;
         let mut slope = T::zero();
+        let mut out = T::zero();
         let residual = |u: T| -> Result<(T, T)> {
             let a = inner.trial(u)?;
             slope = a.tangent;
+            out = a.output;
             Ok((a.output - x, a.tangent))
         };
         let scale = x.abs().max(self.u.abs());
@@ -88,6 +146,7 @@ where
             &self.opts,
         )?
         .value();
+        self.check_jump(x, u, out, slope, scale)?;
         self.pending = Some((x, u));
         Ok(Trial {
             output: u,

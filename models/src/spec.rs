@@ -16,7 +16,7 @@
 //! ```
 //!
 //! Optional fields: `y0`, `s0`, `f0`, `h0`, `z0` and a PI bank's `y0`
-//! (default 0 / empty), a series' `limits` (default none: `{"type": "none"}`),
+//! (default 0 / empty), a Preisach model's `start` (default `"from_below"`), a series' `limits` (default none: `{"type": "none"}`),
 //! an implicit combinator's `solver` (default [`SolverOptions::default`],
 //! and each of its fields may be left out). Unknown fields are errors.
 //!
@@ -32,7 +32,8 @@ use hysteron_composition::{
 use hysteron_operators::{
     check, BoucWen, BoucWenParams, DeadZone, DeadZoneParams, ElastoPlastic, ElastoPlasticParams,
     Error, Gain, MassSpringDamper, MassSpringDamperParams, Mms, MmsParams, Operator, Play,
-    PlayParams, Saturation, SaturationParams, StiffnessMap, Stop, StopParams, ViscousDamper,
+    PlayParams, Preisach, PreisachMeasure, PreisachParams, PreisachStart, Saturation,
+    SaturationParams, StiffnessMap, Stop, StopParams, ViscousDamper,
 };
 use serde::{Deserialize, Deserializer, Serialize};
 use std::path::Path;
@@ -89,6 +90,13 @@ pub enum Spec {
     /// bank's cumulative weights must be positive and its initial states
     /// reachable (see [`PiInverse`]).
     PiInverse(PiBankParams<f64>),
+    /// Preisach model, [`Preisach`]: `"measure"` is one of
+    /// `{"grid": {"t": [..], "mu": [[..], ..]}}`,
+    /// `{"table": {"x": [..], "e": [[..], ..]}}`,
+    /// `{"uniform": {"mu", "x_min", "x_max"}}` or
+    /// `{"tanh": {"amplitude", "hc", "w", "x_min", "x_max"}}`; `"start"` is
+    /// `"from_below"` (default) or `"from_above"`.
+    Preisach(PreisachParams<f64>),
     /// The paper's model from its named parameters (built by
     /// [`TransmissionParams::build`]); a convenience for the generic
     /// `series` that `Spec::from(&TransmissionParams)` gives.
@@ -331,6 +339,7 @@ impl Spec {
             Spec::BoucWen(p) => BoucWen::from_params(p.clone()).map_err(invalid)?.boxed(),
             Spec::PiBank(p) => PiBank::from_params(p.clone()).map_err(invalid)?.boxed(),
             Spec::PiInverse(p) => PiInverse::from_params(p.clone()).map_err(invalid)?.boxed(),
+            Spec::Preisach(p) => Preisach::from_params(p.clone()).map_err(invalid)?.boxed(),
             Spec::Transmission(p) => p
                 .build()
                 .map_err(|e| invalid(transmission_names(e)))?
@@ -413,6 +422,7 @@ impl Spec {
             Spec::BoucWen(_) => "bouc_wen",
             Spec::PiBank(_) => "pi_bank",
             Spec::PiInverse(_) => "pi_inverse",
+            Spec::Preisach(_) => "preisach",
             Spec::Transmission(_) => "transmission",
             Spec::Cascade { .. } => "cascade",
             Spec::Parallel { .. } => "parallel",
@@ -585,6 +595,7 @@ impl Spec {
             | Spec::BoucWen(_)
             | Spec::PiBank(_)
             | Spec::PiInverse(_)
+            | Spec::Preisach(_)
             | Spec::Transmission(_) => self.clone(),
         }
     }
@@ -767,6 +778,17 @@ impl Spec {
                 } else {
                     Spec::PiBank(p)
                 }
+            }
+            Spec::Preisach(old) => {
+                let v = take(rest, old.measure.n_params())?;
+                let measure = old
+                    .measure
+                    .from_flat(v)
+                    .map_err(|e| SpecError::invalid(path, e))?;
+                Spec::Preisach(PreisachParams {
+                    measure,
+                    start: old.start,
+                })
             }
             Spec::Transmission(old) => {
                 // `TransmissionParams::build`: gap (b, r0), friction, spring
@@ -1064,6 +1086,7 @@ enum SpecDef {
     BoucWen(#[serde(deserialize_with = "BoucWenDef::deserialize")] BoucWenParams<f64>),
     PiBank(#[serde(deserialize_with = "PiBankDef::deserialize")] PiBankParams<f64>),
     PiInverse(#[serde(deserialize_with = "PiBankDef::deserialize")] PiBankParams<f64>),
+    Preisach(#[serde(deserialize_with = "PreisachDef::deserialize")] PreisachParams<f64>),
     Transmission(#[serde(deserialize_with = "TransmissionDef::deserialize")] TransmissionParams),
     Cascade {
         first: Box<Spec>,
@@ -1217,6 +1240,44 @@ struct PiBankDef {
     w: Vec<f64>,
     #[serde(default)]
     y0: Vec<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(remote = "PreisachParams<f64>", deny_unknown_fields)]
+struct PreisachDef {
+    #[serde(deserialize_with = "PreisachMeasureDef::deserialize")]
+    measure: PreisachMeasure<f64>,
+    #[serde(default)]
+    start: PreisachStart,
+}
+
+#[derive(Deserialize)]
+#[serde(
+    remote = "PreisachMeasure<f64>",
+    rename_all = "snake_case",
+    deny_unknown_fields
+)]
+enum PreisachMeasureDef {
+    Grid {
+        t: Vec<f64>,
+        mu: Vec<Vec<f64>>,
+    },
+    Table {
+        x: Vec<f64>,
+        e: Vec<Vec<f64>>,
+    },
+    Uniform {
+        mu: f64,
+        x_min: f64,
+        x_max: f64,
+    },
+    Tanh {
+        amplitude: f64,
+        hc: f64,
+        w: f64,
+        x_min: f64,
+        x_max: f64,
+    },
 }
 
 #[derive(Deserialize)]

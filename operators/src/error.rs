@@ -71,6 +71,21 @@ pub enum Error {
         /// Width of the final bracket.
         width: f64,
     },
+    /// An implicit solve found where its residual changes sign, but the
+    /// residual jumps there instead of passing through zero: the operator
+    /// it solves for is discontinuous (a relay, a discrete Preisach grid)
+    /// and no input gives the target.
+    #[error("{solver}: the operator jumps from {below} to {above} at input {at}: no input reaches a target in between")]
+    Jump {
+        /// Which solver failed.
+        solver: &'static str,
+        /// The input where the jump is.
+        at: f64,
+        /// The output just below the jump.
+        below: f64,
+        /// The output just above the jump.
+        above: f64,
+    },
     /// An error at a given sample of a batch.
     #[error("at sample {index}: {source}")]
     AtSample {

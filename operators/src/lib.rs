@@ -14,6 +14,7 @@
 //! | [`Gain`] | `k x` |
 //! | [`Mms`] | `y = y_r + (sgn(ẋ) F_c − y_r)(1 − e^{−K|x − x_r|})` |
 //! | [`BoucWen`] | `H = w S(z) z + (1 − w) S(z) h`, `dh/dz = α − \|h\|^n (β sgn(ż h) + γ)` |
+//! | [`Preisach`] | `y = ∬_{α≥β} μ(α,β) γ_{αβ}[x] dα dβ = −E₀ + 2 Σ_k s_k E(p_k, p_{k−1})` |
 //! | [`MassSpringDamper`] | `m ÿ + c ẏ + k y = u` (rate-dependent, Newmark) |
 //! | [`ViscousDamper`] | `F = c ẋ` (rate-dependent, trapezoidal) |
 //!
@@ -36,6 +37,7 @@ mod hysteretic_state;
 mod mass_spring_damper;
 mod mms;
 mod play;
+mod preisach;
 mod saturation;
 mod stiffness;
 mod stop;
@@ -52,6 +54,7 @@ pub use mass_spring_damper::{MassSpringDamper, MassSpringDamperParams};
 pub use mms::{Mms, MmsParams};
 pub use operator::{check_input, check_lengths, check_output, Operator, Trial};
 pub use play::{play_step, play_tangent, Play, PlayParams};
+pub use preisach::{Preisach, PreisachMeasure, PreisachParams, PreisachStart};
 pub use saturation::{Saturation, SaturationParams};
 pub use stiffness::StiffnessMap;
 pub use stop::{stop_step, Stop, StopParams};
