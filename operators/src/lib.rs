@@ -12,6 +12,9 @@
 //! | [`DeadZone`] | `x − b_r` above `b_r`, `x − b_l` below `b_l`, 0 between |
 //! | [`Saturation`] | `clamp(x, lo, hi)` |
 //! | [`Gain`] | `k x` |
+//! | [`MaxwellSlip`] | `F = Σ_i k_i · stop_{F_i/k_i}[x]` (bank of elastoplastic elements) |
+//! | [`Dahl`] | `dF/dx = σ \|1 − (F/F_c) sgn ẋ\|^α sgn(1 − (F/F_c) sgn ẋ)` |
+//! | [`LuGre`] | `ż = v − σ0 \|v\| z / g(v)`, `F = σ0 z + σ1 ż + σ2 v` (rate-dependent, exact per sample) |
 //! | [`Mms`] | `y = y_r + (sgn(ẋ) F_c − y_r)(1 − e^{−K|x − x_r|})` |
 //! | [`BoucWen`] | `H = w S(z) z + (1 − w) S(z) h`, `dh/dz = α − \|h\|^n (β sgn(ż h) + γ)` |
 //! | [`MassSpringDamper`] | `m ÿ + c ẏ + k y = u` (rate-dependent, Newmark) |
@@ -29,11 +32,14 @@ mod memoryless;
 mod operator;
 
 mod bouc_wen;
+mod dahl;
 mod deadzone;
 mod elastoplastic;
 mod gain;
 mod hysteretic_state;
+mod lugre;
 mod mass_spring_damper;
+mod maxwell_slip;
 mod mms;
 mod play;
 mod saturation;
@@ -42,13 +48,16 @@ mod stop;
 mod viscous_damper;
 
 pub use bouc_wen::{BoucWen, BoucWenParams};
+pub use dahl::{Dahl, DahlParams};
 pub use deadzone::{dead_zone, DeadZone, DeadZoneParams};
 pub use domain::Domain;
 pub use elastoplastic::{ElastoPlastic, ElastoPlasticParams};
 pub use error::{Error, Result};
 pub use float::Float;
 pub use gain::Gain;
+pub use lugre::{LuGre, LuGreParams};
 pub use mass_spring_damper::{MassSpringDamper, MassSpringDamperParams};
+pub use maxwell_slip::{MaxwellSlip, MaxwellSlipParams};
 pub use mms::{Mms, MmsParams};
 pub use operator::{check_input, check_lengths, check_output, Operator, Trial};
 pub use play::{play_step, play_tangent, Play, PlayParams};
