@@ -50,9 +50,9 @@ pub mod prelude {
         Scaled, SolverOptions, TravelLimits,
     };
     pub use hysteron_operators::{
-        BoucWen, BoucWenParams, DeadZone, ElastoPlastic, Error, Float, Gain, MassSpringDamper, Mms,
-        MmsParams, Operator, Play, PlayParams, Result, Saturation, StiffnessMap, Stop, Trial,
-        ViscousDamper,
+        BoucWen, BoucWenParams, Dahl, DahlParams, DeadZone, ElastoPlastic, Error, Float, Gain,
+        LuGre, LuGreParams, MassSpringDamper, MaxwellSlip, MaxwellSlipParams, Mms, MmsParams,
+        Operator, Play, PlayParams, Result, Saturation, StiffnessMap, Stop, Trial, ViscousDamper,
     };
 }
 

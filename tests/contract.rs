@@ -269,6 +269,56 @@ fn leaves() {
         MassSpringDamper::new(2.0, 10.0, 5e4, 1.0 / 750.0).unwrap(),
     );
     check("viscous damper", ViscousDamper::new(3.0, 0.01).unwrap());
+    check("maxwell-slip", maxwell_slip());
+    check(
+        "maxwell-slip one element",
+        MaxwellSlip::new(vec![12.0], vec![2.0]).unwrap(),
+    );
+    for alpha in [0.0, 0.5, 1.0, 2.5] {
+        check(
+            &format!("dahl α={alpha}"),
+            Dahl::new(40.0, 1.5, alpha).unwrap(),
+        );
+        check(
+            &format!("dahl α={alpha} f0 beyond F_c"),
+            Dahl::from_params(DahlParams {
+                sigma: 40.0,
+                f_c: 1.5,
+                alpha,
+                f0: -2.5,
+            })
+            .unwrap(),
+        );
+    }
+    check("lugre", lugre(100.0, 0.3));
+    check("lugre pre-sliding", lugre(2.0, 0.0));
+}
+
+/// Five elements, two of them preloaded (one beyond its break-away force).
+fn maxwell_slip() -> MaxwellSlip<f64> {
+    MaxwellSlip::from_params(MaxwellSlipParams {
+        k: vec![30.0, 12.0, 8.0, 5.0, 2.5],
+        f_b: vec![0.3, 0.5, 0.9, 1.2, 2.0],
+        f0: vec![0.1, 0.0, -0.9, 1.5, 0.0],
+    })
+    .unwrap()
+}
+
+/// LuGre at dt = 0.01 on the contract signal (velocities up to ≈ 7,
+/// Stribeck velocity 0.5): stiffness `sigma0`, a preloaded bristle.
+fn lugre(sigma0: f64, z0: f64) -> LuGre<f64> {
+    LuGre::from_params(LuGreParams {
+        sigma0,
+        sigma1: 0.8,
+        sigma2: 0.3,
+        f_c: 1.0,
+        f_s: 1.4,
+        v_s: 0.5,
+        delta: 2.0,
+        z0,
+        dt: 0.01,
+    })
+    .unwrap()
 }
 
 #[test]
@@ -338,6 +388,16 @@ fn combinators() {
     );
     check("inverse", pi().inverse());
     check("inverse bouc-wen", spring(1.0).inverse());
+    check(
+        "maxwell-slip in parallel with lugre",
+        maxwell_slip().plus(lugre(100.0, 0.0)),
+    );
+    check(
+        "dahl in series with a spring",
+        Dahl::new(40.0, 1.5, 1.0)
+            .unwrap()
+            .series(Gain::new(20.0).unwrap()),
+    );
 }
 
 #[test]
