@@ -191,7 +191,10 @@ impl<T: Float> LuGre<T> {
         // Stribeck curve and h = v g'(v) (finite for every δ > 0).
         let r = (v / p.v_s).abs().powf(p.delta);
         let e = (-r).exp();
-        let g = p.f_c + (p.f_s - p.f_c) * e;
+        // between F_c and F_s, also after rounding (the bristle bound uses it)
+        let g = (p.f_c + (p.f_s - p.f_c) * e)
+            .max(p.f_c.min(p.f_s))
+            .min(p.f_c.max(p.f_s));
         let h = if e == T::zero() {
             T::zero() // also for r = ∞ (|v/v_s| overflowed), not ∞·0
         } else {
