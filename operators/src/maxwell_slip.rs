@@ -91,7 +91,9 @@ impl<T: Float> MaxwellSlipParams<T> {
 ///   the branch is the virgin curve scaled by two,
 ///   `F − F_r = −2 φ((x_r − x)/2)` for `x` decreasing from `x_r`;
 /// * `|F| ≤ Σ_i F_i` from the first sample on;
-/// * exact rate independence in floating point (inherited from the stop).
+/// * exact rate independence in floating point (inherited from the stop)
+///   when every `|f0_i| ≤ F_i` (a force beyond is clipped at the first
+///   sample, and where that sample lies then matters).
 ///
 /// The elements are stored as structure-of-arrays (thresholds, stiffnesses,
 /// play positions); the forces are summed in element order
