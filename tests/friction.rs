@@ -1044,3 +1044,77 @@ fn friction_specs_build_round_trip_and_report_errors() {
         assert!(e.to_string().contains(message), "{e}");
     }
 }
+
+// ---------------------------------------------------------------------------
+// f32
+// ---------------------------------------------------------------------------
+
+/// The models are generic over the float type: in `f32` they follow the
+/// `f64` run to `f32` precision, relative to the force scale. The input
+/// itself is rounded to `f32` (an error of stiffness × ulp(x), up to
+/// 25 × 1.2 × 6e-8 ≈ 2e-6 for Maxwell-slip) and LuGre's bristle gathers one
+/// rounding per sample: the bound allows 300 `f32` epsilons (3.6e-5).
+#[test]
+fn friction_models_run_in_f32() {
+    let xs: Vec<f64> = (1..400)
+        .map(|k| 1.2 * (k as f64 * 0.03).sin() + 0.1 * (k as f64 * 0.4).sin())
+        .collect();
+    let xs32: Vec<f32> = xs.iter().map(|&x| x as f32).collect();
+    let lugre = |sigma0: f64| LuGreParams {
+        sigma0,
+        sigma1: 5.0,
+        sigma2: 0.2,
+        f_c: 1.0,
+        f_s: 1.5,
+        v_s: 0.5,
+        delta: 2.0,
+        z0: 0.0,
+        dt: 0.01,
+    };
+    let l32 = LuGreParams::<f32> {
+        sigma0: 1e3,
+        sigma1: 5.0,
+        sigma2: 0.2,
+        f_c: 1.0,
+        f_s: 1.5,
+        v_s: 0.5,
+        delta: 2.0,
+        z0: 0.0,
+        dt: 0.01,
+    };
+    let pairs: [(&str, Vec<f64>, Vec<f32>, f64); 3] = [
+        (
+            "maxwell-slip",
+            MaxwellSlip::new(vec![25.0, 10.0, 4.0], vec![0.5, 0.4, 0.9])
+                .unwrap()
+                .run(&xs)
+                .unwrap(),
+            MaxwellSlip::new(vec![25.0_f32, 10.0, 4.0], vec![0.5, 0.4, 0.9])
+                .unwrap()
+                .run(&xs32)
+                .unwrap(),
+            1.8,
+        ),
+        (
+            "dahl",
+            Dahl::new(20.0, 1.0, 1.5).unwrap().run(&xs).unwrap(),
+            Dahl::new(20.0_f32, 1.0, 1.5).unwrap().run(&xs32).unwrap(),
+            1.0,
+        ),
+        (
+            "lugre",
+            LuGre::from_params(lugre(1e3)).unwrap().run(&xs).unwrap(),
+            LuGre::from_params(l32).unwrap().run(&xs32).unwrap(),
+            1.5 + 5.2 * 5.0,
+        ),
+    ];
+    for (name, y64, y32, scale) in pairs {
+        let worst = y64
+            .iter()
+            .zip(&y32)
+            .fold(0.0_f64, |m, (a, b)| m.max((a - *b as f64).abs()))
+            / scale;
+        eprintln!("{name} f32 vs f64: max error {worst:.3e} of the force scale");
+        assert!(worst < 300.0 * f32::EPSILON as f64, "{name}: {worst}");
+    }
+}

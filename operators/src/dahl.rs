@@ -353,6 +353,44 @@ mod tests {
         assert_eq!(decay(0.0, 1.0, 0.5), 0.0);
     }
 
+    /// The tangent is `dF/dx` of the branch: central differences (step
+    /// 1e-7 of the travel; truncation O(h²), rounding ~1e-16·F_c/h) agree
+    /// to 1e-6 relative, on rising and falling branches, from inside and
+    /// beyond `F_c`.
+    #[test]
+    fn tangent_is_the_derivative_of_the_branch() {
+        for alpha in [0.3_f64, 1.0, 1.7, 3.0] {
+            for f0 in [0.0, 0.8, -1.6] {
+                for (x_r, x) in [(0.0, 0.02), (0.05, 0.01), (-0.03, -0.07)] {
+                    let p = DahlParams {
+                        sigma: 40.0,
+                        f_c: 1.5,
+                        alpha,
+                        f0,
+                    };
+                    let mut f = Dahl::from_params(p).unwrap();
+                    f.trial(x_r).unwrap();
+                    f.commit();
+                    let t: f64 = f.trial(x).unwrap().tangent;
+                    let h = 1e-7 * (x - x_r).abs();
+                    let fd = (f.trial(x + h).unwrap().output - f.trial(x - h).unwrap().output)
+                        / (2.0 * h);
+                    assert!(
+                        (t - fd).abs() < 1e-6 * t.abs().max(1.0),
+                        "α={alpha} f0={f0} {x_r}→{x}: {t} vs {fd}"
+                    );
+                }
+            }
+        }
+        // at a standstill: the tangent of continuing in the last direction
+        let mut f = Dahl::new(40.0_f64, 1.5, 1.0).unwrap();
+        f.run(&[0.02, 0.01]).unwrap();
+        let y = f.output();
+        let t = f.trial(0.01).unwrap();
+        assert_eq!(t.output, y);
+        assert!((t.tangent - 40.0 * (1.0 + y / 1.5)).abs() < 1e-12, "{t:?}");
+    }
+
     #[test]
     fn invalid_parameters_are_typed_errors() {
         for (p, name) in [
