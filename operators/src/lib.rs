@@ -15,6 +15,7 @@
 //! | [`MaxwellSlip`] | `F = Σ_i k_i · stop_{F_i/k_i}[x]` (bank of elastoplastic elements) |
 //! | [`Dahl`] | `dF/dx = σ \|1 − (F/F_c) sgn ẋ\|^α sgn(1 − (F/F_c) sgn ẋ)` |
 //! | [`LuGre`] | `ż = v − σ0 \|v\| z / g(v)`, `F = σ0 z + σ1 ż + σ2 v` (rate-dependent, exact per sample) |
+//! | [`Gms`] | generalized Maxwell-slip: stick `Ḟ_i = k_i v`, slip `Ḟ_i = sgn(v) C (1 − sgn(v) F_i/(α_i s(v)))` (rate-dependent, exact per sample) |
 //! | [`Mms`] | `y = y_r + (sgn(ẋ) F_c − y_r)(1 − e^{−K|x − x_r|})` |
 //! | [`BoucWen`] | `H = w S(z) z + (1 − w) S(z) h`, `dh/dz = α − \|h\|^n (β sgn(ż h) + γ)` |
 //! | [`MassSpringDamper`] | `m ÿ + c ẏ + k y = u` (rate-dependent, Newmark) |
@@ -36,6 +37,7 @@ mod dahl;
 mod deadzone;
 mod elastoplastic;
 mod gain;
+mod gms;
 mod hysteretic_state;
 mod lugre;
 mod mass_spring_damper;
@@ -55,6 +57,7 @@ pub use elastoplastic::{ElastoPlastic, ElastoPlasticParams};
 pub use error::{Error, Result};
 pub use float::Float;
 pub use gain::Gain;
+pub use gms::{Gms, GmsParams};
 pub use lugre::{LuGre, LuGreParams};
 pub use mass_spring_damper::{MassSpringDamper, MassSpringDamperParams};
 pub use maxwell_slip::{MaxwellSlip, MaxwellSlipParams};
