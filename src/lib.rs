@@ -50,9 +50,10 @@ pub mod prelude {
         Scaled, SolverOptions, TravelLimits,
     };
     pub use hysteron_operators::{
-        BoucWen, BoucWenParams, Dahl, DahlParams, DeadZone, ElastoPlastic, Error, Float, Gain,
-        LuGre, LuGreParams, MassSpringDamper, MaxwellSlip, MaxwellSlipParams, Mms, MmsParams,
-        Operator, Play, PlayParams, Result, Saturation, StiffnessMap, Stop, Trial, ViscousDamper,
+        BoucWen, BoucWenParams, Dahl, DahlParams, DeadZone, ElastoPlastic, Error, Float, Gain, Gms,
+        GmsParams, LuGre, LuGreParams, MassSpringDamper, MaxwellSlip, MaxwellSlipParams, Mms,
+        MmsParams, Operator, Play, PlayParams, Result, Saturation, StiffnessMap, Stop, Trial,
+        ViscousDamper,
     };
 }
 

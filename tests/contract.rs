@@ -290,6 +290,8 @@ fn leaves() {
             .unwrap(),
         );
     }
+    check("gms", gms(vec![0.1, -0.3, 0.0]));
+    check("gms f0 beyond the limits", gms(vec![0.8, -1.0, 0.5]));
     check("lugre", lugre(100.0, 0.3));
     check("lugre pre-sliding", lugre(2.0, 0.0));
 }
@@ -300,6 +302,24 @@ fn maxwell_slip() -> MaxwellSlip<f64> {
         k: vec![30.0, 12.0, 8.0, 5.0, 2.5],
         f_b: vec![0.3, 0.5, 0.9, 1.2, 2.0],
         f0: vec![0.1, 0.0, -0.9, 1.5, 0.0],
+    })
+    .unwrap()
+}
+
+/// GMS at dt = 0.01 on the contract signal: three elements with
+/// break-away displacements 0.02–0.3, Stribeck velocity 0.5.
+fn gms(f0: Vec<f64>) -> Gms<f64> {
+    Gms::from_params(GmsParams {
+        k: vec![20.0, 8.0, 1.5],
+        alpha: vec![0.3, 0.4, 0.3],
+        f0,
+        c: 15.0,
+        f_c: 1.0,
+        f_s: 1.4,
+        v_s: 0.5,
+        delta: 2.0,
+        sigma2: 0.2,
+        dt: 0.01,
     })
     .unwrap()
 }

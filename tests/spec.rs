@@ -9,9 +9,9 @@
 use hysteron::composition::{Oversample, PiBankParams, SolverOptions, TravelLimits};
 use hysteron::models::{Spec, SpecError, TransmissionParams};
 use hysteron::operators::{
-    BoucWenParams, DahlParams, DeadZoneParams, ElastoPlasticParams, LuGreParams, MassSpringDamper,
-    MassSpringDamperParams, MaxwellSlipParams, MmsParams, PlayParams, SaturationParams,
-    StiffnessMap, StopParams, ViscousDamper,
+    BoucWenParams, DahlParams, DeadZoneParams, ElastoPlasticParams, GmsParams, LuGreParams,
+    MassSpringDamper, MassSpringDamperParams, MaxwellSlipParams, MmsParams, PlayParams,
+    SaturationParams, StiffnessMap, StopParams, ViscousDamper,
 };
 use hysteron::{Error, Operator};
 use proptest::prelude::*;
@@ -150,6 +150,36 @@ fn lugre() -> impl Strategy<Value = LuGreParams<f64>> {
         )
 }
 
+fn gms() -> impl Strategy<Value = GmsParams<f64>> {
+    (
+        prop::collection::vec((1.0..100.0f64, 0.05..1.0f64), 1..5),
+        (0.1..50.0f64, 0.1..2.0f64, 0.1..3.0f64, 0.01..1.0f64),
+        (1.0..3.0f64, num(0.0, 1.0), 0.001..0.1f64),
+    )
+        .prop_flat_map(|(elements, stribeck, rest)| {
+            let n = elements.len();
+            let f0 = prop_oneof![
+                Just(Vec::new()),
+                prop::collection::vec(num(-0.5, 0.5), n..=n)
+            ];
+            (Just(elements), Just(stribeck), Just(rest), f0)
+        })
+        .prop_map(
+            |(elements, (c, f_c, f_s, v_s), (delta, sigma2, dt), f0)| GmsParams {
+                k: elements.iter().map(|e| e.0).collect(),
+                alpha: elements.iter().map(|e| e.1).collect(),
+                f0,
+                c,
+                f_c,
+                f_s,
+                v_s,
+                delta,
+                sigma2,
+                dt,
+            },
+        )
+}
+
 fn transmission() -> impl Strategy<Value = TransmissionParams> {
     (0.05..0.6f64, -0.5..0.5f64, mms(), bouc_wen()).prop_map(|(backlash, s, friction, spring)| {
         TransmissionParams {
@@ -184,6 +214,7 @@ fn leaf() -> BoxedStrategy<Spec> {
         maxwell_slip().prop_map(Spec::MaxwellSlip),
         dahl().prop_map(Spec::Dahl),
         lugre().prop_map(Spec::LuGre),
+        gms().prop_map(Spec::Gms),
     ]
     .boxed()
 }
@@ -891,6 +922,23 @@ fn examples() -> Vec<(&'static str, Spec)> {
                 v_s: 0.5,
                 delta: 2.0,
                 z0: 0.0,
+                dt: 0.01,
+            }),
+        ),
+        // Generalized Maxwell-slip friction sampled at 100 Hz: four
+        // elements, Stribeck velocity 0.5, attraction rate 20 per second.
+        (
+            "gms.json",
+            Spec::Gms(GmsParams {
+                k: vec![25.0, 10.0, 4.0, 1.5],
+                alpha: vec![0.4, 0.3, 0.2, 0.1],
+                f0: vec![],
+                c: 20.0,
+                f_c: 1.0,
+                f_s: 1.5,
+                v_s: 0.5,
+                delta: 2.0,
+                sigma2: 0.2,
                 dt: 0.01,
             }),
         ),

@@ -16,8 +16,8 @@
 //! ```
 //!
 //! Optional fields: `y0`, `s0`, `f0`, `h0`, `z0`, a PI bank's `y0` and a
-//! Maxwell-slip bank's `f0` (default 0 / empty), a LuGre model's `delta`
-//! (default 2), a series' `limits` (default none: `{"type": "none"}`),
+//! Maxwell-slip or GMS bank's `f0` (default 0 / empty), a LuGre or GMS
+//! model's `delta` (default 2), a GMS model's `sigma2` (default 0), a series' `limits` (default none: `{"type": "none"}`),
 //! an implicit combinator's `solver` (default [`SolverOptions::default`],
 //! and each of its fields may be left out). Unknown fields are errors.
 //!
@@ -32,9 +32,9 @@ use hysteron_composition::{
 };
 use hysteron_operators::{
     check, BoucWen, BoucWenParams, Dahl, DahlParams, DeadZone, DeadZoneParams, ElastoPlastic,
-    ElastoPlasticParams, Error, Gain, LuGre, LuGreParams, MassSpringDamper, MassSpringDamperParams,
-    MaxwellSlip, MaxwellSlipParams, Mms, MmsParams, Operator, Play, PlayParams, Saturation,
-    SaturationParams, StiffnessMap, Stop, StopParams, ViscousDamper,
+    ElastoPlasticParams, Error, Gain, Gms, GmsParams, LuGre, LuGreParams, MassSpringDamper,
+    MassSpringDamperParams, MaxwellSlip, MaxwellSlipParams, Mms, MmsParams, Operator, Play,
+    PlayParams, Saturation, SaturationParams, StiffnessMap, Stop, StopParams, ViscousDamper,
 };
 use serde::{Deserialize, Deserializer, Serialize};
 use std::path::Path;
@@ -175,6 +175,9 @@ pub enum Spec {
     /// period, not a parameter).
     #[serde(rename = "lugre")]
     LuGre(LuGreParams<f64>),
+    /// Generalized Maxwell-slip friction, [`Gms`] (rate-dependent: `dt` is
+    /// its sample period, not a parameter).
+    Gms(GmsParams<f64>),
 }
 
 /// What can go wrong reading or building a [`Spec`].
@@ -396,6 +399,7 @@ impl Spec {
                 .boxed(),
             Spec::Dahl(p) => Dahl::from_params(*p).map_err(invalid)?.boxed(),
             Spec::LuGre(p) => LuGre::from_params(*p).map_err(invalid)?.boxed(),
+            Spec::Gms(p) => Gms::from_params(p.clone()).map_err(invalid)?.boxed(),
             Spec::Oversample { inner, q } => {
                 if *q == 0 || *q > MAX_OVERSAMPLE {
                     return Err(invalid(Error::InvalidParameter {
@@ -435,6 +439,7 @@ impl Spec {
             Spec::MaxwellSlip(_) => "maxwell_slip",
             Spec::Dahl(_) => "dahl",
             Spec::LuGre(_) => "lugre",
+            Spec::Gms(_) => "gms",
         }
     }
 
@@ -467,6 +472,7 @@ impl Spec {
             Spec::MassSpringDamper(p) => format!("[dt={}]", p.dt),
             Spec::ViscousDamper { dt, .. } => format!("[dt={dt}]"),
             Spec::LuGre(p) => format!("[dt={}]", p.dt),
+            Spec::Gms(p) => format!("[dt={}]", p.dt),
             Spec::Oversample { q, .. } => format!("[q={q}]"),
             Spec::Series { limits, .. } => match limits {
                 TravelLimits::None => String::new(),
@@ -527,7 +533,7 @@ impl Spec {
     }
 
     /// The same spec with the sample period of every rate-dependent node
-    /// (`mass_spring_damper`, `viscous_damper`, `lugre`) set to `dt`; the rest of
+    /// (`mass_spring_damper`, `viscous_damper`, `lugre`, `gms`) set to `dt`; the rest of
     /// the tree is kept. The value is checked by [`build`](Spec::build).
     ///
     /// ```
@@ -549,6 +555,7 @@ impl Spec {
             }
             Spec::ViscousDamper { c, .. } => Spec::ViscousDamper { c: *c, dt },
             Spec::LuGre(p) => Spec::LuGre(LuGreParams { dt, ..*p }),
+            Spec::Gms(p) => Spec::Gms(GmsParams { dt, ..p.clone() }),
             Spec::Oversample { inner, q } => Spec::Oversample {
                 inner: b(inner),
                 q: *q,
@@ -605,11 +612,11 @@ impl Spec {
     }
 
     /// Whether any node of the tree is rate-dependent (`mass_spring_damper`,
-    /// `viscous_damper` or `lugre`).
+    /// `viscous_damper`, `lugre` or `gms`).
     pub fn is_rate_dependent(&self) -> bool {
         matches!(
             self,
-            Spec::MassSpringDamper(_) | Spec::ViscousDamper { .. } | Spec::LuGre(_)
+            Spec::MassSpringDamper(_) | Spec::ViscousDamper { .. } | Spec::LuGre(_) | Spec::Gms(_)
         ) || self
             .children()
             .into_iter()
@@ -910,6 +917,30 @@ impl Spec {
                     dt: old.dt,
                 })
             }
+            Spec::Gms(old) => {
+                let n = old.k.len();
+                let v = take(rest, 6)?;
+                let k = take(rest, n)?.to_vec();
+                let alpha = take(rest, n)?.to_vec();
+                let f0 = take(rest, n)?;
+                let f0 = if old.f0.is_empty() && f0.iter().all(|&v| v == 0.0) {
+                    Vec::new()
+                } else {
+                    f0.to_vec()
+                };
+                Spec::Gms(GmsParams {
+                    k,
+                    alpha,
+                    f0,
+                    c: v[0],
+                    f_c: v[1],
+                    f_s: v[2],
+                    v_s: v[3],
+                    delta: v[4],
+                    sigma2: v[5],
+                    dt: old.dt,
+                })
+            }
         })
     }
 }
@@ -1158,6 +1189,7 @@ enum SpecDef {
     Dahl(#[serde(deserialize_with = "DahlDef::deserialize")] DahlParams<f64>),
     #[serde(rename = "lugre")]
     LuGre(#[serde(deserialize_with = "LuGreDef::deserialize")] LuGreParams<f64>),
+    Gms(#[serde(deserialize_with = "GmsDef::deserialize")] GmsParams<f64>),
 }
 
 #[derive(Deserialize)]
@@ -1297,6 +1329,24 @@ struct LuGreDef {
 
 fn default_delta() -> f64 {
     2.0
+}
+
+#[derive(Deserialize)]
+#[serde(remote = "GmsParams<f64>", deny_unknown_fields)]
+struct GmsDef {
+    k: Vec<f64>,
+    alpha: Vec<f64>,
+    #[serde(default)]
+    f0: Vec<f64>,
+    c: f64,
+    f_c: f64,
+    f_s: f64,
+    v_s: f64,
+    #[serde(default = "default_delta")]
+    delta: f64,
+    #[serde(default)]
+    sigma2: f64,
+    dt: f64,
 }
 
 #[derive(Deserialize)]
@@ -1698,6 +1748,21 @@ mod with_params_tests {
                     })),
                 }),
             },
+        ));
+        specs.push((
+            "gms".into(),
+            Spec::Gms(GmsParams {
+                k: vec![20.0, 8.0],
+                alpha: vec![0.6, 0.4],
+                f0: vec![0.1, 0.0],
+                c: 15.0,
+                f_c: 1.0,
+                f_s: 1.4,
+                v_s: 0.5,
+                delta: 2.0,
+                sigma2: 0.2,
+                dt: 0.01,
+            }),
         ));
         specs
     }
