@@ -1,7 +1,7 @@
 //! End-to-end tests of `hysteron simulate --model SPEC` with the friction
-//! models (`maxwell_slip`, `dahl`, `lugre`): the CSV holds bit for bit what
+//! models (`maxwell_slip`, `dahl`, `lugre`, `gms`): the CSV holds bit for bit what
 //! the library computes, a bad parameter is a one-line error naming the
-//! field, and the rate-dependent `lugre` takes its sample period from
+//! field, and the rate-dependent `lugre` and `gms` take their sample period from
 //! `--dt` or `--time-column`.
 
 use hysteron::models::Spec;
@@ -182,5 +182,34 @@ fn simulate_lugre_takes_dt_from_the_data() {
         model,
         &["--dt", "0"],
         &["lugre.dt: must be > 0 (got 0)"],
+    );
+}
+
+#[test]
+fn simulate_gms_example_with_time_column() {
+    let tmp = TempDir::new().unwrap();
+    let x = record(tmp.path());
+    let spec_path = example("gms.json");
+    let spec = Spec::from_json_file(&spec_path).unwrap();
+    assert!(spec.is_rate_dependent());
+    let y = simulate(tmp.path(), &spec_path, &["--time-column", "t"], &x);
+    assert_eq!(
+        y,
+        spec.with_dt(1.0 / 256.0).build().unwrap().run(&x).unwrap()
+    );
+    // the spec's own dt (0.01 s) gives another output
+    let own = simulate(tmp.path(), &spec_path, &[], &x);
+    assert_eq!(own, spec.build().unwrap().run(&x).unwrap());
+    assert_ne!(own, y);
+    fs::write(
+        tmp.path().join("bad.json"),
+        r#"{"type": "gms", "k": [20], "alpha": [1], "c": 0, "f_c": 1, "f_s": 1.5, "v_s": 0.5, "dt": 0.01}"#,
+    )
+    .unwrap();
+    fails(
+        tmp.path(),
+        "bad.json",
+        &[],
+        &["model `bad.json`", "gms.c: must be > 0 (got 0)"],
     );
 }

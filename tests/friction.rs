@@ -1,6 +1,7 @@
 //! Property tests of the friction models researchers compare against:
-//! multi-element Maxwell-slip ([`MaxwellSlip`]), Dahl ([`Dahl`]) and LuGre
-//! ([`LuGre`]), against closed forms and independent references.
+//! multi-element Maxwell-slip ([`MaxwellSlip`]), Dahl ([`Dahl`]), LuGre
+//! ([`LuGre`]) and generalized Maxwell-slip ([`Gms`]), against closed forms
+//! and independent references.
 //!
 //! Laws with a tolerance print the largest error they measured; run
 //! `cargo test --test friction -- --nocapture` to see them.
@@ -925,6 +926,219 @@ fn lugre_is_rate_dependent() {
 }
 
 // ---------------------------------------------------------------------------
+// GMS
+// ---------------------------------------------------------------------------
+
+/// 1–6 elements (stiffness 10–1e4, weight 0.05–1), attraction rate
+/// 1–100/s, Stribeck curve with F_c in [0.2, 2], F_s in [0.2, 3], v_s in
+/// [0.001, 0.5], δ in [1, 3], σ2 in [0, 2], dt in [1e-4, 1e-2]; unloaded.
+fn gms_params() -> impl Strategy<Value = GmsParams<f64>> {
+    (
+        prop::collection::vec((10.0..1e4f64, 0.05..1.0f64), 1..7),
+        (1.0..100.0f64, 0.2..2.0f64, 0.2..3.0f64, 0.001..0.5f64),
+        (1.0..3.0f64, 0.0..2.0f64, 1e-4..1e-2f64),
+    )
+        .prop_map(
+            |(elements, (c, f_c, f_s, v_s), (delta, sigma2, dt))| GmsParams {
+                k: elements.iter().map(|e| e.0).collect(),
+                alpha: elements.iter().map(|e| e.1).collect(),
+                f0: Vec::new(),
+                c,
+                f_c,
+                f_s,
+                v_s,
+                delta,
+                sigma2,
+                dt,
+            },
+        )
+}
+
+/// With `F_s = F_c` (no Stribeck effect) and `σ2 = 0`, GMS is the
+/// Maxwell-slip bank with break-away forces `α_i F_c`, for any attraction
+/// rate and any `dt` (different formulas: GMS adds `k_i Δx` per sample,
+/// so the allowance is `4ε` per sample times `Σ (α_i F_c + k_i max|x|)`).
+#[test]
+fn gms_without_stribeck_effect_is_maxwell_slip() {
+    measure(
+        "gms (F_s = F_c) vs maxwell-slip (error / allowance)",
+        256,
+        (
+            gms_params(),
+            prop::collection::vec(-1.0..=1.0f64, 6),
+            signal(1.0, 30),
+        ),
+        |(p, preload, xs)| {
+            let n = p.k.len();
+            let p = GmsParams {
+                f_s: p.f_c,
+                sigma2: 0.0,
+                f0: (0..n).map(|i| preload[i] * p.alpha[i] * p.f_c).collect(),
+                ..p
+            };
+            // keep the travel within a few break-away displacements
+            let reach = p
+                .alpha
+                .iter()
+                .zip(&p.k)
+                .map(|(a, k)| a * p.f_c / k)
+                .fold(0.0, f64::max);
+            let xs: Vec<f64> = xs.iter().map(|x| 3.0 * reach * x).collect();
+            let ms = MaxwellSlipParams {
+                k: p.k.clone(),
+                f_b: p.alpha.iter().map(|a| a * p.f_c).collect(),
+                f0: p.f0.clone(),
+            };
+            let a = ok(ok(Gms::from_params(p.clone()))?.run(&xs))?;
+            let b = ok(ok(MaxwellSlip::from_params(ms.clone()))?.run(&xs))?;
+            let x_max = xs.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+            let scale: f64 = (0..n).map(|i| ms.f_b[i] + p.k[i] * x_max).sum();
+            let allowance = 4.0 * EPS * (xs.len() as f64 + 1.0) * scale;
+            let worst = a
+                .iter()
+                .zip(&b)
+                .fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()))
+                / allowance;
+            prop_assert!(worst <= 1.0, "{a:?}\n{b:?}");
+            Ok(worst)
+        },
+    );
+}
+
+/// At constant velocity `v` from rest, every element sticks until it
+/// meets its limit `α_i s(v)` and stays there: `F = Σ_i sgn(v) min(k_i |x|,
+/// α_i s(v)) + σ2 v` (`s` written out here), to rounding (`4ε` per sample
+/// of the force scale).
+#[test]
+fn gms_constant_velocity_closed_form() {
+    measure(
+        "gms constant velocity vs closed form (relative)",
+        256,
+        (gms_params(), -1.0..1.0f64, 1_usize..300),
+        |(p, v, n)| {
+            prop_assume!(v != 0.0);
+            let s = p.f_c + (p.f_s - p.f_c) * (-(v.abs() / p.v_s).powf(p.delta)).exp();
+            let scale = p.alpha.iter().sum::<f64>() * p.f_c.max(p.f_s) + p.sigma2 * v.abs();
+            let mut op = ok(Gms::from_params(p.clone()))?;
+            let mut worst = 0.0_f64;
+            for j in 1..=n {
+                let x = v * p.dt * j as f64;
+                let y = ok(op.trial(x))?.output;
+                op.commit();
+                let elements: f64 =
+                    p.k.iter()
+                        .zip(&p.alpha)
+                        .map(|(k, a)| (k * x.abs()).min(a * s))
+                        .sum();
+                let expected = v.signum() * elements + p.sigma2 * v;
+                let e = (y - expected).abs() / scale;
+                prop_assert!(
+                    e <= 4.0 * EPS * (j as f64 + 4.0),
+                    "j={j}: {y} vs {expected}"
+                );
+                worst = worst.max(e);
+            }
+            Ok(worst)
+        },
+    );
+}
+
+/// Frictional lag: sliding steadily at `v1` (every element slipping at
+/// `α_i s(v1)`), a step to `v2` of the same sign relaxes each element as
+/// `F_i = σ α_i (s2 + (s1 − s2) e^{−C t/(α_i s2)})` (the slip law's
+/// solution at constant velocity), to rounding.
+#[test]
+fn gms_frictional_lag_after_a_velocity_step() {
+    measure(
+        "gms velocity step vs closed form (relative)",
+        256,
+        (gms_params(), 0.01..1.0f64, 0.01..1.0f64, any::<bool>()),
+        |(p, v1, v2, negative)| {
+            let sign = if negative { -1.0 } else { 1.0 };
+            let (v1, v2) = (sign * v1, sign * v2);
+            let s = |v: f64| p.f_c + (p.f_s - p.f_c) * (-(v.abs() / p.v_s).powf(p.delta)).exp();
+            let (s1, s2) = (s(v1), s(v2));
+            // long enough at v1 for every element to reach its limit
+            let travel = p
+                .alpha
+                .iter()
+                .zip(&p.k)
+                .map(|(a, k)| a * p.f_c.max(p.f_s) / k)
+                .fold(0.0, f64::max);
+            let n1 = (travel / (v1.abs() * p.dt)).ceil() as usize + 2;
+            prop_assume!(n1 < 100_000);
+            let mut op = ok(Gms::from_params(p.clone()))?;
+            let mut x = 0.0;
+            for _ in 0..n1 {
+                x += v1 * p.dt;
+                ok(op.trial(x))?;
+                op.commit();
+            }
+            prop_assert!(op.slipping().iter().all(|&s| s));
+            let scale = p.alpha.iter().sum::<f64>() * p.f_c.max(p.f_s);
+            let mut worst = 0.0_f64;
+            for j in 1..=200 {
+                x += v2 * p.dt;
+                let y = ok(op.trial(x))?.output;
+                op.commit();
+                let t = j as f64 * p.dt;
+                let elements: f64 = p
+                    .alpha
+                    .iter()
+                    .map(|a| a * (s2 + (s1 - s2) * (-p.c * t / (a * s2)).exp()))
+                    .sum();
+                let expected = sign * elements + p.sigma2 * v2;
+                let e = (y - expected).abs() / scale;
+                // the velocity from differences of x carries ε|x|/(|v| dt)
+                let allowance =
+                    1e-12 + 4.0 * EPS * (j as f64 + 4.0) * (1.0 + x.abs() / (v2.abs() * p.dt));
+                prop_assert!(e <= allowance, "j={j}: {y} vs {expected}");
+                worst = worst.max(e);
+            }
+            Ok(worst)
+        },
+    );
+}
+
+/// `|F_i| ≤ max(|f0_i|, α_i max(F_c, F_s))` for every element, any input,
+/// any `dt` (to one rounding of the limit).
+#[test]
+fn gms_element_forces_are_bounded() {
+    measure(
+        "gms max |F_i| / max(|f0_i|, α_i max(F_c, F_s))",
+        256,
+        (
+            gms_params(),
+            prop::collection::vec(-2.0..=2.0f64, 6),
+            signal(1.0, 30),
+            1e-4..1.0f64,
+        ),
+        |(p, preload, xs, amp)| {
+            let n = p.k.len();
+            let top = p.f_c.max(p.f_s);
+            let p = GmsParams {
+                f0: (0..n).map(|i| preload[i] * p.alpha[i] * top).collect(),
+                ..p
+            };
+            let bounds: Vec<f64> = (0..n)
+                .map(|i| p.f0[i].abs().max(p.alpha[i] * top))
+                .collect();
+            let mut op = ok(Gms::from_params(p.clone()))?;
+            let mut worst = 0.0_f64;
+            for &x in &xs {
+                ok(op.trial(amp * x))?;
+                op.commit();
+                for (f, b) in op.element_forces().iter().zip(&bounds) {
+                    prop_assert!(f.abs() <= b * (1.0 + 4.0 * EPS), "|{f}| > {b}");
+                    worst = worst.max(f.abs() / b);
+                }
+            }
+            Ok(worst)
+        },
+    );
+}
+
+// ---------------------------------------------------------------------------
 // Specs
 // ---------------------------------------------------------------------------
 
@@ -934,7 +1148,7 @@ fn lugre_is_rate_dependent() {
 #[test]
 fn friction_specs_build_round_trip_and_report_errors() {
     let xs: Vec<f64> = (1..300).map(|k| 1.2 * (k as f64 * 0.04).sin()).collect();
-    let cases: [(&str, Box<dyn Operator<f64>>); 3] = [
+    let cases: [(&str, Box<dyn Operator<f64>>); 4] = [
         (
             r#"{"type": "maxwell_slip", "k": [20, 5], "f_b": [0.4, 1.0], "f0": [0.1, -0.2]}"#,
             MaxwellSlip::from_params(MaxwellSlipParams {
@@ -966,6 +1180,24 @@ fn friction_specs_build_round_trip_and_report_errors() {
             .unwrap()
             .boxed(),
         ),
+        (
+            r#"{"type": "gms", "k": [20, 8], "alpha": [0.6, 0.4], "c": 15,
+                "f_c": 1, "f_s": 1.4, "v_s": 0.5, "dt": 0.01}"#,
+            Gms::from_params(GmsParams {
+                k: vec![20.0, 8.0],
+                alpha: vec![0.6, 0.4],
+                f0: vec![],
+                c: 15.0,
+                f_c: 1.0,
+                f_s: 1.4,
+                v_s: 0.5,
+                delta: 2.0,  // the default
+                sigma2: 0.0, // the default
+                dt: 0.01,
+            })
+            .unwrap()
+            .boxed(),
+        ),
     ];
     for (text, mut direct) in cases {
         let spec = Spec::from_json(text).unwrap_or_else(|e| panic!("{text}: {e}"));
@@ -978,7 +1210,11 @@ fn friction_specs_build_round_trip_and_report_errors() {
         assert_eq!(bits(&ys), bits(&direct.run(&xs).unwrap()), "{text}");
         assert!(ys.iter().any(|&y| y != 0.0));
         assert_eq!(spec.with_params(&model.params()).unwrap(), spec);
-        assert_eq!(spec.is_rate_dependent(), spec.kind() == "lugre", "{text}");
+        assert_eq!(
+            spec.is_rate_dependent(),
+            ["lugre", "gms"].contains(&spec.kind()),
+            "{text}"
+        );
     }
     // lugre: with_dt sets its sample period, describe shows it
     let lugre = Spec::from_json(
@@ -1007,6 +1243,11 @@ fn friction_specs_build_round_trip_and_report_errors() {
         (
             r#"{"type": "dahl", "sigma": 3, "f_c": 1, "alpha": -1}"#,
             "dahl.alpha: must be ≥ 0 (got -1)",
+        ),
+        (
+            r#"{"type": "gms", "k": [20, 8], "alpha": [0.6, 0.4], "c": 15,
+                "f_c": 1, "f_s": 1.4, "v_s": 0.5, "delta": 0.5, "dt": 0.01}"#,
+            "gms.delta: must be ≥ 1 (got 0.5)",
         ),
         (
             r#"{"type": "lugre", "sigma0": 0, "sigma1": 5, "sigma2": 0.2,
