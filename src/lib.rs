@@ -53,7 +53,8 @@ pub mod prelude {
         PiInverse, Scaled, SolverOptions, TravelLimits,
     };
     pub use hysteron_operators::{
-        BoucWen, BoucWenParams, DeadZone, ElastoPlastic, Error, Float, Gain, MassSpringDamper, Mms,
+        BoucWen, BoucWenParams, Dahl, DahlParams, DeadZone, ElastoPlastic, Error, Float, Gain, Gms,
+        GmsParams, LuGre, LuGreParams, MassSpringDamper, MaxwellSlip, MaxwellSlipParams, Mms,
         MmsParams, Operator, Play, PlayParams, Preisach, PreisachMeasure, PreisachParams,
         PreisachStart, Result, Saturation, StiffnessMap, Stop, Trial, ViscousDamper,
     };

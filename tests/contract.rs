@@ -284,6 +284,76 @@ fn leaves() {
             );
         }
     }
+    check("maxwell-slip", maxwell_slip());
+    check(
+        "maxwell-slip one element",
+        MaxwellSlip::new(vec![12.0], vec![2.0]).unwrap(),
+    );
+    for alpha in [0.0, 0.5, 1.0, 2.5] {
+        check(
+            &format!("dahl α={alpha}"),
+            Dahl::new(40.0, 1.5, alpha).unwrap(),
+        );
+        check(
+            &format!("dahl α={alpha} f0 beyond F_c"),
+            Dahl::from_params(DahlParams {
+                sigma: 40.0,
+                f_c: 1.5,
+                alpha,
+                f0: -2.5,
+            })
+            .unwrap(),
+        );
+    }
+    check("gms", gms(vec![0.1, -0.3, 0.0]));
+    check("gms f0 beyond the limits", gms(vec![0.8, -1.0, 0.5]));
+    check("lugre", lugre(100.0, 0.3));
+    check("lugre pre-sliding", lugre(2.0, 0.0));
+}
+
+/// Five elements, two of them preloaded (one beyond its break-away force).
+fn maxwell_slip() -> MaxwellSlip<f64> {
+    MaxwellSlip::from_params(MaxwellSlipParams {
+        k: vec![30.0, 12.0, 8.0, 5.0, 2.5],
+        f_b: vec![0.3, 0.5, 0.9, 1.2, 2.0],
+        f0: vec![0.1, 0.0, -0.9, 1.5, 0.0],
+    })
+    .unwrap()
+}
+
+/// GMS at dt = 0.01 on the contract signal: three elements with
+/// break-away displacements 0.02–0.3, Stribeck velocity 0.5.
+fn gms(f0: Vec<f64>) -> Gms<f64> {
+    Gms::from_params(GmsParams {
+        k: vec![20.0, 8.0, 1.5],
+        alpha: vec![0.3, 0.4, 0.3],
+        f0,
+        c: 15.0,
+        f_c: 1.0,
+        f_s: 1.4,
+        v_s: 0.5,
+        delta: 2.0,
+        sigma2: 0.2,
+        dt: 0.01,
+    })
+    .unwrap()
+}
+
+/// LuGre at dt = 0.01 on the contract signal (velocities up to ≈ 7,
+/// Stribeck velocity 0.5): stiffness `sigma0`, a preloaded bristle.
+fn lugre(sigma0: f64, z0: f64) -> LuGre<f64> {
+    LuGre::from_params(LuGreParams {
+        sigma0,
+        sigma1: 0.8,
+        sigma2: 0.3,
+        f_c: 1.0,
+        f_s: 1.4,
+        v_s: 0.5,
+        delta: 2.0,
+        z0,
+        dt: 0.01,
+    })
+    .unwrap()
 }
 
 /// One Preisach model per representation, ranges inside and outside the
@@ -404,6 +474,16 @@ fn combinators() {
         .unwrap()
         .plus(Gain::new(0.2).unwrap())
         .inverse(),
+    );
+    check(
+        "maxwell-slip in parallel with lugre",
+        maxwell_slip().plus(lugre(100.0, 0.0)),
+    );
+    check(
+        "dahl in series with a spring",
+        Dahl::new(40.0, 1.5, 1.0)
+            .unwrap()
+            .series(Gain::new(20.0).unwrap()),
     );
 }
 

@@ -9,9 +9,10 @@
 use hysteron::composition::{Oversample, PiBankParams, SolverOptions, TravelLimits};
 use hysteron::models::{Spec, SpecError, TransmissionParams};
 use hysteron::operators::{
-    BoucWenParams, DeadZoneParams, ElastoPlasticParams, MassSpringDamper, MassSpringDamperParams,
-    MmsParams, PlayParams, PreisachMeasure, PreisachParams, PreisachStart, SaturationParams,
-    StiffnessMap, StopParams, ViscousDamper,
+    BoucWenParams, DahlParams, DeadZoneParams, ElastoPlasticParams, GmsParams, LuGreParams,
+    MassSpringDamper, MassSpringDamperParams, MaxwellSlipParams, MmsParams, PlayParams,
+    PreisachMeasure, PreisachParams, PreisachStart, SaturationParams, StiffnessMap, StopParams,
+    ViscousDamper,
 };
 use hysteron::{Error, Operator};
 use proptest::prelude::*;
@@ -127,6 +128,89 @@ fn pi_inverse() -> impl Strategy<Value = PiBankParams<f64>> {
         })
 }
 
+fn maxwell_slip() -> impl Strategy<Value = MaxwellSlipParams<f64>> {
+    prop::collection::vec((0.5..50.0f64, 0.01..2.0f64), 1..6)
+        .prop_flat_map(|elements| {
+            let n = elements.len();
+            let f0 = prop_oneof![
+                Just(Vec::new()),
+                prop::collection::vec(num(-1.0, 1.0), n..=n)
+            ];
+            (Just(elements), f0)
+        })
+        .prop_map(|(elements, f0)| MaxwellSlipParams {
+            k: elements.iter().map(|e| e.0).collect(),
+            f_b: elements.iter().map(|e| e.1).collect(),
+            f0,
+        })
+}
+
+fn dahl() -> impl Strategy<Value = DahlParams<f64>> {
+    (
+        1.0..100.0f64,
+        0.1..3.0f64,
+        prop_oneof![Just(0.0), Just(1.0), 0.0..3.0f64],
+        num(-1.0, 1.0),
+    )
+        .prop_map(|(sigma, f_c, alpha, f0)| DahlParams {
+            sigma,
+            f_c,
+            alpha,
+            f0,
+        })
+}
+
+fn lugre() -> impl Strategy<Value = LuGreParams<f64>> {
+    (
+        (10.0..1e4f64, num(0.0, 10.0), num(0.0, 2.0)),
+        (0.1..2.0f64, 0.1..3.0f64, 0.001..1.0f64, 0.5..3.0f64),
+        (num(-1e-3, 1e-3), 0.001..0.1f64),
+    )
+        .prop_map(
+            |((sigma0, sigma1, sigma2), (f_c, f_s, v_s, delta), (z0, dt))| LuGreParams {
+                sigma0,
+                sigma1,
+                sigma2,
+                f_c,
+                f_s,
+                v_s,
+                delta,
+                z0,
+                dt,
+            },
+        )
+}
+
+fn gms() -> impl Strategy<Value = GmsParams<f64>> {
+    (
+        prop::collection::vec((1.0..100.0f64, 0.05..1.0f64), 1..5),
+        (0.1..50.0f64, 0.1..2.0f64, 0.1..3.0f64, 0.01..1.0f64),
+        (1.0..3.0f64, num(0.0, 1.0), 0.001..0.1f64),
+    )
+        .prop_flat_map(|(elements, stribeck, rest)| {
+            let n = elements.len();
+            let f0 = prop_oneof![
+                Just(Vec::new()),
+                prop::collection::vec(num(-0.5, 0.5), n..=n)
+            ];
+            (Just(elements), Just(stribeck), Just(rest), f0)
+        })
+        .prop_map(
+            |(elements, (c, f_c, f_s, v_s), (delta, sigma2, dt), f0)| GmsParams {
+                k: elements.iter().map(|e| e.0).collect(),
+                alpha: elements.iter().map(|e| e.1).collect(),
+                f0,
+                c,
+                f_c,
+                f_s,
+                v_s,
+                delta,
+                sigma2,
+                dt,
+            },
+        )
+}
+
 fn transmission() -> impl Strategy<Value = TransmissionParams> {
     (0.05..0.6f64, -0.5..0.5f64, mms(), bouc_wen()).prop_map(|(backlash, s, friction, spring)| {
         TransmissionParams {
@@ -231,6 +315,10 @@ fn leaf() -> BoxedStrategy<Spec> {
             Spec::MassSpringDamper(MassSpringDamperParams { m, c, k, dt })
         }),
         (num(0.0, 3.0), 0.001..0.1f64).prop_map(|(c, dt)| Spec::ViscousDamper { c, dt }),
+        maxwell_slip().prop_map(Spec::MaxwellSlip),
+        dahl().prop_map(Spec::Dahl),
+        lugre().prop_map(Spec::LuGre),
+        gms().prop_map(Spec::Gms),
     ]
     .boxed()
 }
@@ -929,6 +1017,59 @@ fn examples() -> Vec<(&'static str, Spec)> {
                     max_expansions: 64,
                 }),
             },
+        ),
+        // Maxwell-slip friction: six elastoplastic elements whose
+        // break-away displacements F_i/k_i spread from 0.02 to 0.6.
+        (
+            "maxwell-slip.json",
+            Spec::MaxwellSlip(MaxwellSlipParams {
+                k: vec![25.0, 10.0, 6.0, 4.0, 2.5, 1.5],
+                f_b: vec![0.5, 0.4, 0.36, 0.32, 0.25, 0.9],
+                f0: vec![],
+            }),
+        ),
+        // Dahl friction with Dahl's exponent 1.
+        (
+            "dahl.json",
+            Spec::Dahl(DahlParams {
+                sigma: 20.0,
+                f_c: 1.0,
+                alpha: 1.0,
+                f0: 0.0,
+            }),
+        ),
+        // LuGre friction sampled at 100 Hz (rate-dependent: `simulate --dt`
+        // or `--time-column` overrides the dt).
+        (
+            "lugre.json",
+            Spec::LuGre(LuGreParams {
+                sigma0: 1e3,
+                sigma1: 5.0,
+                sigma2: 0.2,
+                f_c: 1.0,
+                f_s: 1.5,
+                v_s: 0.5,
+                delta: 2.0,
+                z0: 0.0,
+                dt: 0.01,
+            }),
+        ),
+        // Generalized Maxwell-slip friction sampled at 100 Hz: four
+        // elements, Stribeck velocity 0.5, attraction rate 20 per second.
+        (
+            "gms.json",
+            Spec::Gms(GmsParams {
+                k: vec![25.0, 10.0, 4.0, 1.5],
+                alpha: vec![0.4, 0.3, 0.2, 0.1],
+                f0: vec![],
+                c: 20.0,
+                f_c: 1.0,
+                f_s: 1.5,
+                v_s: 0.5,
+                delta: 2.0,
+                sigma2: 0.2,
+                dt: 0.01,
+            }),
         ),
     ]
 }

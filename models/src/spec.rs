@@ -15,8 +15,10 @@
 //! }
 //! ```
 //!
-//! Optional fields: `y0`, `s0`, `f0`, `h0`, `z0` and a PI bank's `y0`
-//! (default 0 / empty), a Preisach model's `start` (default `"from_below"`), a series' `limits` (default none: `{"type": "none"}`),
+//! Optional fields: `y0`, `s0`, `f0`, `h0`, `z0`, a PI bank's `y0` and a
+//! Maxwell-slip or GMS bank's `f0` (default 0 / empty), a LuGre or GMS
+//! model's `delta` (default 2), a GMS model's `sigma2` (default 0), a
+//! Preisach model's `start` (default `"from_below"`), a series' `limits` (default none: `{"type": "none"}`),
 //! an implicit combinator's `solver` (default [`SolverOptions::default`],
 //! and each of its fields may be left out). Unknown fields are errors.
 //!
@@ -30,8 +32,9 @@ use hysteron_composition::{
     OperatorExt, Oversample, PiBank, PiBankParams, PiInverse, SolverOptions, TravelLimits,
 };
 use hysteron_operators::{
-    check, BoucWen, BoucWenParams, DeadZone, DeadZoneParams, ElastoPlastic, ElastoPlasticParams,
-    Error, Gain, MassSpringDamper, MassSpringDamperParams, Mms, MmsParams, Operator, Play,
+    check, BoucWen, BoucWenParams, Dahl, DahlParams, DeadZone, DeadZoneParams, ElastoPlastic,
+    ElastoPlasticParams, Error, Gain, Gms, GmsParams, LuGre, LuGreParams, MassSpringDamper,
+    MassSpringDamperParams, MaxwellSlip, MaxwellSlipParams, Mms, MmsParams, Operator, Play,
     PlayParams, Preisach, PreisachMeasure, PreisachParams, PreisachStart, Saturation,
     SaturationParams, StiffnessMap, Stop, StopParams, ViscousDamper,
 };
@@ -177,6 +180,18 @@ pub enum Spec {
         /// Sub-steps per data sample (`≥ 1`), not a parameter.
         q: usize,
     },
+    /// Multi-element Maxwell-slip friction (parallel elastoplastic
+    /// elements), [`MaxwellSlip`].
+    MaxwellSlip(MaxwellSlipParams<f64>),
+    /// Dahl friction, [`Dahl`].
+    Dahl(DahlParams<f64>),
+    /// LuGre friction, [`LuGre`] (rate-dependent: `dt` is its sample
+    /// period, not a parameter).
+    #[serde(rename = "lugre")]
+    LuGre(LuGreParams<f64>),
+    /// Generalized Maxwell-slip friction, [`Gms`] (rate-dependent: `dt` is
+    /// its sample period, not a parameter).
+    Gms(GmsParams<f64>),
 }
 
 /// What can go wrong reading or building a [`Spec`].
@@ -395,6 +410,12 @@ impl Spec {
                 MassSpringDamper::from_params(*p).map_err(invalid)?.boxed()
             }
             Spec::ViscousDamper { c, dt } => ViscousDamper::new(*c, *dt).map_err(invalid)?.boxed(),
+            Spec::MaxwellSlip(p) => MaxwellSlip::from_params(p.clone())
+                .map_err(invalid)?
+                .boxed(),
+            Spec::Dahl(p) => Dahl::from_params(*p).map_err(invalid)?.boxed(),
+            Spec::LuGre(p) => LuGre::from_params(*p).map_err(invalid)?.boxed(),
+            Spec::Gms(p) => Gms::from_params(p.clone()).map_err(invalid)?.boxed(),
             Spec::Oversample { inner, q } => {
                 if *q == 0 || *q > MAX_OVERSAMPLE {
                     return Err(invalid(Error::InvalidParameter {
@@ -433,6 +454,10 @@ impl Spec {
             Spec::MassSpringDamper(_) => "mass_spring_damper",
             Spec::ViscousDamper { .. } => "viscous_damper",
             Spec::Oversample { .. } => "oversample",
+            Spec::MaxwellSlip(_) => "maxwell_slip",
+            Spec::Dahl(_) => "dahl",
+            Spec::LuGre(_) => "lugre",
+            Spec::Gms(_) => "gms",
         }
     }
 
@@ -464,6 +489,8 @@ impl Spec {
             Spec::Scaled { w, .. } => format!("[w={w}]"),
             Spec::MassSpringDamper(p) => format!("[dt={}]", p.dt),
             Spec::ViscousDamper { dt, .. } => format!("[dt={dt}]"),
+            Spec::LuGre(p) => format!("[dt={}]", p.dt),
+            Spec::Gms(p) => format!("[dt={}]", p.dt),
             Spec::Oversample { q, .. } => format!("[q={q}]"),
             Spec::Series { limits, .. } => match limits {
                 TravelLimits::None => String::new(),
@@ -524,7 +551,7 @@ impl Spec {
     }
 
     /// The same spec with the sample period of every rate-dependent node
-    /// (`mass_spring_damper`, `viscous_damper`) set to `dt`; the rest of
+    /// (`mass_spring_damper`, `viscous_damper`, `lugre`, `gms`) set to `dt`; the rest of
     /// the tree is kept. The value is checked by [`build`](Spec::build).
     ///
     /// ```
@@ -545,6 +572,8 @@ impl Spec {
                 Spec::MassSpringDamper(MassSpringDamperParams { dt, ..*p })
             }
             Spec::ViscousDamper { c, .. } => Spec::ViscousDamper { c: *c, dt },
+            Spec::LuGre(p) => Spec::LuGre(LuGreParams { dt, ..*p }),
+            Spec::Gms(p) => Spec::Gms(GmsParams { dt, ..p.clone() }),
             Spec::Oversample { inner, q } => Spec::Oversample {
                 inner: b(inner),
                 q: *q,
@@ -596,18 +625,22 @@ impl Spec {
             | Spec::PiBank(_)
             | Spec::PiInverse(_)
             | Spec::Preisach(_)
+            | Spec::MaxwellSlip(_)
+            | Spec::Dahl(_)
             | Spec::Transmission(_) => self.clone(),
         }
     }
 
-    /// Whether any node of the tree is rate-dependent (`mass_spring_damper`
-    /// or `viscous_damper`).
+    /// Whether any node of the tree is rate-dependent (`mass_spring_damper`,
+    /// `viscous_damper`, `lugre` or `gms`).
     pub fn is_rate_dependent(&self) -> bool {
-        matches!(self, Spec::MassSpringDamper(_) | Spec::ViscousDamper { .. })
-            || self
-                .children()
-                .into_iter()
-                .any(|(_, c)| c.is_rate_dependent())
+        matches!(
+            self,
+            Spec::MassSpringDamper(_) | Spec::ViscousDamper { .. } | Spec::LuGre(_) | Spec::Gms(_)
+        ) || self
+            .children()
+            .into_iter()
+            .any(|(_, c)| c.is_rate_dependent())
     }
 
     /// The same spec with the parameters `p`, given in the order of the
@@ -884,6 +917,66 @@ impl Spec {
                 inner: child("inner", inner, rest)?,
                 q: *q,
             },
+            Spec::MaxwellSlip(old) => {
+                let n = old.k.len();
+                let k = take(rest, n)?.to_vec();
+                let f_b = take(rest, n)?.to_vec();
+                let f0 = take(rest, n)?;
+                // An omitted f0 means all zero: keep it omitted if it still is.
+                let f0 = if old.f0.is_empty() && f0.iter().all(|&v| v == 0.0) {
+                    Vec::new()
+                } else {
+                    f0.to_vec()
+                };
+                Spec::MaxwellSlip(MaxwellSlipParams { k, f_b, f0 })
+            }
+            Spec::Dahl(_) => {
+                let v = take(rest, 4)?;
+                Spec::Dahl(DahlParams {
+                    sigma: v[0],
+                    f_c: v[1],
+                    alpha: v[2],
+                    f0: v[3],
+                })
+            }
+            Spec::LuGre(old) => {
+                let v = take(rest, 8)?;
+                Spec::LuGre(LuGreParams {
+                    sigma0: v[0],
+                    sigma1: v[1],
+                    sigma2: v[2],
+                    f_c: v[3],
+                    f_s: v[4],
+                    v_s: v[5],
+                    delta: v[6],
+                    z0: v[7],
+                    dt: old.dt,
+                })
+            }
+            Spec::Gms(old) => {
+                let n = old.k.len();
+                let v = take(rest, 6)?;
+                let k = take(rest, n)?.to_vec();
+                let alpha = take(rest, n)?.to_vec();
+                let f0 = take(rest, n)?;
+                let f0 = if old.f0.is_empty() && f0.iter().all(|&v| v == 0.0) {
+                    Vec::new()
+                } else {
+                    f0.to_vec()
+                };
+                Spec::Gms(GmsParams {
+                    k,
+                    alpha,
+                    f0,
+                    c: v[0],
+                    f_c: v[1],
+                    f_s: v[2],
+                    v_s: v[3],
+                    delta: v[4],
+                    sigma2: v[5],
+                    dt: old.dt,
+                })
+            }
         })
     }
 }
@@ -1130,6 +1223,11 @@ enum SpecDef {
         inner: Box<Spec>,
         q: usize,
     },
+    MaxwellSlip(#[serde(deserialize_with = "MaxwellSlipDef::deserialize")] MaxwellSlipParams<f64>),
+    Dahl(#[serde(deserialize_with = "DahlDef::deserialize")] DahlParams<f64>),
+    #[serde(rename = "lugre")]
+    LuGre(#[serde(deserialize_with = "LuGreDef::deserialize")] LuGreParams<f64>),
+    Gms(#[serde(deserialize_with = "GmsDef::deserialize")] GmsParams<f64>),
 }
 
 #[derive(Deserialize)]
@@ -1230,6 +1328,63 @@ struct BoucWenDef {
     z0: f64,
     #[serde(deserialize_with = "stiffness")]
     stiffness: StiffnessMap<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(remote = "MaxwellSlipParams<f64>", deny_unknown_fields)]
+struct MaxwellSlipDef {
+    k: Vec<f64>,
+    f_b: Vec<f64>,
+    #[serde(default)]
+    f0: Vec<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(remote = "DahlParams<f64>", deny_unknown_fields)]
+struct DahlDef {
+    sigma: f64,
+    f_c: f64,
+    alpha: f64,
+    #[serde(default)]
+    f0: f64,
+}
+
+#[derive(Deserialize)]
+#[serde(remote = "LuGreParams<f64>", deny_unknown_fields)]
+struct LuGreDef {
+    sigma0: f64,
+    sigma1: f64,
+    sigma2: f64,
+    f_c: f64,
+    f_s: f64,
+    v_s: f64,
+    #[serde(default = "default_delta")]
+    delta: f64,
+    #[serde(default)]
+    z0: f64,
+    dt: f64,
+}
+
+fn default_delta() -> f64 {
+    2.0
+}
+
+#[derive(Deserialize)]
+#[serde(remote = "GmsParams<f64>", deny_unknown_fields)]
+struct GmsDef {
+    k: Vec<f64>,
+    alpha: Vec<f64>,
+    #[serde(default)]
+    f0: Vec<f64>,
+    c: f64,
+    f_c: f64,
+    f_s: f64,
+    v_s: f64,
+    #[serde(default = "default_delta")]
+    delta: f64,
+    #[serde(default)]
+    sigma2: f64,
+    dt: f64,
 }
 
 #[derive(Deserialize)]
@@ -1640,6 +1795,50 @@ mod with_params_tests {
                 }),
                 right: Box::new(Spec::ViscousDamper { c: 2.0, dt: 0.01 }),
             },
+        ));
+        specs.push((
+            "friction models".into(),
+            Spec::Parallel {
+                left: Box::new(Spec::MaxwellSlip(MaxwellSlipParams {
+                    k: vec![20.0, 8.0, 3.0],
+                    f_b: vec![0.2, 0.5, 0.8],
+                    f0: vec![],
+                })),
+                right: Box::new(Spec::Parallel {
+                    left: Box::new(Spec::Dahl(DahlParams {
+                        sigma: 30.0,
+                        f_c: 1.2,
+                        alpha: 1.5,
+                        f0: 0.3,
+                    })),
+                    right: Box::new(Spec::LuGre(LuGreParams {
+                        sigma0: 1e3,
+                        sigma1: 5.0,
+                        sigma2: 0.4,
+                        f_c: 1.0,
+                        f_s: 1.3,
+                        v_s: 0.05,
+                        delta: 2.0,
+                        z0: 1e-4,
+                        dt: 0.01,
+                    })),
+                }),
+            },
+        ));
+        specs.push((
+            "gms".into(),
+            Spec::Gms(GmsParams {
+                k: vec![20.0, 8.0],
+                alpha: vec![0.6, 0.4],
+                f0: vec![0.1, 0.0],
+                c: 15.0,
+                f_c: 1.0,
+                f_s: 1.4,
+                v_s: 0.5,
+                delta: 2.0,
+                sigma2: 0.2,
+                dt: 0.01,
+            }),
         ));
         specs
     }

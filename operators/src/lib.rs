@@ -12,6 +12,10 @@
 //! | [`DeadZone`] | `x − b_r` above `b_r`, `x − b_l` below `b_l`, 0 between |
 //! | [`Saturation`] | `clamp(x, lo, hi)` |
 //! | [`Gain`] | `k x` |
+//! | [`MaxwellSlip`] | `F = Σ_i k_i · stop_{F_i/k_i}[x]` (bank of elastoplastic elements) |
+//! | [`Dahl`] | `dF/dx = σ \|1 − (F/F_c) sgn ẋ\|^α sgn(1 − (F/F_c) sgn ẋ)` |
+//! | [`LuGre`] | `ż = v − σ0 \|v\| z / g(v)`, `F = σ0 z + σ1 ż + σ2 v` (rate-dependent, exact per sample) |
+//! | [`Gms`] | generalized Maxwell-slip: stick `Ḟ_i = k_i v`, slip `Ḟ_i = sgn(v) C (1 − sgn(v) F_i/(α_i s(v)))` (rate-dependent, exact per sample) |
 //! | [`Mms`] | `y = y_r + (sgn(ẋ) F_c − y_r)(1 − e^{−K|x − x_r|})` |
 //! | [`BoucWen`] | `H = w S(z) z + (1 − w) S(z) h`, `dh/dz = α − \|h\|^n (β sgn(ż h) + γ)` |
 //! | [`Preisach`] | `y = ∬_{α≥β} μ(α,β) γ_{αβ}[x] dα dβ = −E₀ + 2 Σ_k s_k E(p_k, p_{k−1})` |
@@ -30,11 +34,15 @@ mod memoryless;
 mod operator;
 
 mod bouc_wen;
+mod dahl;
 mod deadzone;
 mod elastoplastic;
 mod gain;
+mod gms;
 mod hysteretic_state;
+mod lugre;
 mod mass_spring_damper;
+mod maxwell_slip;
 mod mms;
 mod play;
 mod preisach;
@@ -44,13 +52,17 @@ mod stop;
 mod viscous_damper;
 
 pub use bouc_wen::{BoucWen, BoucWenParams};
+pub use dahl::{Dahl, DahlParams};
 pub use deadzone::{dead_zone, DeadZone, DeadZoneParams};
 pub use domain::Domain;
 pub use elastoplastic::{ElastoPlastic, ElastoPlasticParams};
 pub use error::{Error, Result};
 pub use float::Float;
 pub use gain::Gain;
+pub use gms::{Gms, GmsParams};
+pub use lugre::{LuGre, LuGreParams};
 pub use mass_spring_damper::{MassSpringDamper, MassSpringDamperParams};
+pub use maxwell_slip::{MaxwellSlip, MaxwellSlipParams};
 pub use mms::{Mms, MmsParams};
 pub use operator::{check_input, check_lengths, check_output, Operator, Trial};
 pub use play::{play_step, play_tangent, Play, PlayParams};

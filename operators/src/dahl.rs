@@ -1,0 +1,415 @@
+//! The Dahl friction model, in closed form per branch.
+
+use crate::{
+    check, check_input, check_lengths, check_output, Domain, Error, Float, Operator, Result, Trial,
+};
+use serde::{Deserialize, Serialize};
+
+/// Parameters of the [`Dahl`] friction operator.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct DahlParams<T> {
+    /// Rest stiffness `σ > 0` (slope `dF/dx` at `F = 0`), force per input unit.
+    pub sigma: T,
+    /// Coulomb friction level `F_c > 0`.
+    pub f_c: T,
+    /// Shape exponent `α ≥ 0` (Dahl: 1 for most materials; 0 gives the
+    /// elastoplastic element, larger values a rounder approach).
+    pub alpha: T,
+    /// Friction force at input `x = 0` before the first sample (default 0).
+    /// With `|f0| ≤ F_c` the force stays in `[−F_c, F_c]`.
+    #[serde(default)]
+    pub f0: T,
+}
+
+impl<T: Float> DahlParams<T> {
+    /// Checks `σ > 0`, `F_c > 0`, `α ≥ 0`, finite `f0`, and that `σ/F_c`
+    /// and `f0/F_c` are finite.
+    pub fn validate(&self) -> Result<()> {
+        check::positive("sigma", self.sigma)?;
+        check::positive("f_c", self.f_c)?;
+        check::non_negative("alpha", self.alpha)?;
+        check::finite("f0", self.f0)?;
+        if !(self.sigma / self.f_c).is_finite() {
+            return Err(Error::InvalidParameter {
+                name: "sigma".into(),
+                value: self.sigma.as_f64(),
+                reason: "σ / F_c must be finite",
+            });
+        }
+        if !(self.f0 / self.f_c).is_finite() {
+            return Err(Error::InvalidParameter {
+                name: "f0".into(),
+                value: self.f0.as_f64(),
+                reason: "f0 / F_c must be finite",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// The committed state: last input and output, the start of the current
+/// branch and its direction (`0` before any motion).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct State<T> {
+    x: T,
+    f: T,
+    x_r: T,
+    f_r: T,
+    dir: i8,
+}
+
+/// The distance to saturation after travel: `|w|` for `|w_r| = a` and
+/// scaled travel `u = (σ/F_c)·|x − x_r|`, from
+/// `d|w|/du = −|w|^α`:
+///
+/// * `α = 1`: `a e^{−u}`;
+/// * `α ≠ 1` (`ε = 1 − α`): `|w|^ε = a^ε − ε u`, evaluated as
+///   `a · exp(ln(1 − ε u a^{−ε}) / ε)` (accurate for `α` near 1), and 0
+///   once `ε u a^{−ε} ≥ 1` (`α < 1` reaches saturation in finite travel).
+#[inline(always)]
+fn decay<T: Float>(a: T, u: T, alpha: T) -> T {
+    if a == T::zero() || u == T::zero() {
+        return a;
+    }
+    if !u.is_finite() {
+        return T::zero();
+    }
+    let eps = T::one() - alpha;
+    if eps == T::zero() {
+        return a * (-u).exp();
+    }
+    let c = eps * u * a.powf(-eps);
+    if c >= T::one() {
+        return T::zero();
+    }
+    let l = if c.is_finite() {
+        (-c).ln_1p()
+    } else {
+        // α > 1 and c = −∞ by overflow: ln(1 + |c|) = ln|c| to within
+        // 1/|c|, taken in logarithms.
+        (-eps).ln() + u.ln() - eps * a.ln()
+    };
+    a * (l / eps).exp()
+}
+
+/// Dahl friction (Dahl 1968), written in the input domain:
+///
+/// `dF/dx = σ |1 − (F/F_c) sgn(ẋ)|^α sgn(1 − (F/F_c) sgn(ẋ))`.
+///
+/// Dahl's model is usually written in time, `dF/dt = σ (1 − (F/F_c)
+/// sgn(v))^α v`; the velocity enters only through `v = ẋ`, so dividing by
+/// `ẋ` gives the form above: the model is **rate-independent** (a
+/// hysteresis operator with local memory, like [`Mms`](crate::Mms)), and
+/// that is how it is implemented. It has no static (stiction) force and no
+/// Stribeck effect; see [`LuGre`](crate::LuGre) for those.
+///
+/// With `s = sgn(ẋ)` and `w = 1 − s F/F_c` (the scaled distance to the
+/// Coulomb level `s F_c`), each branch since the last reversal at
+/// `(x_r, F_r)` has a closed form in the travel `u = (σ/F_c) |x − x_r|`:
+/// `|w|` decreases with `d|w|/du = −|w|^α` and `w` keeps its sign, so
+///
+/// * `α = 1`: `w = w_r e^{−u}`, i.e.
+///   `F = s F_c − (s F_c − F_r) exp(−σ |x − x_r| / F_c)`;
+/// * `α ≠ 1`: `|w|^{1−α} = |w_r|^{1−α} − (1 − α) u` (linear in `x`), and
+///   for `α < 1`, `w = 0` (sliding at `s F_c`) from `u = |w_r|^{1−α}/(1−α)`
+///   on; `α = 0` is the elastoplastic element with stiffness `σ`.
+///
+/// No ODE is integrated, so the operator is exactly rate-independent: the
+/// output depends only on the branch start and the input. Each branch is
+/// monotone from `F_r` towards `s F_c` (clamped to that interval against
+/// rounding), so `|F| ≤ F_c` whenever `|f0| ≤ F_c`. Tangent:
+/// `dF/dx = σ |w|^α sgn(w)` on the branch of the current motion (at a
+/// standstill that of continuing in the last direction, upward before any
+/// motion). Parameters `[sigma, f_c, alpha, f0]`.
+///
+/// ```
+/// use hysteron_operators::{Dahl, Operator};
+/// let mut f = Dahl::new(100.0_f64, 2.0, 1.0).unwrap();
+/// let y = f.run(&[0.01, 0.05]).unwrap();
+/// // α = 1: F = F_c (1 − e^{−σ x / F_c})
+/// assert!((y[1] - 2.0 * (1.0 - (-2.5_f64).exp())).abs() < 1e-15);
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct Dahl<T> {
+    p: DahlParams<T>,
+    s: State<T>,
+    pending: Option<State<T>>,
+}
+
+impl<T: Float> Dahl<T> {
+    /// Dahl friction with rest stiffness `sigma`, Coulomb level `f_c` and
+    /// exponent `alpha`, starting unloaded.
+    pub fn new(sigma: T, f_c: T, alpha: T) -> Result<Self> {
+        Self::from_params(DahlParams {
+            sigma,
+            f_c,
+            alpha,
+            f0: T::zero(),
+        })
+    }
+
+    /// Dahl friction from validated parameters.
+    pub fn from_params(p: DahlParams<T>) -> Result<Self> {
+        p.validate()?;
+        Ok(Self {
+            p,
+            s: Self::initial(&p),
+            pending: None,
+        })
+    }
+
+    fn initial(p: &DahlParams<T>) -> State<T> {
+        State {
+            x: T::zero(),
+            f: p.f0,
+            x_r: T::zero(),
+            f_r: p.f0,
+            dir: 0,
+        }
+    }
+
+    /// The parameters.
+    pub fn parameters(&self) -> &DahlParams<T> {
+        &self.p
+    }
+
+    /// The committed friction force.
+    pub fn output(&self) -> T {
+        self.s.f
+    }
+
+    /// One step from state `s` to input `x`: the new state and the tangent.
+    #[inline(always)]
+    fn step(p: &DahlParams<T>, s: &State<T>, x: T) -> (State<T>, T) {
+        let dir = if x > s.x {
+            1
+        } else if x < s.x {
+            -1
+        } else {
+            s.dir
+        };
+        let (x_r, f_r) = if dir != s.dir {
+            (s.x, s.f)
+        } else {
+            (s.x_r, s.f_r)
+        };
+        let sign = if dir < 0 { -T::one() } else { T::one() };
+        let target = sign * p.f_c;
+        let w_r = T::one() - sign * f_r / p.f_c;
+        let u = p.sigma / p.f_c * (x - x_r).abs();
+        let w = decay(w_r.abs(), u, p.alpha);
+        let w = if w_r < T::zero() { -w } else { w };
+        let f = if x == s.x {
+            s.f
+        } else {
+            let v = target * (T::one() - w);
+            v.max(f_r.min(target)).min(f_r.max(target))
+        };
+        let tangent = if w == T::zero() {
+            T::zero()
+        } else {
+            let m = p.sigma * w.abs().powf(p.alpha);
+            if w < T::zero() {
+                -m
+            } else {
+                m
+            }
+        };
+        (
+            State {
+                x,
+                f,
+                x_r,
+                f_r,
+                dir,
+            },
+            tangent,
+        )
+    }
+}
+
+impl<T: Float> Operator<T> for Dahl<T> {
+    fn name(&self) -> &'static str {
+        "dahl"
+    }
+
+    #[inline]
+    fn trial(&mut self, x: T) -> Result<Trial<T>> {
+        self.pending = None;
+        let x = check_input(x)?;
+        let (s, tangent) = Self::step(&self.p, &self.s, x);
+        let t = check_output(
+            "dahl",
+            x,
+            Trial {
+                output: s.f,
+                tangent,
+            },
+        )?;
+        self.pending = Some(s);
+        Ok(t)
+    }
+
+    #[inline]
+    fn commit(&mut self) {
+        if let Some(s) = self.pending.take() {
+            self.s = s;
+        }
+    }
+
+    fn reset(&mut self) {
+        self.s = Self::initial(&self.p);
+        self.pending = None;
+    }
+
+    fn process(&mut self, xs: &[T], ys: &mut [T]) -> Result<()> {
+        check_lengths(xs, ys)?;
+        self.pending = None;
+        let mut s = self.s;
+        for (i, (&x, out)) in xs.iter().zip(ys.iter_mut()).enumerate() {
+            if !x.is_finite() {
+                self.s = s;
+                return Err(Error::NonFiniteInput { value: x.as_f64() }.at_sample(i));
+            }
+            let next = Self::step(&self.p, &s, x).0;
+            if !next.f.is_finite() {
+                self.s = s;
+                return Err(Error::NonFiniteOutput {
+                    operator: "dahl",
+                    input: x.as_f64(),
+                }
+                .at_sample(i));
+            }
+            s = next;
+            *out = s.f;
+        }
+        self.s = s;
+        Ok(())
+    }
+
+    fn n_params(&self) -> usize {
+        4
+    }
+
+    fn params_into(&self, out: &mut Vec<T>) {
+        out.extend([self.p.sigma, self.p.f_c, self.p.alpha, self.p.f0]);
+    }
+
+    fn param_names(&self) -> Vec<String> {
+        vec!["sigma".into(), "f_c".into(), "alpha".into(), "f0".into()]
+    }
+
+    fn param_domains(&self) -> Vec<Domain> {
+        vec![
+            Domain::Positive,
+            Domain::Positive,
+            Domain::NonNegative,
+            Domain::Real,
+        ]
+    }
+
+    fn set_params(&mut self, p: &[T]) -> Result<()> {
+        check::count(4, p)?;
+        *self = Self::from_params(DahlParams {
+            sigma: p[0],
+            f_c: p[1],
+            alpha: p[2],
+            f0: p[3],
+        })?;
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn decay_closed_forms() {
+        // α = 2: |w| = a / (1 + a u); α = 0.5: |w| = (√a − u/2)²; α = 0:
+        // a − u; each against the formula written out directly.
+        for &(a, u) in &[(1.0_f64, 0.3_f64), (2.0, 1.7), (0.25, 0.01), (1.5, 4.0)] {
+            let e2 = (decay(a, u, 2.0_f64) - a / (1.0 + a * u)).abs();
+            let h = (a.sqrt() - u / 2.0).max(0.0);
+            let e5 = (decay(a, u, 0.5) - h * h).abs();
+            let e0 = (decay(a, u, 0.0) - (a - u).max(0.0)).abs();
+            let e1 = (decay(a, u, 1.0) - a * (-u).exp()).abs();
+            assert!(
+                e2 < 4e-16 && e5 < 4e-16 && e0 < 4e-16 && e1 < 4e-16,
+                "{a} {u}: {e2} {e5} {e0} {e1}"
+            );
+        }
+        // α near 1 approaches the exponential continuously.
+        let (a, u) = (1.3_f64, 2.0_f64);
+        let near = decay(a, u, 1.0 + 1e-9);
+        assert!((near - a * (-u).exp()).abs() < 1e-8, "{near}");
+        // overflow of the α > 1 argument is taken in logarithms:
+        // |w| = ((α−1) u)^{−1/(α−1)} when a^{1−α} is negligible.
+        let big = decay(1.9, 3.0, 2000.0);
+        let expected = (1999.0_f64 * 3.0).powf(-1.0 / 1999.0);
+        assert!((big - expected).abs() < 1e-12, "{big} {expected}");
+        // never negative, never NaN
+        assert_eq!(decay(1.0, f64::INFINITY, 0.5), 0.0);
+        assert_eq!(decay(0.0, 1.0, 0.5), 0.0);
+    }
+
+    /// The tangent is `dF/dx` of the branch: central differences (step
+    /// 1e-7 of the travel; truncation O(h²), rounding ~1e-16·F_c/h) agree
+    /// to 1e-6 relative, on rising and falling branches, from inside and
+    /// beyond `F_c`.
+    #[test]
+    fn tangent_is_the_derivative_of_the_branch() {
+        for alpha in [0.3_f64, 1.0, 1.7, 3.0] {
+            for f0 in [0.0, 0.8, -1.6] {
+                for (x_r, x) in [(0.0, 0.02), (0.05, 0.01), (-0.03, -0.07)] {
+                    let p = DahlParams {
+                        sigma: 40.0,
+                        f_c: 1.5,
+                        alpha,
+                        f0,
+                    };
+                    let mut f = Dahl::from_params(p).unwrap();
+                    f.trial(x_r).unwrap();
+                    f.commit();
+                    let t: f64 = f.trial(x).unwrap().tangent;
+                    let h = 1e-7 * (x - x_r).abs();
+                    let fd = (f.trial(x + h).unwrap().output - f.trial(x - h).unwrap().output)
+                        / (2.0 * h);
+                    assert!(
+                        (t - fd).abs() < 1e-6 * t.abs().max(1.0),
+                        "α={alpha} f0={f0} {x_r}→{x}: {t} vs {fd}"
+                    );
+                }
+            }
+        }
+        // at a standstill: the tangent of continuing in the last direction
+        let mut f = Dahl::new(40.0_f64, 1.5, 1.0).unwrap();
+        f.run(&[0.02, 0.01]).unwrap();
+        let y = f.output();
+        let t = f.trial(0.01).unwrap();
+        assert_eq!(t.output, y);
+        assert!((t.tangent - 40.0 * (1.0 + y / 1.5)).abs() < 1e-12, "{t:?}");
+    }
+
+    #[test]
+    fn invalid_parameters_are_typed_errors() {
+        for (p, name) in [
+            ([0.0, 1.0, 1.0, 0.0], "sigma"),
+            ([1.0, -1.0, 1.0, 0.0], "f_c"),
+            ([1.0, 1.0, -0.5, 0.0], "alpha"),
+            ([1.0, 1.0, f64::NAN, 0.0], "alpha"),
+            ([1.0, 1.0, 1.0, f64::INFINITY], "f0"),
+            ([1e300, 1e-300, 1.0, 0.0], "sigma"),
+            ([1.0, 1e-300, 1.0, 1e300], "f0"),
+        ] {
+            let e = Dahl::new(1.0, 1.0, 1.0)
+                .unwrap()
+                .set_params(&p)
+                .unwrap_err();
+            match e {
+                Error::InvalidParameter { name: n, .. } => assert_eq!(n, name),
+                other => panic!("{other}"),
+            }
+        }
+    }
+}

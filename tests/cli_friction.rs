@@ -1,0 +1,215 @@
+//! End-to-end tests of `hysteron simulate --model SPEC` with the friction
+//! models (`maxwell_slip`, `dahl`, `lugre`, `gms`): the CSV holds bit for bit what
+//! the library computes, a bad parameter is a one-line error naming the
+//! field, and the rate-dependent `lugre` and `gms` take their sample period from
+//! `--dt` or `--time-column`.
+
+use hysteron::models::Spec;
+use hysteron::Operator;
+use std::fs;
+use std::path::{Path, PathBuf};
+use tempfile::TempDir;
+
+mod common;
+use common::*;
+
+fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let mut r = csv::Reader::from_path(path).expect("readable CSV");
+    let headers = r.headers().unwrap().iter().map(String::from).collect();
+    let rows = r
+        .records()
+        .map(|rec| rec.unwrap().iter().map(String::from).collect())
+        .collect();
+    (headers, rows)
+}
+
+fn column(headers: &[String], rows: &[Vec<String>], name: &str) -> Vec<f64> {
+    let i = headers.iter().position(|h| h == name).expect("column");
+    rows.iter().map(|r| r[i].parse().unwrap()).collect()
+}
+
+fn example(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("examples/specs")
+        .join(name)
+}
+
+/// A displacement record sampled every 1/256 s (exact in binary and in the
+/// CSV) with a time column `t`: two cycles of a 1 Hz sine of amplitude 1.2
+/// with a slower ripple (so there are minor loops).
+fn record(dir: &Path) -> Vec<f64> {
+    let dt = 1.0 / 256.0;
+    let x: Vec<f64> = (0..512)
+        .map(|i| {
+            let t = i as f64 * dt;
+            1.2 * (std::f64::consts::TAU * t).sin() + 0.1 * (std::f64::consts::TAU * 7.0 * t).sin()
+        })
+        .collect();
+    let mut text = String::from("t,x\n");
+    for (i, v) in x.iter().enumerate() {
+        text.push_str(&format!("{},{v}\n", i as f64 * dt));
+    }
+    fs::write(dir.join("x.csv"), text).unwrap();
+    x
+}
+
+/// Runs `simulate` on `x.csv` with `args` added and returns the `y` column
+/// (checking the input columns were kept and a plot was written).
+fn simulate(dir: &Path, model: &Path, args: &[&str], x: &[f64]) -> Vec<f64> {
+    hysteron(dir)
+        .arg("simulate")
+        .arg("--model")
+        .arg(model)
+        .args([
+            "--input", "x.csv", "--output", "y.csv", "--plot", "loop.svg",
+        ])
+        .args(args)
+        .assert()
+        .success();
+    let (headers, rows) = read_csv(&dir.join("y.csv"));
+    assert_eq!(headers, ["t", "x", "y"]);
+    assert_eq!(column(&headers, &rows, "x"), x);
+    assert_svg(&dir.join("loop.svg"));
+    assert_no_temp_files(dir);
+    column(&headers, &rows, "y")
+}
+
+/// Runs `simulate` expecting a one-line error holding every `expect`ed
+/// fragment and no output file.
+fn fails(dir: &Path, model: &str, args: &[&str], expect: &[&str]) {
+    let before = snapshot(dir);
+    let assert = hysteron(dir)
+        .args([
+            "simulate", "--model", model, "--input", "x.csv", "--output", "bad.csv",
+        ])
+        .args(args)
+        .assert()
+        .failure()
+        .code(1);
+    let stderr = one_line_error(&assert.get_output().stderr);
+    for e in expect {
+        assert!(stderr.contains(e), "`{e}` not in: {stderr}");
+    }
+    assert_eq!(snapshot(dir), before, "files changed by a failed run");
+}
+
+#[test]
+fn simulate_maxwell_slip_example() {
+    let tmp = TempDir::new().unwrap();
+    let x = record(tmp.path());
+    let spec_path = example("maxwell-slip.json");
+    let y = simulate(tmp.path(), &spec_path, &[], &x);
+    let spec = Spec::from_json_file(&spec_path).unwrap();
+    assert_eq!(y, spec.build().unwrap().run(&x).unwrap());
+    // saturated at the peaks: |F| reaches Σ F_i (= 2.73) and never exceeds it
+    let Spec::MaxwellSlip(p) = &spec else {
+        panic!("{spec:?}")
+    };
+    let total: f64 = p.f_b.iter().sum();
+    let peak = y.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    assert!(peak <= total && peak > 0.99 * total, "{peak} vs {total}");
+    // a bad element names its index
+    fs::write(
+        tmp.path().join("bad.json"),
+        r#"{"type": "maxwell_slip", "k": [10, 5], "f_b": [1, 0]}"#,
+    )
+    .unwrap();
+    fails(
+        tmp.path(),
+        "bad.json",
+        &[],
+        &[
+            "model `bad.json`",
+            "maxwell_slip.f_b[1]: must be > 0 (got 0)",
+        ],
+    );
+}
+
+#[test]
+fn simulate_dahl_hand_written_spec() {
+    let tmp = TempDir::new().unwrap();
+    let x = record(tmp.path());
+    let text = r#"{"type": "dahl", "sigma": 20, "f_c": 1, "alpha": 2, "f0": 0.5}"#;
+    fs::write(tmp.path().join("dahl.json"), text).unwrap();
+    let y = simulate(tmp.path(), &tmp.path().join("dahl.json"), &[], &x);
+    let spec = Spec::from_json(text).unwrap();
+    assert_eq!(y, spec.build().unwrap().run(&x).unwrap());
+    assert!(y.iter().all(|v| v.abs() <= 1.0));
+    // rate-independent: --dt is accepted and changes nothing
+    assert!(!spec.is_rate_dependent());
+    assert_eq!(
+        simulate(
+            tmp.path(),
+            &tmp.path().join("dahl.json"),
+            &["--dt", "0.5"],
+            &x
+        ),
+        y
+    );
+    fs::write(
+        tmp.path().join("bad.json"),
+        r#"{"type": "dahl", "sigma": 20, "f_c": 1, "alpha": -1}"#,
+    )
+    .unwrap();
+    fails(
+        tmp.path(),
+        "bad.json",
+        &[],
+        &["model `bad.json`", "dahl.alpha: must be ≥ 0 (got -1)"],
+    );
+}
+
+#[test]
+fn simulate_lugre_takes_dt_from_the_data() {
+    let tmp = TempDir::new().unwrap();
+    let x = record(tmp.path());
+    let spec_path = example("lugre.json");
+    let spec = Spec::from_json_file(&spec_path).unwrap();
+    assert!(spec.is_rate_dependent());
+    let expected = spec.with_dt(1.0 / 256.0).build().unwrap().run(&x).unwrap();
+    for dt_args in [&["--time-column", "t"][..], &["--dt", "0.00390625"][..]] {
+        let y = simulate(tmp.path(), &spec_path, dt_args, &x);
+        assert_eq!(y, expected, "{dt_args:?}");
+    }
+    // without either the spec's own dt (0.01 s) is used: another output
+    let own = simulate(tmp.path(), &spec_path, &[], &x);
+    assert_eq!(own, spec.build().unwrap().run(&x).unwrap());
+    assert_ne!(own, expected);
+    // --dt is checked like the spec's own dt
+    let model = spec_path.to_str().unwrap();
+    fails(
+        tmp.path(),
+        model,
+        &["--dt", "0"],
+        &["lugre.dt: must be > 0 (got 0)"],
+    );
+}
+
+#[test]
+fn simulate_gms_example_with_time_column() {
+    let tmp = TempDir::new().unwrap();
+    let x = record(tmp.path());
+    let spec_path = example("gms.json");
+    let spec = Spec::from_json_file(&spec_path).unwrap();
+    assert!(spec.is_rate_dependent());
+    let y = simulate(tmp.path(), &spec_path, &["--time-column", "t"], &x);
+    assert_eq!(
+        y,
+        spec.with_dt(1.0 / 256.0).build().unwrap().run(&x).unwrap()
+    );
+    // the spec's own dt (0.01 s) gives another output
+    let own = simulate(tmp.path(), &spec_path, &[], &x);
+    assert_eq!(own, spec.build().unwrap().run(&x).unwrap());
+    assert_ne!(own, y);
+    fs::write(
+        tmp.path().join("bad.json"),
+        r#"{"type": "gms", "k": [20], "alpha": [1], "c": 0, "f_c": 1, "f_s": 1.5, "v_s": 0.5, "dt": 0.01}"#,
+    )
+    .unwrap();
+    fails(
+        tmp.path(),
+        "bad.json",
+        &[],
+        &["model `bad.json`", "gms.c: must be > 0 (got 0)"],
+    );
+}
