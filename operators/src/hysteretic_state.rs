@@ -23,7 +23,12 @@
 //!   there. For non-integer `n`, `|g|^n` is not analytic at zero and the
 //!   error estimate misjudges long steps, so each sub-step also changes `g`
 //!   by at most a tenth of `max(|g|, g_core)`, with `g_core`
-//!   the radius within which `f` is constant to `rtol`. The resulting
+//!   the radius within which `f` is constant to `rtol`. For non-integer
+//!   `n` and `α > 0` the region around zero, `|β ± γ| |g|^n ≤ α/8`, is not
+//!   integrated at all but solved by the series of [`NearZero`] (the
+//!   travel to reach `g` is a convergent power series in `|g|^n`), so a
+//!   zero crossing costs one series inversion instead of ~100 capped
+//!   sub-steps. The resulting
 //!   global error is measured in this module's tests and the crate's
 //!   property tests.
 
@@ -63,6 +68,7 @@ impl<T: Float> Power<T> {
             Power::One => a,
             Power::Two => a * a,
             Power::Int(k) => a.powi(k),
+            Power::HalfInt(1) => a * a.sqrt(),
             Power::HalfInt(k) => a.powi(k) * a.sqrt(),
             Power::Real(n) => a.powf(n),
         }
@@ -80,6 +86,8 @@ pub(crate) struct StateEquation<T> {
     pub rtol: T,
     /// The core radius of [`StateEquation::linear_core`], cached.
     pub core: Option<T>,
+    /// The series solution around `g = 0` (non-integer `n`, `α > 0`).
+    pub near_zero: Option<NearZero<T>>,
 }
 
 /// A branch of the `n = 1` state equation from its start `g_a`: on each
@@ -129,6 +137,131 @@ fn closed_form<T: Float>(g: T, f: T, c: T, f_over_c: T, s: T) -> T {
     }
 }
 
+/// The solution of `dg/ds = f(g)` around `g = 0` in closed series form,
+/// for non-integer `n` (where `|g|^n` is not analytic at zero and
+/// Runge-Kutta error estimates fail) and `α > 0`.
+///
+/// On each side `f = α − c u^n` with `u = |g|` (`c₊ = β + γ` above zero,
+/// `c₋ = γ − β` below), and the travel from `0` to `u` is
+///
+/// `Φ(u; c) = ∫_0^u du'/(α − c u'^n) = (u/α) Σ_k q^k/(k n + 1)`,
+/// `q = c u^n/α`,
+///
+/// so the position `σ(g) = ±Φ(|g|; c_±)` is the travel from zero, and a
+/// step of travel `s` moves `σ` to `σ + s`. The region is `|q| ≤ 1/8`
+/// (`f` stays within `α (1 ± 1/8)`, positive), where the series converges
+/// geometrically: it is summed until the next term is below `rtol/10`
+/// relative (the remainder is at most `q/(1−q) < 0.15` of that term), and
+/// `σ ↦ g` is inverted by Newton's method (`Φ' = 1/f`) to `rtol/10`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct NearZero<T> {
+    alpha: T,
+    n: T,
+    power: Power<T>,
+    c_pos: T,
+    c_neg: T,
+    /// The region is `−g_neg ≤ g < g_pos`.
+    g_neg: T,
+    g_pos: T,
+    /// `σ(g_pos)`, where the region ends.
+    top: T,
+    tol: T,
+    /// `1/(k n + 1)`, `k = 0..MAX_TERMS`.
+    inv: [T; MAX_TERMS],
+}
+
+/// `|q|` at the edge of the [`NearZero`] region.
+const Q_MAX: f64 = 0.125;
+/// Terms of the series at most (`(1/8)^24 < 1e-21`).
+const MAX_TERMS: usize = 24;
+
+impl<T: Float> NearZero<T> {
+    fn new(eq: &StateEquation<T>) -> Option<Self> {
+        let n = match eq.power {
+            Power::HalfInt(k) => T::lit(k as f64 + 0.5),
+            Power::Real(n) => n,
+            _ => return None,
+        };
+        if eq.alpha <= T::zero() {
+            return None;
+        }
+        let (c_pos, c_neg) = (eq.beta + eq.gamma, eq.gamma - eq.beta);
+        // |c| u^n / α = Q_MAX; unbounded (capped) where c = 0.
+        let edge = |c: T| {
+            let u = (T::lit(Q_MAX) * eq.alpha / c.abs()).powf(T::one() / n);
+            if u.is_finite() {
+                u.min(T::lit(1e6))
+            } else {
+                T::lit(1e6)
+            }
+        };
+        let mut nz = NearZero {
+            alpha: eq.alpha,
+            n,
+            power: eq.power,
+            c_pos,
+            c_neg,
+            g_neg: edge(c_neg),
+            g_pos: edge(c_pos),
+            top: T::zero(),
+            tol: eq.rtol * T::lit(0.1),
+            inv: core::array::from_fn(|k| T::one() / (T::lit(k as f64) * n + T::one())),
+        };
+        nz.top = nz.phi(nz.g_pos, c_pos);
+        Some(nz)
+    }
+
+    #[inline]
+    fn contains(&self, g: T) -> bool {
+        g >= -self.g_neg && g < self.g_pos
+    }
+
+    /// `Φ(u; c)` for `0 ≤ u` inside the region.
+    fn phi(&self, u: T, c: T) -> T {
+        let q = c * self.power.pow(u) / self.alpha;
+        let (mut sum, mut qk) = (T::zero(), T::one());
+        for k in 0..MAX_TERMS {
+            let term = qk * self.inv[k];
+            sum = sum + term;
+            if term.abs() <= self.tol * sum.abs() {
+                break;
+            }
+            qk = qk * q;
+        }
+        u / self.alpha * sum
+    }
+
+    /// `σ(g)`, the signed travel from zero.
+    fn position(&self, g: T) -> T {
+        if g < T::zero() {
+            -self.phi(-g, self.c_neg)
+        } else {
+            self.phi(g, self.c_pos)
+        }
+    }
+
+    /// The state at position `σ` (inside the region).
+    fn state_at(&self, sigma: T) -> T {
+        let (c, target, sign) = if sigma < T::zero() {
+            (self.c_neg, -sigma, -T::one())
+        } else {
+            (self.c_pos, sigma, T::one())
+        };
+        // Newton on Φ(u) = target, Φ' = 1/f, from the first-order guess.
+        let mut u = self.alpha * target;
+        for _ in 0..16 {
+            let f = self.alpha - c * self.power.pow(u);
+            let next = (u - (self.phi(u, c) - target) * f).max(T::zero());
+            let done = (next - u).abs() <= self.tol * next;
+            u = next;
+            if done {
+                break;
+            }
+        }
+        sign * u
+    }
+}
+
 /// Sub-steps one input step may take before the integration gives up
 /// (only reached by a state that diverges).
 const MAX_SUBSTEPS: usize = 100_000;
@@ -143,8 +276,10 @@ impl<T: Float> StateEquation<T> {
             power: Power::new(n),
             rtol,
             core: None,
+            near_zero: None,
         };
         eq.core = eq.linear_core();
+        eq.near_zero = NearZero::new(&eq);
         eq
     }
 
@@ -297,6 +432,21 @@ impl<T: Float> StateEquation<T> {
         let done = (s * T::epsilon() * l(4.0)).max(T::min_positive_value());
         let g_min = self.core;
         for _ in 0..MAX_SUBSTEPS {
+            if let Some(nz) = &self.near_zero {
+                if nz.contains(g) {
+                    // Around zero, where |g|^n is not analytic: the series
+                    // solution, to the end of the step or out of the region.
+                    let target = nz.position(g) + (s - t);
+                    if target <= nz.top {
+                        return Ok(nz.state_at(target));
+                    }
+                    t = t + (nz.top - nz.position(g));
+                    g = nz.g_pos;
+                    k1 = self.rate(g);
+                    h = (s - t).min(h);
+                    continue;
+                }
+            }
             if s - t <= done {
                 return Ok(g + (s - t) * self.rate(g));
             }
@@ -383,7 +533,9 @@ impl<T: Float> StateEquation<T> {
             let factor = if err == T::zero() {
                 l(5.0)
             } else {
-                (l(0.9) * (scale / err).powf(l(0.2)))
+                // (scale/err)^{1/4}: a little bolder than the textbook
+                // 1/5, without a `powf` per sub-step.
+                (l(0.9) * (scale / err).sqrt().sqrt())
                     .max(l(0.2))
                     .min(l(5.0))
             };
@@ -429,6 +581,9 @@ mod tests {
         let mut general = closed;
         general.power = Power::Real(1.0);
         general.core = general.linear_core();
+        // The series around zero too (n = 1 through the general path).
+        general.near_zero = NearZero::new(&general);
+        assert!(general.near_zero.is_some());
         for g0 in [-1.2, -0.5, 0.0, 0.4, 0.99, 1.3] {
             for s in [1e-6, 0.01, 0.3, 1.0, 5.0] {
                 let a = closed.advance(g0, s).unwrap();
