@@ -50,6 +50,18 @@ fn check<O: Operator<f64> + Clone + 'static>(label: &str, op: O) {
         bits(&reference),
         "{label}: process vs trial/commit"
     );
+    // ... and leaves the same state: trials after either agree, output and
+    // tangent (a batch loop that skips state a trial needs shows here)
+    let last = xs[xs.len() - 1];
+    for probe in [last, last + 0.3, last - 0.3] {
+        let (ta, tb) = (a.trial(probe), b.trial(probe));
+        let (ta, tb) = (ta.unwrap(), tb.unwrap());
+        assert_eq!(
+            (ta.output.to_bits(), ta.tangent.to_bits()),
+            (tb.output.to_bits(), tb.tangent.to_bits()),
+            "{label}: state after process vs after trial/commit (probe {probe})"
+        );
+    }
 
     // replay after reset is identical (twice, and after a partial run)
     a.reset();

@@ -36,6 +36,10 @@ struct State<T> {
     x_r: T,
     y_r: T,
     dir: i8,
+    /// `e^{−K |x − x_r|}` at `x` (kept so that a trial at the committed
+    /// input, which the mechanical series makes at every sample where the
+    /// slider rests at a stop, needs no exponential).
+    decay: T,
 }
 
 /// Modified Maxwell-slip pre-sliding friction (Ruderman & Bertram 2011):
@@ -92,6 +96,7 @@ impl<T: Float> Mms<T> {
             x_r: T::zero(),
             y_r: p.y0,
             dir: 0,
+            decay: T::one(),
         }
     }
 
@@ -121,14 +126,15 @@ impl<T: Float> Mms<T> {
             (s.x_r, s.y_r)
         };
         let sign = if dir < 0 { -T::one() } else { T::one() };
-        // 1 − e^{−a} via expm1 keeps full accuracy near a reversal.
-        let rise = rise(p.k, x, x_r);
-        let decay = T::one() - rise;
         let target = sign * p.f_c;
-        let y = if x == s.x {
-            s.y
+        // Standing still keeps the branch (dir = s.dir), so the committed
+        // decay is the one at x.
+        let (y, decay) = if x == s.x {
+            (s.y, s.decay)
         } else {
-            on_branch(rise, target, y_r)
+            // 1 − e^{−a} via expm1 keeps full accuracy near a reversal.
+            let rise = rise(p.k, x, x_r);
+            (on_branch(rise, target, y_r), T::one() - rise)
         };
         // (F_c − sgn·y_r) K e^{−a}, with the decay applied first so that a
         // huge |Ω| times a vanishing decay gives 0, not ∞·0.
@@ -140,6 +146,7 @@ impl<T: Float> Mms<T> {
                 x_r,
                 y_r,
                 dir,
+                decay,
             },
             tangent,
         )
@@ -252,10 +259,11 @@ impl<T: Float> Operator<T> for Mms<T> {
                 if !(same_run && x.is_finite()) {
                     break;
                 }
-                let y = if x == s.x {
-                    s.y
+                let (y, decay) = if x == s.x {
+                    (s.y, s.decay)
                 } else {
-                    on_branch(rise(self.p.k, x, s.x_r), target, s.y_r)
+                    let rise = rise(self.p.k, x, s.x_r);
+                    (on_branch(rise, target, s.y_r), T::one() - rise)
                 };
                 if !y.is_finite() {
                     self.s = s;
@@ -263,6 +271,7 @@ impl<T: Float> Operator<T> for Mms<T> {
                 }
                 s.x = x;
                 s.y = y;
+                s.decay = decay;
                 ys[i] = y;
                 i += 1;
             }
