@@ -114,7 +114,7 @@ impl fmt::Display for Timing {
         let med = self.median();
         write!(
             f,
-            "| hysteron | {} | {} | {:.4e} | {:.2} | {:.2}..{:.2} |",
+            "| hysteron | {} | {} | {:.4e} | {:.3} | {:.3}..{:.3} |",
             self.kernel,
             self.ns_per_sample.len(),
             1e9 / med,
