@@ -104,6 +104,10 @@ impl<T: Float> State<T> {
 #[derive(Debug, Clone, PartialEq)]
 pub struct BoucWen<T> {
     p: BoucWenParams<T>,
+    /// The stiffness map's segment slopes, cached.
+    slopes: Vec<T>,
+    /// `n = 1`: every sample in closed form from its branch start.
+    closed_form: bool,
     eq: StateEquation<T>,
     s: State<T>,
     pending: Option<State<T>>,
@@ -118,6 +122,8 @@ impl<T: Float> BoucWen<T> {
         let eq = StateEquation::new(p.alpha, p.beta, p.gamma, p.n, Self::default_tolerance());
         let s = State::initial(&p);
         Ok(Self {
+            slopes: p.stiffness.slopes(),
+            closed_form: eq.power == Power::One,
             p,
             eq,
             s,
@@ -183,7 +189,7 @@ impl<T: Float> BoucWen<T> {
             c.dir
         };
         let sign = if dir < 0 { -T::one() } else { T::one() };
-        if self.eq.power != Power::One {
+        if !self.closed_form {
             let h = sign * self.eq.advance(sign * c.h, dz.abs())?;
             return Ok(State { z, h, dir, ..*c });
         }
@@ -220,7 +226,7 @@ impl<T: Float> BoucWen<T> {
     /// [`force`](Self::force) at sample `i`, an error if not finite.
     #[inline(always)]
     fn checked_force(&self, z: T, h: T, i: usize) -> Result<T> {
-        let y = self.force(self.p.stiffness.eval(z).0, z, h);
+        let y = self.force(self.p.stiffness.eval_with(&self.slopes, z).0, z, h);
         if y.is_finite() {
             Ok(y)
         } else {
@@ -250,7 +256,7 @@ impl<T: Float> Operator<T> for BoucWen<T> {
         let z = check_input(z)?;
         let next = self.step(z)?;
         let sign = if next.dir < 0 { -T::one() } else { T::one() };
-        let (s, ds) = self.p.stiffness.eval(z);
+        let (s, ds) = self.p.stiffness.eval_with(&self.slopes, z);
         let w = self.p.w;
         let one_w = T::one() - w;
         let h = next.h;
@@ -264,7 +270,7 @@ impl<T: Float> Operator<T> for BoucWen<T> {
     fn process(&mut self, zs: &[T], ys: &mut [T]) -> Result<()> {
         check_lengths(zs, ys)?;
         self.pending = None;
-        if self.eq.power != Power::One {
+        if !self.closed_form {
             // The adaptive integration dominates; the default loop is as fast.
             for (i, (z, y)) in zs.iter().zip(ys.iter_mut()).enumerate() {
                 let t = self.trial(*z).map_err(|e| e.at_sample(i))?;

@@ -82,6 +82,33 @@ impl<T: Float> StiffnessMap<T> {
     /// on the segment to the right of `|z|`).
     #[inline]
     pub fn eval(&self, z: T) -> (T, T) {
+        self.eval_by(z, |i| self.slope(i))
+    }
+
+    /// The slope `(S_{i+1} − S_i)/(z_{i+1} − z_i)` of every segment, for
+    /// [`eval_with`](Self::eval_with).
+    pub fn slopes(&self) -> Vec<T> {
+        (0..self.len().saturating_sub(1))
+            .map(|i| self.slope(i))
+            .collect()
+    }
+
+    /// [`eval`](Self::eval) with the segment slopes precomputed by
+    /// [`slopes`](Self::slopes) (the same values, without a division).
+    #[inline]
+    pub fn eval_with(&self, slopes: &[T], z: T) -> (T, T) {
+        self.eval_by(z, |i| {
+            slopes.get(i).copied().unwrap_or_else(|| self.slope(i))
+        })
+    }
+
+    #[inline(always)]
+    fn slope(&self, i: usize) -> T {
+        (self.s[i + 1] - self.s[i]) / (self.z[i + 1] - self.z[i])
+    }
+
+    #[inline(always)]
+    fn eval_by(&self, z: T, slope_of: impl Fn(usize) -> T) -> (T, T) {
         if let [s] = self.s[..] {
             return (s, T::zero());
         }
@@ -93,8 +120,8 @@ impl<T: Float> StiffnessMap<T> {
         if i == self.z.len() {
             return (self.s[i - 1], T::zero());
         }
-        let (z0, z1, s0, s1) = (self.z[i - 1], self.z[i], self.s[i - 1], self.s[i]);
-        let slope = (s1 - s0) / (z1 - z0);
+        let (z0, s0) = (self.z[i - 1], self.s[i - 1]);
+        let slope = slope_of(i - 1);
         let sign = if z < T::zero() { -T::one() } else { T::one() };
         (s0 + slope * (a - z0), slope * sign)
     }
