@@ -207,7 +207,7 @@ impl<T: Float> NearZero<T> {
             tol: eq.rtol * T::lit(0.1),
             inv: core::array::from_fn(|k| T::one() / (T::lit(k as f64) * n + T::one())),
         };
-        nz.top = nz.phi(nz.g_pos, c_pos);
+        nz.top = nz.phi(|a| nz.power.pow(a), nz.g_pos, c_pos);
         Some(nz)
     }
 
@@ -217,8 +217,8 @@ impl<T: Float> NearZero<T> {
     }
 
     /// `Φ(u; c)` for `0 ≤ u` inside the region.
-    fn phi(&self, u: T, c: T) -> T {
-        let q = c * self.power.pow(u) / self.alpha;
+    fn phi(&self, pow: impl Fn(T) -> T, u: T, c: T) -> T {
+        let q = c * pow(u) / self.alpha;
         let (mut sum, mut qk) = (T::zero(), T::one());
         for k in 0..MAX_TERMS {
             let term = qk * self.inv[k];
@@ -232,16 +232,16 @@ impl<T: Float> NearZero<T> {
     }
 
     /// `σ(g)`, the signed travel from zero.
-    fn position(&self, g: T) -> T {
+    fn position(&self, pow: impl Fn(T) -> T + Copy, g: T) -> T {
         if g < T::zero() {
-            -self.phi(-g, self.c_neg)
+            -self.phi(pow, -g, self.c_neg)
         } else {
-            self.phi(g, self.c_pos)
+            self.phi(pow, g, self.c_pos)
         }
     }
 
     /// The state at position `σ` (inside the region).
-    fn state_at(&self, sigma: T) -> T {
+    fn state_at(&self, pow: impl Fn(T) -> T + Copy, sigma: T) -> T {
         let (c, target, sign) = if sigma < T::zero() {
             (self.c_neg, -sigma, -T::one())
         } else {
@@ -250,8 +250,8 @@ impl<T: Float> NearZero<T> {
         // Newton on Φ(u) = target, Φ' = 1/f, from the first-order guess.
         let mut u = self.alpha * target;
         for _ in 0..16 {
-            let f = self.alpha - c * self.power.pow(u);
-            let next = (u - (self.phi(u, c) - target) * f).max(T::zero());
+            let f = self.alpha - c * pow(u);
+            let next = (u - (self.phi(pow, u, c) - target) * f).max(T::zero());
             let done = (next - u).abs() <= self.tol * next;
             u = next;
             if done {
@@ -420,11 +420,38 @@ impl<T: Float> StateEquation<T> {
     }
 
     /// Dormand–Prince 5(4) with step-size control.
-    fn advance_adaptive(&self, mut g: T, s: T) -> Result<T> {
+    fn advance_adaptive(&self, g: T, s: T) -> Result<T> {
+        // One instantiation per kind of power, so the hot loop evaluates
+        // |g|^n one way only (matching the enum inside the loop let the
+        // compiler evaluate the `powf` arm speculatively at every call).
+        match self.power {
+            Power::One => self.integrate(|a| a, g, s),
+            Power::Two => self.integrate(|a| a * a, g, s),
+            Power::Int(k) => self.integrate(move |a: T| a.powi(k), g, s),
+            Power::HalfInt(1) => self.integrate(|a: T| a * a.sqrt(), g, s),
+            Power::HalfInt(k) => self.integrate(move |a: T| a.powi(k) * a.sqrt(), g, s),
+            Power::Real(n) => self.integrate(move |a: T| a.powf(n), g, s),
+        }
+    }
+
+    /// `f(g)` with `|g|^n` computed by `pow`.
+    #[inline(always)]
+    fn rate_with(&self, pow: impl Fn(T) -> T, g: T) -> T {
+        let c = if g < T::zero() {
+            self.gamma - self.beta
+        } else {
+            self.beta + self.gamma
+        };
+        self.alpha - pow(g.abs()) * c
+    }
+
+    /// [`advance_adaptive`](Self::advance_adaptive) with `|g|^n = pow(|g|)`.
+    #[inline(always)]
+    fn integrate(&self, pow: impl Fn(T) -> T + Copy, mut g: T, s: T) -> Result<T> {
         let l = T::lit;
         let mut t = T::zero();
         let mut h = s;
-        let mut k1 = self.rate(g);
+        let mut k1 = self.rate_with(pow, g);
         // |g| below which a state about to cross zero is set to zero.
         let snap = (self.rtol * g.abs().max(self.alpha.abs() * s)).max(T::min_positive_value());
         // Travel left below this (rounding noise of the sum of sub-steps, or
@@ -436,19 +463,19 @@ impl<T: Float> StateEquation<T> {
                 if nz.contains(g) {
                     // Around zero, where |g|^n is not analytic: the series
                     // solution, to the end of the step or out of the region.
-                    let target = nz.position(g) + (s - t);
+                    let target = nz.position(pow, g) + (s - t);
                     if target <= nz.top {
-                        return Ok(nz.state_at(target));
+                        return Ok(nz.state_at(pow, target));
                     }
-                    t = t + (nz.top - nz.position(g));
+                    t = t + (nz.top - nz.position(pow, g));
                     g = nz.g_pos;
-                    k1 = self.rate(g);
+                    k1 = self.rate_with(pow, g);
                     h = (s - t).min(h);
                     continue;
                 }
             }
             if s - t <= done {
-                return Ok(g + (s - t) * self.rate(g));
+                return Ok(g + (s - t) * self.rate_with(pow, g));
             }
             if let Some(g_min) = g_min {
                 // |g|^n is not analytic at 0 for non-integer n, and the
@@ -467,17 +494,21 @@ impl<T: Float> StateEquation<T> {
             if last {
                 h = s - t;
             }
-            let k2 = self.rate(g + h * l(1.0 / 5.0) * k1);
-            let k3 = self.rate(g + h * (l(3.0 / 40.0) * k1 + l(9.0 / 40.0) * k2));
-            let k4 =
-                self.rate(g + h * (l(44.0 / 45.0) * k1 - l(56.0 / 15.0) * k2 + l(32.0 / 9.0) * k3));
-            let k5 = self.rate(
+            let k2 = self.rate_with(pow, g + h * l(1.0 / 5.0) * k1);
+            let k3 = self.rate_with(pow, g + h * (l(3.0 / 40.0) * k1 + l(9.0 / 40.0) * k2));
+            let k4 = self.rate_with(
+                pow,
+                g + h * (l(44.0 / 45.0) * k1 - l(56.0 / 15.0) * k2 + l(32.0 / 9.0) * k3),
+            );
+            let k5 = self.rate_with(
+                pow,
                 g + h
                     * (l(19372.0 / 6561.0) * k1 - l(25360.0 / 2187.0) * k2
                         + l(64448.0 / 6561.0) * k3
                         - l(212.0 / 729.0) * k4),
             );
-            let k6 = self.rate(
+            let k6 = self.rate_with(
+                pow,
                 g + h
                     * (l(9017.0 / 3168.0) * k1 - l(355.0 / 33.0) * k2
                         + l(46732.0 / 5247.0) * k3
@@ -488,7 +519,7 @@ impl<T: Float> StateEquation<T> {
                 * (l(35.0 / 384.0) * k1 + l(500.0 / 1113.0) * k3 + l(125.0 / 192.0) * k4
                     - l(2187.0 / 6784.0) * k5
                     + l(11.0 / 84.0) * k6);
-            let k7 = self.rate(g5);
+            let k7 = self.rate_with(pow, g5);
             let err = (h
                 * (l(71.0 / 57600.0) * k1 - l(71.0 / 16695.0) * k3 + l(71.0 / 1920.0) * k4
                     - l(17253.0 / 339200.0) * k5
@@ -505,7 +536,7 @@ impl<T: Float> StateEquation<T> {
                 if g.abs() <= snap || approach <= done {
                     // Close enough (or too close to step any closer).
                     g = T::zero();
-                    k1 = self.rate(g);
+                    k1 = self.rate_with(pow, g);
                 } else {
                     h = approach;
                 }
