@@ -37,6 +37,42 @@ fn rounding(n: usize, a: f64, y_max: f64) -> f64 {
     4.0 * n as f64 * EPS * y_max * dx_max(a, n).max(a / n as f64)
 }
 
+/// The loop area of a PI bank with positive weights is the dissipation
+/// `Σ_{r_j < A} 4 w_j r_j (A − r_j)` (written out here, independently of
+/// `pi_bank_loop_work`), whatever the orientation of the loop.
+#[test]
+fn pi_bank_loop_area_is_the_positive_dissipation() {
+    let (r, w) = (vec![0.0, 0.2, 0.5, 0.8], vec![0.5, 1.0, 0.6, 0.3]);
+    let bank = PiBank::new(0.2, r.clone(), w.clone()).unwrap();
+    for &a in &[0.3, 0.7, 1.2] {
+        let want: f64 = r
+            .iter()
+            .zip(&w)
+            .filter(|(&r, _)| r < a)
+            .map(|(&r, &w)| 4.0 * w * r * (a - r))
+            .sum();
+        // Trapezoid error ≤ Σ_{0 < r_j < A} 2 w_j Δx²/8, Δx = 2 A sin(π/N).
+        let n = 4096;
+        let dx = 2.0 * a * (std::f64::consts::PI / n as f64).sin();
+        let bound: f64 = r
+            .iter()
+            .zip(&w)
+            .filter(|(&r, _)| r > 0.0 && r < a)
+            .map(|(_, &w)| 2.0 * w * dx * dx / 8.0)
+            .sum();
+        let e = loop_energy(&bank, a, &opts(n, 3)).unwrap();
+        assert!(
+            want > 0.0 && e.work < 0.0,
+            "A = {a}: play loops run counterclockwise"
+        );
+        assert!(
+            (e.area() - want).abs() <= bound + 1e-12 * want,
+            "A = {a}: {} vs {want} (bound {bound:e})",
+            e.area()
+        );
+    }
+}
+
 #[test]
 fn pi_bank_loop_matches_the_closed_form_within_the_kink_bound() {
     let p = PiBankParams {

@@ -46,6 +46,15 @@ pub struct LoopEnergy {
     pub change: f64,
 }
 
+impl LoopEnergy {
+    /// The loop area `|∮ y dx|`: the energy dissipated per loop whatever
+    /// the loop's orientation (for a play-type PI bank with positive
+    /// weights, `Σ_{r_j < A} 4 w_j r_j (A − r_j)`).
+    pub fn area(&self) -> f64 {
+        self.work.abs()
+    }
+}
+
 impl SteadyCycle {
     /// `∮ y dx` over the cycle by the trapezoid rule on its closed polygon.
     pub fn loop_work(&self) -> f64 {
