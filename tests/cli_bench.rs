@@ -55,8 +55,8 @@ fn prints_one_row_per_kernel_in_the_issue_format() {
             "mms",
             "paper model",
             "paper model, boxed from JSON",
-            "paper model batch x8, 1 thread(s)",
-            "paper model batch x8, 2 thread(s)",
+            "paper model batch x64, 1 thread(s)",
+            "paper model batch x64, 2 thread(s)",
         ],
         "{stdout}"
     );

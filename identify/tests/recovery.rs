@@ -129,4 +129,23 @@ fn batches_equal_sequential_runs_and_report_errors_per_entry() {
     assert_eq!(out[0].as_ref().unwrap(), &model.clone().run(&x).unwrap());
     assert_eq!(out[1].as_ref().unwrap().len(), 500);
     assert!(out[2].is_err());
+
+    // Into preallocated buffers: the same outputs, bit for bit.
+    use hysteron_identify::batch::process_records;
+    let inputs: Vec<&[f64]> = records.iter().map(|r| r.as_slice()).collect();
+    let mut buffers: Vec<Vec<f64>> = records.iter().map(|r| vec![0.0; r.len()]).collect();
+    let mut outputs: Vec<&mut [f64]> = buffers.iter_mut().map(|b| b.as_mut_slice()).collect();
+    let done = process_records(model.as_ref(), &inputs, &mut outputs);
+    assert!(done[0].is_ok() && done[1].is_ok() && done[2].is_err());
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&buffers[0]), bits(out[0].as_ref().unwrap()));
+    assert_eq!(bits(&buffers[1]), bits(out[1].as_ref().unwrap()));
+    // An input without an output buffer is an error, not a silent skip.
+    let mut short: Vec<&mut [f64]> = buffers[..1].iter_mut().map(|b| b.as_mut_slice()).collect();
+    let done = process_records(model.as_ref(), &inputs[..2], &mut short);
+    assert!(done[0].is_ok());
+    assert!(matches!(
+        done[1],
+        Err(hysteron_operators::Error::LengthMismatch { .. })
+    ));
 }
