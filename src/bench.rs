@@ -283,7 +283,7 @@ pub fn run(opts: &BenchOptions) -> std::result::Result<BenchReport, String> {
         // samples/BATCH each (every record from the model's initial state),
         // into preallocated outputs.
         let model = paper_model_from_json()?;
-        let len = (x.len() / BATCH).max(1);
+        let len = x.len().div_ceil(BATCH).max(1);
         let inputs: Vec<&[f64]> = x.chunks(len).collect();
         let mut medians = Vec::new();
         for threads in [1, 2] {
