@@ -5,64 +5,18 @@
 //!
 //! Laws with a tolerance print the largest error they measured; run
 //! `cargo test --test friction -- --nocapture` to see them.
-//! `FRICTION_CASES_FACTOR=10` multiplies the number of random cases.
+//! `LAWS_CASES_FACTOR=10` multiplies the number of random cases.
 
 use hysteron::models::Spec;
 use hysteron::prelude::*;
 use proptest::prelude::*;
-use proptest::test_runner::{TestCaseError, TestRunner};
+use proptest::test_runner::TestCaseError;
 use std::cell::Cell;
-use std::fmt::Debug;
+
+mod props;
+use props::*;
 
 const EPS: f64 = f64::EPSILON;
-
-// ---------------------------------------------------------------------------
-// Harness
-// ---------------------------------------------------------------------------
-
-fn cases(n: u32) -> u32 {
-    let factor = std::env::var("FRICTION_CASES_FACTOR")
-        .ok()
-        .and_then(|f| f.parse::<u32>().ok())
-        .unwrap_or(1);
-    n * factor
-}
-
-/// Runs `property` on random values; it returns a measured error, and the
-/// largest one is printed.
-fn measure<S>(
-    label: &str,
-    n: u32,
-    strategy: S,
-    property: impl Fn(S::Value) -> Result<f64, TestCaseError>,
-) where
-    S: Strategy,
-    S::Value: Debug,
-{
-    let max = Cell::new(0.0_f64);
-    let mut runner = TestRunner::new(ProptestConfig {
-        cases: cases(n),
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    });
-    let result = runner.run(&strategy, |v| {
-        let e = property(v)?;
-        max.set(max.get().max(e));
-        Ok(())
-    });
-    match result {
-        Ok(()) => eprintln!("{label}: max {:.3e} over {} cases", max.get(), cases(n)),
-        Err(e) => panic!("{label}: {e}"),
-    }
-}
-
-fn ok<T>(r: hysteron::Result<T>) -> Result<T, TestCaseError> {
-    r.map_err(|e| TestCaseError::fail(format!("library error: {e}")))
-}
-
-fn bits(v: &[f64]) -> Vec<u64> {
-    v.iter().map(|y| y.to_bits()).collect()
-}
 
 // ---------------------------------------------------------------------------
 // Signals

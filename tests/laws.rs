@@ -13,70 +13,14 @@ use hysteron::operators::StopParams;
 use hysteron::prelude::*;
 use proptest::prelude::*;
 use proptest::sample::Index;
-use proptest::test_runner::{TestCaseError, TestRunner};
+use proptest::test_runner::TestCaseError;
 use std::cell::Cell;
 use std::fmt::Debug;
 
+mod props;
+use props::*;
+
 const EPS: f64 = f64::EPSILON;
-
-// ---------------------------------------------------------------------------
-// Harness
-// ---------------------------------------------------------------------------
-
-/// `n` times the environment variable `LAWS_CASES_FACTOR` (default 1), for
-/// a deeper run.
-fn cases(n: u32) -> u32 {
-    let factor = std::env::var("LAWS_CASES_FACTOR")
-        .ok()
-        .and_then(|f| f.parse::<u32>().ok())
-        .unwrap_or(1);
-    n * factor
-}
-
-/// A proptest configuration with [`cases`]`(n)` cases that writes no
-/// regression files.
-fn config(n: u32) -> ProptestConfig {
-    ProptestConfig {
-        cases: cases(n),
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    }
-}
-
-/// Turns a library error into a test failure.
-fn ok<T>(r: hysteron::Result<T>) -> Result<T, TestCaseError> {
-    r.map_err(|e| TestCaseError::fail(format!("library error: {e}")))
-}
-
-/// Runs `property` on `cases` random values; the property returns a
-/// measured error (in the unit named by `label`), and the largest one is
-/// printed at the end.
-fn measure<S>(
-    label: &str,
-    cases: u32,
-    strategy: S,
-    property: impl Fn(S::Value) -> Result<f64, TestCaseError>,
-) where
-    S: Strategy,
-    S::Value: Debug,
-{
-    let max = Cell::new(0.0_f64);
-    let mut runner = TestRunner::new(config(cases));
-    let result = runner.run(&strategy, |v| {
-        let e = property(v)?;
-        max.set(max.get().max(e));
-        Ok(())
-    });
-    let n = runner.config().cases;
-    match result {
-        Ok(()) => eprintln!("{label}: max {:.3e} over {n} cases", max.get()),
-        Err(e) => panic!("{label}: {e}"),
-    }
-}
-
-fn max_abs(xs: &[f64]) -> f64 {
-    xs.iter().fold(0.0, |m, x| m.max(x.abs()))
-}
 
 // ---------------------------------------------------------------------------
 // Input signals
@@ -580,7 +524,7 @@ fn law4_wiping_out_stop() {
             wipes_out("stop", stop, &h)?;
             Ok(0.0)
         },
-    )
+    );
 }
 
 // ---------------------------------------------------------------------------
@@ -1335,6 +1279,28 @@ fn law10_inverse_of_pi_bank() {
 /// `4e-10 · max|x|` for either composition (jumps at the level of `rtol`)
 /// and, in one run, `8e-6` (the zero-crossing defect of
 /// `law7_bouc_wen_zero_crossing_reproduction`).
+#[test]
+fn law10_bouc_wen_inverse_near_zero_reproduction() {
+    // Found by `law10_inverse_of_bouc_wen`: near an output of 0 (the two
+    // terms of H cancel) the inverse's jump check took rounding of
+    // 1e-18 for a jump of the spring.
+    let bw = BoucWen::constant(
+        3.4003596983296136,
+        0.05,
+        2.1488160380870687,
+        0.16742247904379992,
+        0.16742247904379992,
+        1.0,
+    )
+    .unwrap();
+    let xs: Vec<f64> = [0.9713996441659665, -0.9733122724984214, 0.0, 0.0]
+        .iter()
+        .map(|x| 0.1 * x)
+        .collect();
+    let (e1, e2) = inverse_errors(bw, &xs).unwrap();
+    assert!(e1 <= 1e-12 && e2 <= 1e-12, "{e1:e} {e2:e}");
+}
+
 #[test]
 fn law10_inverse_of_bouc_wen() {
     let spring = (

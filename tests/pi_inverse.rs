@@ -12,50 +12,12 @@ use hysteron::composition::PiBankParams;
 use hysteron::models::Spec;
 use hysteron::prelude::*;
 use proptest::prelude::*;
-use proptest::test_runner::{TestCaseError, TestRunner};
 use std::cell::Cell;
 
+mod props;
+use props::*;
+
 const EPS: f64 = f64::EPSILON;
-
-fn cases(n: u32) -> u32 {
-    let factor = std::env::var("LAWS_CASES_FACTOR")
-        .ok()
-        .and_then(|f| f.parse::<u32>().ok())
-        .unwrap_or(1);
-    n * factor
-}
-
-fn ok<T>(r: hysteron::Result<T>) -> Result<T, TestCaseError> {
-    r.map_err(|e| TestCaseError::fail(format!("library error: {e}")))
-}
-
-/// Runs `property` on random values and prints the largest value it
-/// returned.
-fn measure<S: Strategy>(
-    label: &str,
-    n: u32,
-    strategy: S,
-    property: impl Fn(S::Value) -> Result<f64, TestCaseError>,
-) -> f64
-where
-    S::Value: std::fmt::Debug,
-{
-    let max = Cell::new(0.0_f64);
-    let mut runner = TestRunner::new(ProptestConfig {
-        cases: cases(n),
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    });
-    let result = runner.run(&strategy, |v| {
-        max.set(max.get().max(property(v)?));
-        Ok(())
-    });
-    match result {
-        Ok(()) => eprintln!("{label}: max {:.3e} over {} cases", max.get(), cases(n)),
-        Err(e) => panic!("{label}: {e}"),
-    }
-    max.get()
-}
 
 /// A piecewise-monotone signal from 0: ramps to random turning points in
 /// `[−amp, amp]`, some exactly back to 0, some held.

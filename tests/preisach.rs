@@ -12,64 +12,11 @@
 use hysteron::operators::{Preisach, PreisachMeasure, PreisachParams, PreisachStart};
 use hysteron::prelude::*;
 use proptest::prelude::*;
-use proptest::test_runner::{TestCaseError, TestRunner};
-use std::cell::Cell;
-use std::fmt::Debug;
+
+mod props;
+use props::*;
 
 const EPS: f64 = f64::EPSILON;
-
-// ---------------------------------------------------------------------------
-// Harness (as in tests/laws.rs)
-// ---------------------------------------------------------------------------
-
-fn cases(n: u32) -> u32 {
-    let factor = std::env::var("LAWS_CASES_FACTOR")
-        .ok()
-        .and_then(|f| f.parse::<u32>().ok())
-        .unwrap_or(1);
-    n * factor
-}
-
-fn config(n: u32) -> ProptestConfig {
-    ProptestConfig {
-        cases: cases(n),
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    }
-}
-
-fn ok<T>(r: hysteron::Result<T>) -> Result<T, TestCaseError> {
-    r.map_err(|e| TestCaseError::fail(format!("library error: {e}")))
-}
-
-/// Runs `property` on `n` random values and prints the largest measured
-/// error it returns.
-fn measure<S>(
-    label: &str,
-    n: u32,
-    strategy: S,
-    property: impl Fn(S::Value) -> Result<f64, TestCaseError>,
-) where
-    S: Strategy,
-    S::Value: Debug,
-{
-    let max = Cell::new(0.0_f64);
-    let mut runner = TestRunner::new(config(n));
-    let result = runner.run(&strategy, |v| {
-        let e = property(v)?;
-        max.set(max.get().max(e));
-        Ok(())
-    });
-    let n = runner.config().cases;
-    match result {
-        Ok(()) => eprintln!("{label}: max {:.3e} over {n} cases", max.get()),
-        Err(e) => panic!("{label}: {e}"),
-    }
-}
-
-fn bits(v: &[f64]) -> Vec<u64> {
-    v.iter().map(|y| y.to_bits()).collect()
-}
 
 // ---------------------------------------------------------------------------
 // Models

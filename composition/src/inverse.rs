@@ -21,7 +21,7 @@ use hysteron_operators::{check_input, Error, Float, Operator, Result, Trial};
 /// solver tolerance `τ = abs_tol + rel_tol · max(|u|, scale)`
 /// (`2 |A'(u)| τ + 8 ε (|x| + |A(u)|)`); then `A` is probed at `u ∓ 2τ` on
 /// the far side of the sign change, and a change of `A` there larger than
-/// `8 max|A'| τ + √ε max|A|` is a jump.
+/// `8 max|A'| τ + √ε (max|A| + max|A'| max(|u|, scale))` is a jump.
 ///
 /// Tangent: `1 / A'(u)` (`+∞` where `A` is flat).
 ///
@@ -89,7 +89,12 @@ where
         };
         let far = self.inner.trial(u2)?;
         let lip = slope.abs().max(far.tangent.abs());
-        let bound = T::lit(8.0) * lip * tau + eps.sqrt() * out.abs().max(far.output.abs());
+        // Continuous operators may differ from monotone by their own
+        // accuracy (rounding, an integrator's rtol) relative to the size of
+        // their terms, which near an output of 0 is not |out| but about
+        // slope · |u|: both scales enter the noise allowance.
+        let noise = out.abs().max(far.output.abs()) + lip * u.abs().max(scale);
+        let bound = T::lit(8.0) * lip * tau + eps.sqrt() * noise;
         let across = (far.output - x) * r < T::zero();
         if across && (far.output - out).abs() > bound {
             let (lo, hi) = if far.output < out {
