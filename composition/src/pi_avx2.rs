@@ -100,7 +100,7 @@ fn tail(r: &[f64], w: &[f64], prev: &[f64], next: &mut [f64], x: f64) -> f64 {
 
 /// The output `a0 x + Σ`, an error if not finite.
 #[inline(always)]
-fn output(a0: f64, x: f64, bank_sum: f64, _i: usize) -> Result<f64, Error> {
+fn output(a0: f64, x: f64, bank_sum: f64) -> Result<f64, Error> {
     let y = a0 * x + bank_sum;
     if y.is_finite() {
         Ok(y)
@@ -159,7 +159,7 @@ unsafe fn process_avx2(bank: &mut Bank<'_>, xs: &[f64], ys: &mut [f64]) -> (usiz
             _mm256_storeu_pd(acc.as_mut_ptr().add(4), acc1);
         }
         let t = tail(&r[m..], &w[m..], &prev[m..], &mut next[m..], x);
-        match output(bank.a0, x, total(&acc, t), i) {
+        match output(bank.a0, x, total(&acc, t)) {
             Ok(y) => *out = y,
             Err(e) => return (i, Some(e)),
         }
@@ -210,7 +210,7 @@ unsafe fn process_avx512(
         // SAFETY: `acc` holds 8 values.
         unsafe { _mm512_storeu_pd(acc.as_mut_ptr(), acc0) };
         let t = tail(&r[m..], &w[m..], &prev[m..], &mut next[m..], x);
-        match output(bank.a0, x, total(&acc, t), i) {
+        match output(bank.a0, x, total(&acc, t)) {
             Ok(y) => *out = y,
             Err(e) => return (i, Some(e)),
         }

@@ -179,17 +179,12 @@ impl<T: Float> PiBank<T> {
     }
 
     /// The portable batch loop (lengths checked by the caller).
-    fn process_loop(
-        &mut self,
-        xs: &[T],
-        ys: &mut [T],
-        step: impl Fn(&[T], &[T], &[T], &mut [T], T) -> T,
-    ) -> Result<()> {
+    fn process_loop(&mut self, xs: &[T], ys: &mut [T]) -> Result<()> {
         for (i, (&x, out)) in xs.iter().zip(ys.iter_mut()).enumerate() {
             if !x.is_finite() {
                 return Err(Error::NonFiniteInput { value: x.as_f64() }.at_sample(i));
             }
-            let y = self.a0 * x + step(&self.r, &self.w, &self.y, &mut self.pending, x);
+            let y = self.a0 * x + bank_step(&self.r, &self.w, &self.y, &mut self.pending, x);
             if !y.is_finite() {
                 return Err(Error::NonFiniteOutput {
                     operator: "pi",
@@ -260,7 +255,7 @@ impl<T: Float> Operator<T> for PiBank<T> {
                 None => Ok(()),
             };
         }
-        self.process_loop(xs, ys, bank_step)
+        self.process_loop(xs, ys)
     }
 
     fn n_params(&self) -> usize {

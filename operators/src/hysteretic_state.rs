@@ -156,7 +156,6 @@ fn closed_form<T: Float>(g: T, f: T, c: T, f_over_c: T, s: T) -> T {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct NearZero<T> {
     alpha: T,
-    n: T,
     power: Power<T>,
     c_pos: T,
     c_neg: T,
@@ -197,7 +196,6 @@ impl<T: Float> NearZero<T> {
         };
         let mut nz = NearZero {
             alpha: eq.alpha,
-            n,
             power: eq.power,
             c_pos,
             c_neg,
