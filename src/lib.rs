@@ -56,7 +56,7 @@ pub mod prelude {
         BoucWen, BoucWenParams, Dahl, DahlParams, DeadZone, ElastoPlastic, Error, Float, Gain, Gms,
         GmsParams, LuGre, LuGreParams, MassSpringDamper, MaxwellSlip, MaxwellSlipParams, Mms,
         MmsParams, Operator, Play, PlayParams, Preisach, PreisachMeasure, PreisachParams,
-        PreisachStart, Result, Saturation, StiffnessMap, Stop, Trial, ViscousDamper,
+        PreisachStart, Result, Saturation, StateSolver, StiffnessMap, Stop, Trial, ViscousDamper,
     };
 }
 

@@ -275,6 +275,14 @@ fn leaves() {
     check("bouc-wen n=1.5", spring(1.5));
     check("bouc-wen n=2", spring(2.0));
     check("bouc-wen n=2.7", spring(2.7));
+    check(
+        "bouc-wen n=1.5 adaptive",
+        spring(1.5).with_solver(StateSolver::Adaptive),
+    );
+    check(
+        "bouc-wen n=2.7 adaptive",
+        spring(2.7).with_solver(StateSolver::Adaptive),
+    );
     check("pi bank", pi());
     check(
         "mass-spring-damper",

@@ -887,10 +887,11 @@ fn law4_law7_stop_reproduction() {
 /// original samples relative to the output scale `max|H|` (floor 1e-12).
 fn bw_refinement_error(
     p: BoucWenParams<f64>,
+    solver: StateSolver,
     xs: &[f64],
     ms: &[usize],
 ) -> Result<f64, TestCaseError> {
-    let bw = ok(BoucWen::from_params(p))?;
+    let bw = ok(BoucWen::from_params(p))?.with_solver(solver);
     let (fine, at) = refine(xs, ms);
     let coarse = ok(bw.clone().run(xs))?;
     let fine_out = ok(bw.clone().run(&fine))?;
@@ -914,16 +915,16 @@ fn law7_rate_independence_bouc_wen_n1() {
         strategy,
         |(p, xs, ms)| {
             let xs: Vec<f64> = xs.iter().map(|x| 3.0 * x).collect();
-            let e = bw_refinement_error(p, &xs, &ms)?;
+            let e = bw_refinement_error(p, StateSolver::Tabulated, &xs, &ms)?;
             prop_assert!(e == 0.0, "relative error {:e}", e);
             Ok(e)
         },
     );
 }
 
-/// Bouc-Wen with non-integer `n ∈ (1, 4)` (adaptive integration, default
-/// `rtol = 1e-10`): refinement changes the outputs by at most
-/// `1e-7 · max|H|`.
+/// Bouc-Wen with non-integer `n ∈ (1, 4)` solved step by step
+/// ([`StateSolver::Adaptive`], default `rtol = 1e-10`): refinement changes
+/// the outputs by at most `1e-7 · max|H|`.
 ///
 /// Regression (`law7_bouc_wen_zero_crossing_reproduction`): sub-steps
 /// across `h = 0`, and long sub-steps for non-integer `n`, were once
@@ -938,8 +939,36 @@ fn law7_rate_independence_bouc_wen_general_n() {
         strategy,
         |(p, xs, ms)| {
             let xs: Vec<f64> = xs.iter().map(|x| 3.0 * x).collect();
-            let e = bw_refinement_error(p, &xs, &ms)?;
+            let e = bw_refinement_error(p, StateSolver::Adaptive, &xs, &ms)?;
             prop_assert!(e <= 1e-7, "relative error {:e}", e);
+            Ok(e)
+        },
+    );
+}
+
+/// Bouc-Wen with non-integer `n ∈ (1, 4)` on its tabulated flow (the
+/// default): every sample is evaluated from the start of its branch, so
+/// refinement leaves the outputs unchanged bit for bit while the state
+/// stays within the table (`|h0|` up to the saturation bound). A preload
+/// beyond it is integrated step by step until the state enters the table,
+/// and is held to the adaptive solver's `1e-7 · max|H|`.
+#[test]
+fn law7_rate_independence_bouc_wen_tabulated() {
+    let strategy = (bouc_wen(exponent_non_integer()), signal(10), refinement());
+    measure(
+        "law 7 Bouc-Wen non-integer n, tabulated, refined − coarse [relative to max|H|]",
+        2048,
+        strategy,
+        |(p, xs, ms)| {
+            let inside = p.h0.abs() <= bw_bound(p.alpha, p.beta, p.gamma, p.n);
+            prop_assert!(ok(BoucWen::from_params(p.clone()))?.is_tabulated());
+            let xs: Vec<f64> = xs.iter().map(|x| 3.0 * x).collect();
+            let e = bw_refinement_error(p, StateSolver::Tabulated, &xs, &ms)?;
+            if inside {
+                prop_assert!(e == 0.0, "relative error {:e}", e);
+            } else {
+                prop_assert!(e <= 1e-7, "relative error {:e}", e);
+            }
             Ok(e)
         },
     );
@@ -995,6 +1024,7 @@ fn law7_bouc_wen_zero_crossing_reproduction() {
             stiffness: StiffnessMap::constant(1.0).unwrap(),
         })
         .unwrap()
+        .with_solver(StateSolver::Adaptive)
     };
     let reference = -advance_rk4(alpha, beta, gamma, n, -h0, -z);
     let tight = spring().with_tolerance(1e-13).unwrap().run(&[z]).unwrap()[0];
@@ -1006,6 +1036,15 @@ fn law7_bouc_wen_zero_crossing_reproduction() {
         e_one <= 1e-9 * reference.abs() && e_two <= 1e-9 * reference.abs(),
         "H after one step {one:.15}, after two half steps {two:.15}, \
          reference {reference:.15}: errors {e_one:.3e}, {e_two:.3e}"
+    );
+    // The tabulated flow on the same step.
+    let table = spring().with_solver(StateSolver::Tabulated);
+    assert!(table.is_tabulated());
+    let one = table.clone().run(&[z]).unwrap()[0];
+    let two = table.clone().run(&[0.5 * z, z]).unwrap()[1];
+    assert!(
+        (one - reference).abs() <= 1e-9 * reference.abs() && one == two,
+        "tabulated: {one:.15}, {two:.15}, reference {reference:.15}"
     );
 }
 

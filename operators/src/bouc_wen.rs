@@ -1,5 +1,6 @@
 //! The Bouc-Wen-like hysteresis spring with a nonlinear stiffness map.
 
+use crate::flow_table::{FlowTable, Hint};
 use crate::hysteretic_state::{Branch, Power, StateEquation};
 use crate::{
     check, check_input, check_lengths, check_output, Domain, Float, Operator, Result, StiffnessMap,
@@ -56,10 +57,21 @@ struct State<T> {
     z: T,
     h: T,
     dir: i8,
-    /// For `n = 1`: the input where the current branch started and the
-    /// branch (in the direction frame `g = sgn(ż) h`).
+    /// The input where the current branch started.
     z_a: T,
-    branch: Option<Branch<T>>,
+    branch: BranchStart<T>,
+}
+
+/// The branch the state moves on, from its start at `z_a` (in the
+/// direction frame `g = sgn(ż) h`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum BranchStart<T> {
+    /// None yet, or integrated step by step.
+    Unknown,
+    /// `n = 1`: the branch in closed form.
+    Linear(Branch<T>),
+    /// Tabulated flow: the position `σ(g_a)` of the branch start.
+    Flow(T),
 }
 
 impl<T: Float> State<T> {
@@ -69,9 +81,38 @@ impl<T: Float> State<T> {
             h: p.h0,
             dir: 0,
             z_a: p.z0,
-            branch: None,
+            branch: BranchStart::Unknown,
         }
     }
+}
+
+/// Where [`BoucWen::run_branch`] stopped: the next sample, the last state,
+/// and the error of the sample it stopped at, if any.
+struct Run<T> {
+    end: usize,
+    z: T,
+    h: T,
+    error: Option<crate::Error>,
+}
+
+/// How [`BoucWen`] solves its state equation for `n ≠ 1` (`n = 1` is
+/// always solved in closed form).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum StateSolver {
+    /// The flow `g = G(σ(g_a) + s)` tabulated once per parameter set as
+    /// piecewise quintic Hermite polynomials, checked at build against the
+    /// adaptive integration at `rtol/1000` to `rtol/4` relative per piece:
+    /// each sample is one polynomial evaluation from the start of its
+    /// branch, so refining the sampling of a branch changes no bit. Used for
+    /// `rtol ≥ 6400 ε` (`f64`: 1.4e-12) in the bounded class `α > 0`,
+    /// `β + γ > 0`, `β ≥ γ` for states
+    /// `|h| ≤ (α/(β+γ))^{1/n}`; other parameter sets and states (a preload
+    /// `h0` beyond saturation) fall back to [`StateSolver::Adaptive`].
+    #[default]
+    Tabulated,
+    /// Dormand–Prince 5(4) from sample to sample, local error per sub-step
+    /// below `rtol` relative.
+    Adaptive,
 }
 
 /// Bouc-Wen-like hysteresis spring (Ruderman & Bertram 2015, eqs. 1–2):
@@ -80,13 +121,22 @@ impl<T: Float> State<T> {
 /// `ḣ = α ż − β |ż| |h|^{n−1} h − γ ż |h|^n`,
 ///
 /// integrated in the input domain, `dh/dz = α − |h|^n (β sgn(ż h) + γ)`, so
-/// the operator is rate-independent. For `n = 1` every sample is evaluated
-/// in closed form from the start of its branch (the last reversal), so the
-/// output is exact to rounding and exactly rate-independent (refining the
-/// sampling of a path does not change a bit); otherwise an adaptive Dormand–Prince 5(4) scheme keeps the local
-/// error per sub-step below `rtol` relative (default `1e-10` for `f64`, see
-/// [`BoucWen::with_tolerance`]). The state update between two samples
-/// assumes the input moves monotonically between them.
+/// the operator is rate-independent. Every sample is evaluated from the
+/// start of its branch (the last reversal), so refining the sampling of a
+/// path does not change a bit:
+///
+/// * `n = 1`: in closed form, exact to rounding;
+/// * other `n` ([`StateSolver::Tabulated`], the default): on the flow of the
+///   state equation tabulated once per parameter set, `h = G(σ(h_a) + s)`
+///   with `σ` the travel from `h = 0` and `s` the travel since the branch
+///   start, accurate to about `rtol` relative (default `1e-10` for `f64`,
+///   see [`BoucWen::with_tolerance`]); parameter sets outside the bounded
+///   class below, and states beyond saturation, are integrated step by step
+///   like [`StateSolver::Adaptive`] (Dormand–Prince 5(4), local error per
+///   sub-step below `rtol` relative).
+///
+/// The state update between two samples assumes the input moves
+/// monotonically between them.
 ///
 /// With `α > 0`, `β + γ > 0`, `β − γ ≥ 0`:
 /// `|h| ≤ max(|h0|, (α/(β+γ))^{1/n})`.
@@ -109,6 +159,12 @@ pub struct BoucWen<T> {
     /// `n = 1`: every sample in closed form from its branch start.
     closed_form: bool,
     eq: StateEquation<T>,
+    solver: StateSolver,
+    /// `n ≠ 1` with [`StateSolver::Tabulated`], in the bounded class.
+    table: Option<FlowTable<T>>,
+    /// Where the last table lookups were (speed only; results do not
+    /// depend on it).
+    hint: Hint,
     s: State<T>,
     pending: Option<State<T>>,
 }
@@ -119,16 +175,32 @@ impl<T: Float> BoucWen<T> {
     /// A spring from validated parameters.
     pub fn from_params(p: BoucWenParams<T>) -> Result<Self> {
         p.validate()?;
-        let eq = StateEquation::new(p.alpha, p.beta, p.gamma, p.n, Self::default_tolerance());
-        let s = State::initial(&p);
-        Ok(Self {
+        Ok(Self::build(
+            p,
+            Self::default_tolerance(),
+            StateSolver::Tabulated,
+        ))
+    }
+
+    /// The spring for validated `p`, tolerance `rtol` and `solver`.
+    fn build(p: BoucWenParams<T>, rtol: T, solver: StateSolver) -> Self {
+        let eq = StateEquation::new(p.alpha, p.beta, p.gamma, p.n, rtol);
+        let closed_form = eq.power == Power::One;
+        let table = match solver {
+            StateSolver::Tabulated if !closed_form => FlowTable::new(&eq),
+            _ => None,
+        };
+        Self {
             slopes: p.stiffness.slopes(),
-            closed_form: eq.power == Power::One,
+            closed_form,
+            s: State::initial(&p),
             p,
             eq,
-            s,
+            solver,
+            table,
+            hint: Hint::default(),
             pending: None,
-        })
+        }
     }
 
     /// A spring with constant stiffness `k` and `h0 = 0`.
@@ -151,9 +223,12 @@ impl<T: Float> BoucWen<T> {
         T::lit(1e-10).max(T::epsilon() * T::lit(64.0))
     }
 
-    /// Sets the relative local error tolerance of the adaptive integration
-    /// (used for `n ≠ 1`), `rtol ∈ [64 ε, 1e-3]` (for `f64`: from 1.42e-14).
-    pub fn with_tolerance(mut self, rtol: T) -> Result<Self> {
+    /// Sets the relative tolerance of the state equation's solution for
+    /// `n ≠ 1`, `rtol ∈ [64 ε, 1e-3]` (for `f64`: from 1.42e-14): of each
+    /// piece of the tabulated flow ([`StateSolver::Tabulated`], checked at
+    /// `rtol/4`) or of each adaptive sub-step ([`StateSolver::Adaptive`]).
+    /// Rebuilds the table and resets the spring.
+    pub fn with_tolerance(self, rtol: T) -> Result<Self> {
         check::positive("rtol", rtol)?;
         if rtol < T::epsilon() * T::lit(64.0) || rtol > T::lit(1e-3) {
             return Err(crate::Error::InvalidParameter {
@@ -162,8 +237,20 @@ impl<T: Float> BoucWen<T> {
                 reason: "must lie in [64 ε, 1e-3]",
             });
         }
-        self.eq = StateEquation::new(self.p.alpha, self.p.beta, self.p.gamma, self.p.n, rtol);
-        Ok(self)
+        Ok(Self::build(self.p, rtol, self.solver))
+    }
+
+    /// Chooses how the state equation is solved for `n ≠ 1` (default
+    /// [`StateSolver::Tabulated`]; `n = 1` is always in closed form). Resets
+    /// the spring.
+    pub fn with_solver(self, solver: StateSolver) -> Self {
+        Self::build(self.p, self.eq.rtol, solver)
+    }
+
+    /// Whether the flow of the state equation is tabulated (see
+    /// [`StateSolver::Tabulated`] for when it is).
+    pub fn is_tabulated(&self) -> bool {
+        self.table.is_some()
     }
 
     /// The parameters.
@@ -178,7 +265,7 @@ impl<T: Float> BoucWen<T> {
 
     /// The state after input `z` (finite), from the committed state.
     #[inline]
-    fn step(&self, z: T) -> Result<State<T>> {
+    fn step(&mut self, z: T) -> Result<State<T>> {
         let c = &self.s;
         let dz = z - c.z;
         let dir = if dz > T::zero() {
@@ -189,14 +276,41 @@ impl<T: Float> BoucWen<T> {
             c.dir
         };
         let sign = if dir < 0 { -T::one() } else { T::one() };
+        if let Some(table) = &self.table {
+            // Tabulated flow: the state at position σ_a + travel, from the
+            // start of the branch (a new one starts on a reversal, or where
+            // the last state was outside the table).
+            let (z_a, sigma_a) = match c.branch {
+                BranchStart::Flow(sa) if dir == c.dir => (c.z_a, Some(sa)),
+                _ if dir == 0 => return Ok(*c),
+                _ => (c.z, table.position(sign * c.h)),
+            };
+            if let Some(sa) = sigma_a {
+                if let Some(g) = table.state_at(sa + sign * (z - z_a), &mut self.hint) {
+                    return Ok(State {
+                        z,
+                        h: sign * g,
+                        dir,
+                        z_a,
+                        branch: BranchStart::Flow(sa),
+                    });
+                }
+            }
+        }
         if !self.closed_form {
             let h = sign * self.eq.advance(sign * c.h, dz.abs())?;
-            return Ok(State { z, h, dir, ..*c });
+            return Ok(State {
+                z,
+                h,
+                dir,
+                z_a: c.z_a,
+                branch: BranchStart::Unknown,
+            });
         }
         // n = 1: closed form along the branch that started at the last
         // reversal (a new one starts when the direction changes).
         let (z_a, branch) = match c.branch {
-            Some(b) if dir == c.dir => (c.z_a, b),
+            BranchStart::Linear(b) if dir == c.dir => (c.z_a, b),
             _ if dir == 0 => return Ok(*c),
             _ => (c.z, self.eq.branch(sign * c.h)),
         };
@@ -212,7 +326,7 @@ impl<T: Float> BoucWen<T> {
             h,
             dir,
             z_a,
-            branch: Some(branch),
+            branch: BranchStart::Linear(branch),
         })
     }
 
@@ -235,6 +349,53 @@ impl<T: Float> BoucWen<T> {
                 input: z.as_f64(),
             }
             .at_sample(i))
+        }
+    }
+
+    /// Outputs of `zs[i..]` along the committed branch, while the input
+    /// keeps its direction (or stands still) and `at(travel)` gives the
+    /// state in the direction frame; stops before the first other sample.
+    #[inline(always)]
+    fn run_branch(
+        &self,
+        zs: &[T],
+        ys: &mut [T],
+        mut i: usize,
+        mut at: impl FnMut(T) -> Option<T>,
+    ) -> Run<T> {
+        let c = &self.s;
+        let sign = if c.dir < 0 { -T::one() } else { T::one() };
+        let (z_a, mut z_prev, mut h_prev) = (c.z_a, c.z, c.h);
+        while i < zs.len() {
+            let z = zs[i];
+            // A non-finite sample ends the run here and is reported by
+            // `step`.
+            if !(sign * (z - z_prev) >= T::zero() && z.is_finite()) {
+                break;
+            }
+            let Some(g) = at(sign * (z - z_a)) else {
+                break;
+            };
+            let h = sign * g;
+            match self.checked_force(z, h, i) {
+                Ok(y) => ys[i] = y,
+                Err(e) => {
+                    return Run {
+                        end: i,
+                        z: z_prev,
+                        h: h_prev,
+                        error: Some(e),
+                    }
+                }
+            }
+            (z_prev, h_prev) = (z, h);
+            i += 1;
+        }
+        Run {
+            end: i,
+            z: z_prev,
+            h: h_prev,
+            error: None,
         }
     }
 
@@ -270,7 +431,7 @@ impl<T: Float> Operator<T> for BoucWen<T> {
     fn process(&mut self, zs: &[T], ys: &mut [T]) -> Result<()> {
         check_lengths(zs, ys)?;
         self.pending = None;
-        if !self.closed_form {
+        if !self.closed_form && self.table.is_none() {
             // The adaptive integration dominates; the default loop is as fast.
             for (i, (z, y)) in zs.iter().zip(ys.iter_mut()).enumerate() {
                 let t = self.trial(*z).map_err(|e| e.at_sample(i))?;
@@ -279,10 +440,11 @@ impl<T: Float> Operator<T> for BoucWen<T> {
             }
             return Ok(());
         }
-        // n = 1: the first sample of each monotone run goes through `step`
-        // (which starts a new branch on a reversal); the rest of the run
-        // evaluates the same branch in closed form, sample by sample
-        // independent, which is what `step` computes for them too.
+        // The first sample of each monotone run goes through `step` (which
+        // starts a new branch on a reversal); the rest of the run evaluates
+        // the same branch from its start (closed form for n = 1, the
+        // tabulated flow otherwise), sample by sample independent, which is
+        // what `step` computes for them too.
         let mut i = 0;
         while i < zs.len() {
             let z = zs[i];
@@ -291,35 +453,22 @@ impl<T: Float> Operator<T> for BoucWen<T> {
             ys[i] = self.checked_force(next.z, next.h, i)?;
             self.s = next;
             i += 1;
-            let (Some(branch), sign) = (
-                self.s.branch,
-                if self.s.dir < 0 { -T::one() } else { T::one() },
-            ) else {
-                continue;
-            };
-            let z_a = self.s.z_a;
-            let (mut z_prev, mut h_prev) = (self.s.z, self.s.h);
-            while i < zs.len() {
-                let z = zs[i];
-                // Same direction (or standing still); a non-finite sample
-                // ends the run here and is reported by `step` above.
-                if !(sign * (z - z_prev) >= T::zero() && z.is_finite()) {
-                    break;
+            let run = match (self.s.branch, &self.table) {
+                (BranchStart::Linear(branch), _) => {
+                    self.run_branch(zs, ys, i, |s| Some(branch.at(s)))
                 }
-                let h = sign * branch.at(sign * (z - z_a));
-                ys[i] = match self.checked_force(z, h, i) {
-                    Ok(y) => y,
-                    Err(e) => {
-                        self.s.z = z_prev;
-                        self.s.h = h_prev;
-                        return Err(e);
-                    }
-                };
-                (z_prev, h_prev) = (z, h);
-                i += 1;
+                (BranchStart::Flow(sa), Some(table)) => {
+                    let mut hint = self.hint;
+                    let run = self.run_branch(zs, ys, i, |s| table.state_at(sa + s, &mut hint));
+                    self.hint = hint;
+                    run
+                }
+                _ => continue,
+            };
+            (i, self.s.z, self.s.h) = (run.end, run.z, run.h);
+            if let Some(e) = run.error {
+                return Err(e);
             }
-            self.s.z = z_prev;
-            self.s.h = h_prev;
         }
         Ok(())
     }
@@ -376,8 +525,7 @@ impl<T: Float> Operator<T> for BoucWen<T> {
             .stiffness
             .from_flat(&p[N_SCALAR..])
             .map_err(|e| e.in_path("stiffness"))?;
-        let rtol = self.eq.rtol;
-        let mut next = Self::from_params(BoucWenParams {
+        let next = BoucWenParams {
             w: p[0],
             alpha: p[1],
             beta: p[2],
@@ -386,9 +534,9 @@ impl<T: Float> Operator<T> for BoucWen<T> {
             h0: p[5],
             z0: p[6],
             stiffness,
-        })?;
-        next.eq = StateEquation::new(next.p.alpha, next.p.beta, next.p.gamma, next.p.n, rtol);
-        *self = next;
+        };
+        next.validate()?;
+        *self = Self::build(next, self.eq.rtol, self.solver);
         Ok(())
     }
 }

@@ -31,6 +31,11 @@
 //!   sub-steps. The resulting
 //!   global error is measured in this module's tests and the crate's
 //!   property tests.
+//!
+//! The spring uses this integration sample by sample only with
+//! `StateSolver::Adaptive` (or outside the tabulated range); by default it
+//! integrates the knots of the tabulated flow (`flow_table`) with it, once
+//! per parameter set.
 
 use crate::{Error, Float, Result};
 

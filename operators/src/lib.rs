@@ -37,6 +37,7 @@ mod bouc_wen;
 mod dahl;
 mod deadzone;
 mod elastoplastic;
+mod flow_table;
 mod gain;
 mod gms;
 mod hysteretic_state;
@@ -51,7 +52,7 @@ mod stiffness;
 mod stop;
 mod viscous_damper;
 
-pub use bouc_wen::{BoucWen, BoucWenParams};
+pub use bouc_wen::{BoucWen, BoucWenParams, StateSolver};
 pub use dahl::{Dahl, DahlParams};
 pub use deadzone::{dead_zone, DeadZone, DeadZoneParams};
 pub use domain::Domain;
