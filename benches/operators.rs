@@ -99,7 +99,21 @@ fn benches(c: &mut Criterion) {
         let bw15 = bouc_wen(1.5)
             .and_then(|b| b.with_tolerance(BW15_RTOL))
             .expect("bouc-wen");
-        bench_op(&mut g, "n=1.5", bw15, &x, &mut y);
+        bench_op(&mut g, "n=1.5", bw15.clone(), &x, &mut y);
+        let adaptive = bw15.with_solver(StateSolver::Adaptive);
+        bench_op(&mut g, "n=1.5 adaptive", adaptive, &x, &mut y);
+        g.finish();
+    }
+    {
+        // The cost of tabulating the flow (once per parameter set, e.g. at
+        // every `set_params` of a fit), default tolerance 1e-10.
+        let mut g = c.benchmark_group("bouc_wen_table_build");
+        for n in [1.5, 2.7, 8.0] {
+            assert!(bouc_wen(n).expect("bouc-wen").is_tabulated());
+            g.bench_function(format!("n={n}"), |b| {
+                b.iter(|| black_box(bouc_wen(black_box(n)).expect("bouc-wen")))
+            });
+        }
         g.finish();
     }
     {
