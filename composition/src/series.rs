@@ -2,7 +2,9 @@
 
 use crate::pair::{pair_domains, pair_names, set_pair};
 use crate::solve::{solve, Root, SolverOptions, Start};
-use hysteron_operators::{check, check_input, Domain, Error, Float, Operator, Result, Trial};
+use hysteron_operators::{
+    check, check_input, check_lengths, Domain, Error, Float, Operator, Result, Trial,
+};
 use serde::{Deserialize, Serialize};
 
 /// Travel limits on the left element of a [`MechanicalSeries`].
@@ -213,6 +215,35 @@ impl<T: Float, L, R> MechanicalSeries<T, L, R> {
     }
 }
 
+impl<T: Float, L: Operator<T>, R: Operator<T>> MechanicalSeries<T, L, R> {
+    /// Input `x` with the left element held at a limit `lo`/`hi` where its
+    /// committed split lies there: if the contact pushes into that limit
+    /// (the residual `L − R` keeps its sign there), commits the sample and
+    /// returns the force `R`, exactly as `trial` + `commit` would (the
+    /// solver's first evaluation is at the committed split, clamped, and it
+    /// returns [`Root::AtBound`] there). Otherwise returns `None` with the
+    /// committed state unchanged (the children may hold discarded trials).
+    #[inline(always)]
+    fn hold_at_limit(&mut self, x: T, lo: T, hi: T, r0: T) -> Option<T> {
+        // The solver's start, clamped as it clamps it.
+        let xl = self.s.x_left.max(lo).min(hi);
+        if !(x.is_finite() && (xl == hi || xl == lo)) {
+            return None;
+        }
+        let l = self.left.trial(xl).ok()?;
+        let r = self.right.trial(x - r0 - xl).ok()?;
+        let res = l.output - r.output;
+        let holds = (xl == hi && res < T::zero()) || (xl == lo && res > T::zero());
+        if !(holds && r.output.is_finite()) {
+            return None;
+        }
+        self.left.commit();
+        self.right.commit();
+        self.s = State { x, x_left: xl };
+        Some(r.output)
+    }
+}
+
 impl<T, L, R> Operator<T> for MechanicalSeries<T, L, R>
 where
     T: Float,
@@ -285,6 +316,35 @@ where
             output: force,
             tangent,
         })
+    }
+
+    /// The trial + commit loop, with a shortcut for a sample where the left
+    /// element rests at a limit and the contact holds: [`trial`]'s solver
+    /// then returns after its first evaluation, at the committed split, so
+    /// that evaluation is made here directly (the same calls, in the same
+    /// order, on the same arguments), and the solver is not set up. Any
+    /// other outcome (the left element leaves the limit, a residual of
+    /// exactly zero, an error) discards it and runs [`trial`], which starts
+    /// from the same committed state, so the results are bit-identical.
+    ///
+    /// [`trial`]: Operator::trial
+    fn process(&mut self, xs: &[T], ys: &mut [T]) -> Result<()> {
+        check_lengths(xs, ys)?;
+        self.pending = None;
+        let bounds = self.limits.bounds();
+        let r0 = self.limits.start();
+        for (i, (&x, y)) in xs.iter().zip(ys.iter_mut()).enumerate() {
+            if let Some((lo, hi)) = bounds {
+                if let Some(force) = self.hold_at_limit(x, lo, hi, r0) {
+                    *y = force;
+                    continue;
+                }
+            }
+            let t = self.trial(x).map_err(|e| e.at_sample(i))?;
+            self.commit();
+            *y = t.output;
+        }
+        Ok(())
     }
 
     fn commit(&mut self) {
