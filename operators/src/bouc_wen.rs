@@ -399,6 +399,73 @@ impl<T: Float> BoucWen<T> {
         }
     }
 
+    /// [`trial`](Operator::trial) for `n = 1`: the same values as
+    /// [`step`](Self::step) followed by the output and tangent of `trial`,
+    /// computed in place from the committed state (the branch is read where
+    /// it is, not copied through intermediate states), with `dh/dz` of the
+    /// linear rate `α − c |h|` written out.
+    #[inline(always)]
+    fn trial_closed_form(&mut self, z: T) -> Result<Trial<T>> {
+        self.pending = None;
+        let z = check_input(z)?;
+        let c = &self.s;
+        let dz = z - c.z;
+        let dir = if dz > T::zero() {
+            1
+        } else if dz < T::zero() {
+            -1
+        } else {
+            c.dir
+        };
+        let sign = if dir < 0 { -T::one() } else { T::one() };
+        let next = match &c.branch {
+            BranchStart::Linear(b) if dir == c.dir => State {
+                z,
+                h: sign * b.at(sign * (z - c.z_a)),
+                dir,
+                z_a: c.z_a,
+                branch: c.branch,
+            },
+            // No motion yet: the initial state.
+            _ if dir == 0 => *c,
+            _ => {
+                let b = self.eq.branch(sign * c.h);
+                State {
+                    z,
+                    h: sign * b.at(sign * (z - c.z)),
+                    dir,
+                    z_a: c.z,
+                    branch: BranchStart::Linear(b),
+                }
+            }
+        };
+        let h = next.h;
+        if !h.is_finite() {
+            return Err(crate::Error::NonFiniteOutput {
+                operator: "bouc-wen",
+                input: z.as_f64(),
+            });
+        }
+        let (s, ds) = self.p.stiffness.eval_with(&self.slopes, z);
+        let w = self.p.w;
+        let one_w = T::one() - w;
+        let output = self.force(s, z, h);
+        // dh/dz = α − c |g| with g = sgn(ż) h (the state equation's rate
+        // for n = 1, without dispatching on the exponent).
+        let g = sign * h;
+        let eq = &self.eq;
+        let c_g = if g < T::zero() {
+            eq.gamma - eq.beta
+        } else {
+            eq.beta + eq.gamma
+        };
+        let slope = eq.alpha - g.abs() * c_g;
+        let tangent = w * (s + ds * z) + one_w * (ds * h + s * slope);
+        let t = check_output("bouc-wen", z, Trial { output, tangent })?;
+        self.pending = Some(next);
+        Ok(t)
+    }
+
     /// `dh/dz` at state `h` moving in direction `dir`.
     #[inline(always)]
     fn slope(&self, h: T, sign: T) -> T {
@@ -413,6 +480,9 @@ impl<T: Float> Operator<T> for BoucWen<T> {
 
     #[inline]
     fn trial(&mut self, z: T) -> Result<Trial<T>> {
+        if self.closed_form {
+            return self.trial_closed_form(z);
+        }
         self.pending = None;
         let z = check_input(z)?;
         let next = self.step(z)?;
