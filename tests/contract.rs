@@ -1,6 +1,6 @@
 //! The trial/commit contract, checked over every operator and combinator
 //! (static, boxed and nested): `process` equals a trial + commit loop bit for
-//! bit; replay after `reset` is identical; repeated, discarded and failed
+//! bit, and so does `process_while` up to the first refused sample; replay after `reset` is identical; repeated, discarded and failed
 //! trials leave no trace; clones are independent; boxed equals static; the
 //! flat parameter vector round-trips.
 
@@ -62,6 +62,50 @@ fn check<O: Operator<f64> + Clone + 'static>(label: &str, op: O) {
             "{label}: state after process vs after trial/commit (probe {probe})"
         );
     }
+
+    // process_while == trial, keep, commit, stopping uncommitted at the
+    // first sample `keep` refuses; `keep` sees each output once, in order
+    for cut in [0, 1, 2, 100, 101, 102, xs.len() / 2, xs.len() - 1, xs.len()] {
+        let mut p = fresh.clone();
+        let mut ys = vec![f64::NAN; xs.len()];
+        let mut seen = Vec::new();
+        let n = p.process_while(&xs, &mut ys, &mut |i, y| {
+            seen.push((i, y.to_bits()));
+            i < cut
+        });
+        assert_eq!(n, cut, "{label}: process_while stopped at {n}, not {cut}");
+        assert_eq!(
+            bits(&ys[..n]),
+            bits(&reference[..n]),
+            "{label}: process_while outputs (cut {cut})"
+        );
+        let offered: Vec<(usize, u64)> = (0..(cut + 1).min(xs.len()))
+            .map(|i| (i, reference[i].to_bits()))
+            .collect();
+        assert_eq!(seen, offered, "{label}: process_while offers (cut {cut})");
+        // the refused sample left no trace
+        assert_eq!(
+            bits(&p.run(&xs[n..]).unwrap()),
+            bits(&reference[n..]),
+            "{label}: process_while refused sample left a trace (cut {cut})"
+        );
+    }
+    // ... and a failing sample ends it there, uncommitted, without an error
+    let mut p = fresh.clone();
+    let mut bad = xs.clone();
+    bad[150] = f64::NAN;
+    let mut ys = vec![0.0; xs.len()];
+    assert_eq!(
+        p.process_while(&bad, &mut ys, &mut |_, _| true),
+        150,
+        "{label}: process_while past a NaN"
+    );
+    assert_eq!(bits(&ys[..150]), bits(&reference[..150]), "{label}");
+    assert_eq!(
+        bits(&p.run(&xs[150..]).unwrap()),
+        bits(&reference[150..]),
+        "{label}: process_while failed sample left a trace"
+    );
 
     // replay after reset is identical (twice, and after a partial run)
     a.reset();

@@ -215,32 +215,54 @@ impl<T: Float, L, R> MechanicalSeries<T, L, R> {
     }
 }
 
+/// Samples per stretch that [`MechanicalSeries::process`] hands to the
+/// right element at a travel limit.
+const HOLD_CHUNK: usize = 256;
+
 impl<T: Float, L: Operator<T>, R: Operator<T>> MechanicalSeries<T, L, R> {
-    /// Input `x` with the left element held at a limit `lo`/`hi` where its
-    /// committed split lies there: if the contact pushes into that limit
-    /// (the residual `L − R` keeps its sign there), commits the sample and
-    /// returns the force `R`, exactly as `trial` + `commit` would (the
-    /// solver's first evaluation is at the committed split, clamped, and it
-    /// returns [`Root::AtBound`] there). Otherwise returns `None` with the
-    /// committed state unchanged (the children may hold discarded trials).
-    #[inline(always)]
-    fn hold_at_limit(&mut self, x: T, lo: T, hi: T, r0: T) -> Option<T> {
-        // The solver's start, clamped as it clamps it.
-        let xl = self.s.x_left.max(lo).min(hi);
-        if !(x.is_finite() && (xl == hi || xl == lo)) {
-            return None;
+    /// Runs `xs` (at most [`HOLD_CHUNK`] samples) with the left element held
+    /// at its committed split `xl`, which lies at the limit `lo` or `hi`,
+    /// for as long as the contact pushes into that limit, and returns how
+    /// many samples were committed (outputs in `ys`).
+    ///
+    /// Per sample this is what `trial` + `commit` do there: the solver's
+    /// first evaluation is at the committed split (clamped: `xl`), the
+    /// left element at `xl` and the right one at `x − r0 − xl`; if the
+    /// residual `L − R` keeps its sign into the limit (negative at `hi`,
+    /// positive at `lo`) the root is [`Root::AtBound`] there and the force
+    /// is `R`. The right element runs the stretch through
+    /// [`Operator::process_while`] (its batch loop), asked before each
+    /// commit whether the contact holds, which trials and commits the left
+    /// element; the first sample where it does not (or any error) is left
+    /// uncommitted for `trial` to take over.
+    #[inline]
+    fn hold_run(&mut self, xs: &[T], ys: &mut [T], xl: T, lo: T, hi: T, r0: T) -> usize {
+        let mut zs = [T::zero(); HOLD_CHUNK];
+        let zs = &mut zs[..xs.len()];
+        for (z, &x) in zs.iter_mut().zip(xs) {
+            *z = x - r0 - xl;
         }
-        let l = self.left.trial(xl).ok()?;
-        let r = self.right.trial(x - r0 - xl).ok()?;
-        let res = l.output - r.output;
-        let holds = (xl == hi && res < T::zero()) || (xl == lo && res > T::zero());
-        if !(holds && r.output.is_finite()) {
-            return None;
+        let (left, right) = (&mut self.left, &mut self.right);
+        let zero = T::zero();
+        let mut keep = |_: usize, force: T| {
+            let Ok(l) = left.trial(xl) else {
+                return false;
+            };
+            let res = l.output - force;
+            let holds = (xl == hi && res < zero) || (xl == lo && res > zero);
+            if holds && force.is_finite() {
+                left.commit();
+            }
+            holds && force.is_finite()
+        };
+        let n = right.process_while(zs, ys, &mut keep);
+        if n > 0 {
+            self.s = State {
+                x: xs[n - 1],
+                x_left: xl,
+            };
         }
-        self.left.commit();
-        self.right.commit();
-        self.s = State { x, x_left: xl };
-        Some(r.output)
+        n
     }
 }
 
@@ -318,31 +340,39 @@ where
         })
     }
 
-    /// The trial + commit loop, with a shortcut for a sample where the left
-    /// element rests at a limit and the contact holds: [`trial`]'s solver
-    /// then returns after its first evaluation, at the committed split, so
-    /// that evaluation is made here directly (the same calls, in the same
-    /// order, on the same arguments), and the solver is not set up. Any
-    /// other outcome (the left element leaves the limit, a residual of
-    /// exactly zero, an error) discards it and runs [`trial`], which starts
-    /// from the same committed state, so the results are bit-identical.
-    ///
-    /// [`trial`]: Operator::trial
+    /// The trial + commit loop, with a shortcut while the left element
+    /// rests at a travel limit and the contact holds: there `trial`'s
+    /// solver returns after its first evaluation, at the committed split,
+    /// so [`hold_run`](MechanicalSeries::hold_run) makes that evaluation
+    /// directly (the same calls on the same arguments) over a stretch of
+    /// samples, without setting up the solver, and the right element runs
+    /// it in its batch loop. The first sample where the contact lets go (or
+    /// the residual is exactly zero, or an error occurs) is left to
+    /// `trial`, which starts from the same committed state, so the results
+    /// are bit-identical to the trial + commit loop.
     fn process(&mut self, xs: &[T], ys: &mut [T]) -> Result<()> {
         check_lengths(xs, ys)?;
         self.pending = None;
         let bounds = self.limits.bounds();
         let r0 = self.limits.start();
-        for (i, (&x, y)) in xs.iter().zip(ys.iter_mut()).enumerate() {
+        let mut i = 0;
+        while i < xs.len() {
             if let Some((lo, hi)) = bounds {
-                if let Some(force) = self.hold_at_limit(x, lo, hi, r0) {
-                    *y = force;
-                    continue;
+                // The solver's start, clamped as it clamps it.
+                let xl = self.s.x_left.max(lo).min(hi);
+                if xl == hi || xl == lo {
+                    let m = (xs.len() - i).min(HOLD_CHUNK);
+                    let n = self.hold_run(&xs[i..i + m], &mut ys[i..i + m], xl, lo, hi, r0);
+                    i += n;
+                    if n == m {
+                        continue;
+                    }
                 }
             }
-            let t = self.trial(x).map_err(|e| e.at_sample(i))?;
+            let t = self.trial(xs[i]).map_err(|e| e.at_sample(i))?;
             self.commit();
-            *y = t.output;
+            ys[i] = t.output;
+            i += 1;
         }
         Ok(())
     }

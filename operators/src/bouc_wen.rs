@@ -87,12 +87,14 @@ impl<T: Float> State<T> {
 }
 
 /// Where [`BoucWen::run_branch`] stopped: the next sample, the last state,
-/// and the error of the sample it stopped at, if any.
+/// and the error of the sample it stopped at, if any, or whether `keep`
+/// refused that sample.
 struct Run<T> {
     end: usize,
     z: T,
     h: T,
     error: Option<crate::Error>,
+    refused: bool,
 }
 
 /// How [`BoucWen`] solves its state equation for `n ≠ 1` (`n = 1` is
@@ -354,7 +356,8 @@ impl<T: Float> BoucWen<T> {
 
     /// Outputs of `zs[i..]` along the committed branch, while the input
     /// keeps its direction (or stands still) and `at(travel)` gives the
-    /// state in the direction frame; stops before the first other sample.
+    /// state in the direction frame, and `keep(i, y_i)` accepts each output;
+    /// stops before the first other sample.
     #[inline(always)]
     fn run_branch(
         &self,
@@ -362,6 +365,7 @@ impl<T: Float> BoucWen<T> {
         ys: &mut [T],
         mut i: usize,
         mut at: impl FnMut(T) -> Option<T>,
+        keep: &mut impl FnMut(usize, T) -> bool,
     ) -> Run<T> {
         let c = &self.s;
         let sign = if c.dir < 0 { -T::one() } else { T::one() };
@@ -378,13 +382,14 @@ impl<T: Float> BoucWen<T> {
             };
             let h = sign * g;
             match self.checked_force(z, h, i) {
-                Ok(y) => ys[i] = y,
-                Err(e) => {
+                Ok(y) if keep(i, y) => ys[i] = y,
+                y => {
                     return Run {
                         end: i,
                         z: z_prev,
                         h: h_prev,
-                        error: Some(e),
+                        refused: y.is_ok(),
+                        error: y.err(),
                     }
                 }
             }
@@ -396,7 +401,71 @@ impl<T: Float> BoucWen<T> {
             z: z_prev,
             h: h_prev,
             error: None,
+            refused: false,
         }
+    }
+
+    /// The batch loop of [`process`](Operator::process) (closed form, or
+    /// tabulated flow): the first sample of each monotone run goes through
+    /// [`step`](Self::step) (which starts a new branch on a reversal); the
+    /// rest of the run evaluates the same branch from its start (closed form
+    /// for n = 1, the tabulated flow otherwise), sample by sample
+    /// independent, which is what `step` computes for them too. Each output
+    /// is offered to `keep` before it is committed; the first it refuses, or
+    /// an error, ends the loop there uncommitted. Returns the number of
+    /// samples committed and the error (`at_sample`) if one ended it.
+    #[inline(always)]
+    fn run_batch(
+        &mut self,
+        zs: &[T],
+        ys: &mut [T],
+        mut keep: impl FnMut(usize, T) -> bool,
+    ) -> (usize, Result<()>) {
+        let mut i = 0;
+        while i < zs.len() {
+            let z = zs[i];
+            let next = check_input(z).and_then(|z| self.step(z));
+            let next = match next {
+                Ok(next) => next,
+                Err(e) => return (i, Err(e.at_sample(i))),
+            };
+            let y = match self.checked_force(next.z, next.h, i) {
+                Ok(y) => y,
+                Err(e) => return (i, Err(e)),
+            };
+            if !keep(i, y) {
+                return (i, Ok(()));
+            }
+            ys[i] = y;
+            self.s = next;
+            i += 1;
+            let run = match (self.s.branch, &self.table) {
+                (BranchStart::Linear(branch), _) => {
+                    self.run_branch(zs, ys, i, |s| Some(branch.at(s)), &mut keep)
+                }
+                (BranchStart::Flow(sa), Some(table)) => {
+                    let mut hint = self.hint;
+                    let run = self.run_branch(
+                        zs,
+                        ys,
+                        i,
+                        |s| table.state_at(sa + s, &mut hint),
+                        &mut keep,
+                    );
+                    self.hint = hint;
+                    run
+                }
+                _ => continue,
+            };
+            (i, self.s.z, self.s.h) = (run.end, run.z, run.h);
+            if let Some(e) = run.error {
+                return (i, Err(e));
+            }
+            if run.refused {
+                return (i, Ok(()));
+            }
+        }
+        (zs.len(), Ok(()))
     }
 
     /// [`trial`](Operator::trial) for `n = 1`: the same values as
@@ -510,37 +579,33 @@ impl<T: Float> Operator<T> for BoucWen<T> {
             }
             return Ok(());
         }
-        // The first sample of each monotone run goes through `step` (which
-        // starts a new branch on a reversal); the rest of the run evaluates
-        // the same branch from its start (closed form for n = 1, the
-        // tabulated flow otherwise), sample by sample independent, which is
-        // what `step` computes for them too.
-        let mut i = 0;
-        while i < zs.len() {
-            let z = zs[i];
-            let next = check_input(z).and_then(|z| self.step(z));
-            let next = next.map_err(|e| e.at_sample(i))?;
-            ys[i] = self.checked_force(next.z, next.h, i)?;
-            self.s = next;
-            i += 1;
-            let run = match (self.s.branch, &self.table) {
-                (BranchStart::Linear(branch), _) => {
-                    self.run_branch(zs, ys, i, |s| Some(branch.at(s)))
+        self.run_batch(zs, ys, |_, _| true).1
+    }
+
+    /// The batch loop of [`process`](Operator::process) (`n = 1`, or the
+    /// tabulated flow) with `keep` consulted on each output before it is
+    /// committed; otherwise the default trial, `keep`, commit loop.
+    fn process_while(
+        &mut self,
+        zs: &[T],
+        ys: &mut [T],
+        keep: &mut dyn FnMut(usize, T) -> bool,
+    ) -> usize {
+        self.pending = None;
+        let n = zs.len().min(ys.len());
+        if !self.closed_form && self.table.is_none() {
+            for (i, (z, y)) in zs.iter().zip(ys.iter_mut()).enumerate() {
+                match self.trial(*z) {
+                    Ok(t) if keep(i, t.output) => {
+                        self.commit();
+                        *y = t.output;
+                    }
+                    _ => return i,
                 }
-                (BranchStart::Flow(sa), Some(table)) => {
-                    let mut hint = self.hint;
-                    let run = self.run_branch(zs, ys, i, |s| table.state_at(sa + s, &mut hint));
-                    self.hint = hint;
-                    run
-                }
-                _ => continue,
-            };
-            (i, self.s.z, self.s.h) = (run.end, run.z, run.h);
-            if let Some(e) = run.error {
-                return Err(e);
             }
+            return n;
         }
-        Ok(())
+        self.run_batch(&zs[..n], &mut ys[..n], keep).0
     }
 
     #[inline]

@@ -91,6 +91,51 @@ pub trait Operator<T: Float>: DynClone + Debug + Send + Sync {
         Ok(())
     }
 
+    /// Runs `xs` through the operator like [`process`](Operator::process)
+    /// while `keep(i, y_i)` accepts each output `y_i`, and returns how many
+    /// samples `n` were committed (their outputs are in `ys[..n]`).
+    ///
+    /// Sample by sample equivalent to `trial`, then `keep`, then `commit`,
+    /// bit for bit: the first sample whose trial fails or whose output
+    /// `keep` rejects is not committed (it leaves no trace, like a discarded
+    /// trial) and ends the run, so `n < xs.len()` says that sample `n` was
+    /// refused; the error itself is not returned (a `trial` at that sample
+    /// reproduces it). `keep` is called once per evaluated sample, in order.
+    /// The contents of `ys[n..]` are unspecified; `xs` and `ys` of different
+    /// lengths run over the shorter.
+    ///
+    /// Combinators use it to run a child over a stretch of samples that
+    /// lasts while a condition on its output holds (a
+    /// [`MechanicalSeries`](https://docs.rs/hysteron-composition) at a travel
+    /// limit runs its spring until the contact lets go).
+    ///
+    /// ```
+    /// use hysteron_operators::{Operator, Play};
+    /// let mut play = Play::new(0.5_f64).unwrap();
+    /// let mut ys = [0.0; 4];
+    /// // run while the output stays below 0.9: sample 2 (output 1.0) is refused
+    /// let n = play.process_while(&[1.0, 1.25, 1.5, 0.0], &mut ys, &mut |_, y| y < 0.9);
+    /// assert_eq!((n, ys[0], ys[1]), (2, 0.5, 0.75));
+    /// assert_eq!(play.trial(1.0).unwrap().output, 0.75); // the state after sample 1
+    /// ```
+    fn process_while(
+        &mut self,
+        xs: &[T],
+        ys: &mut [T],
+        keep: &mut dyn FnMut(usize, T) -> bool,
+    ) -> usize {
+        for (i, (x, y)) in xs.iter().zip(ys.iter_mut()).enumerate() {
+            match self.trial(*x) {
+                Ok(t) if keep(i, t.output) => {
+                    self.commit();
+                    *y = t.output;
+                }
+                _ => return i,
+            }
+        }
+        xs.len().min(ys.len())
+    }
+
     /// Runs `xs` through the operator from its current state and returns the
     /// outputs in a new vector.
     fn run(&mut self, xs: &[T]) -> Result<Vec<T>> {
@@ -149,6 +194,14 @@ impl<T: Float> Operator<T> for Box<dyn Operator<T>> {
     }
     fn process(&mut self, xs: &[T], ys: &mut [T]) -> Result<()> {
         (**self).process(xs, ys)
+    }
+    fn process_while(
+        &mut self,
+        xs: &[T],
+        ys: &mut [T],
+        keep: &mut dyn FnMut(usize, T) -> bool,
+    ) -> usize {
+        (**self).process_while(xs, ys, keep)
     }
     fn run(&mut self, xs: &[T]) -> Result<Vec<T>> {
         (**self).run(xs)
