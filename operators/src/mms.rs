@@ -153,6 +153,9 @@ impl<T: Float> Mms<T> {
     }
 }
 
+/// Samples per block of the batch loop of [`Mms::process`].
+const RUN_BLOCK: usize = 64;
+
 /// `1 − e^{−K |x − x_r|}`, via `expm1` for full accuracy near a reversal.
 #[inline(always)]
 fn rise<T: Float>(k: T, x: T, x_r: T) -> T {
@@ -249,31 +252,58 @@ impl<T: Float> Operator<T> for Mms<T> {
             }
             // ... the rest of the run stays on that branch: the same
             // formula as `step`, with the branch constants hoisted, and no
-            // dependency from one sample to the next.
+            // dependency from one sample to the next. It runs in blocks of
+            // three loops: the exponent of every sample, the `expm1` calls
+            // alone (a call clobbers every floating-point register, so with
+            // nothing else live around it nothing is spilled and reloaded
+            // per sample), and the outputs; the same operations on the same
+            // values as one loop.
             let up = s.dir > 0;
             let target = if up { self.p.f_c } else { -self.p.f_c };
+            let (k, x_r, y_r) = (self.p.k, s.x_r, s.y_r);
             while i < xs.len() {
-                let x = xs[i];
-                // A non-finite sample ends the run here and is reported above.
-                let same_run = if up { x >= s.x } else { x <= s.x };
-                if !(same_run && x.is_finite()) {
+                // The block's part of the run: same direction (or standing
+                // still); a non-finite sample ends the run here and is
+                // reported above.
+                let end_max = (i + RUN_BLOCK).min(xs.len());
+                let (mut end, mut prev) = (i, s.x);
+                while end < end_max {
+                    let x = xs[end];
+                    let same_run = if up { x >= prev } else { x <= prev };
+                    if !(same_run && x.is_finite()) {
+                        break;
+                    }
+                    prev = x;
+                    end += 1;
+                }
+                let (xb, yb) = (&xs[i..end], &mut ys[i..end]);
+                // −K |x − x_r|, then e^{−K |x − x_r|} − 1 = −rise.
+                for (a, &x) in yb.iter_mut().zip(xb) {
+                    *a = -k * (x - x_r).abs();
+                }
+                for a in yb.iter_mut() {
+                    *a = a.exp_m1();
+                }
+                for (j, (y_out, &x)) in yb.iter_mut().zip(xb).enumerate() {
+                    let (y, decay) = if x == s.x {
+                        (s.y, s.decay)
+                    } else {
+                        let rise = -*y_out;
+                        (on_branch(rise, target, y_r), T::one() - rise)
+                    };
+                    if !y.is_finite() {
+                        self.s = s;
+                        return Err(non_finite(x, i + j));
+                    }
+                    s.x = x;
+                    s.y = y;
+                    s.decay = decay;
+                    *y_out = y;
+                }
+                i = end;
+                if end < end_max {
                     break;
                 }
-                let (y, decay) = if x == s.x {
-                    (s.y, s.decay)
-                } else {
-                    let rise = rise(self.p.k, x, s.x_r);
-                    (on_branch(rise, target, s.y_r), T::one() - rise)
-                };
-                if !y.is_finite() {
-                    self.s = s;
-                    return Err(non_finite(x, i));
-                }
-                s.x = x;
-                s.y = y;
-                s.decay = decay;
-                ys[i] = y;
-                i += 1;
             }
         }
         self.s = s;
