@@ -97,10 +97,11 @@ pub trait Operator<T: Float>: DynClone + Debug + Send + Sync {
     ///
     /// Sample by sample equivalent to `trial`, then `keep`, then `commit`,
     /// bit for bit: the first sample whose trial fails or whose output
-    /// `keep` rejects is not committed (it leaves no trace, like a discarded
-    /// trial) and ends the run, so `n < xs.len()` says that sample `n` was
-    /// refused; the error itself is not returned (a `trial` at that sample
-    /// reproduces it). `keep` is called once per evaluated sample, in order.
+    /// `keep` rejects is not committed and ends the run (it may be left as
+    /// the pending trial, as a `trial` there leaves it; the next `trial`
+    /// replaces it), so `n < xs.len()` says that sample `n` was refused; the
+    /// error itself is not returned (a `trial` at that sample reproduces
+    /// it). `keep` is called once per evaluated sample, in order.
     /// The contents of `ys[n..]` are unspecified; `xs` and `ys` of different
     /// lengths run over the shorter.
     ///
