@@ -343,13 +343,15 @@ where
     /// The trial + commit loop, with a shortcut while the left element
     /// rests at a travel limit and the contact holds: there `trial`'s
     /// solver returns after its first evaluation, at the committed split,
-    /// so [`hold_run`](MechanicalSeries::hold_run) makes that evaluation
-    /// directly (the same calls on the same arguments) over a stretch of
-    /// samples, without setting up the solver, and the right element runs
-    /// it in its batch loop. The first sample where the contact lets go (or
-    /// the residual is exactly zero, or an error occurs) is left to
-    /// `trial`, which starts from the same committed state, so the results
-    /// are bit-identical to the trial + commit loop.
+    /// so that evaluation is made directly (the same calls on the same
+    /// arguments) over a stretch of samples, without setting up the
+    /// solver: the right element runs the stretch in its batch loop
+    /// ([`Operator::process_while`]), asked before each commit whether the
+    /// contact still holds, which trials and commits the left element at
+    /// the limit. The first sample where the contact lets go (or the
+    /// residual is exactly zero, or an error occurs) is left to `trial`,
+    /// which starts from the same committed state, so the results are
+    /// bit-identical to the trial + commit loop.
     fn process(&mut self, xs: &[T], ys: &mut [T]) -> Result<()> {
         check_lengths(xs, ys)?;
         self.pending = None;

@@ -106,9 +106,9 @@ pub trait Operator<T: Float>: DynClone + Debug + Send + Sync {
     /// lengths run over the shorter.
     ///
     /// Combinators use it to run a child over a stretch of samples that
-    /// lasts while a condition on its output holds (a
-    /// [`MechanicalSeries`](https://docs.rs/hysteron-composition) at a travel
-    /// limit runs its spring until the contact lets go).
+    /// lasts while a condition on its output holds (a `MechanicalSeries` of
+    /// the composition crate, at a travel limit, runs its spring until the
+    /// contact lets go).
     ///
     /// ```
     /// use hysteron_operators::{Operator, Play};
