@@ -106,10 +106,10 @@ pub enum StateSolver {
     /// adaptive integration at `rtol/1000` to `rtol/4` relative per piece:
     /// each sample is one polynomial evaluation from the start of its
     /// branch, so refining the sampling of a branch changes no bit. Used for
-    /// `rtol ≥ 6400 ε` (`f64`: 1.4e-12) in the bounded class `α > 0`,
-    /// `β + γ > 0`, `β ≥ γ` for states
-    /// `|h| ≤ (α/(β+γ))^{1/n}`; other parameter sets and states (a preload
-    /// `h0` beyond saturation) fall back to [`StateSolver::Adaptive`].
+    /// `n ≤ 64` and `rtol ≥ 6400 ε` (`f64`: 1.4e-12) in the bounded class
+    /// `α > 0`, `β + γ > 0`, `β ≥ γ`, for states `|h| ≤ (α/(β+γ))^{1/n}`;
+    /// other parameter sets and states (a preload `h0` beyond saturation)
+    /// fall back to [`StateSolver::Adaptive`].
     #[default]
     Tabulated,
     /// Dormand–Prince 5(4) from sample to sample, local error per sub-step

@@ -35,7 +35,8 @@
 //! `(a/λ) v_T² ≤ rtol u*/8`, and the tail is checked like an interval.
 //!
 //! Tabulated: `α > 0`, `β + γ > 0` and `β ≥ γ` (the bounded class: the
-//! upper side saturates, the lower side runs to zero), `rtol ≥ 6400 ε`
+//! upper side saturates, the lower side runs to zero), `n ≤ 64`,
+//! `rtol ≥ 6400 ε`
 //! (so the knots can be integrated a hundred times more accurately),
 //! states `−u* ≤ g ≤ u*`. Other parameter sets and states outside that range are
 //! integrated step by step (see `BoucWen`).
@@ -45,6 +46,16 @@ use crate::Float;
 
 /// Knots per side at most; a parameter set needing more is not tabulated.
 const MAX_PIECES: usize = 4096;
+
+/// Integrations of a candidate piece that may fail (run into the blow-up
+/// beyond a growing side's end) per side before the side is given up:
+/// each failure costs the integrator's whole sub-step budget.
+const MAX_FAILURES: usize = 8;
+
+/// The largest tabulated exponent (as for the integer powers of
+/// `hysteretic_state`); a fit's trial step can reach absurd exponents
+/// (`n ~ 1e16` seen), whose state equation is a step function.
+const MAX_N: f64 = 64.0;
 
 /// One quintic Hermite piece on `[τ_k, τ_k + Δ]`, in `θ = (τ − τ_k)/Δ`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -236,6 +247,9 @@ impl<T: Float> FlowTable<T> {
             Power::Real(n) => n,
             Power::One => return None,
         };
+        if n > T::lit(MAX_N) {
+            return None;
+        }
         let (alpha, c_up, c_low) = (eq.alpha, eq.beta + eq.gamma, eq.gamma - eq.beta);
         if !(alpha > T::zero() && c_up > T::zero() && c_low <= T::zero()) {
             return None;
@@ -320,6 +334,7 @@ fn build_side<T: Float>(alpha: T, c: T, n: T, rtol: T, reach: Reach<T>) -> Optio
         Reach::To(u) => (u, None),
     };
     let mut pieces = Vec::new();
+    let mut failures = 0;
     let (mut tau, mut left) = (T::zero(), jet(T::zero()));
     // A first width on the scale of the travel to the target.
     let mut w = target / alpha * l(1e-3);
@@ -339,7 +354,14 @@ fn build_side<T: Float>(alpha: T, c: T, n: T, rtol: T, reach: Reach<T>) -> Optio
         // the target) counts as failing its check.
         let mut worst = T::infinity();
         let mut right = left;
-        if let Ok(u1) = eq.advance(left[0], w) {
+        let end = eq.advance(left[0], w);
+        if end.is_err() {
+            failures += 1;
+            if failures > MAX_FAILURES {
+                return None;
+            }
+        }
+        if let Ok(u1) = end {
             right = jet(u1);
             let piece = Piece::hermite(tau, w, left, right);
             worst = T::zero();
@@ -496,6 +518,10 @@ mod tests {
         assert!(FlowTable::new(&eq(-0.5, -0.5, 1.5)).is_none()); // no saturation
         assert!(FlowTable::new(&eq(0.2, 0.5, 1.5)).is_none()); // lower side saturates too
         assert!(FlowTable::new(&StateEquation::new(0.0, 0.5, 0.2, 1.5, 1e-10)).is_none());
+        // Exponents beyond 64 (a fit's trial step once asked for 3e16).
+        assert!(FlowTable::new(&eq(0.7, 0.3, 64.0)).is_some());
+        assert!(FlowTable::new(&eq(0.7, 0.3, 64.5)).is_none());
+        assert!(FlowTable::new(&eq(0.7, 0.3, 3.4e16)).is_none());
         // Too tight to integrate the knots a hundred times more accurately.
         assert!(FlowTable::new(&eq(0.7, 0.3, 1.5)).is_some());
         assert!(FlowTable::new(&StateEquation::new(1.0, 0.7, 0.3, 1.5, 1e-13)).is_none());
