@@ -3,8 +3,8 @@
 use crate::flow_table::{FlowTable, Hint};
 use crate::hysteretic_state::{Branch, Power, StateEquation};
 use crate::{
-    check, check_input, check_lengths, check_output, Domain, Float, Operator, Result, StiffnessMap,
-    Trial,
+    check, check_input, check_lengths, check_output, process_by_trials, process_while_by_trials,
+    Domain, Float, Operator, Result, StiffnessMap, Trial,
 };
 use serde::{Deserialize, Serialize};
 
@@ -265,19 +265,26 @@ impl<T: Float> BoucWen<T> {
         self.s.h
     }
 
-    /// The state after input `z` (finite), from the committed state.
-    #[inline]
-    fn step(&mut self, z: T) -> Result<State<T>> {
-        let c = &self.s;
-        let dz = z - c.z;
+    /// The direction of motion to `z` from the committed state (kept where
+    /// `z` equals it) and its sign `±1` (`+1` before any motion).
+    #[inline(always)]
+    fn direction(&self, z: T) -> (i8, T) {
+        let dz = z - self.s.z;
         let dir = if dz > T::zero() {
             1
         } else if dz < T::zero() {
             -1
         } else {
-            c.dir
+            self.s.dir
         };
-        let sign = if dir < 0 { -T::one() } else { T::one() };
+        (dir, if dir < 0 { -T::one() } else { T::one() })
+    }
+
+    /// The state after input `z` (finite), from the committed state.
+    #[inline]
+    fn step(&mut self, z: T) -> Result<State<T>> {
+        let (dir, sign) = self.direction(z);
+        let c = &self.s;
         if let Some(table) = &self.table {
             // Tabulated flow: the state at position σ_a + travel, from the
             // start of the branch (a new one starts on a reversal, or where
@@ -300,7 +307,7 @@ impl<T: Float> BoucWen<T> {
             }
         }
         if !self.closed_form {
-            let h = sign * self.eq.advance(sign * c.h, dz.abs())?;
+            let h = sign * self.eq.advance(sign * c.h, (z - c.z).abs())?;
             return Ok(State {
                 z,
                 h,
@@ -477,16 +484,8 @@ impl<T: Float> BoucWen<T> {
     fn trial_closed_form(&mut self, z: T) -> Result<Trial<T>> {
         self.pending = None;
         let z = check_input(z)?;
+        let (dir, sign) = self.direction(z);
         let c = &self.s;
-        let dz = z - c.z;
-        let dir = if dz > T::zero() {
-            1
-        } else if dz < T::zero() {
-            -1
-        } else {
-            c.dir
-        };
-        let sign = if dir < 0 { -T::one() } else { T::one() };
         let next = match &c.branch {
             BranchStart::Linear(b) if dir == c.dir => State {
                 z,
@@ -572,12 +571,7 @@ impl<T: Float> Operator<T> for BoucWen<T> {
         self.pending = None;
         if !self.closed_form && self.table.is_none() {
             // The adaptive integration dominates; the default loop is as fast.
-            for (i, (z, y)) in zs.iter().zip(ys.iter_mut()).enumerate() {
-                let t = self.trial(*z).map_err(|e| e.at_sample(i))?;
-                self.commit();
-                *y = t.output;
-            }
-            return Ok(());
+            return process_by_trials(self, zs, ys);
         }
         self.run_batch(zs, ys, |_, _| true).1
     }
@@ -592,19 +586,10 @@ impl<T: Float> Operator<T> for BoucWen<T> {
         keep: &mut dyn FnMut(usize, T) -> bool,
     ) -> usize {
         self.pending = None;
-        let n = zs.len().min(ys.len());
         if !self.closed_form && self.table.is_none() {
-            for (i, (z, y)) in zs.iter().zip(ys.iter_mut()).enumerate() {
-                match self.trial(*z) {
-                    Ok(t) if keep(i, t.output) => {
-                        self.commit();
-                        *y = t.output;
-                    }
-                    _ => return i,
-                }
-            }
-            return n;
+            return process_while_by_trials(self, zs, ys, keep);
         }
+        let n = zs.len().min(ys.len());
         self.run_batch(&zs[..n], &mut ys[..n], keep).0
     }
 

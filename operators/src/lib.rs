@@ -65,7 +65,10 @@ pub use lugre::{LuGre, LuGreParams};
 pub use mass_spring_damper::{MassSpringDamper, MassSpringDamperParams};
 pub use maxwell_slip::{MaxwellSlip, MaxwellSlipParams};
 pub use mms::{Mms, MmsParams};
-pub use operator::{check_input, check_lengths, check_output, Operator, Trial};
+pub use operator::{
+    check_input, check_lengths, check_output, process_by_trials, process_while_by_trials, Operator,
+    Trial,
+};
 pub use play::{play_step, play_tangent, Play, PlayParams};
 pub use preisach::{Preisach, PreisachMeasure, PreisachParams, PreisachStart};
 pub use saturation::{Saturation, SaturationParams};

@@ -82,13 +82,7 @@ pub trait Operator<T: Float>: DynClone + Debug + Send + Sync {
     /// [`Error::AtSample`] naming `i`, and the contents of `ys` are
     /// unspecified.
     fn process(&mut self, xs: &[T], ys: &mut [T]) -> Result<()> {
-        check_lengths(xs, ys)?;
-        for (i, (x, y)) in xs.iter().zip(ys.iter_mut()).enumerate() {
-            let t = self.trial(*x).map_err(|e| e.at_sample(i))?;
-            self.commit();
-            *y = t.output;
-        }
-        Ok(())
+        process_by_trials(self, xs, ys)
     }
 
     /// Runs `xs` through the operator like [`process`](Operator::process)
@@ -125,16 +119,7 @@ pub trait Operator<T: Float>: DynClone + Debug + Send + Sync {
         ys: &mut [T],
         keep: &mut dyn FnMut(usize, T) -> bool,
     ) -> usize {
-        for (i, (x, y)) in xs.iter().zip(ys.iter_mut()).enumerate() {
-            match self.trial(*x) {
-                Ok(t) if keep(i, t.output) => {
-                    self.commit();
-                    *y = t.output;
-                }
-                _ => return i,
-            }
-        }
-        xs.len().min(ys.len())
+        process_while_by_trials(self, xs, ys, keep)
     }
 
     /// Runs `xs` through the operator from its current state and returns the
@@ -178,6 +163,42 @@ dyn_clone::clone_trait_object!(<T> Operator<T> where T: Float);
 
 /// A boxed operator is an operator: boxed models built at run time compose
 /// with static ones.
+/// The default [`Operator::process`]: `trial` + `commit` per sample (for
+/// overrides that fall back to it).
+pub fn process_by_trials<T: Float, O: Operator<T> + ?Sized>(
+    op: &mut O,
+    xs: &[T],
+    ys: &mut [T],
+) -> Result<()> {
+    check_lengths(xs, ys)?;
+    for (i, (x, y)) in xs.iter().zip(ys.iter_mut()).enumerate() {
+        let t = op.trial(*x).map_err(|e| e.at_sample(i))?;
+        op.commit();
+        *y = t.output;
+    }
+    Ok(())
+}
+
+/// The default [`Operator::process_while`]: `trial`, `keep`, `commit` per
+/// sample (for overrides that fall back to it).
+pub fn process_while_by_trials<T: Float, O: Operator<T> + ?Sized>(
+    op: &mut O,
+    xs: &[T],
+    ys: &mut [T],
+    keep: &mut dyn FnMut(usize, T) -> bool,
+) -> usize {
+    for (i, (x, y)) in xs.iter().zip(ys.iter_mut()).enumerate() {
+        match op.trial(*x) {
+            Ok(t) if keep(i, t.output) => {
+                op.commit();
+                *y = t.output;
+            }
+            _ => return i,
+        }
+    }
+    xs.len().min(ys.len())
+}
+
 impl<T: Float> Operator<T> for Box<dyn Operator<T>> {
     fn name(&self) -> &'static str {
         (**self).name()
