@@ -106,10 +106,12 @@ pub enum StateSolver {
     /// adaptive integration at `rtol/1000` to `rtol/4` relative per piece:
     /// each sample is one polynomial evaluation from the start of its
     /// branch, so refining the sampling of a branch changes no bit. Used for
-    /// `n ≤ 64` and `rtol ≥ 6400 ε` (`f64`: 1.4e-12) in the bounded class
-    /// `α > 0`, `β + γ > 0`, `β ≥ γ`, for states `|h| ≤ (α/(β+γ))^{1/n}`;
-    /// other parameter sets and states (a preload `h0` beyond saturation)
-    /// fall back to [`StateSolver::Adaptive`].
+    /// `n ≤ 64` and `rtol ≥ 6400 ε` (`f64`: 1.4e-12) with `α > 0` and
+    /// `β ≥ γ`: in the bounded class (`β + γ > 0`) for states
+    /// `|h| ≤ (α/(β+γ))^{1/n}`, and for hardening sets (`β + γ ≤ 0`) as far
+    /// as the states go (the table is extended on demand); other parameter
+    /// sets and states (a preload `h0` beyond saturation) fall back to
+    /// [`StateSolver::Adaptive`].
     #[default]
     Tabulated,
     /// Dormand–Prince 5(4) from sample to sample, local error per sub-step
@@ -162,7 +164,7 @@ pub struct BoucWen<T> {
     closed_form: bool,
     eq: StateEquation<T>,
     solver: StateSolver,
-    /// `n ≠ 1` with [`StateSolver::Tabulated`], in the bounded class.
+    /// `n ≠ 1` with [`StateSolver::Tabulated`], where tabulated.
     table: Option<FlowTable<T>>,
     /// Where the last table lookups were (speed only; results do not
     /// depend on it).
@@ -285,17 +287,17 @@ impl<T: Float> BoucWen<T> {
     fn step(&mut self, z: T) -> Result<State<T>> {
         let (dir, sign) = self.direction(z);
         let c = &self.s;
-        if let Some(table) = &self.table {
+        if let Some(table) = &mut self.table {
             // Tabulated flow: the state at position σ_a + travel, from the
             // start of the branch (a new one starts on a reversal, or where
             // the last state was outside the table).
             let (z_a, sigma_a) = match c.branch {
                 BranchStart::Flow(sa) if dir == c.dir => (c.z_a, Some(sa)),
                 _ if dir == 0 => return Ok(*c),
-                _ => (c.z, table.position(sign * c.h)),
+                _ => (c.z, table.position_growing(sign * c.h)),
             };
             if let Some(sa) = sigma_a {
-                if let Some(g) = table.state_at(sa + sign * (z - z_a), &mut self.hint) {
+                if let Some(g) = table.state_at_growing(sa + sign * (z - z_a), &mut self.hint) {
                     return Ok(State {
                         z,
                         h: sign * g,

@@ -34,12 +34,20 @@
 //! by at most `(a/λ) v_T²` relative to `v_T`, so `v_T` is chosen with
 //! `(a/λ) v_T² ≤ rtol u*/8`, and the tail is checked like an interval.
 //!
-//! Tabulated: `α > 0`, `β + γ > 0` and `β ≥ γ` (the bounded class: the
-//! upper side saturates, the lower side runs to zero), `n ≤ 64`,
-//! `rtol ≥ 6400 ε`
-//! (so the knots can be integrated a hundred times more accurately),
-//! states `−u* ≤ g ≤ u*`. Other parameter sets and states outside that range are
-//! integrated step by step (see `BoucWen`).
+//! A growing side (`c ≤ 0`: the lower side for `β ≥ γ`, and the upper one
+//! too for hardening sets `β + γ ≤ 0`) has no end: it is tabulated first up
+//! to a scale (`u*`, or where `|c| u^n = α`) and extended piece by piece
+//! when a state or a travel beyond it is asked for. Each piece depends only
+//! on the one before, so the pieces do not depend on the order of the
+//! requests. Each piece's travel is capped at half the travel to the
+//! blow-up, `(u + scale)/(2 max(n − 1, 1) f(u))`; past the blow-up there is
+//! no state (the step-by-step integration reports the divergence).
+//!
+//! Tabulated: `α > 0`, `β ≥ γ` (the lower side does not saturate), `n ≤ 64`,
+//! `rtol ≥ 6400 ε` (so the knots can be integrated a hundred times more
+//! accurately), states up to `u*` above zero where the upper side
+//! saturates, any state reached otherwise. Other parameter sets and states
+//! are integrated step by step (see `BoucWen`).
 
 use crate::hysteretic_state::{Power, StateEquation};
 use crate::Float;
@@ -123,6 +131,9 @@ struct Side<T> {
     end: T,
     u_end: T,
     tail: Option<Tail<T>>,
+    /// A growing side's builder, to extend it on demand (`None` for a
+    /// saturating side, and once the side cannot grow further).
+    grow: Option<Box<Builder<T>>>,
 }
 
 impl<T: Float> Side<T> {
@@ -165,6 +176,27 @@ impl<T: Float> Side<T> {
                 .tail
                 .map(|t| t.u_star - t.v_t * (-(t.lambda * (tau - self.end))).exp()),
         }
+    }
+
+    /// Extends a growing side until it reaches `u ≥ u_min` and `τ ≥ tau_min`;
+    /// `false` where it cannot (a saturating side, the blow-up, or the
+    /// piece limit; a side that could not grow once is not tried again).
+    fn extend(&mut self, u_min: T, tau_min: T) -> bool {
+        let Some(b) = self.grow.as_mut() else {
+            return false;
+        };
+        while b.left[0] < u_min || b.tau < tau_min {
+            match b.next_piece() {
+                Some(piece) => self.pieces.push(piece),
+                None => {
+                    self.grow = None;
+                    return false;
+                }
+            }
+            self.end = b.tau;
+            self.u_end = b.left[0];
+        }
+        true
     }
 
     /// `τ(u)`, the inverse of [`at`](Self::at), for `0 ≤ u` within the
@@ -245,7 +277,7 @@ impl PartialEq for Hint {
 
 impl<T: Float> FlowTable<T> {
     /// The table of `eq`'s flow, or `None` where the parameter set is not
-    /// tabulated (outside the bounded class, `n = 1`, or a table that would
+    /// tabulated (`α ≤ 0`, `β < γ`, `n = 1`, `n > 64`, or a table that would
     /// need more than 4096 pieces per side).
     pub(crate) fn new(eq: &StateEquation<T>) -> Option<Self> {
         let n = match eq.power {
@@ -259,16 +291,26 @@ impl<T: Float> FlowTable<T> {
             return None;
         }
         let (alpha, c_up, c_low) = (eq.alpha, eq.beta + eq.gamma, eq.gamma - eq.beta);
-        if !(alpha > T::zero() && c_up > T::zero() && c_low <= T::zero()) {
+        // The lower side must not saturate (a state beyond its equilibrium
+        // would run away from zero).
+        if !(alpha > T::zero() && c_low <= T::zero()) {
             return None;
         }
-        let u_star = (alpha / c_up).powf(T::one() / n);
-        if !(u_star.is_finite() && u_star > T::zero()) {
-            return None;
-        }
-        let upper = build_side(alpha, c_up, n, eq.rtol, Reach::Saturate(u_star))?;
-        // A margin below −u*, for states rounded just beyond it.
-        let lower = build_side(alpha, c_low, n, eq.rtol, Reach::To(u_star * T::lit(1.001)))?;
+        let (upper, reach) = if c_up > T::zero() {
+            let upper = saturating_side(alpha, c_up, n, eq.rtol)?;
+            // A margin below −u*, for states rounded just beyond it.
+            let reach = upper.tail.map(|t| t.u_star)? * T::lit(1.001);
+            (upper, reach)
+        } else {
+            // Hardening: both sides grow; first up to where |c| u^n = α.
+            let reach = if c_up < T::zero() {
+                (alpha / -c_up).powf(T::one() / n)
+            } else {
+                T::one()
+            };
+            (growing_side(alpha, c_up, n, eq.rtol, reach)?, reach)
+        };
+        let lower = growing_side(alpha, c_low, n, eq.rtol, reach)?;
         Some(FlowTable { upper, lower })
     }
 
@@ -291,6 +333,35 @@ impl<T: Float> FlowTable<T> {
         }
     }
 
+    /// [`position`](Self::position), a growing side extended first to
+    /// hold `g` (on demand, so hardening springs need no range up front).
+    pub(crate) fn position_growing(&mut self, g: T) -> Option<T> {
+        let side = if g < T::zero() {
+            &mut self.lower
+        } else {
+            &mut self.upper
+        };
+        if g.abs() > side.u_end {
+            side.extend(g.abs(), T::zero());
+        }
+        self.position(g)
+    }
+
+    /// [`state_at`](Self::state_at), a growing side extended first to reach
+    /// `σ`.
+    #[inline(always)]
+    pub(crate) fn state_at_growing(&mut self, sigma: T, hint: &mut Hint) -> Option<T> {
+        let (side, tau) = if sigma < T::zero() {
+            (&mut self.lower, -sigma)
+        } else {
+            (&mut self.upper, sigma)
+        };
+        if tau > side.end {
+            side.extend(T::zero(), tau);
+        }
+        self.state_at(sigma, hint)
+    }
+
     /// Pieces of the upper and the lower side.
     #[cfg(test)]
     pub(crate) fn pieces(&self) -> (usize, usize) {
@@ -298,133 +369,192 @@ impl<T: Float> FlowTable<T> {
     }
 }
 
-/// How far a side is tabulated.
-#[derive(Debug, Clone, Copy)]
-enum Reach<T> {
-    /// Up to `u = u* − v_T`, then the saturating tail.
-    Saturate(T),
-    /// Up to `u ≥` the given value.
-    To(T),
+/// Makes the pieces of one side, one after the other: each piece depends
+/// only on the one before it, so a side extended in several steps has the
+/// same pieces as one built in one go.
+#[derive(Debug, Clone, PartialEq)]
+struct Builder<T> {
+    /// The side's equation in the frame `u ≥ 0` (rate `α − c u^n`), at the
+    /// knots' tolerance.
+    eq: StateEquation<T>,
+    alpha: T,
+    c: T,
+    n: T,
+    /// Relative error allowed at the checked interior points.
+    tol: T,
+    /// For a growing side (`c < 0`): each piece's travel stays below half
+    /// the travel to the blow-up, `(u + scale)/(2 max(n − 1, 1) f(u))`.
+    scale: T,
+    /// `τ` and the jet `[u, u', u'']` at the end of the last piece.
+    tau: T,
+    left: [T; 3],
+    /// The width to try next.
+    w: T,
+    failures: usize,
+    pieces: usize,
 }
 
-/// Tabulates `du/dτ = α − c u^n`, `u(0) = 0`.
-fn build_side<T: Float>(alpha: T, c: T, n: T, rtol: T, reach: Reach<T>) -> Option<Side<T>> {
-    let l = T::lit;
-    let fine = (rtol * l(1e-3)).max(T::epsilon() * l(64.0));
-    if fine > rtol * l(0.01) {
-        // The knots could not be integrated well below the table's
-        // tolerance (rtol < 6400 ε).
-        return None;
+impl<T: Float> Builder<T> {
+    /// A builder for `du/dτ = α − c u^n` from `u(0) = 0` at tolerance
+    /// `rtol`, with a first width `w0`; `None` where `rtol < 6400 ε`.
+    fn new(alpha: T, c: T, n: T, rtol: T, w0: T) -> Option<Self> {
+        let l = T::lit;
+        let fine = (rtol * l(1e-3)).max(T::epsilon() * l(64.0));
+        if fine > rtol * l(0.01) {
+            // The knots could not be integrated well below the table's
+            // tolerance (rtol < 6400 ε).
+            return None;
+        }
+        let mut b = Builder {
+            eq: StateEquation::new(alpha, T::zero(), c, n, fine),
+            alpha,
+            c,
+            n,
+            tol: rtol * l(0.25),
+            scale: (alpha / c.abs()).powf(T::one() / n),
+            tau: T::zero(),
+            left: [T::zero(); 3],
+            w: w0,
+            failures: 0,
+            pieces: 0,
+        };
+        b.left = b.jet(T::zero());
+        Some(b)
     }
-    // The side's equation in the frame u ≥ 0: rate α − c u^n.
-    let eq = StateEquation::new(alpha, T::zero(), c, n, fine);
-    let jet = |u: T| {
-        let f = alpha - c * u.powf(n);
-        // u'' = f'(u) f(u), f'(u) = −c n u^{n−1} (0 at u = 0 for n > 1).
+
+    /// `[u, u', u'']` with `u' = f(u)`, `u'' = f'(u) f(u)`.
+    fn jet(&self, u: T) -> [T; 3] {
+        let (c, n) = (self.c, self.n);
+        let f = self.alpha - c * u.powf(n);
+        // f'(u) = −c n u^{n−1} (0 at u = 0 for n > 1).
         let d = if u > T::zero() {
             -c * n * u.powf(n - T::one())
         } else {
             T::zero()
         };
         [u, f, d * f]
-    };
-    let tol = rtol * l(0.25);
-    let (target, tail_at) = match reach {
-        Reach::Saturate(u_star) => {
-            // (a/λ) v_T² ≤ rtol u*/8 with a/λ = (n − 1)/(2 u*).
-            let v_t = if n > T::one() {
-                u_star * (rtol / (l(4.0) * (n - T::one()))).sqrt()
-            } else {
-                u_star * rtol.sqrt()
-            };
-            (u_star - v_t, Some(u_star))
-        }
-        Reach::To(u) => (u, None),
-    };
-    let mut pieces = Vec::new();
-    let mut failures = 0;
-    let (mut tau, mut left) = (T::zero(), jet(T::zero()));
-    // A first width on the scale of the travel to the target.
-    let mut w = target / alpha * l(1e-3);
-    while left[0] < target {
-        if pieces.len() >= MAX_PIECES
-            || w.is_nan()
-            || w <= T::epsilon() * tau.max(T::one()) * l(16.0)
-        {
-            return None;
-        }
-        if c < T::zero() {
-            // A growing side (f increases with u) blows up in finite travel
-            // for n > 1: reach at most about the target in one piece.
-            w = w.min(l(1.5) * (target - left[0]) / left[1]);
-        }
-        // A piece whose integration fails (it ran into the blow-up beyond
-        // the target) counts as failing its check.
-        let mut worst = T::infinity();
-        let mut right = left;
-        let end = eq.advance(left[0], w);
-        if end.is_err() {
-            failures += 1;
-            if failures > MAX_FAILURES {
+    }
+
+    /// The next piece, or `None` where none can be made (too many pieces
+    /// or failed integrations, or widths that collapse).
+    fn next_piece(&mut self) -> Option<Piece<T>> {
+        let l = T::lit;
+        loop {
+            let (tau, left) = (self.tau, self.left);
+            let mut w = self.w;
+            if self.pieces >= MAX_PIECES
+                || w.is_nan()
+                || w <= T::epsilon() * tau.max(T::one()) * l(16.0)
+            {
                 return None;
             }
-        }
-        if let Ok(u1) = end {
-            right = jet(u1);
-            let piece = Piece::hermite(tau, w, left, right);
-            worst = T::zero();
-            for theta in [0.25, 0.5, 0.75] {
-                let Ok(want) = eq.advance(left[0], w * l(theta)) else {
-                    worst = T::infinity();
-                    break;
-                };
-                let err = (piece.eval(tau + w * l(theta)) - want).abs() / want.abs();
-                worst = worst.max(err);
+            if self.c < T::zero() {
+                let cap =
+                    l(0.5) * (left[0] + self.scale) / (self.n - T::one()).max(T::one()) / left[1];
+                w = w.min(cap);
             }
-        }
-        if worst.is_nan() || worst > tol {
-            w = w * l(0.5);
-            continue;
-        }
-        pieces.push(Piece::hermite(tau, w, left, right));
-        tau = tau + w;
-        left = right;
-        // Grow by at most 2, by the sixth-order error model.
-        let grow = if worst == T::zero() {
-            l(2.0)
-        } else {
-            (l(0.8) * (tol / worst).powf(l(1.0 / 6.0))).min(l(2.0))
-        };
-        w = w * grow.max(l(0.5));
-    }
-    let tail = match tail_at {
-        None => None,
-        Some(u_star) => {
-            let tail = Tail {
-                u_star,
-                v_t: u_star - left[0],
-                lambda: c * n * u_star.powf(n - T::one()),
-            };
-            // Checked like a piece, out to where v is 1e-3 of v_T.
-            let span = l(1e-3).ln().abs() / tail.lambda;
-            for theta in [0.05, 0.2, 0.5, 1.0] {
-                let s = span * l(theta);
-                let want = eq.advance(left[0], s).ok()?;
-                let got = u_star - tail.v_t * (-(tail.lambda * s)).exp();
-                let err = (got - want).abs();
-                if err.is_nan() || err > rtol * u_star {
-                    return None;
+            // A piece whose integration fails counts as failing its check.
+            let mut worst = T::infinity();
+            let mut right = left;
+            match self.eq.advance(left[0], w) {
+                Ok(u1) => {
+                    right = self.jet(u1);
+                    let piece = Piece::hermite(tau, w, left, right);
+                    worst = T::zero();
+                    for theta in [0.25, 0.5, 0.75] {
+                        let Ok(want) = self.eq.advance(left[0], w * l(theta)) else {
+                            worst = T::infinity();
+                            break;
+                        };
+                        let err = (piece.eval(tau + w * l(theta)) - want).abs() / want.abs();
+                        worst = worst.max(err);
+                    }
+                }
+                Err(_) => {
+                    self.failures += 1;
+                    if self.failures > MAX_FAILURES {
+                        return None;
+                    }
                 }
             }
-            Some(tail)
+            if worst.is_nan() || worst > self.tol {
+                self.w = w * l(0.5);
+                continue;
+            }
+            self.tau = tau + w;
+            self.left = right;
+            self.pieces += 1;
+            // Grow by at most 2, by the sixth-order error model.
+            let grow = if worst == T::zero() {
+                l(2.0)
+            } else {
+                (l(0.8) * (self.tol / worst).powf(l(1.0 / 6.0))).min(l(2.0))
+            };
+            self.w = w * grow.max(l(0.5));
+            return Some(Piece::hermite(tau, w, left, right));
         }
+    }
+}
+
+/// Tabulates the saturating side `du/dτ = α − c u^n`, `c > 0`, from
+/// `u(0) = 0` up to `u* − v_T`, `u* = (α/c)^{1/n}`, then the tail.
+fn saturating_side<T: Float>(alpha: T, c: T, n: T, rtol: T) -> Option<Side<T>> {
+    let l = T::lit;
+    let u_star = (alpha / c).powf(T::one() / n);
+    if !(u_star.is_finite() && u_star > T::zero()) {
+        return None;
+    }
+    // (a/λ) v_T² ≤ rtol u*/8 with a/λ = (n − 1)/(2 u*).
+    let v_t = if n > T::one() {
+        u_star * (rtol / (l(4.0) * (n - T::one()))).sqrt()
+    } else {
+        u_star * rtol.sqrt()
     };
+    let target = u_star - v_t;
+    let mut b = Builder::new(alpha, c, n, rtol, target / alpha * l(1e-3))?;
+    let mut pieces = Vec::new();
+    while b.left[0] < target {
+        pieces.push(b.next_piece()?);
+    }
+    let u_end = b.left[0];
+    let tail = Tail {
+        u_star,
+        v_t: u_star - u_end,
+        lambda: c * n * u_star.powf(n - T::one()),
+    };
+    // Checked like a piece, out to where v is 1e-3 of v_T.
+    let span = l(1e-3).ln().abs() / tail.lambda;
+    for theta in [0.05, 0.2, 0.5, 1.0] {
+        let s = span * l(theta);
+        let want = b.eq.advance(u_end, s).ok()?;
+        let got = u_star - tail.v_t * (-(tail.lambda * s)).exp();
+        let err = (got - want).abs();
+        if err.is_nan() || err > rtol * u_star {
+            return None;
+        }
+    }
     Some(Side {
         pieces,
-        end: tau,
-        u_end: left[0],
-        tail,
+        end: b.tau,
+        u_end,
+        tail: Some(tail),
+        grow: None,
     })
+}
+
+/// Tabulates the growing side `du/dτ = α − c u^n`, `c ≤ 0` (which blows up
+/// in finite travel for `c < 0`, `n > 1`), from `u(0) = 0` to at least
+/// `reach`; [`Side::extend`] goes on from there on demand.
+fn growing_side<T: Float>(alpha: T, c: T, n: T, rtol: T, reach: T) -> Option<Side<T>> {
+    let b = Builder::new(alpha, c, n, rtol, reach / alpha * T::lit(1e-3))?;
+    let mut side = Side {
+        pieces: Vec::new(),
+        end: T::zero(),
+        u_end: T::zero(),
+        tail: None,
+        grow: Some(Box::new(b)),
+    };
+    side.extend(reach, T::zero()).then_some(side)
 }
 
 #[cfg(test)]
@@ -548,11 +678,54 @@ mod tests {
         }
     }
 
+    /// Hardening (`β + γ < 0`, `n = 2`): both sides grow,
+    /// `u = √(α/|c|) tan(√(α|c|) τ)`, and are extended on demand up to
+    /// the blow-up at `τ = π/(2√(α|c|))`, beyond which there is no state.
+    #[test]
+    fn hardening_sides_grow_on_demand_and_match_tan() {
+        let (alpha, beta, gamma) = (1.5, 0.4, -0.9);
+        let mut t = table(alpha, beta, gamma, 2.0, 1e-10);
+        let (cu, cl) = (-(beta + gamma), beta - gamma);
+        let mut hint = Hint::default();
+        let mut worst = 0.0f64;
+        for (c, sign) in [(cu, 1.0), (cl, -1.0)] {
+            let blow_up = std::f64::consts::FRAC_PI_2 / (alpha * c).sqrt();
+            for i in 1..=1000 {
+                let tau = blow_up * 0.9 * i as f64 / 1000.0;
+                let want = (alpha / c).sqrt() * ((alpha * c).sqrt() * tau).tan();
+                let got = sign * t.state_at_growing(sign * tau, &mut hint).unwrap();
+                worst = worst.max((got - want).abs() / want);
+            }
+            assert_eq!(t.state_at_growing(sign * blow_up * 1.01, &mut hint), None);
+        }
+        println!(
+            "hardening n = 2: max relative error {worst:.2e}, pieces {:?}",
+            t.pieces()
+        );
+        assert!(worst <= 1e-10, "{worst}");
+    }
+
+    /// A side extended sample by sample has the very pieces of one built
+    /// in one go (so results never depend on the order of extension).
+    #[test]
+    fn growing_in_steps_equals_growing_at_once() {
+        let eq = StateEquation::new(1.0, 0.5, -1.0, 1.7, 1e-10);
+        let mut steps = FlowTable::new(&eq).unwrap();
+        let mut once = FlowTable::new(&eq).unwrap();
+        let mut hint = Hint::default();
+        for i in 0..400 {
+            steps.state_at_growing(i as f64 * 0.003, &mut hint);
+        }
+        once.state_at_growing(399.0 * 0.003, &mut hint);
+        assert!(steps.upper.pieces.len() > 20);
+        assert_eq!(steps.upper.pieces, once.upper.pieces);
+    }
+
     #[test]
     fn outside_the_bounded_class_is_not_tabulated() {
         let eq = |b, g, n| StateEquation::new(1.0, b, g, n, 1e-10);
         assert!(FlowTable::new(&eq(0.7, 0.3, 1.0)).is_none()); // n = 1: closed form
-        assert!(FlowTable::new(&eq(-0.5, -0.5, 1.5)).is_none()); // no saturation
+        assert!(FlowTable::new(&eq(-0.5, -0.5, 1.5)).is_some()); // hardening: both grow
         assert!(FlowTable::new(&eq(0.2, 0.5, 1.5)).is_none()); // lower side saturates too
         assert!(FlowTable::new(&StateEquation::new(0.0, 0.5, 0.2, 1.5, 1e-10)).is_none());
         // Exponents beyond 64 (a fit's trial step once asked for 3e16).
