@@ -52,9 +52,9 @@ const FREE: &str = "f_c,left.mms.k,w,beta,gamma";
 const FREE_FULL: [&str; 5] = [
     "left.mms.f_c",
     "left.mms.k",
-    "right.bouc-wen.w",
-    "right.bouc-wen.beta",
-    "right.bouc-wen.gamma",
+    "right.bouc_wen.w",
+    "right.bouc_wen.beta",
+    "right.bouc_wen.gamma",
 ];
 
 /// Two thousand samples of a decaying 5-cycle sine, 1.4 deg.
@@ -482,7 +482,7 @@ fn fit_error_unknown_free_name_lists_the_parameters() {
             "model `start.json`",
             "unknown parameter `mu`",
             "the model has: limits.b, limits.r0, left.mms.f_c, left.mms.k",
-            "right.bouc-wen.stiffness.s[5]",
+            "right.bouc_wen.stiffness.s[5]",
         ],
     );
     assert!(!e.contains("`f_c`"), "{e}");
@@ -520,7 +520,7 @@ fn fit_error_tied_parameter_of_a_transmission_spec() {
             .to_json_pretty()
             .unwrap(),
     );
-    for name in ["r0", "right.bouc-wen.z0"] {
+    for name in ["r0", "right.bouc_wen.z0"] {
         s.fails(
             &[("--model", "tr.json"), ("--free", name)],
             &[

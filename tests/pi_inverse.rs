@@ -139,7 +139,7 @@ fn inverse_parameters_match_the_closed_form() {
     // r' = (1·1, 1·1 + 2·1) = (1, 3); w' = (−1/(2·1), −2/(4·2)).
     let fwd = PiBank::new(1.0, vec![2.0, 1.0], vec![2.0, 1.0]).unwrap();
     let inv = fwd.analytic_inverse().unwrap();
-    let p = inv.inverse_bank().parameters();
+    let p = inv.inverse_bank().parameters().clone();
     assert_eq!(p.a0, 1.0);
     assert_eq!(p.r, vec![1.0, 3.0]);
     assert_eq!(p.w, vec![-0.5, -0.25]);
@@ -150,7 +150,12 @@ fn inverse_parameters_match_the_closed_form() {
 
     // a0 merges with a zero threshold play, equal thresholds merge.
     let fwd = PiBank::new(-0.5, vec![0.0, 1.0, 1.0], vec![1.0, 0.5, 1.5]).unwrap();
-    let p = fwd.analytic_inverse().unwrap().inverse_bank().parameters();
+    let p = fwd
+        .analytic_inverse()
+        .unwrap()
+        .inverse_bank()
+        .parameters()
+        .clone();
     // w_0 = 0.5, one play r = 1 with w = 2: W = (0.5, 2.5).
     assert_eq!(
         (p.a0, p.r.clone(), p.w.clone()),
@@ -169,7 +174,12 @@ fn inverse_parameters_match_the_closed_form() {
         y0: vec![0.5, 1.5],
     })
     .unwrap();
-    let p = fwd.analytic_inverse().unwrap().inverse_bank().parameters();
+    let p = fwd
+        .analytic_inverse()
+        .unwrap()
+        .inverse_bank()
+        .parameters()
+        .clone();
     assert_eq!(p.y0, vec![4.0, 6.0]);
     // The first sample is inverted exactly.
     let mut f = fwd.clone();
@@ -194,7 +204,7 @@ fn inverse_then_forward_and_forward_then_inverse_are_the_identity() {
             let xs: Vec<f64> = xs.iter().map(|x| x * amp).collect();
             let fwd = ok(PiBank::from_params(p.clone()))?;
             let inv = ok(fwd.analytic_inverse())?;
-            let ip = inv.inverse_bank().parameters();
+            let ip = inv.inverse_bank().parameters().clone();
             // inverse ∘ forward
             let ys = ok(fwd.clone().run(&xs))?;
             let back = ok(inv.clone().run(&ys))?;
@@ -265,7 +275,8 @@ fn agrees_with_the_numerical_inverse() {
             let scale = analytic.iter().fold(1e-300_f64, |m, u| m.max(u.abs()));
             let ip = ok(PiInverse::from_params(p.clone()))?
                 .inverse_bank()
-                .parameters();
+                .parameters()
+                .clone();
             let slopes = cumulative_weights(&p);
             let kappa = slopes.iter().fold(0.0_f64, |m, w| m.max(w.abs()))
                 / slopes.iter().fold(f64::INFINITY, |m, &w| m.min(w));
@@ -380,7 +391,7 @@ fn parameters_are_the_forward_ones_and_set_params_is_atomic() {
     assert_eq!(inv.params(), fwd.params());
     assert_eq!(inv.param_names(), fwd.param_names());
     assert_eq!(inv.param_domains(), fwd.param_domains());
-    assert_eq!(inv.name(), "pi-inverse");
+    assert_eq!(inv.name(), "pi_inverse");
 
     // A non-invertible vector (cumulative 0.75 + 1 − 2 < 0) leaves it unchanged.
     let before = inv.clone();

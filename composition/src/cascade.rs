@@ -79,6 +79,11 @@ where
         self.second.reset();
     }
 
+    fn set_sample_period(&mut self, dt: T) -> Result<()> {
+        self.first.set_sample_period(dt)?;
+        self.second.set_sample_period(dt)
+    }
+
     fn n_params(&self) -> usize {
         self.first.n_params() + self.second.n_params()
     }

@@ -116,6 +116,11 @@ where
         self.pending = None;
     }
 
+    fn set_sample_period(&mut self, dt: T) -> Result<()> {
+        self.forward.set_sample_period(dt)?;
+        self.back.set_sample_period(dt)
+    }
+
     fn n_params(&self) -> usize {
         self.forward.n_params() + self.back.n_params()
     }

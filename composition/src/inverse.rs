@@ -174,6 +174,10 @@ where
         self.pending = None;
     }
 
+    fn set_sample_period(&mut self, dt: T) -> Result<()> {
+        self.inner.set_sample_period(dt)
+    }
+
     fn n_params(&self) -> usize {
         self.inner.n_params()
     }

@@ -42,7 +42,8 @@ use hysteron_operators::{check_input, Domain, Error, Float, Operator, Result, Tr
 ///   usable hint for a safeguarded solver, not a derivative.
 ///
 /// Parameters are those of `inner` (`q` is structural, not a parameter),
-/// prefixed `inner.<kind>.`.
+/// prefixed `inner.<kind>.`. A sample period set from above
+/// ([`Operator::set_sample_period`]) reaches `inner` as `dt / q`.
 ///
 /// [`MassSpringDamper`]: hysteron_operators::MassSpringDamper
 ///
@@ -146,6 +147,13 @@ where
         self.inner.reset();
         self.x = T::zero();
         self.pending = None;
+    }
+
+    /// The inner operator runs `q` sub-steps per sample: its period is
+    /// `dt / q`.
+    fn set_sample_period(&mut self, dt: T) -> Result<()> {
+        hysteron_operators::check::positive("dt", dt)?;
+        self.inner.set_sample_period(dt / T::lit(self.q as f64))
     }
 
     fn n_params(&self) -> usize {

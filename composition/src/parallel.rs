@@ -72,6 +72,11 @@ where
         self.right.reset();
     }
 
+    fn set_sample_period(&mut self, dt: T) -> Result<()> {
+        self.left.set_sample_period(dt)?;
+        self.right.set_sample_period(dt)
+    }
+
     fn n_params(&self) -> usize {
         self.left.n_params() + self.right.n_params()
     }

@@ -106,7 +106,7 @@ fn output(a0: f64, x: f64, bank_sum: f64) -> Result<f64, Error> {
         Ok(y)
     } else {
         Err(Error::NonFiniteOutput {
-            operator: "pi",
+            operator: "pi_bank",
             input: x,
         })
     }

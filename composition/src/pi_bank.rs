@@ -1,45 +1,36 @@
 //! The Prandtl-Ishlinskii operator: a weighted bank of plays.
 
 use hysteron_operators::{
-    check, check_input, check_lengths, check_output, play_step, play_tangent, Domain, Error, Float,
-    Operator, Result, Trial,
+    check_input, check_lengths, check_output, declare_params, play_step, play_tangent, Error,
+    Float, Leaf, Operator, Result, Trial,
 };
-use serde::{Deserialize, Serialize};
 
-/// Parameters of a [`PiBank`].
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct PiBankParams<T> {
-    /// Weight of the linear term `a0 · x`.
-    pub a0: T,
-    /// Thresholds `r_j ≥ 0`.
-    pub r: Vec<T>,
-    /// Weights `w_j` (finite, any sign).
-    pub w: Vec<T>,
-    /// Initial play outputs at `x = 0` (default all 0).
-    #[serde(default)]
-    pub y0: Vec<T>,
+declare_params! {
+    /// Parameters of a [`PiBank`].
+    pub struct PiBankParams<T> {
+        /// Weight of the linear term `a0 · x`.
+        a0: T => Real,
+        /// Thresholds `r_j ≥ 0`.
+        r: Vec<T> => NonNegative,
+        /// Weights `w_j` (finite, any sign).
+        w: Vec<T> => Real,
+        /// Initial play outputs at `x = 0` (default all 0).
+        #[serde(default)]
+        y0: Vec<T> => Real,
+    }
+    check = PiBankParams::shape;
 }
 
 impl<T: Float> PiBankParams<T> {
-    /// Checks lengths, `r_j ≥ 0`, finite weights and initial outputs.
-    /// An empty `y0` means all zero.
-    pub fn validate(&self) -> Result<()> {
-        check::finite("a0", self.a0)?;
+    /// `r`, `w` (and `y0` if given) of one length; an empty `y0` means
+    /// all zero.
+    fn shape(&self) -> Result<()> {
         if self.w.len() != self.r.len() || !(self.y0.is_empty() || self.y0.len() == self.r.len()) {
             return Err(Error::InvalidParameter {
                 name: "w".into(),
                 value: self.w.len() as f64,
                 reason: "r, w (and y0 if given) must have the same length",
             });
-        }
-        for (j, &r) in self.r.iter().enumerate() {
-            check::non_negative(&format!("r[{j}]"), r)?;
-        }
-        for (j, &w) in self.w.iter().enumerate() {
-            check::finite(&format!("w[{j}]"), w)?;
-        }
-        for (j, &y) in self.y0.iter().enumerate() {
-            check::finite(&format!("y0[{j}]"), y)?;
         }
         Ok(())
     }
@@ -63,10 +54,8 @@ impl<T: Float> PiBankParams<T> {
 /// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct PiBank<T> {
-    a0: T,
-    r: Vec<T>,
-    w: Vec<T>,
-    y0: Vec<T>,
+    /// The parameters, `y0` written out in full.
+    p: PiBankParams<T>,
     y: Vec<T>,
     pending: Vec<T>,
     has_pending: bool,
@@ -94,34 +83,26 @@ impl<T: Float> PiBank<T> {
             p.y0
         };
         Ok(Self {
-            a0: p.a0,
-            r: p.r,
-            w: p.w,
             y: y0.clone(),
-            y0,
+            p: PiBankParams { y0, ..p },
             pending: vec![T::zero(); m],
             has_pending: false,
         })
     }
 
     /// The parameters.
-    pub fn parameters(&self) -> PiBankParams<T> {
-        PiBankParams {
-            a0: self.a0,
-            r: self.r.clone(),
-            w: self.w.clone(),
-            y0: self.y0.clone(),
-        }
+    pub fn parameters(&self) -> &PiBankParams<T> {
+        &self.p
     }
 
     /// Number of plays.
     pub fn len(&self) -> usize {
-        self.r.len()
+        self.p.r.len()
     }
 
     /// True for a bank without plays (a pure linear term).
     pub fn is_empty(&self) -> bool {
-        self.r.is_empty()
+        self.p.r.is_empty()
     }
 
     /// The committed play outputs.
@@ -184,10 +165,10 @@ impl<T: Float> PiBank<T> {
             if !x.is_finite() {
                 return Err(Error::NonFiniteInput { value: x.as_f64() }.at_sample(i));
             }
-            let y = self.a0 * x + bank_step(&self.r, &self.w, &self.y, &mut self.pending, x);
+            let y = self.p.a0 * x + bank_step(&self.p.r, &self.p.w, &self.y, &mut self.pending, x);
             if !y.is_finite() {
                 return Err(Error::NonFiniteOutput {
-                    operator: "pi",
+                    operator: "pi_bank",
                     input: x.as_f64(),
                 }
                 .at_sample(i));
@@ -200,19 +181,15 @@ impl<T: Float> PiBank<T> {
 }
 
 impl<T: Float> Operator<T> for PiBank<T> {
-    fn name(&self) -> &'static str {
-        "pi"
-    }
-
     fn trial(&mut self, x: T) -> Result<Trial<T>> {
         self.has_pending = false;
         let x = check_input(x)?;
-        let output = self.a0 * x + bank_step(&self.r, &self.w, &self.y, &mut self.pending, x);
-        let mut tangent = self.a0;
-        for ((&r, &w), &y) in self.r.iter().zip(&self.w).zip(&self.y) {
+        let output = self.p.a0 * x + bank_step(&self.p.r, &self.p.w, &self.y, &mut self.pending, x);
+        let mut tangent = self.p.a0;
+        for ((&r, &w), &y) in self.p.r.iter().zip(&self.p.w).zip(&self.y) {
             tangent = tangent + w * play_tangent(r, y, x);
         }
-        let t = check_output("pi", x, Trial { output, tangent })?;
+        let t = check_output("pi_bank", x, Trial { output, tangent })?;
         self.has_pending = true;
         Ok(t)
     }
@@ -225,7 +202,7 @@ impl<T: Float> Operator<T> for PiBank<T> {
     }
 
     fn reset(&mut self) {
-        self.y.copy_from_slice(&self.y0);
+        self.y.copy_from_slice(&self.p.y0);
         self.has_pending = false;
     }
 
@@ -240,9 +217,9 @@ impl<T: Float> Operator<T> for PiBank<T> {
             self.as_f64_mut(),
         ) {
             let mut b = crate::pi_avx2::Bank {
-                a0: bank.a0,
-                r: &bank.r,
-                w: &bank.w,
+                a0: bank.p.a0,
+                r: &bank.p.r,
+                w: &bank.p.w,
                 y: &mut bank.y,
                 pending: &mut bank.pending,
             };
@@ -258,43 +235,29 @@ impl<T: Float> Operator<T> for PiBank<T> {
         self.process_loop(xs, ys)
     }
 
-    fn n_params(&self) -> usize {
-        1 + 3 * self.r.len()
+    hysteron_operators::leaf_param_methods!(T);
+}
+
+impl<T: Float> Leaf<T> for PiBank<T> {
+    const KIND: &'static str = "pi_bank";
+    type Params = PiBankParams<T>;
+    type With<U: Float> = PiBank<U>;
+
+    fn from_params(p: PiBankParams<T>) -> Result<Self> {
+        PiBank::from_params(p)
     }
 
-    fn params_into(&self, out: &mut Vec<T>) {
-        out.push(self.a0);
-        out.extend_from_slice(&self.r);
-        out.extend_from_slice(&self.w);
-        out.extend_from_slice(&self.y0);
+    fn parameters(&self) -> &PiBankParams<T> {
+        &self.p
     }
 
-    fn param_names(&self) -> Vec<String> {
-        let m = self.r.len();
-        std::iter::once("a0".to_string())
-            .chain((0..m).map(|j| format!("r[{j}]")))
-            .chain((0..m).map(|j| format!("w[{j}]")))
-            .chain((0..m).map(|j| format!("y0[{j}]")))
-            .collect()
-    }
-
-    fn param_domains(&self) -> Vec<Domain> {
-        let m = self.r.len();
-        std::iter::once(Domain::Real)
-            .chain(std::iter::repeat_n(Domain::NonNegative, m))
-            .chain(std::iter::repeat_n(Domain::Real, 2 * m))
-            .collect()
-    }
-
-    fn set_params(&mut self, p: &[T]) -> Result<()> {
-        check::count(self.n_params(), p)?;
-        let m = self.r.len();
-        *self = Self::from_params(PiBankParams {
-            a0: p[0],
-            r: p[1..1 + m].to_vec(),
-            w: p[1 + m..1 + 2 * m].to_vec(),
-            y0: p[1 + 2 * m..].to_vec(),
-        })?;
-        Ok(())
+    fn example() -> PiBankParams<T> {
+        let v = |xs: &[f64]| xs.iter().map(|&x| T::lit(x)).collect::<Vec<T>>();
+        PiBankParams {
+            a0: T::lit(0.5),
+            r: v(&[0.0, 0.3, 1.0]),
+            w: v(&[1.0, 0.5, 0.25]),
+            y0: v(&[0.0, 0.1, -0.2]),
+        }
     }
 }

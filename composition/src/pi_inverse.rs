@@ -2,7 +2,7 @@
 //! 2001), itself a play-type Prandtl-Ishlinskii operator.
 
 use crate::{PiBank, PiBankParams};
-use hysteron_operators::{check, Domain, Error, Float, Operator, Result, Trial};
+use hysteron_operators::{Error, Float, Leaf, Operator, Result, Trial};
 
 /// The analytic inverse `x = P⁻¹[y]` of a play-type Prandtl-Ishlinskii
 /// operator `y = P[x] = a0 · x + Σ_j w_j play_{r_j}[x]` ([`PiBank`]),
@@ -105,8 +105,11 @@ fn invalid<T: Float>(name: String, value: T, reason: &'static str) -> Error {
 impl<T: Float> PiInverse<T> {
     /// The analytic inverse of the forward operator with parameters `p`
     /// (see the type's documentation for the conditions).
-    pub fn from_params(p: PiBankParams<T>) -> Result<Self> {
+    pub fn from_params(mut p: PiBankParams<T>) -> Result<Self> {
         let inverse = PiBank::from_params(inverse_params(&p)?)?;
+        if p.y0.is_empty() {
+            p.y0 = vec![T::zero(); p.r.len()];
+        }
         Ok(Self {
             forward: p,
             inverse,
@@ -133,7 +136,7 @@ impl<T: Float> PiBank<T> {
     /// Errors: a cumulative weight `a0 + Σ_{r_j ≤ r} w_j ≤ 0`, or initial
     /// states no input history can reach ([`Error::InvalidParameter`]).
     pub fn analytic_inverse(&self) -> Result<PiInverse<T>> {
-        PiInverse::from_params(self.parameters())
+        PiInverse::from_params(self.parameters().clone())
     }
 }
 
@@ -233,10 +236,6 @@ fn inverse_params<T: Float>(p: &PiBankParams<T>) -> Result<PiBankParams<T>> {
 }
 
 impl<T: Float> Operator<T> for PiInverse<T> {
-    fn name(&self) -> &'static str {
-        "pi-inverse"
-    }
-
     #[inline]
     fn trial(&mut self, y: T) -> Result<Trial<T>> {
         self.inverse.trial(y)
@@ -255,48 +254,24 @@ impl<T: Float> Operator<T> for PiInverse<T> {
         self.inverse.process(ys, xs)
     }
 
-    fn n_params(&self) -> usize {
-        1 + 3 * self.forward.r.len()
+    hysteron_operators::leaf_param_methods!(T);
+}
+
+/// Its parameters are the forward bank's (`y0` written out in full).
+impl<T: Float> Leaf<T> for PiInverse<T> {
+    const KIND: &'static str = "pi_inverse";
+    type Params = PiBankParams<T>;
+    type With<U: Float> = PiInverse<U>;
+
+    fn from_params(p: PiBankParams<T>) -> Result<Self> {
+        PiInverse::from_params(p)
     }
 
-    fn params_into(&self, out: &mut Vec<T>) {
-        let m = self.forward.r.len();
-        out.push(self.forward.a0);
-        out.extend_from_slice(&self.forward.r);
-        out.extend_from_slice(&self.forward.w);
-        if self.forward.y0.is_empty() {
-            out.extend(std::iter::repeat_n(T::zero(), m));
-        } else {
-            out.extend_from_slice(&self.forward.y0);
-        }
+    fn parameters(&self) -> &PiBankParams<T> {
+        &self.forward
     }
 
-    fn param_names(&self) -> Vec<String> {
-        let m = self.forward.r.len();
-        std::iter::once("a0".to_string())
-            .chain((0..m).map(|j| format!("r[{j}]")))
-            .chain((0..m).map(|j| format!("w[{j}]")))
-            .chain((0..m).map(|j| format!("y0[{j}]")))
-            .collect()
-    }
-
-    fn param_domains(&self) -> Vec<Domain> {
-        let m = self.forward.r.len();
-        std::iter::once(Domain::Real)
-            .chain(std::iter::repeat_n(Domain::NonNegative, m))
-            .chain(std::iter::repeat_n(Domain::Real, 2 * m))
-            .collect()
-    }
-
-    fn set_params(&mut self, p: &[T]) -> Result<()> {
-        check::count(self.n_params(), p)?;
-        let m = self.forward.r.len();
-        *self = Self::from_params(PiBankParams {
-            a0: p[0],
-            r: p[1..1 + m].to_vec(),
-            w: p[1 + m..1 + 2 * m].to_vec(),
-            y0: p[1 + 2 * m..].to_vec(),
-        })?;
-        Ok(())
+    fn example() -> PiBankParams<T> {
+        <PiBank<T> as Leaf<T>>::example()
     }
 }

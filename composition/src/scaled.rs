@@ -73,6 +73,10 @@ where
         self.inner.reset();
     }
 
+    fn set_sample_period(&mut self, dt: T) -> Result<()> {
+        self.inner.set_sample_period(dt)
+    }
+
     fn n_params(&self) -> usize {
         1 + self.inner.n_params()
     }

@@ -397,6 +397,11 @@ where
         self.pending = None;
     }
 
+    fn set_sample_period(&mut self, dt: T) -> Result<()> {
+        self.left.set_sample_period(dt)?;
+        self.right.set_sample_period(dt)
+    }
+
     fn n_params(&self) -> usize {
         self.limits.values().len() + self.left.n_params() + self.right.n_params()
     }

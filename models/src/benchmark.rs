@@ -252,8 +252,8 @@ mod tests {
         assert_eq!(back, p);
         let sys = boucwen_system(&p).unwrap();
         let names = sys.param_names();
-        assert_eq!(names[0], "forward.mass-spring-damper.m");
-        assert_eq!(names[4], "back.bouc-wen.alpha");
+        assert_eq!(names[0], "forward.mass_spring_damper.m");
+        assert_eq!(names[4], "back.bouc_wen.alpha");
         let params = sys.params();
         assert_eq!(params[..7], [2.0, 10.0, 5e4, 0.0, 5e4, 800.0, -1100.0]);
         assert_eq!(

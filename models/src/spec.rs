@@ -1926,7 +1926,7 @@ mod with_params_tests {
         let names = spec.build().unwrap().param_names();
         let s1 = names
             .iter()
-            .position(|n| n == "right.bouc-wen.stiffness.s[1]")
+            .position(|n| n == "right.bouc_wen.stiffness.s[1]")
             .unwrap();
         let mut q = p.clone();
         q[s1] = -1.0;
@@ -1948,7 +1948,7 @@ mod with_params_tests {
             .unwrap()
             .param_names()
             .iter()
-            .position(|n| n == "right.bouc-wen.z0")
+            .position(|n| n == "right.bouc_wen.z0")
             .unwrap();
         q[z0] = -0.1;
         let new = spec.with_params(&q).unwrap();

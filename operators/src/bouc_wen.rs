@@ -3,52 +3,36 @@
 use crate::flow_table::{FlowTable, Hint};
 use crate::hysteretic_state::{Branch, Power, StateEquation};
 use crate::{
-    check, check_input, check_lengths, check_output, process_by_trials, process_while_by_trials,
-    Domain, Float, Operator, Result, StiffnessMap, Trial,
+    check, check_input, check_lengths, check_output, declare_params, process_by_trials,
+    process_while_by_trials, Float, Leaf, Operator, Result, StiffnessMap, Trial,
 };
-use serde::{Deserialize, Serialize};
 
-/// Parameters of the [`BoucWen`] spring.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct BoucWenParams<T> {
-    /// Elastic weight `w ∈ [0, 1]` (1: purely elastic, 0: purely hysteretic).
-    pub w: T,
-    /// `α` (finite; 1 removes the model's redundant scaling).
-    pub alpha: T,
-    /// `β` (finite, any sign).
-    pub beta: T,
-    /// `γ` (finite, any sign).
-    pub gamma: T,
-    /// Exponent `n ≥ 1`.
-    pub n: T,
-    /// Hysteretic state `h` at the initial input `z0`, before the first sample.
-    #[serde(default)]
-    pub h0: T,
-    /// The input at which the spring starts (default 0): the state before the
-    /// first sample is `(z0, h0)`, and the first sample moves from `z0`.
-    #[serde(default)]
-    pub z0: T,
-    /// Stiffness map `S(z)`.
-    pub stiffness: StiffnessMap<T>,
-}
-
-impl<T: Float> BoucWenParams<T> {
-    /// Checks `w ∈ [0, 1]`, `n ≥ 1`, finite `α, β, γ, h0, z0`, valid knots.
+declare_params! {
+    /// Parameters of the [`BoucWen`] spring.
     ///
     /// Sets outside the bounded class (`β + γ < 0`, hardening loops) are
     /// legitimate and accepted; if their state diverges the operator
     /// returns an error at that sample.
-    pub fn validate(&self) -> Result<()> {
-        check::unit_interval("w", self.w)?;
-        check::finite("alpha", self.alpha)?;
-        check::finite("beta", self.beta)?;
-        check::finite("gamma", self.gamma)?;
-        check::at_least_one("n", self.n)?;
-        check::finite("h0", self.h0)?;
-        check::finite("z0", self.z0)?;
-        self.stiffness
-            .validate()
-            .map_err(|e| e.in_path("stiffness"))
+    pub struct BoucWenParams<T> {
+        /// Elastic weight `w ∈ [0, 1]` (1: purely elastic, 0: purely hysteretic).
+        w: T => UnitInterval,
+        /// `α` (finite; 1 removes the model's redundant scaling).
+        alpha: T => Real,
+        /// `β` (finite, any sign).
+        beta: T => Real,
+        /// `γ` (finite, any sign).
+        gamma: T => Real,
+        /// Exponent `n ≥ 1`.
+        n: T => AtLeast(1.0),
+        /// Hysteretic state `h` at the initial input `z0`, before the first sample.
+        #[serde(default)]
+        h0: T => Real,
+        /// The input at which the spring starts (default 0): the state before the
+        /// first sample is `(z0, h0)`, and the first sample moves from `z0`.
+        #[serde(default)]
+        z0: T => Real,
+        /// Stiffness map `S(z)`.
+        stiffness: StiffnessMap<T> => nested,
     }
 }
 
@@ -172,8 +156,6 @@ pub struct BoucWen<T> {
     s: State<T>,
     pending: Option<State<T>>,
 }
-
-const N_SCALAR: usize = 7;
 
 impl<T: Float> BoucWen<T> {
     /// A spring from validated parameters.
@@ -328,7 +310,7 @@ impl<T: Float> BoucWen<T> {
         let h = sign * branch.at(sign * (z - z_a));
         if !h.is_finite() {
             return Err(crate::Error::NonFiniteOutput {
-                operator: "bouc-wen",
+                operator: Self::KIND,
                 input: z.as_f64(),
             });
         }
@@ -356,7 +338,7 @@ impl<T: Float> BoucWen<T> {
             Ok(y)
         } else {
             Err(crate::Error::NonFiniteOutput {
-                operator: "bouc-wen",
+                operator: Self::KIND,
                 input: z.as_f64(),
             }
             .at_sample(i))
@@ -512,7 +494,7 @@ impl<T: Float> BoucWen<T> {
         let h = next.h;
         if !h.is_finite() {
             return Err(crate::Error::NonFiniteOutput {
-                operator: "bouc-wen",
+                operator: Self::KIND,
                 input: z.as_f64(),
             });
         }
@@ -531,7 +513,7 @@ impl<T: Float> BoucWen<T> {
         };
         let slope = eq.alpha - g.abs() * c_g;
         let tangent = w * (s + ds * z) + one_w * (ds * h + s * slope);
-        let t = check_output("bouc-wen", z, Trial { output, tangent })?;
+        let t = check_output(Self::KIND, z, Trial { output, tangent })?;
         self.pending = Some(next);
         Ok(t)
     }
@@ -544,10 +526,6 @@ impl<T: Float> BoucWen<T> {
 }
 
 impl<T: Float> Operator<T> for BoucWen<T> {
-    fn name(&self) -> &'static str {
-        "bouc-wen"
-    }
-
     #[inline]
     fn trial(&mut self, z: T) -> Result<Trial<T>> {
         if self.closed_form {
@@ -563,7 +541,7 @@ impl<T: Float> Operator<T> for BoucWen<T> {
         let h = next.h;
         let output = self.force(s, z, h);
         let tangent = w * (s + ds * z) + one_w * (ds * h + s * self.slope(h, sign));
-        let t = check_output("bouc-wen", z, Trial { output, tangent })?;
+        let t = check_output(Self::KIND, z, Trial { output, tangent })?;
         self.pending = Some(next);
         Ok(t)
     }
@@ -607,58 +585,41 @@ impl<T: Float> Operator<T> for BoucWen<T> {
         self.pending = None;
     }
 
-    fn n_params(&self) -> usize {
-        N_SCALAR + 2 * self.p.stiffness.len()
+    crate::leaf_param_methods!(T);
+}
+
+impl<T: Float> Leaf<T> for BoucWen<T> {
+    const KIND: &'static str = "bouc_wen";
+    type Params = BoucWenParams<T>;
+    type With<U: Float> = BoucWen<U>;
+
+    fn from_params(p: BoucWenParams<T>) -> Result<Self> {
+        BoucWen::from_params(p)
     }
 
-    fn params_into(&self, out: &mut Vec<T>) {
-        let p = &self.p;
-        out.extend([p.w, p.alpha, p.beta, p.gamma, p.n, p.h0, p.z0]);
-        p.stiffness.params_into(out);
+    fn parameters(&self) -> &BoucWenParams<T> {
+        &self.p
     }
 
-    fn param_names(&self) -> Vec<String> {
-        ["w", "alpha", "beta", "gamma", "n", "h0", "z0"]
-            .into_iter()
-            .map(String::from)
-            .chain(
-                self.p
-                    .stiffness
-                    .param_names()
-                    .into_iter()
-                    .map(|n| format!("stiffness.{n}")),
-            )
-            .collect()
+    fn example() -> BoucWenParams<T> {
+        BoucWenParams {
+            w: T::lit(0.3),
+            alpha: T::one(),
+            beta: T::lit(0.6),
+            gamma: T::lit(0.4),
+            n: T::lit(1.5),
+            h0: T::lit(0.2),
+            z0: T::lit(-0.1),
+            stiffness: StiffnessMap::knots_unchecked(
+                vec![T::zero(), T::one()],
+                vec![T::lit(2.0), T::lit(3.0)],
+            ),
+        }
     }
 
-    fn param_domains(&self) -> Vec<Domain> {
-        use Domain::*;
-        let knots = self.p.stiffness.len();
-        [UnitInterval, Real, Real, Real, AtLeast(1.0), Real, Real]
-            .into_iter()
-            .chain(std::iter::repeat_n(NonNegative, 2 * knots))
-            .collect()
-    }
-
-    fn set_params(&mut self, p: &[T]) -> Result<()> {
-        crate::check::count(self.n_params(), p)?;
-        let stiffness = self
-            .p
-            .stiffness
-            .from_flat(&p[N_SCALAR..])
-            .map_err(|e| e.in_path("stiffness"))?;
-        let next = BoucWenParams {
-            w: p[0],
-            alpha: p[1],
-            beta: p[2],
-            gamma: p[3],
-            n: p[4],
-            h0: p[5],
-            z0: p[6],
-            stiffness,
-        };
-        next.validate()?;
-        *self = Self::build(next, self.eq.rtol, self.solver);
-        Ok(())
+    /// Keeps the tolerance and the solver.
+    fn with_parameters(&self, p: BoucWenParams<T>) -> Result<Self> {
+        p.validate()?;
+        Ok(Self::build(p, self.eq.rtol, self.solver))
     }
 }

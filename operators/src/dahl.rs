@@ -1,34 +1,29 @@
 //! The Dahl friction model, in closed form per branch.
 
-use crate::{
-    check, check_input, check_lengths, check_output, Domain, Error, Float, Operator, Result, Trial,
-};
-use serde::{Deserialize, Serialize};
+use crate::{declare_params, Error, Float, Result, StepLaw, Stepped, Trial};
 
-/// Parameters of the [`Dahl`] friction operator.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct DahlParams<T> {
-    /// Rest stiffness `σ > 0` (slope `dF/dx` at `F = 0`), force per input unit.
-    pub sigma: T,
-    /// Coulomb friction level `F_c > 0`.
-    pub f_c: T,
-    /// Shape exponent `α ≥ 0` (Dahl: 1 for most materials; 0 gives the
-    /// elastoplastic element, larger values a rounder approach).
-    pub alpha: T,
-    /// Friction force at input `x = 0` before the first sample (default 0).
-    /// With `|f0| ≤ F_c` the force stays in `[−F_c, F_c]`.
-    #[serde(default)]
-    pub f0: T,
+declare_params! {
+    /// Parameters of the [`Dahl`] friction operator.
+    #[derive(Copy)]
+    pub struct DahlParams<T> {
+        /// Rest stiffness `σ > 0` (slope `dF/dx` at `F = 0`), force per input unit.
+        sigma: T => Positive,
+        /// Coulomb friction level `F_c > 0`.
+        f_c: T => Positive,
+        /// Shape exponent `α ≥ 0` (Dahl: 1 for most materials; 0 gives the
+        /// elastoplastic element, larger values a rounder approach).
+        alpha: T => NonNegative,
+        /// Friction force at input `x = 0` before the first sample (default 0).
+        /// With `|f0| ≤ F_c` the force stays in `[−F_c, F_c]`.
+        #[serde(default)]
+        f0: T => Real,
+    }
+    check = DahlParams::ratios;
 }
 
 impl<T: Float> DahlParams<T> {
-    /// Checks `σ > 0`, `F_c > 0`, `α ≥ 0`, finite `f0`, and that `σ/F_c`
-    /// and `f0/F_c` are finite.
-    pub fn validate(&self) -> Result<()> {
-        check::positive("sigma", self.sigma)?;
-        check::positive("f_c", self.f_c)?;
-        check::non_negative("alpha", self.alpha)?;
-        check::finite("f0", self.f0)?;
+    /// `σ/F_c` and `f0/F_c` must be finite.
+    fn ratios(&self) -> Result<()> {
         if !(self.sigma / self.f_c).is_finite() {
             return Err(Error::InvalidParameter {
                 name: "sigma".into(),
@@ -50,7 +45,7 @@ impl<T: Float> DahlParams<T> {
 /// The committed state: last input and output, the start of the current
 /// branch and its direction (`0` before any motion).
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct State<T> {
+pub struct DahlState<T> {
     x: T,
     f: T,
     x_r: T,
@@ -129,12 +124,11 @@ fn decay<T: Float>(a: T, u: T, alpha: T) -> T {
 /// // α = 1: F = F_c (1 − e^{−σ x / F_c})
 /// assert!((y[1] - 2.0 * (1.0 - (-2.5_f64).exp())).abs() < 1e-15);
 /// ```
+pub type Dahl<T> = Stepped<DahlLaw<T>, T>;
+
+/// The law of [`Dahl`] friction: its parameters.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Dahl<T> {
-    p: DahlParams<T>,
-    s: State<T>,
-    pending: Option<State<T>>,
-}
+pub struct DahlLaw<T>(DahlParams<T>);
 
 impl<T: Float> Dahl<T> {
     /// Dahl friction with rest stiffness `sigma`, Coulomb level `f_c` and
@@ -148,18 +142,15 @@ impl<T: Float> Dahl<T> {
         })
     }
 
-    /// Dahl friction from validated parameters.
-    pub fn from_params(p: DahlParams<T>) -> Result<Self> {
-        p.validate()?;
-        Ok(Self {
-            p,
-            s: Self::initial(&p),
-            pending: None,
-        })
+    /// The committed friction force.
+    pub fn output(&self) -> T {
+        self.state().f
     }
+}
 
-    fn initial(p: &DahlParams<T>) -> State<T> {
-        State {
+impl<T: Float> DahlLaw<T> {
+    fn initial(p: &DahlParams<T>) -> DahlState<T> {
+        DahlState {
             x: T::zero(),
             f: p.f0,
             x_r: T::zero(),
@@ -168,19 +159,9 @@ impl<T: Float> Dahl<T> {
         }
     }
 
-    /// The parameters.
-    pub fn parameters(&self) -> &DahlParams<T> {
-        &self.p
-    }
-
-    /// The committed friction force.
-    pub fn output(&self) -> T {
-        self.s.f
-    }
-
     /// One step from state `s` to input `x`: the new state and the tangent.
     #[inline(always)]
-    fn step(p: &DahlParams<T>, s: &State<T>, x: T) -> (State<T>, T) {
+    fn step(p: &DahlParams<T>, s: &DahlState<T>, x: T) -> (DahlState<T>, T) {
         let dir = if x > s.x {
             1
         } else if x < s.x {
@@ -216,7 +197,7 @@ impl<T: Float> Dahl<T> {
             }
         };
         (
-            State {
+            DahlState {
                 x,
                 f,
                 x_r,
@@ -228,101 +209,46 @@ impl<T: Float> Dahl<T> {
     }
 }
 
-impl<T: Float> Operator<T> for Dahl<T> {
-    fn name(&self) -> &'static str {
-        "dahl"
+impl<T: Float> StepLaw<T> for DahlLaw<T> {
+    const KIND: &'static str = "dahl";
+    type Params = DahlParams<T>;
+    type State = DahlState<T>;
+    type With<U: Float> = DahlLaw<U>;
+
+    fn new(p: DahlParams<T>) -> Result<Self> {
+        p.validate()?;
+        Ok(Self(p))
     }
 
-    #[inline]
-    fn trial(&mut self, x: T) -> Result<Trial<T>> {
-        self.pending = None;
-        let x = check_input(x)?;
-        let (s, tangent) = Self::step(&self.p, &self.s, x);
-        let t = check_output(
-            "dahl",
-            x,
-            Trial {
-                output: s.f,
-                tangent,
-            },
-        )?;
-        self.pending = Some(s);
-        Ok(t)
+    fn params(&self) -> &DahlParams<T> {
+        &self.0
     }
 
-    #[inline]
-    fn commit(&mut self) {
-        if let Some(s) = self.pending.take() {
-            self.s = s;
+    fn example() -> DahlParams<T> {
+        DahlParams {
+            sigma: T::lit(40.0),
+            f_c: T::lit(1.5),
+            alpha: T::lit(1.5),
+            f0: T::lit(0.3),
         }
     }
 
-    fn reset(&mut self) {
-        self.s = Self::initial(&self.p);
-        self.pending = None;
+    fn initial(&self) -> DahlState<T> {
+        Self::initial(&self.0)
     }
 
-    fn process(&mut self, xs: &[T], ys: &mut [T]) -> Result<()> {
-        check_lengths(xs, ys)?;
-        self.pending = None;
-        let mut s = self.s;
-        for (i, (&x, out)) in xs.iter().zip(ys.iter_mut()).enumerate() {
-            if !x.is_finite() {
-                self.s = s;
-                return Err(Error::NonFiniteInput { value: x.as_f64() }.at_sample(i));
-            }
-            let next = Self::step(&self.p, &s, x).0;
-            if !next.f.is_finite() {
-                self.s = s;
-                return Err(Error::NonFiniteOutput {
-                    operator: "dahl",
-                    input: x.as_f64(),
-                }
-                .at_sample(i));
-            }
-            s = next;
-            *out = s.f;
-        }
-        self.s = s;
-        Ok(())
-    }
-
-    fn n_params(&self) -> usize {
-        4
-    }
-
-    fn params_into(&self, out: &mut Vec<T>) {
-        out.extend([self.p.sigma, self.p.f_c, self.p.alpha, self.p.f0]);
-    }
-
-    fn param_names(&self) -> Vec<String> {
-        vec!["sigma".into(), "f_c".into(), "alpha".into(), "f0".into()]
-    }
-
-    fn param_domains(&self) -> Vec<Domain> {
-        vec![
-            Domain::Positive,
-            Domain::Positive,
-            Domain::NonNegative,
-            Domain::Real,
-        ]
-    }
-
-    fn set_params(&mut self, p: &[T]) -> Result<()> {
-        check::count(4, p)?;
-        *self = Self::from_params(DahlParams {
-            sigma: p[0],
-            f_c: p[1],
-            alpha: p[2],
-            f0: p[3],
-        })?;
-        Ok(())
+    #[inline(always)]
+    fn step(&self, s: &DahlState<T>, x: T) -> Result<(DahlState<T>, Trial<T>)> {
+        let (s, tangent) = Self::step(&self.0, s, x);
+        let output = s.f;
+        Ok((s, Trial { output, tangent }))
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Operator;
 
     #[test]
     fn decay_closed_forms() {

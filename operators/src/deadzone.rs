@@ -1,23 +1,16 @@
 //! The dead-zone operator.
 
 use crate::memoryless::map_samples;
-use crate::{check, check_input, Domain, Float, Operator, Result, Trial};
-use serde::{Deserialize, Serialize};
+use crate::{check, declare_params, Float, Result, StepLaw, Stepped, Trial};
 
-/// Parameters of the [`DeadZone`] operator.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct DeadZoneParams<T> {
-    /// Left limit `b_l ≤ 0`.
-    pub b_l: T,
-    /// Right limit `b_r ≥ 0`.
-    pub b_r: T,
-}
-
-impl<T: Float> DeadZoneParams<T> {
-    /// Checks `b_l ≤ 0 ≤ b_r`.
-    pub fn validate(&self) -> Result<()> {
-        check::non_positive("b_l", self.b_l)?;
-        check::non_negative("b_r", self.b_r)
+declare_params! {
+    /// Parameters of the [`DeadZone`] operator.
+    #[derive(Copy)]
+    pub struct DeadZoneParams<T> {
+        /// Left limit `b_l ≤ 0`.
+        b_l: T => NonPositive,
+        /// Right limit `b_r ≥ 0`.
+        b_r: T => NonNegative,
     }
 }
 
@@ -34,10 +27,11 @@ impl<T: Float> DeadZoneParams<T> {
 /// let mut dz = DeadZone::new(-1.0_f64, 2.0).unwrap();
 /// assert_eq!(dz.run(&[-3.0, 0.0, 5.0]).unwrap(), vec![-2.0, 0.0, 3.0]);
 /// ```
+pub type DeadZone<T> = Stepped<DeadZoneLaw<T>, T>;
+
+/// The law of the [`DeadZone`] (memoryless: no state).
 #[derive(Debug, Clone, PartialEq)]
-pub struct DeadZone<T> {
-    p: DeadZoneParams<T>,
-}
+pub struct DeadZoneLaw<T>(DeadZoneParams<T>);
 
 /// The dead-zone map.
 #[inline(always)]
@@ -62,70 +56,51 @@ impl<T: Float> DeadZone<T> {
         check::non_negative("b", b)?;
         Self::new(-b, b)
     }
-
-    /// A dead-zone from validated parameters.
-    pub fn from_params(p: DeadZoneParams<T>) -> Result<Self> {
-        p.validate()?;
-        Ok(Self { p })
-    }
-
-    /// The parameters.
-    pub fn parameters(&self) -> &DeadZoneParams<T> {
-        &self.p
-    }
 }
 
-impl<T: Float> Operator<T> for DeadZone<T> {
-    fn name(&self) -> &'static str {
-        "deadzone"
+impl<T: Float> StepLaw<T> for DeadZoneLaw<T> {
+    const KIND: &'static str = "dead_zone";
+    type Params = DeadZoneParams<T>;
+    type State = ();
+    type With<U: Float> = DeadZoneLaw<U>;
+
+    fn new(p: DeadZoneParams<T>) -> Result<Self> {
+        p.validate()?;
+        Ok(Self(p))
     }
 
-    #[inline]
-    fn trial(&mut self, x: T) -> Result<Trial<T>> {
-        let x = check_input(x)?;
-        let DeadZoneParams { b_l, b_r } = self.p;
+    fn params(&self) -> &DeadZoneParams<T> {
+        &self.0
+    }
+
+    fn example() -> DeadZoneParams<T> {
+        DeadZoneParams {
+            b_l: T::lit(-0.5),
+            b_r: T::lit(1.0),
+        }
+    }
+
+    fn initial(&self) {}
+
+    #[inline(always)]
+    fn step(&self, _: &(), x: T) -> Result<((), Trial<T>)> {
+        let DeadZoneParams { b_l, b_r } = self.0;
         let tangent = if x >= b_r || x <= b_l {
             T::one()
         } else {
             T::zero()
         };
-        Ok(Trial {
-            output: dead_zone(b_l, b_r, x),
-            tangent,
-        })
+        Ok((
+            (),
+            Trial {
+                output: dead_zone(b_l, b_r, x),
+                tangent,
+            },
+        ))
     }
 
-    fn commit(&mut self) {}
-
-    fn reset(&mut self) {}
-
-    fn process(&mut self, xs: &[T], ys: &mut [T]) -> Result<()> {
-        let DeadZoneParams { b_l, b_r } = self.p;
+    fn run(&self, _: &mut (), xs: &[T], ys: &mut [T]) -> Result<()> {
+        let DeadZoneParams { b_l, b_r } = self.0;
         map_samples(xs, ys, |x| dead_zone(b_l, b_r, x))
-    }
-
-    fn n_params(&self) -> usize {
-        2
-    }
-
-    fn params_into(&self, out: &mut Vec<T>) {
-        out.extend([self.p.b_l, self.p.b_r]);
-    }
-
-    fn param_names(&self) -> Vec<String> {
-        vec!["b_l".into(), "b_r".into()]
-    }
-
-    fn param_domains(&self) -> Vec<Domain> {
-        vec![Domain::NonPositive, Domain::NonNegative]
-    }
-
-    fn set_params(&mut self, p: &[T]) -> Result<()> {
-        check::count(2, p)?;
-        *self = Self::from_params(DeadZoneParams {
-            b_l: p[0],
-            b_r: p[1],
-        })?;
-        Ok(())
     }
 }

@@ -1,5 +1,6 @@
 //! The admissible range of each parameter, for optimizers.
 
+use crate::{check, Error, Float, Result};
 use serde::{Deserialize, Serialize};
 
 /// Where a parameter may lie, as reported by
@@ -37,5 +38,30 @@ impl Domain {
                 Domain::AtLeast(a) => v >= a,
                 Domain::UnitInterval => (0.0..=1.0).contains(&v),
             }
+    }
+
+    /// Checks `v` against the domain, as an [`Error::InvalidParameter`]
+    /// naming `name` (the messages of [`check`](crate::check)).
+    pub fn check<T: Float>(&self, name: &str, v: T) -> Result<()> {
+        match *self {
+            Domain::Real => check::finite(name, v),
+            Domain::NonNegative => check::non_negative(name, v),
+            Domain::Positive => check::positive(name, v),
+            Domain::NonPositive => check::non_positive(name, v),
+            Domain::UnitInterval => check::unit_interval(name, v),
+            Domain::AtLeast(1.0) => check::at_least_one(name, v),
+            Domain::AtLeast(a) => {
+                check::finite(name, v)?;
+                if v.as_f64() >= a {
+                    Ok(())
+                } else {
+                    Err(Error::InvalidParameter {
+                        name: name.to_string(),
+                        value: v.as_f64(),
+                        reason: "must be ≥ its lower bound",
+                    })
+                }
+            }
+        }
     }
 }

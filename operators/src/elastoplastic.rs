@@ -1,28 +1,26 @@
 //! The elastoplastic (Maxwell-slip) element: a scaled stop.
 
-use crate::{check, Domain, Float, Operator, Result, Stop, StopParams, Trial};
-use serde::{Deserialize, Serialize};
+use crate::{declare_params, stop_step, Float, Result, StepLaw, Stepped, StopParams, Trial};
 
-/// Parameters of the [`ElastoPlastic`] element.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct ElastoPlasticParams<T> {
-    /// Spring stiffness `k > 0`.
-    pub k: T,
-    /// Break-away force `F_b ≥ 0`.
-    pub f_b: T,
-    /// Force at input `x = 0` before the first sample (default 0).
-    #[serde(default)]
-    pub f0: T,
+declare_params! {
+    /// Parameters of the [`ElastoPlastic`] element.
+    #[derive(Copy)]
+    pub struct ElastoPlasticParams<T> {
+        /// Spring stiffness `k > 0`.
+        k: T => Positive,
+        /// Break-away force `F_b ≥ 0`.
+        f_b: T => NonNegative,
+        /// Force at input `x = 0` before the first sample (default 0).
+        #[serde(default)]
+        f0: T => Real,
+    }
+    check = ElastoPlasticParams::ratios;
 }
 
 impl<T: Float> ElastoPlasticParams<T> {
-    /// Checks `k > 0`, `F_b ≥ 0`, finite `f0`.
-    pub fn validate(&self) -> Result<()> {
-        check::positive("k", self.k)?;
-        check::non_negative("f_b", self.f_b)?;
-        check::finite("f0", self.f0)?;
-        // The element works through a stop of threshold F_b/k (and initial
-        // output f0/k): those ratios must be representable.
+    /// The element works through a stop of threshold `F_b/k` (and initial
+    /// output `f0/k`): those ratios must be representable.
+    fn ratios(&self) -> Result<()> {
         let (r, s0) = (self.f_b / self.k, self.f0 / self.k);
         if !r.is_finite() || (self.f_b > T::zero() && r == T::zero()) {
             return Err(crate::Error::InvalidParameter {
@@ -54,13 +52,17 @@ impl<T: Float> ElastoPlasticParams<T> {
 ///
 /// `F = k · s_{F_b/k}[x]`,
 ///
-/// with `s_r` the [`Stop`]: linear with slope `k` until `|F| = F_b`, then
+/// with `s_r` the [`Stop`](crate::Stop): linear with slope `k` until `|F| = F_b`, then
 /// sliding at `±F_b`. Parallel banks of these give the Maxwell-slip friction
 /// model.
+pub type ElastoPlastic<T> = Stepped<ElastoPlasticLaw<T>, T>;
+
+/// The law of the [`ElastoPlastic`] element: its parameters and the
+/// threshold `F_b/k` of its stop; the state is the stop's play position.
 #[derive(Debug, Clone, PartialEq)]
-pub struct ElastoPlastic<T> {
+pub struct ElastoPlasticLaw<T> {
     p: ElastoPlasticParams<T>,
-    stop: Stop<T>,
+    stop: StopParams<T>,
 }
 
 impl<T: Float> ElastoPlastic<T> {
@@ -72,75 +74,45 @@ impl<T: Float> ElastoPlastic<T> {
             f0: T::zero(),
         })
     }
-
-    /// An element from validated parameters.
-    pub fn from_params(p: ElastoPlasticParams<T>) -> Result<Self> {
-        p.validate()?;
-        Ok(Self {
-            p,
-            stop: Stop::from_params(p.stop())?,
-        })
-    }
-
-    /// The parameters.
-    pub fn parameters(&self) -> &ElastoPlasticParams<T> {
-        &self.p
-    }
 }
 
-impl<T: Float> Operator<T> for ElastoPlastic<T> {
-    fn name(&self) -> &'static str {
-        "elastoplastic"
+impl<T: Float> StepLaw<T> for ElastoPlasticLaw<T> {
+    const KIND: &'static str = "elastoplastic";
+    type Params = ElastoPlasticParams<T>;
+    type State = T;
+    type With<U: Float> = ElastoPlasticLaw<U>;
+
+    fn new(p: ElastoPlasticParams<T>) -> Result<Self> {
+        p.validate()?;
+        Ok(Self { p, stop: p.stop() })
     }
 
-    #[inline]
-    fn trial(&mut self, x: T) -> Result<Trial<T>> {
-        let t = self.stop.trial(x)?;
-        Ok(Trial {
-            output: self.p.k * t.output,
-            tangent: self.p.k * t.tangent,
-        })
+    fn params(&self) -> &ElastoPlasticParams<T> {
+        &self.p
     }
 
-    #[inline]
-    fn commit(&mut self) {
-        self.stop.commit();
+    fn example() -> ElastoPlasticParams<T> {
+        ElastoPlasticParams {
+            k: T::lit(4.0),
+            f_b: T::lit(1.5),
+            f0: T::lit(-0.5),
+        }
     }
 
-    fn reset(&mut self) {
-        self.stop.reset();
+    fn initial(&self) -> T {
+        -self.stop.s0
     }
 
-    fn process(&mut self, xs: &[T], ys: &mut [T]) -> Result<()> {
-        self.stop.process(xs, ys)?;
+    #[inline(always)]
+    fn step(&self, q: &T, x: T) -> Result<(T, Trial<T>)> {
+        let (s, q, tangent) = stop_step(self.stop.r, *q, x);
         let k = self.p.k;
-        ys.iter_mut().for_each(|y| *y = k * *y);
-        Ok(())
-    }
-
-    fn n_params(&self) -> usize {
-        3
-    }
-
-    fn params_into(&self, out: &mut Vec<T>) {
-        out.extend([self.p.k, self.p.f_b, self.p.f0]);
-    }
-
-    fn param_names(&self) -> Vec<String> {
-        vec!["k".into(), "f_b".into(), "f0".into()]
-    }
-
-    fn param_domains(&self) -> Vec<Domain> {
-        vec![Domain::Positive, Domain::NonNegative, Domain::Real]
-    }
-
-    fn set_params(&mut self, p: &[T]) -> Result<()> {
-        check::count(3, p)?;
-        *self = Self::from_params(ElastoPlasticParams {
-            k: p[0],
-            f_b: p[1],
-            f0: p[2],
-        })?;
-        Ok(())
+        Ok((
+            q,
+            Trial {
+                output: k * s,
+                tangent: k * tangent,
+            },
+        ))
     }
 }

@@ -5,19 +5,12 @@ use core::fmt::{Debug, Display};
 /// A real scalar usable by hysteron operators: `f32` and `f64`.
 ///
 /// This is a trait alias over [`num_traits::Float`] with the extra bounds the
-/// framework needs (thread-safe, printable, serde-able). It is implemented
+/// framework needs (thread-safe, printable). It has no serde bound:
+/// serialization belongs to the spec layer, so a dual-number type can
+/// serve as the scalar. It is implemented
 /// for every type that meets the bounds, so users never implement it by hand.
 pub trait Float:
-    num_traits::Float
-    + num_traits::FloatConst
-    + Debug
-    + Display
-    + Default
-    + Send
-    + Sync
-    + 'static
-    + serde::Serialize
-    + for<'de> serde::Deserialize<'de>
+    num_traits::Float + num_traits::FloatConst + Debug + Display + Default + Send + Sync + 'static
 {
     /// Converts a constant (a literal written as `f64`) into `Self`.
     ///
@@ -43,7 +36,5 @@ impl<T> Float for T where
         + Send
         + Sync
         + 'static
-        + serde::Serialize
-        + for<'de> serde::Deserialize<'de>
 {
 }

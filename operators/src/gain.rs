@@ -1,7 +1,16 @@
 //! The linear gain (a linear spring in force-displacement terms).
 
-use crate::memoryless::map_samples;
-use crate::{check, check_input, Float, Operator, Result, Trial};
+use crate::memoryless::{check_finite_outputs, map_samples};
+use crate::{declare_params, Float, Result, StepLaw, Stepped, Trial};
+
+declare_params! {
+    /// Parameters of the [`Gain`].
+    #[derive(Copy)]
+    pub struct GainParams<T> {
+        /// The gain (finite).
+        k: T => Real,
+    }
+}
 
 /// Linear gain `y = k x` (memoryless), any finite `k`. As a mechanical
 /// element it is a linear spring of stiffness `k`.
@@ -11,67 +20,60 @@ use crate::{check, check_input, Float, Operator, Result, Trial};
 /// let mut g = Gain::new(3.0_f64).unwrap();
 /// assert_eq!(g.trial(2.0).unwrap().output, 6.0);
 /// ```
+pub type Gain<T> = Stepped<GainLaw<T>, T>;
+
+/// The law of the [`Gain`] (memoryless: no state).
 #[derive(Debug, Clone, PartialEq)]
-pub struct Gain<T> {
-    k: T,
-}
+pub struct GainLaw<T>(GainParams<T>);
 
 impl<T: Float> Gain<T> {
     /// A gain `k` (finite).
     pub fn new(k: T) -> Result<Self> {
-        check::finite("k", k)?;
-        Ok(Self { k })
+        Self::from_params(GainParams { k })
     }
 
     /// The gain.
     pub fn gain(&self) -> T {
-        self.k
+        self.parameters().k
     }
 }
 
-impl<T: Float> Operator<T> for Gain<T> {
-    fn name(&self) -> &'static str {
-        "gain"
+impl<T: Float> StepLaw<T> for GainLaw<T> {
+    const KIND: &'static str = "gain";
+    type Params = GainParams<T>;
+    type State = ();
+    type With<U: Float> = GainLaw<U>;
+
+    fn new(p: GainParams<T>) -> Result<Self> {
+        p.validate()?;
+        Ok(Self(p))
     }
 
-    #[inline]
-    fn trial(&mut self, x: T) -> Result<Trial<T>> {
-        let x = check_input(x)?;
-        crate::check_output(
-            "gain",
-            x,
+    fn params(&self) -> &GainParams<T> {
+        &self.0
+    }
+
+    fn example() -> GainParams<T> {
+        GainParams { k: T::lit(-2.5) }
+    }
+
+    fn initial(&self) {}
+
+    #[inline(always)]
+    fn step(&self, _: &(), x: T) -> Result<((), Trial<T>)> {
+        let k = self.0.k;
+        Ok((
+            (),
             Trial {
-                output: self.k * x,
-                tangent: self.k,
+                output: k * x,
+                tangent: k,
             },
-        )
+        ))
     }
 
-    fn commit(&mut self) {}
-
-    fn reset(&mut self) {}
-
-    fn process(&mut self, xs: &[T], ys: &mut [T]) -> Result<()> {
-        let k = self.k;
+    fn run(&self, _: &mut (), xs: &[T], ys: &mut [T]) -> Result<()> {
+        let k = self.0.k;
         map_samples(xs, ys, |x| k * x)?;
-        crate::memoryless::check_finite_outputs("gain", xs, ys)
-    }
-
-    fn n_params(&self) -> usize {
-        1
-    }
-
-    fn params_into(&self, out: &mut Vec<T>) {
-        out.push(self.k);
-    }
-
-    fn param_names(&self) -> Vec<String> {
-        vec!["k".into()]
-    }
-
-    fn set_params(&mut self, p: &[T]) -> Result<()> {
-        check::count(1, p)?;
-        *self = Self::new(p[0])?;
-        Ok(())
+        check_finite_outputs(Self::KIND, xs, ys)
     }
 }

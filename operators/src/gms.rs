@@ -2,40 +2,42 @@
 //! solved exactly per sample.
 
 use crate::{
-    check, check_input, check_lengths, check_output, Domain, Error, Float, Operator, Result, Trial,
+    check, check_input, check_lengths, check_output, declare_params, Error, Float, Leaf, Operator,
+    Result, Trial,
 };
-use serde::{Deserialize, Serialize};
 
-/// Parameters of the [`Gms`] friction model.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(bound(deserialize = "T: Float"))]
-pub struct GmsParams<T> {
-    /// Element stiffnesses `k_i > 0`.
-    pub k: Vec<T>,
-    /// Element weights `α_i > 0`: element `i` slips at `α_i s(v)`.
-    pub alpha: Vec<T>,
-    /// Element forces at input `x = 0` before the first sample (default
-    /// empty: all 0).
-    #[serde(default)]
-    pub f0: Vec<T>,
-    /// Attraction rate `C > 0` (force per second) of a slipping element
-    /// towards its Stribeck limit.
-    pub c: T,
-    /// Coulomb level `F_c > 0` of the Stribeck curve.
-    pub f_c: T,
-    /// Static level `F_s > 0` of the Stribeck curve (`F_s < F_c` allowed).
-    pub f_s: T,
-    /// Stribeck velocity `v_s > 0`.
-    pub v_s: T,
-    /// Stribeck exponent `δ ≥ 1` (default 2; `δ ≥ 1` keeps the tangent at
-    /// a standstill finite).
-    #[serde(default = "two")]
-    pub delta: T,
-    /// Viscous friction `σ2 ≥ 0`.
-    #[serde(default)]
-    pub sigma2: T,
-    /// Sample period `dt > 0` (s). Not a fitted parameter.
-    pub dt: T,
+declare_params! {
+    /// Parameters of the [`Gms`] friction model.
+    pub struct GmsParams<T> {
+        /// Attraction rate `C > 0` (force per second) of a slipping element
+        /// towards its Stribeck limit.
+        c: T => Positive,
+        /// Coulomb level `F_c > 0` of the Stribeck curve.
+        f_c: T => Positive,
+        /// Static level `F_s > 0` of the Stribeck curve (`F_s < F_c` allowed).
+        f_s: T => Positive,
+        /// Stribeck velocity `v_s > 0`.
+        v_s: T => Positive,
+        /// Stribeck exponent `δ ≥ 1` (default 2; `δ ≥ 1` keeps the tangent at
+        /// a standstill finite).
+        #[serde(default = "two")]
+        delta: T => AtLeast(1.0),
+        /// Viscous friction `σ2 ≥ 0`.
+        #[serde(default)]
+        sigma2: T => NonNegative,
+        /// Element stiffnesses `k_i > 0`.
+        k: Vec<T> => Positive,
+        /// Element weights `α_i > 0`: element `i` slips at `α_i s(v)`.
+        alpha: Vec<T> => Positive,
+        /// Element forces at input `x = 0` before the first sample (default
+        /// empty: all 0).
+        #[serde(default)]
+        f0: Vec<T> => Real,
+        /// Sample period `dt > 0` (s) until the structure above sets one
+        /// ([`Operator::set_sample_period`]). Not a fitted parameter.
+        dt: T => fixed,
+    }
+    check = GmsParams::shape;
 }
 
 fn two<T: Float>() -> T {
@@ -43,10 +45,9 @@ fn two<T: Float>() -> T {
 }
 
 impl<T: Float> GmsParams<T> {
-    /// Checks: at least one element, `k`, `alpha` (and `f0` if given) of one
-    /// length, `k_i > 0`, `α_i > 0`, finite `f0_i`, `C > 0`, `F_c > 0`,
-    /// `F_s > 0`, `v_s > 0`, `δ ≥ 1`, `σ2 ≥ 0`, `dt > 0`.
-    pub fn validate(&self) -> Result<()> {
+    /// At least one element; `k`, `alpha` (and `f0` if given) of one
+    /// length; `dt > 0`.
+    fn shape(&self) -> Result<()> {
         let n = self.k.len();
         if n == 0 {
             return Err(Error::InvalidParameter {
@@ -62,21 +63,6 @@ impl<T: Float> GmsParams<T> {
                 reason: "k, alpha (and f0 if given) must have the same length",
             });
         }
-        for (i, &k) in self.k.iter().enumerate() {
-            check::positive(&format!("k[{i}]"), k)?;
-        }
-        for (i, &a) in self.alpha.iter().enumerate() {
-            check::positive(&format!("alpha[{i}]"), a)?;
-        }
-        for (i, &f) in self.f0.iter().enumerate() {
-            check::finite(&format!("f0[{i}]"), f)?;
-        }
-        check::positive("c", self.c)?;
-        check::positive("f_c", self.f_c)?;
-        check::positive("f_s", self.f_s)?;
-        check::positive("v_s", self.v_s)?;
-        check::at_least_one("delta", self.delta)?;
-        check::non_negative("sigma2", self.sigma2)?;
         check::positive("dt", self.dt)
     }
 }
@@ -115,7 +101,7 @@ impl<T: Float> GmsParams<T> {
 /// element slips away from its limit (any motion, however small, lasts a
 /// whole sample of relaxation, while a standstill relaxes nothing): the
 /// standstill tangent ignores that jump. Parameters `[c, f_c, f_s, v_s, delta, sigma2,
-/// k_0.., alpha_0.., f0_0..]`; `dt` is fixed ([`set_dt`](Self::set_dt)).
+/// k_0.., alpha_0.., f0_0..]`; `dt` is fixed (its period is set by [`Operator::set_sample_period`]).
 ///
 /// ```
 /// use hysteron_operators::{Gms, GmsParams, Operator};
@@ -170,16 +156,6 @@ impl<T: Float> Gms<T> {
     /// The parameters (with `f0` written out in full).
     pub fn parameters(&self) -> &GmsParams<T> {
         &self.p
-    }
-
-    /// Changes the sample period (`dt > 0`) and resets.
-    pub fn set_dt(&mut self, dt: T) -> Result<()> {
-        let p = GmsParams {
-            dt,
-            ..self.p.clone()
-        };
-        *self = Self::from_params(p)?;
-        Ok(())
     }
 
     /// The committed element forces.
@@ -261,10 +237,6 @@ impl<T: Float> Gms<T> {
 }
 
 impl<T: Float> Operator<T> for Gms<T> {
-    fn name(&self) -> &'static str {
-        "gms"
-    }
-
     fn trial(&mut self, x: T) -> Result<Trial<T>> {
         self.has_pending = false;
         let x = check_input(x)?;
@@ -304,61 +276,42 @@ impl<T: Float> Operator<T> for Gms<T> {
         Ok(())
     }
 
-    fn n_params(&self) -> usize {
-        6 + 3 * self.p.k.len()
-    }
-
-    fn params_into(&self, out: &mut Vec<T>) {
-        let p = &self.p;
-        out.extend([p.c, p.f_c, p.f_s, p.v_s, p.delta, p.sigma2]);
-        out.extend_from_slice(&p.k);
-        out.extend_from_slice(&p.alpha);
-        out.extend_from_slice(&p.f0);
-    }
-
-    fn param_names(&self) -> Vec<String> {
-        let n = self.p.k.len();
-        ["c", "f_c", "f_s", "v_s", "delta", "sigma2"]
-            .iter()
-            .map(|s| s.to_string())
-            .chain((0..n).map(|i| format!("k[{i}]")))
-            .chain((0..n).map(|i| format!("alpha[{i}]")))
-            .chain((0..n).map(|i| format!("f0[{i}]")))
-            .collect()
-    }
-
-    fn param_domains(&self) -> Vec<Domain> {
-        let n = self.p.k.len();
-        [
-            Domain::Positive,
-            Domain::Positive,
-            Domain::Positive,
-            Domain::Positive,
-            Domain::AtLeast(1.0),
-            Domain::NonNegative,
-        ]
-        .into_iter()
-        .chain(std::iter::repeat_n(Domain::Positive, 2 * n))
-        .chain(std::iter::repeat_n(Domain::Real, n))
-        .collect()
-    }
-
-    fn set_params(&mut self, q: &[T]) -> Result<()> {
-        check::count(self.n_params(), q)?;
-        let n = self.p.k.len();
-        *self = Self::from_params(GmsParams {
-            c: q[0],
-            f_c: q[1],
-            f_s: q[2],
-            v_s: q[3],
-            delta: q[4],
-            sigma2: q[5],
-            k: q[6..6 + n].to_vec(),
-            alpha: q[6 + n..6 + 2 * n].to_vec(),
-            f0: q[6 + 2 * n..].to_vec(),
-            dt: self.p.dt,
-        })?;
+    fn set_sample_period(&mut self, dt: T) -> Result<()> {
+        check::positive("dt", dt)?;
+        self.p.dt = dt;
         Ok(())
+    }
+
+    crate::leaf_param_methods!(T);
+}
+
+impl<T: Float> Leaf<T> for Gms<T> {
+    const KIND: &'static str = "gms";
+    type Params = GmsParams<T>;
+    type With<U: Float> = Gms<U>;
+
+    fn from_params(p: GmsParams<T>) -> Result<Self> {
+        Gms::from_params(p)
+    }
+
+    fn parameters(&self) -> &GmsParams<T> {
+        &self.p
+    }
+
+    fn example() -> GmsParams<T> {
+        let v = |xs: &[f64]| xs.iter().map(|&x| T::lit(x)).collect::<Vec<T>>();
+        GmsParams {
+            c: T::lit(50.0),
+            f_c: T::lit(1.0),
+            f_s: T::lit(1.5),
+            v_s: T::lit(0.01),
+            delta: T::lit(2.0),
+            sigma2: T::lit(0.1),
+            k: v(&[100.0, 20.0]),
+            alpha: v(&[0.5, 0.5]),
+            f0: v(&[0.1, -0.2]),
+            dt: T::lit(1e-3),
+        }
     }
 }
 

@@ -311,7 +311,7 @@ impl<T: Float> StateEquation<T> {
             Ok(g)
         } else {
             Err(Error::NonFiniteOutput {
-                operator: "bouc-wen",
+                operator: "bouc_wen",
                 input: s.as_f64(),
             })
         }
@@ -576,7 +576,7 @@ impl<T: Float> StateEquation<T> {
             h = h * factor;
         }
         Err(Error::NotConverged {
-            solver: "bouc-wen state integration",
+            solver: "bouc_wen state integration",
             iterations: MAX_SUBSTEPS,
             width: (s - t).as_f64(),
         })

@@ -26,12 +26,20 @@
 
 #![warn(missing_docs)]
 
+// `declare_params!` names this crate by its path in serde attributes.
+extern crate self as hysteron_operators;
+
+#[doc(hidden)]
+pub use serde as __serde;
+
 pub mod check;
 mod domain;
 mod error;
 mod float;
+mod leaf;
 mod memoryless;
 mod operator;
+pub mod params;
 
 mod bouc_wen;
 mod dahl;
@@ -53,25 +61,29 @@ mod stop;
 mod viscous_damper;
 
 pub use bouc_wen::{BoucWen, BoucWenParams, StateSolver};
-pub use dahl::{Dahl, DahlParams};
-pub use deadzone::{dead_zone, DeadZone, DeadZoneParams};
+pub use dahl::{Dahl, DahlLaw, DahlParams, DahlState};
+pub use deadzone::{dead_zone, DeadZone, DeadZoneLaw, DeadZoneParams};
 pub use domain::Domain;
-pub use elastoplastic::{ElastoPlastic, ElastoPlasticParams};
+pub use elastoplastic::{ElastoPlastic, ElastoPlasticLaw, ElastoPlasticParams};
 pub use error::{Error, Result};
 pub use float::Float;
-pub use gain::Gain;
+pub use gain::{Gain, GainLaw, GainParams};
 pub use gms::{Gms, GmsParams};
-pub use lugre::{LuGre, LuGreParams};
-pub use mass_spring_damper::{MassSpringDamper, MassSpringDamperParams};
+pub use leaf::{checked_step, Leaf, StepLaw, Stepped};
+pub use lugre::{LuGre, LuGreLaw, LuGreParams, LuGreState};
+pub use mass_spring_damper::{
+    MassSpringDamper, MassSpringDamperLaw, MassSpringDamperParams, MsdState,
+};
 pub use maxwell_slip::{MaxwellSlip, MaxwellSlipParams};
-pub use mms::{Mms, MmsParams};
+pub use mms::{Mms, MmsLaw, MmsParams, MmsState};
 pub use operator::{
     check_input, check_lengths, check_output, process_by_trials, process_while_by_trials, Operator,
     Trial,
 };
-pub use play::{play_step, play_tangent, Play, PlayParams};
+pub use params::{FieldInfo, FieldKind, ParamField, ParamSet};
+pub use play::{play_step, play_tangent, Play, PlayLaw, PlayParams};
 pub use preisach::{Preisach, PreisachMeasure, PreisachParams, PreisachStart};
-pub use saturation::{Saturation, SaturationParams};
+pub use saturation::{Saturation, SaturationLaw, SaturationParams};
 pub use stiffness::StiffnessMap;
-pub use stop::{stop_step, Stop, StopParams};
-pub use viscous_damper::ViscousDamper;
+pub use stop::{stop_step, Stop, StopLaw, StopParams};
+pub use viscous_damper::{ViscousDamper, ViscousDamperLaw, ViscousDamperParams};

@@ -1,37 +1,38 @@
 //! The LuGre friction model (rate-dependent), integrated exactly per sample.
 
-use crate::{
-    check, check_input, check_lengths, check_output, Domain, Error, Float, Operator, Result, Trial,
-};
-use serde::{Deserialize, Serialize};
+use crate::{check, declare_params, Float, Result, StepLaw, Stepped, Trial};
 
-/// Parameters of the [`LuGre`] friction operator.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(bound(deserialize = "T: Float"))]
-pub struct LuGreParams<T> {
-    /// Bristle stiffness `σ0 > 0` (force per input unit).
-    pub sigma0: T,
-    /// Bristle damping `σ1 ≥ 0` (force per velocity).
-    pub sigma1: T,
-    /// Viscous friction `σ2 ≥ 0` (force per velocity).
-    pub sigma2: T,
-    /// Coulomb friction level `F_c > 0`.
-    pub f_c: T,
-    /// Static (stiction) friction level `F_s > 0`. Usually `F_s ≥ F_c`;
-    /// `F_s < F_c` is allowed (`g` then rises with speed and stays
-    /// positive).
-    pub f_s: T,
-    /// Stribeck velocity `v_s > 0` (input units per second).
-    pub v_s: T,
-    /// Stribeck exponent `δ > 0` (default 2).
-    #[serde(default = "two")]
-    pub delta: T,
-    /// Bristle deflection at input `x = 0` before the first sample
-    /// (default 0).
-    #[serde(default)]
-    pub z0: T,
-    /// Sample period `dt > 0` (s). Not a fitted parameter.
-    pub dt: T,
+declare_params! {
+    /// Parameters of the [`LuGre`] friction operator.
+    #[derive(Copy)]
+    pub struct LuGreParams<T> {
+        /// Bristle stiffness `σ0 > 0` (force per input unit).
+        sigma0: T => Positive,
+        /// Bristle damping `σ1 ≥ 0` (force per velocity).
+        sigma1: T => NonNegative,
+        /// Viscous friction `σ2 ≥ 0` (force per velocity).
+        sigma2: T => NonNegative,
+        /// Coulomb friction level `F_c > 0`.
+        f_c: T => Positive,
+        /// Static (stiction) friction level `F_s > 0`. Usually `F_s ≥ F_c`;
+        /// `F_s < F_c` is allowed (`g` then rises with speed and stays
+        /// positive).
+        f_s: T => Positive,
+        /// Stribeck velocity `v_s > 0` (input units per second).
+        v_s: T => Positive,
+        /// Stribeck exponent `δ > 0` (default 2).
+        #[serde(default = "two")]
+        delta: T => Positive,
+        /// Bristle deflection at input `x = 0` before the first sample
+        /// (default 0).
+        #[serde(default)]
+        z0: T => Real,
+        /// Sample period `dt > 0` (s) until the structure above sets one
+        /// ([`Operator::set_sample_period`](crate::Operator::set_sample_period)).
+        /// Not a fitted parameter.
+        dt: T => fixed,
+    }
+    check = |p| check::positive("dt", p.dt);
 }
 
 fn two<T: Float>() -> T {
@@ -39,20 +40,6 @@ fn two<T: Float>() -> T {
 }
 
 impl<T: Float> LuGreParams<T> {
-    /// Checks `σ0 > 0`, `σ1 ≥ 0`, `σ2 ≥ 0`, `F_c > 0`, `F_s > 0`,
-    /// `v_s > 0`, `δ > 0`, finite `z0`, `dt > 0`.
-    pub fn validate(&self) -> Result<()> {
-        check::positive("sigma0", self.sigma0)?;
-        check::non_negative("sigma1", self.sigma1)?;
-        check::non_negative("sigma2", self.sigma2)?;
-        check::positive("f_c", self.f_c)?;
-        check::positive("f_s", self.f_s)?;
-        check::positive("v_s", self.v_s)?;
-        check::positive("delta", self.delta)?;
-        check::finite("z0", self.z0)?;
-        check::positive("dt", self.dt)
-    }
-
     /// The Stribeck curve `g(v) = F_c + (F_s − F_c) exp(−|v/v_s|^δ)`
     /// (`> 0`, between `F_c` and `F_s`).
     pub fn stribeck(&self, v: T) -> T {
@@ -73,7 +60,7 @@ impl<T: Float> LuGreParams<T> {
 /// The committed state: last input, bristle deflection, last direction of
 /// motion (`0` before any motion).
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct State<T> {
+pub struct LuGreState<T> {
     x: T,
     z: T,
     dir: i8,
@@ -118,7 +105,7 @@ struct State<T> {
 /// one-sided derivative in the last direction of motion (upward before
 /// any motion). It starts at `x = 0`, `z = z0`, at rest. Parameters
 /// `[sigma0, sigma1, sigma2, f_c, f_s, v_s, delta, z0]`; `dt` is fixed
-/// ([`set_dt`](Self::set_dt)).
+/// ([`Operator::set_sample_period`](crate::Operator::set_sample_period)).
 ///
 /// ```
 /// use hysteron_operators::{LuGre, LuGreParams, Operator};
@@ -132,51 +119,22 @@ struct State<T> {
 /// let y = f.run(&x).unwrap();
 /// assert!((y[999] - p.steady_state(0.02)).abs() < 1e-12);
 /// ```
+pub type LuGre<T> = Stepped<LuGreLaw<T>, T>;
+
+/// The law of [`LuGre`] friction: its parameters.
 #[derive(Debug, Clone, PartialEq)]
-pub struct LuGre<T> {
-    p: LuGreParams<T>,
-    s: State<T>,
-    pending: Option<State<T>>,
-}
+pub struct LuGreLaw<T>(LuGreParams<T>);
 
 impl<T: Float> LuGre<T> {
-    /// LuGre friction from validated parameters.
-    pub fn from_params(p: LuGreParams<T>) -> Result<Self> {
-        p.validate()?;
-        Ok(Self {
-            p,
-            s: Self::initial(&p),
-            pending: None,
-        })
-    }
-
-    fn initial(p: &LuGreParams<T>) -> State<T> {
-        State {
-            x: T::zero(),
-            z: p.z0,
-            dir: 0,
-        }
-    }
-
-    /// The parameters.
-    pub fn parameters(&self) -> &LuGreParams<T> {
-        &self.p
-    }
-
-    /// Changes the sample period (`dt > 0`) and resets.
-    pub fn set_dt(&mut self, dt: T) -> Result<()> {
-        *self = Self::from_params(LuGreParams { dt, ..self.p })?;
-        Ok(())
-    }
-
     /// The committed bristle deflection `z`.
     pub fn bristle(&self) -> T {
-        self.s.z
+        self.state().z
     }
+}
 
-    /// One sample from state `s` to input `x`: new state, force, tangent.
+impl<T: Float> LuGreLaw<T> {
     #[inline(always)]
-    fn step(p: &LuGreParams<T>, s: &State<T>, x: T) -> (State<T>, T, T) {
+    fn step(p: &LuGreParams<T>, s: &LuGreState<T>, x: T) -> (LuGreState<T>, T, T) {
         let one = T::one();
         let dx = x - s.x;
         let v = dx / p.dt;
@@ -227,109 +185,56 @@ impl<T: Float> LuGre<T> {
         let dzdot =
             (one - p.sigma0 * sign * z / g * (one - h / g)) / p.dt - p.sigma0 * v.abs() / g * dz;
         let tangent = p.sigma0 * dz + p.sigma1 * dzdot + p.sigma2 / p.dt;
-        (State { x, z, dir }, force, tangent)
+        (LuGreState { x, z, dir }, force, tangent)
     }
 }
 
-impl<T: Float> Operator<T> for LuGre<T> {
-    fn name(&self) -> &'static str {
-        "lugre"
+impl<T: Float> StepLaw<T> for LuGreLaw<T> {
+    const KIND: &'static str = "lugre";
+    type Params = LuGreParams<T>;
+    type State = LuGreState<T>;
+    type With<U: Float> = LuGreLaw<U>;
+
+    fn new(p: LuGreParams<T>) -> Result<Self> {
+        p.validate()?;
+        Ok(Self(p))
     }
 
-    #[inline]
-    fn trial(&mut self, x: T) -> Result<Trial<T>> {
-        self.pending = None;
-        let x = check_input(x)?;
-        let (s, output, tangent) = Self::step(&self.p, &self.s, x);
-        let t = check_output("lugre", x, Trial { output, tangent })?;
-        self.pending = Some(s);
-        Ok(t)
+    fn params(&self) -> &LuGreParams<T> {
+        &self.0
     }
 
-    #[inline]
-    fn commit(&mut self) {
-        if let Some(s) = self.pending.take() {
-            self.s = s;
+    fn example() -> LuGreParams<T> {
+        LuGreParams {
+            sigma0: T::lit(1e4),
+            sigma1: T::lit(50.0),
+            sigma2: T::lit(0.4),
+            f_c: T::lit(1.0),
+            f_s: T::lit(1.5),
+            v_s: T::lit(0.01),
+            delta: T::lit(2.0),
+            z0: T::lit(1e-5),
+            dt: T::lit(1e-3),
         }
     }
 
-    fn reset(&mut self) {
-        self.s = Self::initial(&self.p);
-        self.pending = None;
-    }
-
-    fn process(&mut self, xs: &[T], ys: &mut [T]) -> Result<()> {
-        check_lengths(xs, ys)?;
-        self.pending = None;
-        let mut s = self.s;
-        for (i, (&x, out)) in xs.iter().zip(ys.iter_mut()).enumerate() {
-            if !x.is_finite() {
-                self.s = s;
-                return Err(Error::NonFiniteInput { value: x.as_f64() }.at_sample(i));
-            }
-            let (next, f, tangent) = Self::step(&self.p, &s, x);
-            if !f.is_finite() || tangent.is_nan() {
-                self.s = s;
-                return Err(Error::NonFiniteOutput {
-                    operator: "lugre",
-                    input: x.as_f64(),
-                }
-                .at_sample(i));
-            }
-            s = next;
-            *out = f;
+    fn initial(&self) -> LuGreState<T> {
+        LuGreState {
+            x: T::zero(),
+            z: self.0.z0,
+            dir: 0,
         }
-        self.s = s;
-        Ok(())
     }
 
-    fn n_params(&self) -> usize {
-        8
+    #[inline(always)]
+    fn step(&self, s: &LuGreState<T>, x: T) -> Result<(LuGreState<T>, Trial<T>)> {
+        let (s, output, tangent) = Self::step(&self.0, s, x);
+        Ok((s, Trial { output, tangent }))
     }
 
-    fn params_into(&self, out: &mut Vec<T>) {
-        let p = &self.p;
-        out.extend([
-            p.sigma0, p.sigma1, p.sigma2, p.f_c, p.f_s, p.v_s, p.delta, p.z0,
-        ]);
-    }
-
-    fn param_names(&self) -> Vec<String> {
-        [
-            "sigma0", "sigma1", "sigma2", "f_c", "f_s", "v_s", "delta", "z0",
-        ]
-        .iter()
-        .map(|s| s.to_string())
-        .collect()
-    }
-
-    fn param_domains(&self) -> Vec<Domain> {
-        use Domain::*;
-        vec![
-            Positive,
-            NonNegative,
-            NonNegative,
-            Positive,
-            Positive,
-            Positive,
-            Positive,
-            Real,
-        ]
-    }
-
-    fn set_params(&mut self, p: &[T]) -> Result<()> {
-        check::count(8, p)?;
-        *self = Self::from_params(LuGreParams {
-            sigma0: p[0],
-            sigma1: p[1],
-            sigma2: p[2],
-            f_c: p[3],
-            f_s: p[4],
-            v_s: p[5],
-            delta: p[6],
-            z0: p[7],
-            dt: self.p.dt,
-        })?;
+    fn set_sample_period(&mut self, dt: T) -> Result<()> {
+        check::positive("dt", dt)?;
+        self.0.dt = dt;
         Ok(())
     }
 }
@@ -337,6 +242,7 @@ impl<T: Float> Operator<T> for LuGre<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::{Error, Operator};
 
     fn params() -> LuGreParams<f64> {
         LuGreParams {

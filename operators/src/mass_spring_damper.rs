@@ -1,33 +1,29 @@
 //! A linear mass-spring-damper driven by force (rate-dependent).
 
-use crate::{check, check_input, check_output, Domain, Float, Operator, Result, Trial};
-use serde::{Deserialize, Serialize};
+use crate::{check, declare_params, Float, Result, StepLaw, Stepped, Trial};
 
-/// Parameters of the [`MassSpringDamper`].
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct MassSpringDamperParams<T> {
-    /// Mass `m > 0`.
-    pub m: T,
-    /// Viscous damping `c ≥ 0`.
-    pub c: T,
-    /// Stiffness `k ≥ 0`.
-    pub k: T,
-    /// Sample period `dt > 0` (s). Not a fitted parameter.
-    pub dt: T,
-}
-
-impl<T: Float> MassSpringDamperParams<T> {
-    /// Checks `m > 0`, `c ≥ 0`, `k ≥ 0`, `dt > 0`.
-    pub fn validate(&self) -> Result<()> {
-        check::positive("m", self.m)?;
-        check::non_negative("c", self.c)?;
-        check::non_negative("k", self.k)?;
-        check::positive("dt", self.dt)
+declare_params! {
+    /// Parameters of the [`MassSpringDamper`].
+    #[derive(Copy)]
+    pub struct MassSpringDamperParams<T> {
+        /// Mass `m > 0`.
+        m: T => Positive,
+        /// Viscous damping `c ≥ 0`.
+        c: T => NonNegative,
+        /// Stiffness `k ≥ 0`.
+        k: T => NonNegative,
+        /// Sample period `dt > 0` (s) until the structure above sets one
+        /// ([`Operator::set_sample_period`](crate::Operator::set_sample_period)).
+        /// Not a fitted parameter.
+        dt: T => fixed,
     }
+    check = |p| check::positive("dt", p.dt);
 }
 
+/// The state of a [`MassSpringDamper`]: displacement, velocity and
+/// acceleration.
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct State<T> {
+pub struct MsdState<T> {
     y: T,
     v: T,
     a: T,
@@ -48,7 +44,7 @@ struct State<T> {
 /// so the tangent is `dy/du = 1/k_eff` and the operator can sit in an
 /// implicit loop ([`Feedback`] in `hysteron-composition`). It starts at rest
 /// (`y = v = a = 0`, `u = 0`). Parameters `[m, c, k]`; `dt` is fixed
-/// ([`set_dt`](Self::set_dt)).
+/// ([`Operator::set_sample_period`](crate::Operator::set_sample_period)).
 ///
 /// In a combinator with rate-independent operators the whole model becomes
 /// rate-dependent: its samples must be spaced by `dt`.
@@ -62,12 +58,11 @@ struct State<T> {
 /// let y = msd.run(&vec![5.0; 20_000]).unwrap();
 /// assert!((y[19_999] - 0.05).abs() < 1e-9);
 /// ```
+pub type MassSpringDamper<T> = Stepped<MassSpringDamperLaw<T>, T>;
+
+/// The law of the [`MassSpringDamper`]: its parameters.
 #[derive(Debug, Clone, PartialEq)]
-pub struct MassSpringDamper<T> {
-    p: MassSpringDamperParams<T>,
-    s: State<T>,
-    pending: Option<State<T>>,
-}
+pub struct MassSpringDamperLaw<T>(MassSpringDamperParams<T>);
 
 impl<T: Float> MassSpringDamper<T> {
     /// An oscillator with mass `m`, damping `c`, stiffness `k` and sample
@@ -77,122 +72,76 @@ impl<T: Float> MassSpringDamper<T> {
     }
 
     /// An oscillator from validated parameters.
-    pub fn from_params(p: MassSpringDamperParams<T>) -> Result<Self> {
+    /// The committed velocity.
+    pub fn velocity(&self) -> T {
+        self.state().v
+    }
+}
+
+impl<T: Float> StepLaw<T> for MassSpringDamperLaw<T> {
+    const KIND: &'static str = "mass_spring_damper";
+    type Params = MassSpringDamperParams<T>;
+    type State = MsdState<T>;
+    type With<U: Float> = MassSpringDamperLaw<U>;
+
+    fn new(p: MassSpringDamperParams<T>) -> Result<Self> {
         p.validate()?;
-        Ok(Self {
-            p,
-            s: Self::rest(),
-            pending: None,
-        })
+        Ok(Self(p))
     }
 
-    fn rest() -> State<T> {
-        State {
+    fn params(&self) -> &MassSpringDamperParams<T> {
+        &self.0
+    }
+
+    fn example() -> MassSpringDamperParams<T> {
+        MassSpringDamperParams {
+            m: T::lit(2.0),
+            c: T::lit(10.0),
+            k: T::lit(5e4),
+            dt: T::lit(1.0 / 15000.0),
+        }
+    }
+
+    fn initial(&self) -> MsdState<T> {
+        MsdState {
             y: T::zero(),
             v: T::zero(),
             a: T::zero(),
         }
     }
 
-    /// The parameters.
-    pub fn parameters(&self) -> &MassSpringDamperParams<T> {
-        &self.p
-    }
-
-    /// Changes the sample period (`dt > 0`) and resets.
-    pub fn set_dt(&mut self, dt: T) -> Result<()> {
-        *self = Self::from_params(MassSpringDamperParams { dt, ..self.p })?;
-        Ok(())
-    }
-
-    /// The committed velocity.
-    pub fn velocity(&self) -> T {
-        self.s.v
-    }
-
     #[inline(always)]
-    fn k_eff(&self) -> T {
-        let MassSpringDamperParams { m, c, k, dt } = self.p;
-        let four = T::lit(4.0);
-        k + T::lit(2.0) * c / dt + four * m / (dt * dt)
-    }
-}
-
-impl<T: Float> Operator<T> for MassSpringDamper<T> {
-    fn name(&self) -> &'static str {
-        "mass-spring-damper"
-    }
-
-    #[inline]
-    fn trial(&mut self, u: T) -> Result<Trial<T>> {
-        self.pending = None;
-        let u = check_input(u)?;
-        let MassSpringDamperParams { m, c, dt, .. } = self.p;
-        let State { y, v, a } = self.s;
+    fn step(&self, s: &MsdState<T>, u: T) -> Result<(MsdState<T>, Trial<T>)> {
+        let MassSpringDamperParams { m, c, k, dt } = self.0;
+        let MsdState { y, v, a } = *s;
         let (two, four) = (T::lit(2.0), T::lit(4.0));
-        let k_eff = self.k_eff();
+        let k_eff = k + two * c / dt + four * m / (dt * dt);
         let p_eff = u + m * (four * y / (dt * dt) + four * v / dt + a) + c * (two * y / dt + v);
         let y1 = p_eff / k_eff;
         let a1 = four * (y1 - y) / (dt * dt) - four * v / dt - a;
         let v1 = v + dt / two * (a + a1);
-        let t = check_output(
-            "mass-spring-damper",
-            u,
+        if !(a1.is_finite() && v1.is_finite()) {
+            return Err(crate::Error::NonFiniteOutput {
+                operator: Self::KIND,
+                input: u.as_f64(),
+            });
+        }
+        Ok((
+            MsdState {
+                y: y1,
+                v: v1,
+                a: a1,
+            },
             Trial {
                 output: y1,
                 tangent: T::one() / k_eff,
             },
-        )?;
-        if !(a1.is_finite() && v1.is_finite()) {
-            return Err(crate::Error::NonFiniteOutput {
-                operator: "mass-spring-damper",
-                input: u.as_f64(),
-            });
-        }
-        self.pending = Some(State {
-            y: y1,
-            v: v1,
-            a: a1,
-        });
-        Ok(t)
+        ))
     }
 
-    #[inline]
-    fn commit(&mut self) {
-        if let Some(s) = self.pending.take() {
-            self.s = s;
-        }
-    }
-
-    fn reset(&mut self) {
-        self.s = Self::rest();
-        self.pending = None;
-    }
-
-    fn n_params(&self) -> usize {
-        3
-    }
-
-    fn params_into(&self, out: &mut Vec<T>) {
-        out.extend([self.p.m, self.p.c, self.p.k]);
-    }
-
-    fn param_names(&self) -> Vec<String> {
-        vec!["m".into(), "c".into(), "k".into()]
-    }
-
-    fn param_domains(&self) -> Vec<Domain> {
-        vec![Domain::Positive, Domain::NonNegative, Domain::NonNegative]
-    }
-
-    fn set_params(&mut self, p: &[T]) -> Result<()> {
-        check::count(3, p)?;
-        *self = Self::from_params(MassSpringDamperParams {
-            m: p[0],
-            c: p[1],
-            k: p[2],
-            dt: self.p.dt,
-        })?;
+    fn set_sample_period(&mut self, dt: T) -> Result<()> {
+        check::positive("dt", dt)?;
+        self.0.dt = dt;
         Ok(())
     }
 }
@@ -200,6 +149,7 @@ impl<T: Float> Operator<T> for MassSpringDamper<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Operator;
 
     /// Displacement at t = 0.5 s for the smooth force u(t) = 1 − cos(20 t),
     /// integrated with step `dt`.

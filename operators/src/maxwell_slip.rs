@@ -2,31 +2,32 @@
 //! elastoplastic elements.
 
 use crate::{
-    check, check_input, check_lengths, check_output, stop_step, Domain, Error, Float, Operator,
-    Result, Trial,
+    check_input, check_lengths, check_output, declare_params, stop_step, Error, Float, Leaf,
+    Operator, Result, Trial,
 };
-use serde::{Deserialize, Serialize};
 
-/// Parameters of a [`MaxwellSlip`] bank.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct MaxwellSlipParams<T> {
-    /// Element stiffnesses `k_i > 0`.
-    pub k: Vec<T>,
-    /// Element break-away forces `F_i > 0`.
-    pub f_b: Vec<T>,
-    /// Element forces at input `x = 0` before the first sample (default
-    /// empty: all 0). A value outside `[−F_i, F_i]` is clipped there at the
-    /// first sample, as in the [`ElastoPlastic`](crate::ElastoPlastic)
-    /// element.
-    #[serde(default)]
-    pub f0: Vec<T>,
+declare_params! {
+    /// Parameters of a [`MaxwellSlip`] bank.
+    pub struct MaxwellSlipParams<T> {
+        /// Element stiffnesses `k_i > 0`.
+        k: Vec<T> => Positive,
+        /// Element break-away forces `F_i > 0`.
+        f_b: Vec<T> => Positive,
+        /// Element forces at input `x = 0` before the first sample (default
+        /// empty: all 0). A value outside `[−F_i, F_i]` is clipped there at the
+        /// first sample, as in the [`ElastoPlastic`](crate::ElastoPlastic)
+        /// element.
+        #[serde(default)]
+        f0: Vec<T> => Real,
+    }
+    check = MaxwellSlipParams::shape;
 }
 
 impl<T: Float> MaxwellSlipParams<T> {
-    /// Checks: at least one element; `k`, `f_b` (and `f0` if given) of one
-    /// length; `k_i > 0`, `F_i > 0`, finite `f0_i`; the element thresholds
-    /// `F_i/k_i` finite and non-zero and `f0_i/k_i` finite.
-    pub fn validate(&self) -> Result<()> {
+    /// At least one element; `k`, `f_b` (and `f0` if given) of one
+    /// length; the element thresholds `F_i/k_i` finite and non-zero and
+    /// `f0_i/k_i` finite.
+    fn shape(&self) -> Result<()> {
         let n = self.k.len();
         if n == 0 {
             return Err(Error::InvalidParameter {
@@ -42,11 +43,7 @@ impl<T: Float> MaxwellSlipParams<T> {
                 reason: "k, f_b (and f0 if given) must have the same length",
             });
         }
-        for (i, &k) in self.k.iter().enumerate() {
-            check::positive(&format!("k[{i}]"), k)?;
-        }
         for (i, &f) in self.f_b.iter().enumerate() {
-            check::positive(&format!("f_b[{i}]"), f)?;
             let r = f / self.k[i];
             if !r.is_finite() || r == T::zero() {
                 return Err(Error::InvalidParameter {
@@ -57,7 +54,6 @@ impl<T: Float> MaxwellSlipParams<T> {
             }
         }
         for (i, &f) in self.f0.iter().enumerate() {
-            check::finite(&format!("f0[{i}]"), f)?;
             if !(f / self.k[i]).is_finite() {
                 return Err(Error::InvalidParameter {
                     name: format!("f0[{i}]"),
@@ -114,9 +110,8 @@ impl<T: Float> MaxwellSlipParams<T> {
 /// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct MaxwellSlip<T> {
-    k: Vec<T>,
-    f_b: Vec<T>,
-    f0: Vec<T>,
+    /// The parameters, `f0` written out in full.
+    p: MaxwellSlipParams<T>,
     /// Element thresholds `F_i/k_i`.
     r: Vec<T>,
     /// Initial play positions `−f0_i/k_i`.
@@ -151,9 +146,7 @@ impl<T: Float> MaxwellSlip<T> {
         // element's stop (`q = −s0`, `s0 = f0/k`).
         let q0: Vec<T> = f0.iter().zip(&p.k).map(|(&f, &k)| -(f / k)).collect();
         Ok(Self {
-            k: p.k,
-            f_b: p.f_b,
-            f0,
+            p: MaxwellSlipParams { f0, ..p },
             r,
             q: q0.clone(),
             q0,
@@ -163,22 +156,18 @@ impl<T: Float> MaxwellSlip<T> {
     }
 
     /// The parameters (with `f0` written out in full).
-    pub fn parameters(&self) -> MaxwellSlipParams<T> {
-        MaxwellSlipParams {
-            k: self.k.clone(),
-            f_b: self.f_b.clone(),
-            f0: self.f0.clone(),
-        }
+    pub fn parameters(&self) -> &MaxwellSlipParams<T> {
+        &self.p
     }
 
     /// Number of elements `N ≥ 1`.
     pub fn len(&self) -> usize {
-        self.k.len()
+        self.p.k.len()
     }
 
     /// Always false: a bank has at least one element.
     pub fn is_empty(&self) -> bool {
-        self.k.is_empty()
+        self.p.k.is_empty()
     }
 }
 
@@ -207,15 +196,11 @@ fn bank_step<T: Float>(r: &[T], k: &[T], prev: &[T], next: &mut [T], x: T) -> (T
 }
 
 impl<T: Float> Operator<T> for MaxwellSlip<T> {
-    fn name(&self) -> &'static str {
-        "maxwell-slip"
-    }
-
     fn trial(&mut self, x: T) -> Result<Trial<T>> {
         self.has_pending = false;
         let x = check_input(x)?;
-        let (output, tangent) = bank_step(&self.r, &self.k, &self.q, &mut self.pending, x);
-        let t = check_output("maxwell-slip", x, Trial { output, tangent })?;
+        let (output, tangent) = bank_step(&self.r, &self.p.k, &self.q, &mut self.pending, x);
+        let t = check_output("maxwell_slip", x, Trial { output, tangent })?;
         self.has_pending = true;
         Ok(t)
     }
@@ -239,10 +224,10 @@ impl<T: Float> Operator<T> for MaxwellSlip<T> {
             if !x.is_finite() {
                 return Err(Error::NonFiniteInput { value: x.as_f64() }.at_sample(i));
             }
-            let (y, _) = bank_step(&self.r, &self.k, &self.q, &mut self.pending, x);
+            let (y, _) = bank_step(&self.r, &self.p.k, &self.q, &mut self.pending, x);
             if !y.is_finite() {
                 return Err(Error::NonFiniteOutput {
-                    operator: "maxwell-slip",
+                    operator: "maxwell_slip",
                     input: x.as_f64(),
                 }
                 .at_sample(i));
@@ -253,41 +238,29 @@ impl<T: Float> Operator<T> for MaxwellSlip<T> {
         Ok(())
     }
 
-    fn n_params(&self) -> usize {
-        3 * self.k.len()
+    crate::leaf_param_methods!(T);
+}
+
+impl<T: Float> Leaf<T> for MaxwellSlip<T> {
+    const KIND: &'static str = "maxwell_slip";
+    type Params = MaxwellSlipParams<T>;
+    type With<U: Float> = MaxwellSlip<U>;
+
+    fn from_params(p: MaxwellSlipParams<T>) -> Result<Self> {
+        MaxwellSlip::from_params(p)
     }
 
-    fn params_into(&self, out: &mut Vec<T>) {
-        out.extend_from_slice(&self.k);
-        out.extend_from_slice(&self.f_b);
-        out.extend_from_slice(&self.f0);
+    fn parameters(&self) -> &MaxwellSlipParams<T> {
+        &self.p
     }
 
-    fn param_names(&self) -> Vec<String> {
-        let n = self.k.len();
-        (0..n)
-            .map(|i| format!("k[{i}]"))
-            .chain((0..n).map(|i| format!("f_b[{i}]")))
-            .chain((0..n).map(|i| format!("f0[{i}]")))
-            .collect()
-    }
-
-    fn param_domains(&self) -> Vec<Domain> {
-        let n = self.k.len();
-        std::iter::repeat_n(Domain::Positive, 2 * n)
-            .chain(std::iter::repeat_n(Domain::Real, n))
-            .collect()
-    }
-
-    fn set_params(&mut self, p: &[T]) -> Result<()> {
-        check::count(self.n_params(), p)?;
-        let n = self.k.len();
-        *self = Self::from_params(MaxwellSlipParams {
-            k: p[..n].to_vec(),
-            f_b: p[n..2 * n].to_vec(),
-            f0: p[2 * n..].to_vec(),
-        })?;
-        Ok(())
+    fn example() -> MaxwellSlipParams<T> {
+        let v = |xs: &[f64]| xs.iter().map(|&x| T::lit(x)).collect::<Vec<T>>();
+        MaxwellSlipParams {
+            k: v(&[40.0, 10.0, 4.0]),
+            f_b: v(&[0.2, 0.3, 0.5]),
+            f0: v(&[0.1, -0.3, 0.0]),
+        }
     }
 }
 

@@ -1,36 +1,26 @@
 //! Modified Maxwell-slip (MMS) pre-sliding friction.
 
-use crate::{
-    check, check_input, check_lengths, check_output, Domain, Error, Float, Operator, Result, Trial,
-};
-use serde::{Deserialize, Serialize};
+use crate::{declare_params, Error, Float, Result, StepLaw, Stepped, Trial};
 
-/// Parameters of the [`Mms`] friction operator.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct MmsParams<T> {
-    /// Coulomb friction level `F_c > 0`.
-    pub f_c: T,
-    /// Exponential rate (initial stiffness over `F_c`) `K > 0`, in 1/input unit.
-    pub k: T,
-    /// Friction force at input `x = 0` before the first sample (default 0).
-    /// With `|y0| ≤ F_c` the output stays in `[−F_c, F_c]`.
-    #[serde(default)]
-    pub y0: T,
-}
-
-impl<T: Float> MmsParams<T> {
-    /// Checks `F_c > 0`, `K > 0`, finite `y0`.
-    pub fn validate(&self) -> Result<()> {
-        check::positive("f_c", self.f_c)?;
-        check::positive("k", self.k)?;
-        check::finite("y0", self.y0)
+declare_params! {
+    /// Parameters of the [`Mms`] friction operator.
+    #[derive(Copy)]
+    pub struct MmsParams<T> {
+        /// Coulomb friction level `F_c > 0`.
+        f_c: T => Positive,
+        /// Exponential rate (initial stiffness over `F_c`) `K > 0`, in 1/input unit.
+        k: T => Positive,
+        /// Friction force at input `x = 0` before the first sample (default 0).
+        /// With `|y0| ≤ F_c` the output stays in `[−F_c, F_c]`.
+        #[serde(default)]
+        y0: T => Real,
     }
 }
 
 /// The committed state: last input and output, the last reversal point and
 /// the current direction of motion (`0` before any motion).
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct State<T> {
+pub struct MmsState<T> {
     x: T,
     y: T,
     x_r: T,
@@ -62,12 +52,11 @@ struct State<T> {
 /// let y = f.run(&[0.01, 0.2, 1.0]).unwrap();
 /// assert!(y[0] > 0.0 && y[0] < y[1] && y[1] < y[2] && y[2] <= 2.0);
 /// ```
+pub type Mms<T> = Stepped<MmsLaw<T>, T>;
+
+/// The law of [`Mms`] friction: its parameters.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Mms<T> {
-    p: MmsParams<T>,
-    s: State<T>,
-    pending: Option<State<T>>,
-}
+pub struct MmsLaw<T>(MmsParams<T>);
 
 impl<T: Float> Mms<T> {
     /// MMS friction with Coulomb level `f_c` and rate `k`, starting unloaded.
@@ -79,18 +68,15 @@ impl<T: Float> Mms<T> {
         })
     }
 
-    /// MMS friction from validated parameters.
-    pub fn from_params(p: MmsParams<T>) -> Result<Self> {
-        p.validate()?;
-        Ok(Self {
-            p,
-            s: Self::initial(&p),
-            pending: None,
-        })
+    /// The committed friction force.
+    pub fn output(&self) -> T {
+        self.state().y
     }
+}
 
-    fn initial(p: &MmsParams<T>) -> State<T> {
-        State {
+impl<T: Float> MmsLaw<T> {
+    fn initial(p: &MmsParams<T>) -> MmsState<T> {
+        MmsState {
             x: T::zero(),
             y: p.y0,
             x_r: T::zero(),
@@ -100,19 +86,9 @@ impl<T: Float> Mms<T> {
         }
     }
 
-    /// The parameters.
-    pub fn parameters(&self) -> &MmsParams<T> {
-        &self.p
-    }
-
-    /// The committed friction force.
-    pub fn output(&self) -> T {
-        self.s.y
-    }
-
     /// One step from state `s` to input `x`: the new state and the tangent.
     #[inline(always)]
-    fn step(p: &MmsParams<T>, s: &State<T>, x: T) -> (State<T>, T) {
+    fn step(p: &MmsParams<T>, s: &MmsState<T>, x: T) -> (MmsState<T>, T) {
         let dir = if x > s.x {
             1
         } else if x < s.x {
@@ -140,7 +116,7 @@ impl<T: Float> Mms<T> {
         // huge |Ω| times a vanishing decay gives 0, not ∞·0.
         let tangent = sign * (decay * target - decay * y_r) * p.k;
         (
-            State {
+            MmsState {
                 x,
                 y,
                 x_r,
@@ -185,43 +161,43 @@ fn on_branch<T: Float>(rise: T, target: T, y_r: T) -> T {
     }
 }
 
-impl<T: Float> Operator<T> for Mms<T> {
-    fn name(&self) -> &'static str {
-        "mms"
+impl<T: Float> StepLaw<T> for MmsLaw<T> {
+    const KIND: &'static str = "mms";
+    type Params = MmsParams<T>;
+    type State = MmsState<T>;
+    type With<U: Float> = MmsLaw<U>;
+
+    fn new(p: MmsParams<T>) -> Result<Self> {
+        p.validate()?;
+        Ok(Self(p))
     }
 
-    #[inline]
-    fn trial(&mut self, x: T) -> Result<Trial<T>> {
-        self.pending = None;
-        let x = check_input(x)?;
-        let (s, tangent) = Self::step(&self.p, &self.s, x);
-        let t = check_output(
-            "mms",
-            x,
-            Trial {
-                output: s.y,
-                tangent,
-            },
-        )?;
-        self.pending = Some(s);
-        Ok(t)
+    fn params(&self) -> &MmsParams<T> {
+        &self.0
     }
 
-    #[inline]
-    fn commit(&mut self) {
-        if let Some(s) = self.pending.take() {
-            self.s = s;
+    fn example() -> MmsParams<T> {
+        MmsParams {
+            f_c: T::lit(1.5),
+            k: T::lit(30.0),
+            y0: T::lit(-0.4),
         }
     }
 
-    fn reset(&mut self) {
-        self.s = Self::initial(&self.p);
-        self.pending = None;
+    fn initial(&self) -> MmsState<T> {
+        Self::initial(&self.0)
     }
 
-    fn process(&mut self, xs: &[T], ys: &mut [T]) -> Result<()> {
-        check_lengths(xs, ys)?;
-        self.pending = None;
+    #[inline(always)]
+    fn step(&self, s: &MmsState<T>, x: T) -> Result<(MmsState<T>, Trial<T>)> {
+        let (s, tangent) = Self::step(&self.0, s, x);
+        let output = s.y;
+        Ok((s, Trial { output, tangent }))
+    }
+
+    /// Monotone runs with the branch constants hoisted, in blocks of three
+    /// loops (see the comments); bit for bit the loop of `step`.
+    fn run(&self, state: &mut MmsState<T>, xs: &[T], ys: &mut [T]) -> Result<()> {
         let non_finite = |x: T, i: usize| {
             Error::NonFiniteOutput {
                 operator: "mms",
@@ -229,19 +205,19 @@ impl<T: Float> Operator<T> for Mms<T> {
             }
             .at_sample(i)
         };
-        let mut s = self.s;
+        let mut s = *state;
         let mut i = 0;
         while i < xs.len() {
             // The first sample of a monotone run goes through `step` (which
             // starts a new branch on a reversal) ...
             let x = xs[i];
             if !x.is_finite() {
-                self.s = s;
+                *state = s;
                 return Err(Error::NonFiniteInput { value: x.as_f64() }.at_sample(i));
             }
-            let next = Self::step(&self.p, &s, x).0;
+            let next = Self::step(&self.0, &s, x).0;
             if !next.y.is_finite() {
-                self.s = s;
+                *state = s;
                 return Err(non_finite(x, i));
             }
             s = next;
@@ -259,8 +235,8 @@ impl<T: Float> Operator<T> for Mms<T> {
             // per sample), and the outputs; the same operations on the same
             // values as one loop.
             let up = s.dir > 0;
-            let target = if up { self.p.f_c } else { -self.p.f_c };
-            let (k, x_r, y_r) = (self.p.k, s.x_r, s.y_r);
+            let target = if up { self.0.f_c } else { -self.0.f_c };
+            let (k, x_r, y_r) = (self.0.k, s.x_r, s.y_r);
             while i < xs.len() {
                 // The block's part of the run: same direction (or standing
                 // still); a non-finite sample ends the run here and is
@@ -292,7 +268,7 @@ impl<T: Float> Operator<T> for Mms<T> {
                         (on_branch(rise, target, y_r), T::one() - rise)
                     };
                     if !y.is_finite() {
-                        self.s = s;
+                        *state = s;
                         return Err(non_finite(x, i + j));
                     }
                     s.x = x;
@@ -306,33 +282,7 @@ impl<T: Float> Operator<T> for Mms<T> {
                 }
             }
         }
-        self.s = s;
-        Ok(())
-    }
-
-    fn n_params(&self) -> usize {
-        3
-    }
-
-    fn params_into(&self, out: &mut Vec<T>) {
-        out.extend([self.p.f_c, self.p.k, self.p.y0]);
-    }
-
-    fn param_names(&self) -> Vec<String> {
-        vec!["f_c".into(), "k".into(), "y0".into()]
-    }
-
-    fn param_domains(&self) -> Vec<Domain> {
-        vec![Domain::Positive, Domain::Positive, Domain::Real]
-    }
-
-    fn set_params(&mut self, p: &[T]) -> Result<()> {
-        check::count(3, p)?;
-        *self = Self::from_params(MmsParams {
-            f_c: p[0],
-            k: p[1],
-            y0: p[2],
-        })?;
+        *state = s;
         Ok(())
     }
 }

@@ -130,6 +130,24 @@ pub trait Operator<T: Float>: DynClone + Debug + Send + Sync {
         Ok(ys)
     }
 
+    /// Sets the sample period `dt > 0` (s) from the structure above: every
+    /// rate-dependent node of the tree takes it as the time between the
+    /// previous sample and the next; combinators forward it to their
+    /// children, and an oversampling node forwards `dt / q`. It may change
+    /// between samples (non-uniform records, a variable communication step
+    /// in co-simulation). Rate-independent operators only check it.
+    ///
+    /// ```
+    /// use hysteron_operators::{Operator, ViscousDamper};
+    /// let mut d = ViscousDamper::new(2.0_f64, 0.1).unwrap();
+    /// d.set_sample_period(0.5).unwrap();
+    /// assert_eq!(d.run(&[1.0]).unwrap(), vec![4.0]); // 2 · (1 − 0) / 0.5
+    /// assert!(d.set_sample_period(-1.0).is_err());
+    /// ```
+    fn set_sample_period(&mut self, dt: T) -> Result<()> {
+        crate::check::positive("dt", dt)
+    }
+
     /// The number of parameters.
     fn n_params(&self) -> usize;
 
@@ -227,6 +245,9 @@ impl<T: Float> Operator<T> for Box<dyn Operator<T>> {
     }
     fn run(&mut self, xs: &[T]) -> Result<Vec<T>> {
         (**self).run(xs)
+    }
+    fn set_sample_period(&mut self, dt: T) -> Result<()> {
+        (**self).set_sample_period(dt)
     }
     fn n_params(&self) -> usize {
         (**self).n_params()

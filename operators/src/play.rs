@@ -1,23 +1,16 @@
 //! The play operator (backlash).
 
-use crate::{check, check_input, check_lengths, Domain, Error, Float, Operator, Result, Trial};
-use serde::{Deserialize, Serialize};
+use crate::{declare_params, Error, Float, Result, StepLaw, Stepped, Trial};
 
-/// Parameters of the [`Play`] operator.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct PlayParams<T> {
-    /// Threshold (half the backlash gap) `r ≥ 0`.
-    pub r: T,
-    /// Output at input `x = 0` before the first sample (default 0).
-    #[serde(default)]
-    pub y0: T,
-}
-
-impl<T: Float> PlayParams<T> {
-    /// Checks `r ≥ 0` and finite `y0`.
-    pub fn validate(&self) -> Result<()> {
-        check::non_negative("r", self.r)?;
-        check::finite("y0", self.y0)
+declare_params! {
+    /// Parameters of the [`Play`] operator.
+    #[derive(Copy)]
+    pub struct PlayParams<T> {
+        /// Threshold (half the backlash gap) `r ≥ 0`.
+        r: T => NonNegative,
+        /// Output at input `x = 0` before the first sample (default 0).
+        #[serde(default)]
+        y0: T => Real,
     }
 }
 
@@ -35,12 +28,11 @@ impl<T: Float> PlayParams<T> {
 /// let mut p = Play::new(1.0_f64).unwrap();
 /// assert_eq!(p.run(&[2.0, 1.5, 0.0, -1.0]).unwrap(), vec![1.0, 1.0, 1.0, 0.0]);
 /// ```
+pub type Play<T> = Stepped<PlayLaw<T>, T>;
+
+/// The law of the [`Play`]: its parameters; the state is the output.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Play<T> {
-    p: PlayParams<T>,
-    y: T,
-    pending: Option<T>,
-}
+pub struct PlayLaw<T>(PlayParams<T>);
 
 /// One play step: `max(x − r, min(x + r, y_prev))`.
 ///
@@ -142,61 +134,56 @@ impl<T: Float> Play<T> {
         Self::from_params(PlayParams { r, y0: T::zero() })
     }
 
-    /// A play from validated parameters.
-    pub fn from_params(p: PlayParams<T>) -> Result<Self> {
-        p.validate()?;
-        Ok(Self {
-            p,
-            y: p.y0,
-            pending: None,
-        })
-    }
-
-    /// The parameters.
-    pub fn parameters(&self) -> &PlayParams<T> {
-        &self.p
-    }
-
     /// The committed output.
     pub fn output(&self) -> T {
-        self.y
+        *self.state()
     }
 }
 
-impl<T: Float> Operator<T> for Play<T> {
-    fn name(&self) -> &'static str {
-        "play"
+impl<T: Float> StepLaw<T> for PlayLaw<T> {
+    const KIND: &'static str = "play";
+    type Params = PlayParams<T>;
+    type State = T;
+    type With<U: Float> = PlayLaw<U>;
+
+    fn new(p: PlayParams<T>) -> Result<Self> {
+        p.validate()?;
+        Ok(Self(p))
     }
 
-    #[inline]
-    fn trial(&mut self, x: T) -> Result<Trial<T>> {
-        self.pending = None;
-        let x = check_input(x)?;
-        let y = play_step(self.p.r, self.y, x);
-        self.pending = Some(y);
-        Ok(Trial {
-            output: y,
-            tangent: play_tangent(self.p.r, self.y, x),
-        })
+    fn params(&self) -> &PlayParams<T> {
+        &self.0
     }
 
-    #[inline]
-    fn commit(&mut self) {
-        if let Some(y) = self.pending.take() {
-            self.y = y;
+    fn example() -> PlayParams<T> {
+        PlayParams {
+            r: T::lit(0.5),
+            y0: T::lit(0.2),
         }
     }
 
-    fn reset(&mut self) {
-        self.y = self.p.y0;
-        self.pending = None;
+    fn initial(&self) -> T {
+        self.0.y0
     }
 
-    fn process(&mut self, xs: &[T], ys: &mut [T]) -> Result<()> {
-        check_lengths(xs, ys)?;
-        self.pending = None;
-        let r = self.p.r;
-        let mut y = self.y;
+    #[inline(always)]
+    fn step(&self, y: &T, x: T) -> Result<(T, Trial<T>)> {
+        let r = self.0.r;
+        let next = play_step(r, *y, x);
+        Ok((
+            next,
+            Trial {
+                output: next,
+                tangent: play_tangent(r, *y, x),
+            },
+        ))
+    }
+
+    /// Two samples per step of the dependency chain for `r > 0` (see
+    /// `play_pairs`), finiteness checked once per block of outputs.
+    fn run(&self, state: &mut T, xs: &[T], ys: &mut [T]) -> Result<()> {
+        let r = self.0.r;
+        let mut y = *state;
         // From a finite state a play step maps a finite input to a finite
         // output and a non-finite one (NaN, ±∞) to a non-finite output (in
         // the paired form too), so the hot loop needs no per-sample check:
@@ -211,36 +198,14 @@ impl<T: Float> Operator<T> for Play<T> {
             };
             if !all_finite(yb) {
                 let j = yb.iter().position(|v| !v.is_finite()).unwrap_or(0);
-                self.y = if j == 0 { start } else { yb[j - 1] };
+                *state = if j == 0 { start } else { yb[j - 1] };
                 return Err(Error::NonFiniteInput {
                     value: xb[j].as_f64(),
                 }
                 .at_sample(b * BLOCK + j));
             }
         }
-        self.y = y;
-        Ok(())
-    }
-
-    fn n_params(&self) -> usize {
-        2
-    }
-
-    fn params_into(&self, out: &mut Vec<T>) {
-        out.extend([self.p.r, self.p.y0]);
-    }
-
-    fn param_names(&self) -> Vec<String> {
-        vec!["r".into(), "y0".into()]
-    }
-
-    fn param_domains(&self) -> Vec<Domain> {
-        vec![Domain::NonNegative, Domain::Real]
-    }
-
-    fn set_params(&mut self, p: &[T]) -> Result<()> {
-        check::count(2, p)?;
-        *self = Self::from_params(PlayParams { r: p[0], y0: p[1] })?;
+        *state = y;
         Ok(())
     }
 }
@@ -248,6 +213,7 @@ impl<T: Float> Operator<T> for Play<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Operator;
 
     /// Every sequence of 5 inputs from values that tie with the play's
     /// bounds (`±0`, `±r`, `±2r`, …) from initial states that tie too:

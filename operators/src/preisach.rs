@@ -1,7 +1,10 @@
 //! The classical scalar Preisach model, from a discrete relay grid or from
 //! an Everett function (tabulated or in closed form).
 
-use crate::{check, check_input, check_output, Domain, Error, Float, Operator, Result, Trial};
+use crate::{
+    check, check_input, check_output, Domain, Error, FieldInfo, FieldKind, Float, Leaf, Operator,
+    ParamSet, Result, Trial,
+};
 use serde::{Deserialize, Serialize};
 
 /// The Preisach measure `μ(α, β) ≥ 0` on the half-plane `α ≥ β` of relay
@@ -324,11 +327,6 @@ impl<T: Float> PreisachMeasure<T> {
 }
 
 impl<T: Float> PreisachParams<T> {
-    /// Checks the measure.
-    pub fn validate(&self) -> Result<()> {
-        self.measure.validate()
-    }
-
     /// A relay grid discretizing a density `μ(α, β)` on `[x_min, x_max]`
     /// with `n ≥ 1` levels by the midpoint rule: `t[k] = x_min + (k + ½) h`,
     /// `h = (x_max − x_min)/n`, `mu[i][j] = μ(t[i], t[j]) h²` for `j < i`
@@ -797,10 +795,6 @@ impl<T: Float> Preisach<T> {
 }
 
 impl<T: Float> Operator<T> for Preisach<T> {
-    fn name(&self) -> &'static str {
-        "preisach"
-    }
-
     fn trial(&mut self, x: T) -> Result<Trial<T>> {
         self.pending = None;
         let x = check_input(x)?;
@@ -845,29 +839,91 @@ impl<T: Float> Operator<T> for Preisach<T> {
         self.stack.push(pend.top);
     }
 
-    fn n_params(&self) -> usize {
-        self.p.measure.n_params()
+    crate::leaf_param_methods!(T);
+}
+
+/// The flat parameters are the measure's (see [`PreisachMeasure`]); the
+/// start is a setting.
+impl<T: Float> ParamSet<T> for PreisachParams<T> {
+    const FIELDS: &'static [FieldInfo] = &[
+        FieldInfo {
+            name: "measure",
+            kind: FieldKind::Nested,
+            doc: &["The Preisach measure."],
+        },
+        FieldInfo {
+            name: "start",
+            kind: FieldKind::Fixed,
+            doc: &["The state at input 0 before the first sample."],
+        },
+    ];
+
+    fn count(&self) -> usize {
+        self.measure.n_params()
     }
 
-    fn params_into(&self, out: &mut Vec<T>) {
-        self.p.measure.params_into(out);
+    fn names_into(&self, prefix: &str, out: &mut Vec<String>) {
+        out.extend(
+            self.measure
+                .param_names()
+                .into_iter()
+                .map(|n| format!("{prefix}{n}")),
+        );
     }
 
-    fn param_names(&self) -> Vec<String> {
-        self.p.measure.param_names()
+    fn domains_into(&self, out: &mut Vec<Domain>) {
+        out.extend(self.measure.param_domains());
     }
 
-    fn param_domains(&self) -> Vec<Domain> {
-        self.p.measure.param_domains()
+    fn write(&self, out: &mut Vec<T>) {
+        self.measure.params_into(out);
     }
 
-    fn set_params(&mut self, p: &[T]) -> Result<()> {
-        let measure = self.p.measure.from_flat(p)?;
-        *self = Self::from_params(PreisachParams {
-            measure,
-            start: self.p.start,
-        })?;
-        Ok(())
+    fn read(&self, p: &mut &[T]) -> Result<Self> {
+        let n = self.count();
+        if p.len() < n {
+            return Err(Error::ParamCount {
+                expected: n,
+                got: p.len(),
+            });
+        }
+        let (head, tail) = p.split_at(n);
+        *p = tail;
+        Ok(Self {
+            measure: self.measure.from_flat(head)?,
+            start: self.start,
+        })
+    }
+
+    fn validate(&self) -> Result<()> {
+        self.measure.validate()
+    }
+}
+
+impl<T: Float> Leaf<T> for Preisach<T> {
+    const KIND: &'static str = "preisach";
+    type Params = PreisachParams<T>;
+    type With<U: Float> = Preisach<U>;
+
+    fn from_params(p: PreisachParams<T>) -> Result<Self> {
+        Preisach::from_params(p)
+    }
+
+    fn parameters(&self) -> &PreisachParams<T> {
+        &self.p
+    }
+
+    fn example() -> PreisachParams<T> {
+        PreisachParams {
+            measure: PreisachMeasure::Tanh {
+                amplitude: T::lit(1.5),
+                hc: T::lit(0.3),
+                w: T::lit(0.4),
+                x_min: T::lit(-2.0),
+                x_max: T::lit(2.0),
+            },
+            start: PreisachStart::FromAbove,
+        }
     }
 }
 

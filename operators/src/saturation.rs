@@ -1,23 +1,18 @@
 //! The saturation operator.
 
 use crate::memoryless::map_samples;
-use crate::{check, check_input, Float, Operator, Result, Trial};
-use serde::{Deserialize, Serialize};
+use crate::{check, declare_params, Float, Result, StepLaw, Stepped, Trial};
 
-/// Parameters of the [`Saturation`] operator.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct SaturationParams<T> {
-    /// Lower limit.
-    pub lo: T,
-    /// Upper limit, `hi > lo`.
-    pub hi: T,
-}
-
-impl<T: Float> SaturationParams<T> {
-    /// Checks finite limits with `lo < hi`.
-    pub fn validate(&self) -> Result<()> {
-        check::ordered("lo", self.lo, "hi", self.hi)
+declare_params! {
+    /// Parameters of the [`Saturation`] operator.
+    #[derive(Copy)]
+    pub struct SaturationParams<T> {
+        /// Lower limit.
+        lo: T => Real,
+        /// Upper limit, `hi > lo`.
+        hi: T => Real,
     }
+    check = |p| check::ordered("lo", p.lo, "hi", p.hi);
 }
 
 /// Saturation `sat(x) = clamp(x, lo, hi)` with `lo < hi` (memoryless).
@@ -28,73 +23,62 @@ impl<T: Float> SaturationParams<T> {
 /// let mut s = Saturation::new(-1.0_f64, 2.0).unwrap();
 /// assert_eq!(s.run(&[-3.0, 0.5, 5.0]).unwrap(), vec![-1.0, 0.5, 2.0]);
 /// ```
+pub type Saturation<T> = Stepped<SaturationLaw<T>, T>;
+
+/// The law of the [`Saturation`] (memoryless: no state).
 #[derive(Debug, Clone, PartialEq)]
-pub struct Saturation<T> {
-    p: SaturationParams<T>,
-}
+pub struct SaturationLaw<T>(SaturationParams<T>);
 
 impl<T: Float> Saturation<T> {
     /// A saturation with limits `lo < hi`.
     pub fn new(lo: T, hi: T) -> Result<Self> {
         Self::from_params(SaturationParams { lo, hi })
     }
-
-    /// A saturation from validated parameters.
-    pub fn from_params(p: SaturationParams<T>) -> Result<Self> {
-        p.validate()?;
-        Ok(Self { p })
-    }
-
-    /// The parameters.
-    pub fn parameters(&self) -> &SaturationParams<T> {
-        &self.p
-    }
 }
 
-impl<T: Float> Operator<T> for Saturation<T> {
-    fn name(&self) -> &'static str {
-        "saturation"
+impl<T: Float> StepLaw<T> for SaturationLaw<T> {
+    const KIND: &'static str = "saturation";
+    type Params = SaturationParams<T>;
+    type State = ();
+    type With<U: Float> = SaturationLaw<U>;
+
+    fn new(p: SaturationParams<T>) -> Result<Self> {
+        p.validate()?;
+        Ok(Self(p))
     }
 
-    #[inline]
-    fn trial(&mut self, x: T) -> Result<Trial<T>> {
-        let x = check_input(x)?;
-        let SaturationParams { lo, hi } = self.p;
+    fn params(&self) -> &SaturationParams<T> {
+        &self.0
+    }
+
+    fn example() -> SaturationParams<T> {
+        SaturationParams {
+            lo: T::lit(-1.0),
+            hi: T::lit(0.75),
+        }
+    }
+
+    fn initial(&self) {}
+
+    #[inline(always)]
+    fn step(&self, _: &(), x: T) -> Result<((), Trial<T>)> {
+        let SaturationParams { lo, hi } = self.0;
         let tangent = if x > lo && x < hi {
             T::one()
         } else {
             T::zero()
         };
-        Ok(Trial {
-            output: x.max(lo).min(hi),
-            tangent,
-        })
+        Ok((
+            (),
+            Trial {
+                output: x.max(lo).min(hi),
+                tangent,
+            },
+        ))
     }
 
-    fn commit(&mut self) {}
-
-    fn reset(&mut self) {}
-
-    fn process(&mut self, xs: &[T], ys: &mut [T]) -> Result<()> {
-        let SaturationParams { lo, hi } = self.p;
+    fn run(&self, _: &mut (), xs: &[T], ys: &mut [T]) -> Result<()> {
+        let SaturationParams { lo, hi } = self.0;
         map_samples(xs, ys, |x| x.max(lo).min(hi))
-    }
-
-    fn n_params(&self) -> usize {
-        2
-    }
-
-    fn params_into(&self, out: &mut Vec<T>) {
-        out.extend([self.p.lo, self.p.hi]);
-    }
-
-    fn param_names(&self) -> Vec<String> {
-        vec!["lo".into(), "hi".into()]
-    }
-
-    fn set_params(&mut self, p: &[T]) -> Result<()> {
-        check::count(2, p)?;
-        *self = Self::from_params(SaturationParams { lo: p[0], hi: p[1] })?;
-        Ok(())
     }
 }

@@ -1,6 +1,6 @@
 //! The stiffness map `S(z)` of the Bouc-Wen-like spring.
 
-use crate::{check, Error, Float, Result};
+use crate::{check, Domain, Error, FieldInfo, FieldKind, Float, ParamField, ParamSet, Result};
 use serde::{Deserialize, Serialize};
 
 /// Symmetric stiffness map `S(z) = σ(|z|)`, with `σ` piecewise linear
@@ -17,6 +17,7 @@ use serde::{Deserialize, Serialize};
 /// assert_eq!(s.eval(3.0).0, 20.0);      // constant beyond the last knot
 /// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct StiffnessMap<T> {
     z: Vec<T>,
     s: Vec<T>,
@@ -28,6 +29,11 @@ impl<T: Float> StiffnessMap<T> {
         let map = Self { z, s };
         map.validate()?;
         Ok(map)
+    }
+
+    /// A map through knots known to be valid (not checked).
+    pub(crate) fn knots_unchecked(z: Vec<T>, s: Vec<T>) -> Self {
+        Self { z, s }
     }
 
     /// A constant stiffness `k ≥ 0`.
@@ -125,25 +131,64 @@ impl<T: Float> StiffnessMap<T> {
         let sign = if z < T::zero() { -T::one() } else { T::one() };
         (s0 + slope * (a - z0), slope * sign)
     }
+}
 
-    /// Appends `z_0..z_m, s_0..s_m` to `out`.
-    pub fn params_into(&self, out: &mut Vec<T>) {
-        out.extend_from_slice(&self.z);
-        out.extend_from_slice(&self.s);
-    }
-
-    /// A map with the same number of knots from `z_0..z_m, s_0..s_m`.
-    pub fn from_flat(&self, p: &[T]) -> Result<Self> {
-        check::count(2 * self.len(), p)?;
-        let (z, s) = p.split_at(self.len());
-        Self::new(z.to_vec(), s.to_vec())
-    }
-
-    /// Parameter names `z[i]` then `s[i]`.
-    pub fn param_names(&self) -> Vec<String> {
-        (0..self.len())
-            .map(|i| format!("z[{i}]"))
-            .chain((0..self.len()).map(|i| format!("s[{i}]")))
-            .collect()
+impl<T: Float> StiffnessMap<T> {
+    /// The two declared vectors with their declarations.
+    fn fields(&self) -> [(&Vec<T>, &'static FieldInfo); 2] {
+        let f = <Self as ParamSet<T>>::FIELDS;
+        [(&self.z, &f[0]), (&self.s, &f[1])]
     }
 }
+
+/// The map's parameters are its knots: `z[0..m]`, then `s[0..m]`.
+impl<T: Float> ParamSet<T> for StiffnessMap<T> {
+    const FIELDS: &'static [FieldInfo] = &[
+        FieldInfo {
+            name: "z",
+            kind: FieldKind::Param(Domain::NonNegative),
+            doc: &["Knot positions `z_i ≥ 0`, strictly increasing."],
+        },
+        FieldInfo {
+            name: "s",
+            kind: FieldKind::Param(Domain::NonNegative),
+            doc: &["Stiffness values `s_i ≥ 0` at the knots."],
+        },
+    ];
+
+    fn count(&self) -> usize {
+        2 * self.len()
+    }
+
+    fn names_into(&self, prefix: &str, out: &mut Vec<String>) {
+        for (v, f) in self.fields() {
+            v.names_into(&format!("{prefix}{}", f.name), f.kind, out);
+        }
+    }
+
+    fn domains_into(&self, out: &mut Vec<Domain>) {
+        for (v, f) in self.fields() {
+            ParamField::<T>::domains_into(v, f.kind, out);
+        }
+    }
+
+    fn write(&self, out: &mut Vec<T>) {
+        for (v, f) in self.fields() {
+            v.write(f.kind, out);
+        }
+    }
+
+    fn read(&self, p: &mut &[T]) -> Result<Self> {
+        let [(z, fz), (s, fs)] = self.fields();
+        Ok(Self {
+            z: z.read(fz.kind, p)?,
+            s: s.read(fs.kind, p)?,
+        })
+    }
+
+    fn validate(&self) -> Result<()> {
+        StiffnessMap::validate(self)
+    }
+}
+
+crate::nested_param_field!(StiffnessMap);

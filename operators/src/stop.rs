@@ -1,26 +1,16 @@
 //! The stop operator (Prandtl-Ishlinskii stop).
 
-use crate::{
-    check, check_input, check_lengths, play_step, play_tangent, Domain, Error, Float, Operator,
-    Result, Trial,
-};
-use serde::{Deserialize, Serialize};
+use crate::{declare_params, play_step, play_tangent, Float, Result, StepLaw, Stepped, Trial};
 
-/// Parameters of the [`Stop`] operator.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct StopParams<T> {
-    /// Threshold `r ≥ 0`: the output stays in `[−r, r]`.
-    pub r: T,
-    /// Output at input `x = 0` before the first sample (default 0).
-    #[serde(default)]
-    pub s0: T,
-}
-
-impl<T: Float> StopParams<T> {
-    /// Checks `r ≥ 0` and finite `s0`.
-    pub fn validate(&self) -> Result<()> {
-        check::non_negative("r", self.r)?;
-        check::finite("s0", self.s0)
+declare_params! {
+    /// Parameters of the [`Stop`] operator.
+    #[derive(Copy)]
+    pub struct StopParams<T> {
+        /// Threshold `r ≥ 0`: the output stays in `[−r, r]`.
+        r: T => NonNegative,
+        /// Output at input `x = 0` before the first sample (default 0).
+        #[serde(default)]
+        s0: T => Real,
     }
 }
 
@@ -41,13 +31,12 @@ impl<T: Float> StopParams<T> {
 /// let mut s = Stop::new(1.0_f64).unwrap();
 /// assert_eq!(s.run(&[0.5, 2.0, 1.5]).unwrap(), vec![0.5, 1.0, 0.5]);
 /// ```
+pub type Stop<T> = Stepped<StopLaw<T>, T>;
+
+/// The law of the [`Stop`]: its parameters; the state is the play
+/// position `q = x − s`.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Stop<T> {
-    p: StopParams<T>,
-    /// Committed play position `x − s`.
-    q: T,
-    pending: Option<T>,
-}
+pub struct StopLaw<T>(StopParams<T>);
 
 /// One stop step from play position `q`: returns `(s, q_new, tangent)`.
 ///
@@ -74,86 +63,37 @@ impl<T: Float> Stop<T> {
     pub fn new(r: T) -> Result<Self> {
         Self::from_params(StopParams { r, s0: T::zero() })
     }
-
-    /// A stop from validated parameters.
-    pub fn from_params(p: StopParams<T>) -> Result<Self> {
-        p.validate()?;
-        Ok(Self {
-            p,
-            q: -p.s0,
-            pending: None,
-        })
-    }
-
-    /// The parameters.
-    pub fn parameters(&self) -> &StopParams<T> {
-        &self.p
-    }
 }
 
-impl<T: Float> Operator<T> for Stop<T> {
-    fn name(&self) -> &'static str {
-        "stop"
+impl<T: Float> StepLaw<T> for StopLaw<T> {
+    const KIND: &'static str = "stop";
+    type Params = StopParams<T>;
+    type State = T;
+    type With<U: Float> = StopLaw<U>;
+
+    fn new(p: StopParams<T>) -> Result<Self> {
+        p.validate()?;
+        Ok(Self(p))
     }
 
-    #[inline]
-    fn trial(&mut self, x: T) -> Result<Trial<T>> {
-        self.pending = None;
-        let x = check_input(x)?;
-        let (s, q, tangent) = stop_step(self.p.r, self.q, x);
-        self.pending = Some(q);
-        Ok(Trial { output: s, tangent })
+    fn params(&self) -> &StopParams<T> {
+        &self.0
     }
 
-    #[inline]
-    fn commit(&mut self) {
-        if let Some(q) = self.pending.take() {
-            self.q = q;
+    fn example() -> StopParams<T> {
+        StopParams {
+            r: T::lit(0.5),
+            s0: T::lit(0.25),
         }
     }
 
-    fn reset(&mut self) {
-        self.q = -self.p.s0;
-        self.pending = None;
+    fn initial(&self) -> T {
+        -self.0.s0
     }
 
-    fn process(&mut self, xs: &[T], ys: &mut [T]) -> Result<()> {
-        check_lengths(xs, ys)?;
-        self.pending = None;
-        let r = self.p.r;
-        let mut q = self.q;
-        for (i, (&x, out)) in xs.iter().zip(ys.iter_mut()).enumerate() {
-            if !x.is_finite() {
-                self.q = q;
-                return Err(Error::NonFiniteInput { value: x.as_f64() }.at_sample(i));
-            }
-            let (s, qn, _) = stop_step(r, q, x);
-            q = qn;
-            *out = s;
-        }
-        self.q = q;
-        Ok(())
-    }
-
-    fn n_params(&self) -> usize {
-        2
-    }
-
-    fn params_into(&self, out: &mut Vec<T>) {
-        out.extend([self.p.r, self.p.s0]);
-    }
-
-    fn param_names(&self) -> Vec<String> {
-        vec!["r".into(), "s0".into()]
-    }
-
-    fn param_domains(&self) -> Vec<Domain> {
-        vec![Domain::NonNegative, Domain::Real]
-    }
-
-    fn set_params(&mut self, p: &[T]) -> Result<()> {
-        check::count(2, p)?;
-        *self = Self::from_params(StopParams { r: p[0], s0: p[1] })?;
-        Ok(())
+    #[inline(always)]
+    fn step(&self, q: &T, x: T) -> Result<(T, Trial<T>)> {
+        let (s, q, tangent) = stop_step(self.0.r, *q, x);
+        Ok((q, Trial { output: s, tangent }))
     }
 }

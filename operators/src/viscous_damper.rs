@@ -1,6 +1,20 @@
 //! A viscous damper (rate-dependent).
 
-use crate::{check, check_input, check_output, Domain, Float, Operator, Result, Trial};
+use crate::{check, declare_params, Float, Result, StepLaw, Stepped, Trial};
+
+declare_params! {
+    /// Parameters of the [`ViscousDamper`].
+    #[derive(Copy)]
+    pub struct ViscousDamperParams<T> {
+        /// Damping coefficient `c ≥ 0`.
+        c: T => NonNegative,
+        /// Sample period `dt > 0` (s) until the structure above sets one
+        /// ([`Operator::set_sample_period`](crate::Operator::set_sample_period)).
+        /// Not a fitted parameter.
+        dt: T => fixed,
+    }
+    check = |p| check::positive("dt", p.dt);
+}
 
 /// Viscous damper, force from displacement: `F = c ẋ`, `c ≥ 0`.
 ///
@@ -19,81 +33,61 @@ use crate::{check, check_input, check_output, Domain, Float, Operator, Result, T
 /// let f = d.run(&x).unwrap();
 /// assert!((f[99] - 6.0).abs() < 1e-9);
 /// ```
+pub type ViscousDamper<T> = Stepped<ViscousDamperLaw<T>, T>;
+
+/// The law of the [`ViscousDamper`]; the state is the last input.
 #[derive(Debug, Clone, PartialEq)]
-pub struct ViscousDamper<T> {
-    c: T,
-    dt: T,
-    x: T,
-    pending: Option<T>,
-}
+pub struct ViscousDamperLaw<T>(ViscousDamperParams<T>);
 
 impl<T: Float> ViscousDamper<T> {
     /// A damper with coefficient `c ≥ 0` and sample period `dt > 0`.
     pub fn new(c: T, dt: T) -> Result<Self> {
-        check::non_negative("c", c)?;
-        check::positive("dt", dt)?;
-        Ok(Self {
-            c,
-            dt,
-            x: T::zero(),
-            pending: None,
-        })
+        Self::from_params(ViscousDamperParams { c, dt })
     }
 }
 
-impl<T: Float> Operator<T> for ViscousDamper<T> {
-    fn name(&self) -> &'static str {
-        "viscous-damper"
+impl<T: Float> StepLaw<T> for ViscousDamperLaw<T> {
+    const KIND: &'static str = "viscous_damper";
+    type Params = ViscousDamperParams<T>;
+    type State = T;
+    type With<U: Float> = ViscousDamperLaw<U>;
+
+    fn new(p: ViscousDamperParams<T>) -> Result<Self> {
+        p.validate()?;
+        Ok(Self(p))
     }
 
-    #[inline]
-    fn trial(&mut self, x: T) -> Result<Trial<T>> {
-        self.pending = None;
-        let x = check_input(x)?;
-        let v = (x - self.x) / self.dt;
-        let t = check_output(
-            "viscous-damper",
-            x,
-            Trial {
-                output: self.c * v,
-                tangent: self.c / self.dt,
-            },
-        )?;
-        self.pending = Some(x);
-        Ok(t)
+    fn params(&self) -> &ViscousDamperParams<T> {
+        &self.0
     }
 
-    #[inline]
-    fn commit(&mut self) {
-        if let Some(x) = self.pending.take() {
-            self.x = x;
+    fn example() -> ViscousDamperParams<T> {
+        ViscousDamperParams {
+            c: T::lit(2.0),
+            dt: T::lit(0.01),
         }
     }
 
-    fn reset(&mut self) {
-        self.x = T::zero();
-        self.pending = None;
+    fn initial(&self) -> T {
+        T::zero()
     }
 
-    fn n_params(&self) -> usize {
-        1
+    #[inline(always)]
+    fn step(&self, x_prev: &T, x: T) -> Result<(T, Trial<T>)> {
+        let ViscousDamperParams { c, dt } = self.0;
+        let v = (x - *x_prev) / dt;
+        Ok((
+            x,
+            Trial {
+                output: c * v,
+                tangent: c / dt,
+            },
+        ))
     }
 
-    fn params_into(&self, out: &mut Vec<T>) {
-        out.push(self.c);
-    }
-
-    fn param_names(&self) -> Vec<String> {
-        vec!["c".into()]
-    }
-
-    fn param_domains(&self) -> Vec<Domain> {
-        vec![Domain::NonNegative]
-    }
-
-    fn set_params(&mut self, p: &[T]) -> Result<()> {
-        check::count(1, p)?;
-        *self = Self::new(p[0], self.dt)?;
+    fn set_sample_period(&mut self, dt: T) -> Result<()> {
+        check::positive("dt", dt)?;
+        self.0.dt = dt;
         Ok(())
     }
 }

@@ -1,0 +1,253 @@
+//! Leaf operators: the [`Leaf`] trait that a registry of specs builds
+//! from, and the generic driver [`Stepped`] that gives a leaf defined by a
+//! pure step function ([`StepLaw`]) the whole [`Operator`] protocol.
+
+use crate::{check_input, check_lengths, check_output, Float, Operator, ParamSet, Result, Trial};
+use core::fmt::Debug;
+
+/// An elementary operator built from one declared parameter set.
+///
+/// `KIND` is the operator's one name everywhere: the spec `type`,
+/// [`Operator::name`], parameter paths and the CLI
+/// (`bouc_wen`, `dead_zone`, …).
+///
+/// # Requirements
+/// * `from_params(p)` validates `p` ([`ParamSet::validate`]) and builds
+///   the operator in its initial state;
+/// * `parameters()` returns the set it was built from, so that
+///   `from_params(op.parameters().clone())` is the same operator;
+/// * [`example`](Leaf::example) is a valid set (the contract test runs it).
+pub trait Leaf<T: Float>: Operator<T> + Sized {
+    /// The operator's name (snake case).
+    const KIND: &'static str;
+    /// Its declared parameters.
+    type Params: ParamSet<T>;
+    /// The same operator for another scalar type.
+    type With<U: Float>: Leaf<U>;
+
+    /// Builds the operator from validated parameters.
+    fn from_params(p: Self::Params) -> Result<Self>;
+
+    /// The parameters it was built from.
+    fn parameters(&self) -> &Self::Params;
+
+    /// A valid example parameter set (for docs and the contract test).
+    fn example() -> Self::Params;
+
+    /// The operator with new parameters and this one's settings that are
+    /// not parameters (a solver tolerance, say), in its initial state. The
+    /// default is [`from_params`](Leaf::from_params).
+    fn with_parameters(&self, p: Self::Params) -> Result<Self> {
+        Self::from_params(p)
+    }
+}
+
+/// The [`Operator`] methods of a [`Leaf`] that follow from its declared
+/// parameters: `name`, `n_params`, `params_into`, `param_names`,
+/// `param_domains` and `set_params`. Use inside `impl Operator<T> for …`.
+#[macro_export]
+macro_rules! leaf_param_methods {
+    ($t:ty) => {
+        fn name(&self) -> &'static str {
+            <Self as $crate::Leaf<$t>>::KIND
+        }
+        fn n_params(&self) -> usize {
+            $crate::ParamSet::<$t>::count($crate::Leaf::<$t>::parameters(self))
+        }
+        fn params_into(&self, out: &mut Vec<$t>) {
+            $crate::ParamSet::<$t>::write($crate::Leaf::<$t>::parameters(self), out)
+        }
+        fn param_names(&self) -> Vec<String> {
+            $crate::ParamSet::<$t>::names($crate::Leaf::<$t>::parameters(self))
+        }
+        fn param_domains(&self) -> Vec<$crate::Domain> {
+            $crate::ParamSet::<$t>::domains($crate::Leaf::<$t>::parameters(self))
+        }
+        fn set_params(&mut self, p: &[$t]) -> $crate::Result<()> {
+            let next =
+                $crate::ParamSet::<$t>::with_values($crate::Leaf::<$t>::parameters(self), p)?;
+            *self = $crate::Leaf::<$t>::with_parameters(self, next)?;
+            Ok(())
+        }
+    };
+}
+
+/// The law of a plain leaf: declared parameters, a small state and a pure
+/// step `(state, x) → (state', y, dy/dx)`. [`Stepped`] turns it into an
+/// [`Operator`].
+///
+/// # Requirements
+/// * `new(p)` validates `p` and may precompute constants from it;
+/// * `step` depends only on `self`, the state and `x` (finite: the driver
+///   checks inputs, and checks that the output is finite and the tangent
+///   not NaN);
+/// * an override of [`run`](StepLaw::run) is bit for bit the loop of
+///   `step` it replaces, and leaves `s` at the state after the last
+///   successful sample.
+pub trait StepLaw<T: Float>: Clone + Debug + Send + Sync + 'static {
+    /// The operator's name (see [`Leaf::KIND`]).
+    const KIND: &'static str;
+    /// Its declared parameters.
+    type Params: ParamSet<T>;
+    /// The state between samples.
+    type State: Clone + Debug + PartialEq + Send + Sync + 'static;
+    /// The same law for another scalar type.
+    type With<U: Float>: StepLaw<U>;
+
+    /// The law for validated parameters.
+    fn new(p: Self::Params) -> Result<Self>;
+    /// Its parameters.
+    fn params(&self) -> &Self::Params;
+    /// A valid example parameter set.
+    fn example() -> Self::Params;
+    /// The state before the first sample.
+    fn initial(&self) -> Self::State;
+    /// One sample from state `s` to the finite input `x`: the new state and
+    /// the output with its tangent.
+    fn step(&self, s: &Self::State, x: T) -> Result<(Self::State, Trial<T>)>;
+
+    /// Runs `xs` from state `s`, writing `ys` (equal lengths, checked by the
+    /// driver). The default steps sample by sample; an error at sample `i`
+    /// leaves `s` after sample `i − 1` and is returned with
+    /// [`Error::at_sample`](crate::Error::at_sample).
+    fn run(&self, s: &mut Self::State, xs: &[T], ys: &mut [T]) -> Result<()> {
+        for (i, (&x, y)) in xs.iter().zip(ys.iter_mut()).enumerate() {
+            let (next, t) = checked_step(self, s, x).map_err(|e| e.at_sample(i))?;
+            *s = next;
+            *y = t.output;
+        }
+        Ok(())
+    }
+
+    /// Sets the sample period for a rate-dependent law (the default, for a
+    /// rate-independent one, ignores it).
+    fn set_sample_period(&mut self, _dt: T) -> Result<()> {
+        Ok(())
+    }
+}
+
+/// `step` with the driver's checks: a finite input, a finite output and a
+/// tangent that is not NaN.
+#[inline(always)]
+pub fn checked_step<T: Float, L: StepLaw<T>>(
+    law: &L,
+    s: &L::State,
+    x: T,
+) -> Result<(L::State, Trial<T>)> {
+    let x = check_input(x)?;
+    let (next, t) = law.step(s, x)?;
+    Ok((next, check_output(L::KIND, x, t)?))
+}
+
+/// The driver of a [`StepLaw`]: the committed state, the pending trial,
+/// and the whole [`Operator`] protocol.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Stepped<L: StepLaw<T>, T: Float> {
+    law: L,
+    s: L::State,
+    pending: Option<L::State>,
+}
+
+impl<T: Float, L: StepLaw<T>> Stepped<L, T> {
+    /// The operator for validated parameters, in its initial state
+    /// ([`Leaf::from_params`]).
+    pub fn from_params(p: L::Params) -> Result<Self> {
+        let law = L::new(p)?;
+        let s = law.initial();
+        Ok(Self {
+            law,
+            s,
+            pending: None,
+        })
+    }
+
+    /// The parameters ([`Leaf::parameters`]).
+    pub fn parameters(&self) -> &L::Params {
+        self.law.params()
+    }
+
+    /// The law, for its own accessors.
+    pub fn law(&self) -> &L {
+        &self.law
+    }
+
+    /// The committed state.
+    pub fn state(&self) -> &L::State {
+        &self.s
+    }
+}
+
+impl<T: Float, L: StepLaw<T>> Leaf<T> for Stepped<L, T> {
+    const KIND: &'static str = L::KIND;
+    type Params = L::Params;
+    type With<U: Float> = Stepped<L::With<U>, U>;
+
+    fn from_params(p: Self::Params) -> Result<Self> {
+        Stepped::from_params(p)
+    }
+
+    fn parameters(&self) -> &Self::Params {
+        Stepped::parameters(self)
+    }
+
+    fn example() -> Self::Params {
+        L::example()
+    }
+}
+
+impl<T: Float, L: StepLaw<T>> Operator<T> for Stepped<L, T> {
+    #[inline]
+    fn trial(&mut self, x: T) -> Result<Trial<T>> {
+        self.pending = None;
+        let (next, t) = checked_step(&self.law, &self.s, x)?;
+        self.pending = Some(next);
+        Ok(t)
+    }
+
+    #[inline]
+    fn commit(&mut self) {
+        if let Some(s) = self.pending.take() {
+            self.s = s;
+        }
+    }
+
+    fn reset(&mut self) {
+        self.s = self.law.initial();
+        self.pending = None;
+    }
+
+    fn process(&mut self, xs: &[T], ys: &mut [T]) -> Result<()> {
+        check_lengths(xs, ys)?;
+        self.pending = None;
+        self.law.run(&mut self.s, xs, ys)
+    }
+
+    fn process_while(
+        &mut self,
+        xs: &[T],
+        ys: &mut [T],
+        keep: &mut dyn FnMut(usize, T) -> bool,
+    ) -> usize {
+        self.pending = None;
+        for (i, (&x, y)) in xs.iter().zip(ys.iter_mut()).enumerate() {
+            match checked_step(&self.law, &self.s, x) {
+                Ok((next, t)) if keep(i, t.output) => {
+                    self.s = next;
+                    *y = t.output;
+                }
+                Ok((next, _)) => {
+                    self.pending = Some(next);
+                    return i;
+                }
+                Err(_) => return i,
+            }
+        }
+        xs.len().min(ys.len())
+    }
+
+    fn set_sample_period(&mut self, dt: T) -> Result<()> {
+        self.law.set_sample_period(dt)
+    }
+
+    crate::leaf_param_methods!(T);
+}
