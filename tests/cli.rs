@@ -792,7 +792,7 @@ fn fit_mass_spring_damper_with_time_column() {
         .assert()
         .success();
     let fitted = Spec::from_json_file(s.path("fitted.json")).unwrap();
-    let Spec::MassSpringDamper(p) = fitted else {
+    let Some(p) = fitted.leaf_params::<hysteron::operators::MassSpringDamper<f64>>() else {
         panic!("{fitted:?}")
     };
     assert_eq!(p.dt, 1.0 / 128.0);

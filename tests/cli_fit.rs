@@ -315,7 +315,7 @@ fn fit_on_other_columns_and_overwrites_its_old_output_atomically() {
     let Spec::Series { left, .. } = fitted else {
         panic!("{fitted:?}")
     };
-    let Spec::Mms(m) = *left else {
+    let Some(m) = left.leaf_params::<hysteron::operators::Mms<f64>>() else {
         panic!("{left:?}")
     };
     assert!((m.f_c - 1.5).abs() < 1.5e-6, "{m:?}");

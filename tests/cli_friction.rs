@@ -102,7 +102,7 @@ fn simulate_maxwell_slip_example() {
     let spec = Spec::from_json_file(&spec_path).unwrap();
     assert_eq!(y, spec.build().unwrap().run(&x).unwrap());
     // saturated at the peaks: |F| reaches Σ F_i (= 2.73) and never exceeds it
-    let Spec::MaxwellSlip(p) = &spec else {
+    let Some(p) = spec.leaf_params::<hysteron::operators::MaxwellSlip<f64>>() else {
         panic!("{spec:?}")
     };
     let total: f64 = p.f_b.iter().sum();

@@ -1203,7 +1203,9 @@ fn friction_specs_build_round_trip_and_report_errors() {
     let Spec::Parallel { right, .. } = lugre.with_dt(0.5) else {
         panic!()
     };
-    let Spec::LuGre(p) = *right else { panic!() };
+    let Some(p) = right.leaf_params::<hysteron::operators::LuGre<f64>>() else {
+        panic!()
+    };
     assert_eq!((p.dt, p.delta), (0.5, 1.5));
     // errors name the path
     for (text, message) in [

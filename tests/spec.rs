@@ -296,29 +296,50 @@ fn preisach() -> impl Strategy<Value = PreisachParams<f64>> {
 /// Every elementary operator, with valid random parameters.
 fn leaf() -> BoxedStrategy<Spec> {
     prop_oneof![
-        (0.0..1.0f64, num(-0.5, 0.5)).prop_map(|(r, y0)| Spec::Play(PlayParams { r, y0 })),
-        (0.0..1.0f64, num(-0.5, 0.5)).prop_map(|(r, s0)| Spec::Stop(StopParams { r, s0 })),
-        (0.5..50.0f64, 0.0..2.0f64, num(-0.5, 0.5))
-            .prop_map(|(k, f_b, f0)| Spec::Elastoplastic(ElastoPlasticParams { k, f_b, f0 })),
-        (num(-1.0, 0.0), num(0.0, 1.0))
-            .prop_map(|(b_l, b_r)| Spec::DeadZone(DeadZoneParams { b_l, b_r })),
-        (-2.0..-0.1f64, 0.1..2.0f64)
-            .prop_map(|(lo, hi)| Spec::Saturation(SaturationParams { lo, hi })),
-        num(-3.0, 3.0).prop_map(|k| Spec::Gain { k }),
-        mms().prop_map(Spec::Mms),
-        bouc_wen().prop_map(Spec::BoucWen),
-        pi_bank().prop_map(Spec::PiBank),
-        pi_inverse().prop_map(Spec::PiInverse),
-        preisach().prop_map(Spec::Preisach),
+        (0.0..1.0f64, num(-0.5, 0.5))
+            .prop_map(|(r, y0)| Spec::leaf::<hysteron::operators::Play<f64>>(PlayParams { r, y0 })),
+        (0.0..1.0f64, num(-0.5, 0.5))
+            .prop_map(|(r, s0)| Spec::leaf::<hysteron::operators::Stop<f64>>(StopParams { r, s0 })),
+        (0.5..50.0f64, 0.0..2.0f64, num(-0.5, 0.5)).prop_map(|(k, f_b, f0)| Spec::leaf::<
+            hysteron::operators::ElastoPlastic<f64>,
+        >(
+            ElastoPlasticParams { k, f_b, f0 }
+        )),
+        (num(-1.0, 0.0), num(0.0, 1.0)).prop_map(|(b_l, b_r)| Spec::leaf::<
+            hysteron::operators::DeadZone<f64>,
+        >(DeadZoneParams {
+            b_l,
+            b_r
+        })),
+        (-2.0..-0.1f64, 0.1..2.0f64).prop_map(|(lo, hi)| Spec::leaf::<
+            hysteron::operators::Saturation<f64>,
+        >(SaturationParams { lo, hi })),
+        num(-3.0, 3.0).prop_map(|k| Spec::leaf::<hysteron::operators::Gain<f64>>(
+            hysteron::operators::GainParams { k }
+        )),
+        mms().prop_map(Spec::leaf::<hysteron::operators::Mms<f64>>),
+        bouc_wen().prop_map(Spec::leaf::<hysteron::operators::BoucWen<f64>>),
+        pi_bank().prop_map(Spec::leaf::<hysteron::composition::PiBank<f64>>),
+        pi_inverse().prop_map(Spec::leaf::<hysteron::composition::PiInverse<f64>>),
+        preisach().prop_map(Spec::leaf::<hysteron::operators::Preisach<f64>>),
         transmission().prop_map(Spec::Transmission),
         (0.1..2.0f64, num(0.0, 5.0), num(0.0, 100.0), 0.001..0.1f64).prop_map(|(m, c, k, dt)| {
-            Spec::MassSpringDamper(MassSpringDamperParams { m, c, k, dt })
+            Spec::leaf::<hysteron::operators::MassSpringDamper<f64>>(MassSpringDamperParams {
+                m,
+                c,
+                k,
+                dt,
+            })
         }),
-        (num(0.0, 3.0), 0.001..0.1f64).prop_map(|(c, dt)| Spec::ViscousDamper { c, dt }),
-        maxwell_slip().prop_map(Spec::MaxwellSlip),
-        dahl().prop_map(Spec::Dahl),
-        lugre().prop_map(Spec::LuGre),
-        gms().prop_map(Spec::Gms),
+        (num(0.0, 3.0), 0.001..0.1f64).prop_map(|(c, dt)| Spec::leaf::<
+            hysteron::operators::ViscousDamper<f64>,
+        >(
+            hysteron::operators::ViscousDamperParams { c, dt }
+        )),
+        maxwell_slip().prop_map(Spec::leaf::<hysteron::operators::MaxwellSlip<f64>>),
+        dahl().prop_map(Spec::leaf::<hysteron::operators::Dahl<f64>>),
+        lugre().prop_map(Spec::leaf::<hysteron::operators::LuGre<f64>>),
+        gms().prop_map(Spec::leaf::<hysteron::operators::Gms<f64>>),
     ]
     .boxed()
 }
@@ -493,13 +514,13 @@ proptest! {
             | prop::num::f64::NEGATIVE,
         w in prop::num::f64::ANY.prop_filter("finite", |w| w.is_finite()),
     ) {
-        let s = Spec::Scaled { w, inner: Box::new(Spec::Gain { k }) };
+        let s = Spec::Scaled { w, inner: Box::new(Spec::leaf::<hysteron::operators::Gain<f64>>(hysteron::operators::GainParams { k })) };
         let back = Spec::from_json(&s.to_json_pretty().map_err(fail)?).map_err(fail)?;
         match back {
             Spec::Scaled { w: w2, inner } => {
                 prop_assert_eq!(w2.to_bits(), w.to_bits());
-                match *inner {
-                    Spec::Gain { k: k2 } => prop_assert_eq!(k2.to_bits(), k.to_bits()),
+                match inner.leaf_params::<hysteron::operators::Gain<f64>>() {
+                    Some(hysteron::operators::GainParams { k: k2 }) => prop_assert_eq!(k2.to_bits(), k.to_bits()),
                     other => prop_assert!(false, "inner {other:?}"),
                 }
             }
@@ -557,8 +578,13 @@ fn paper_model_from_the_algebra_equals_transmission_params() {
                 limits,
                 solver,
             } => {
-                assert_eq!(**left, Spec::Mms(p.friction));
-                assert!(matches!(**right, Spec::BoucWen(_)));
+                assert_eq!(
+                    **left,
+                    Spec::leaf::<hysteron::operators::Mms<f64>>(p.friction)
+                );
+                assert!(right
+                    .leaf_params::<hysteron::operators::BoucWen<f64>>()
+                    .is_some());
                 assert_eq!(
                     *limits,
                     TravelLimits::Gap {
@@ -743,8 +769,13 @@ fn field_order_and_defaults() {
     )
     .unwrap();
     let b = Spec::Series {
-        left: Box::new(Spec::Play(PlayParams { r: 0.1, y0: 0.0 })),
-        right: Box::new(Spec::Gain { k: 2.0 }),
+        left: Box::new(Spec::leaf::<hysteron::operators::Play<f64>>(PlayParams {
+            r: 0.1,
+            y0: 0.0,
+        })),
+        right: Box::new(Spec::leaf::<hysteron::operators::Gain<f64>>(
+            hysteron::operators::GainParams { k: 2.0 },
+        )),
         limits: TravelLimits::Gap { b: 0.5, r0: 0.0 },
         solver: Some(SolverOptions {
             max_iter: 50,
@@ -800,8 +831,12 @@ fn invalid_values_name_the_spec_path() {
     s[3] = -1.0;
     spring.stiffness = serde_json::from_value(serde_json::json!({ "z": z, "s": s })).unwrap();
     let series = Spec::Series {
-        left: Box::new(Spec::Mms(TransmissionParams::default().friction)),
-        right: Box::new(Spec::BoucWen(spring.clone())),
+        left: Box::new(Spec::leaf::<hysteron::operators::Mms<f64>>(
+            TransmissionParams::default().friction,
+        )),
+        right: Box::new(Spec::leaf::<hysteron::operators::BoucWen<f64>>(
+            spring.clone(),
+        )),
         limits: TravelLimits::Gap { b: 0.3, r0: 0.0 },
         solver: None,
     };
@@ -819,14 +854,21 @@ fn invalid_values_name_the_spec_path() {
     // deep in a tree
     let deep = Spec::Cascade {
         first: Box::new(Spec::Feedback {
-            forward: Box::new(Spec::Gain { k: 1.0 }),
+            forward: Box::new(Spec::leaf::<hysteron::operators::Gain<f64>>(
+                hysteron::operators::GainParams { k: 1.0 },
+            )),
             back: Box::new(Spec::Scaled {
                 w: 0.5,
-                inner: Box::new(Spec::Play(PlayParams { r: -0.5, y0: 0.0 })),
+                inner: Box::new(Spec::leaf::<hysteron::operators::Play<f64>>(PlayParams {
+                    r: -0.5,
+                    y0: 0.0,
+                })),
             }),
             solver: None,
         }),
-        second: Box::new(Spec::Gain { k: 1.0 }),
+        second: Box::new(Spec::leaf::<hysteron::operators::Gain<f64>>(
+            hysteron::operators::GainParams { k: 1.0 },
+        )),
     };
     invalid(
         &deep,
@@ -834,7 +876,11 @@ fn invalid_values_name_the_spec_path() {
     );
 
     // the combinators' own parameters
-    let gain = || Box::new(Spec::Gain { k: 1.0 });
+    let gain = || {
+        Box::new(Spec::leaf::<hysteron::operators::Gain<f64>>(
+            hysteron::operators::GainParams { k: 1.0 },
+        ))
+    };
     invalid(
         &Spec::Series {
             left: gain(),
@@ -875,12 +921,14 @@ fn invalid_values_name_the_spec_path() {
     invalid(
         &Spec::Parallel {
             left: gain(),
-            right: Box::new(Spec::PiBank(PiBankParams {
-                a0: 1.0,
-                r: vec![0.1, 0.2],
-                w: vec![1.0],
-                y0: vec![],
-            })),
+            right: Box::new(Spec::leaf::<hysteron::composition::PiBank<f64>>(
+                PiBankParams {
+                    a0: 1.0,
+                    r: vec![0.1, 0.2],
+                    w: vec![1.0],
+                    y0: vec![],
+                },
+            )),
         },
         "parallel.right.pi_bank.w: r, w (and y0 if given) must have the same length (got 1)",
     );
@@ -945,7 +993,11 @@ fn examples_dir() -> PathBuf {
 
 /// The example files and the specs they hold.
 fn examples() -> Vec<(&'static str, Spec)> {
-    let gain = |k| Box::new(Spec::Gain { k });
+    let gain = |k| {
+        Box::new(Spec::leaf::<hysteron::operators::Gain<f64>>(
+            hysteron::operators::GainParams { k },
+        ))
+    };
     vec![
         // The paper's model (illustrative default parameters) from the
         // algebra: MMS slider in a backlash gap, in series with the spring.
@@ -953,7 +1005,7 @@ fn examples() -> Vec<(&'static str, Spec)> {
         // A Prandtl-Ishlinskii operator with eight plays.
         (
             "prandtl-ishlinskii.json",
-            Spec::PiBank(PiBankParams {
+            Spec::leaf::<hysteron::composition::PiBank<f64>>(PiBankParams {
                 a0: 0.2,
                 r: vec![0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7],
                 w: vec![1.0, 0.6, 0.4, 0.3, 0.2, 0.15, 0.1, 0.05],
@@ -964,7 +1016,7 @@ fn examples() -> Vec<(&'static str, Spec)> {
         // fields, type `pi_inverse`.
         (
             "pi-inverse.json",
-            Spec::PiInverse(PiBankParams {
+            Spec::leaf::<hysteron::composition::PiInverse<f64>>(PiBankParams {
                 a0: 0.2,
                 r: vec![0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7],
                 w: vec![1.0, 0.6, 0.4, 0.3, 0.2, 0.15, 0.1, 0.05],
@@ -974,7 +1026,7 @@ fn examples() -> Vec<(&'static str, Spec)> {
         // A Preisach model with the closed-form two-peak Everett function.
         (
             "preisach.json",
-            Spec::Preisach(PreisachParams {
+            Spec::leaf::<hysteron::operators::Preisach<f64>>(PreisachParams {
                 measure: PreisachMeasure::Tanh {
                     amplitude: 1.0,
                     hc: 0.4,
@@ -989,11 +1041,16 @@ fn examples() -> Vec<(&'static str, Spec)> {
         (
             "play-deadzone.json",
             Spec::Cascade {
-                first: Box::new(Spec::Play(PlayParams { r: 0.2, y0: 0.0 })),
-                second: Box::new(Spec::DeadZone(DeadZoneParams {
-                    b_l: -0.1,
-                    b_r: 0.1,
+                first: Box::new(Spec::leaf::<hysteron::operators::Play<f64>>(PlayParams {
+                    r: 0.2,
+                    y0: 0.0,
                 })),
+                second: Box::new(Spec::leaf::<hysteron::operators::DeadZone<f64>>(
+                    DeadZoneParams {
+                        b_l: -0.1,
+                        b_r: 0.1,
+                    },
+                )),
             },
         ),
         // A spring in parallel with MMS friction, closed by a compliant
@@ -1003,7 +1060,7 @@ fn examples() -> Vec<(&'static str, Spec)> {
             Spec::Feedback {
                 forward: Box::new(Spec::Parallel {
                     left: gain(8.0),
-                    right: Box::new(Spec::Mms(MmsParams {
+                    right: Box::new(Spec::leaf::<hysteron::operators::Mms<f64>>(MmsParams {
                         f_c: 1.0,
                         k: 40.0,
                         y0: 0.0,
@@ -1022,7 +1079,7 @@ fn examples() -> Vec<(&'static str, Spec)> {
         // break-away displacements F_i/k_i spread from 0.02 to 0.6.
         (
             "maxwell-slip.json",
-            Spec::MaxwellSlip(MaxwellSlipParams {
+            Spec::leaf::<hysteron::operators::MaxwellSlip<f64>>(MaxwellSlipParams {
                 k: vec![25.0, 10.0, 6.0, 4.0, 2.5, 1.5],
                 f_b: vec![0.5, 0.4, 0.36, 0.32, 0.25, 0.9],
                 f0: vec![],
@@ -1031,7 +1088,7 @@ fn examples() -> Vec<(&'static str, Spec)> {
         // Dahl friction with Dahl's exponent 1.
         (
             "dahl.json",
-            Spec::Dahl(DahlParams {
+            Spec::leaf::<hysteron::operators::Dahl<f64>>(DahlParams {
                 sigma: 20.0,
                 f_c: 1.0,
                 alpha: 1.0,
@@ -1042,7 +1099,7 @@ fn examples() -> Vec<(&'static str, Spec)> {
         // or `--time-column` overrides the dt).
         (
             "lugre.json",
-            Spec::LuGre(LuGreParams {
+            Spec::leaf::<hysteron::operators::LuGre<f64>>(LuGreParams {
                 sigma0: 1e3,
                 sigma1: 5.0,
                 sigma2: 0.2,
@@ -1058,7 +1115,7 @@ fn examples() -> Vec<(&'static str, Spec)> {
         // elements, Stribeck velocity 0.5, attraction rate 20 per second.
         (
             "gms.json",
-            Spec::Gms(GmsParams {
+            Spec::leaf::<hysteron::operators::Gms<f64>>(GmsParams {
                 k: vec![25.0, 10.0, 4.0, 1.5],
                 alpha: vec![0.4, 0.3, 0.2, 0.1],
                 f0: vec![],
@@ -1175,14 +1232,16 @@ fn rate_dependent_specs_round_trip_build_and_run() {
     };
     let msd = check(
         r#"{"type": "mass_spring_damper", "m": 0.5, "c": 3, "k": 200, "dt": 0.01}"#,
-        &Spec::MassSpringDamper(msd_params(0.01)),
+        &Spec::leaf::<hysteron::operators::MassSpringDamper<f64>>(msd_params(0.01)),
         Box::new(MassSpringDamper::from_params(msd_params(0.01)).unwrap()),
     );
     assert_eq!(msd.kind(), "mass_spring_damper");
     assert_eq!(msd.build().unwrap().param_names().len(), 3);
     let damper = check(
         r#"{"type": "viscous_damper", "c": 2.5, "dt": 0.02}"#,
-        &Spec::ViscousDamper { c: 2.5, dt: 0.02 },
+        &Spec::leaf::<hysteron::operators::ViscousDamper<f64>>(
+            hysteron::operators::ViscousDamperParams { c: 2.5, dt: 0.02 },
+        ),
         Box::new(ViscousDamper::new(2.5, 0.02).unwrap()),
     );
     assert_eq!(damper.kind(), "viscous_damper");
@@ -1191,7 +1250,9 @@ fn rate_dependent_specs_round_trip_build_and_run() {
         r#"{"type": "oversample", "q": 4,
             "inner": {"type": "mass_spring_damper", "m": 0.5, "c": 3, "k": 200, "dt": 0.0025}}"#,
         &Spec::Oversample {
-            inner: Box::new(Spec::MassSpringDamper(msd_params(0.0025))),
+            inner: Box::new(Spec::leaf::<hysteron::operators::MassSpringDamper<f64>>(
+                msd_params(0.0025),
+            )),
             q: 4,
         },
         Box::new(
@@ -1219,7 +1280,9 @@ fn rate_dependent_specs_round_trip_build_and_run() {
     let one = check(
         r#"{"type": "oversample", "q": 1, "inner": {"type": "viscous_damper", "c": 2.5, "dt": 0.02}}"#,
         &Spec::Oversample {
-            inner: Box::new(Spec::ViscousDamper { c: 2.5, dt: 0.02 }),
+            inner: Box::new(Spec::leaf::<hysteron::operators::ViscousDamper<f64>>(
+                hysteron::operators::ViscousDamperParams { c: 2.5, dt: 0.02 },
+            )),
             q: 1,
         },
         Box::new(Oversample::new(ViscousDamper::new(2.5, 0.02).unwrap(), 1).unwrap()),
@@ -1233,25 +1296,29 @@ fn rate_dependent_specs_round_trip_build_and_run() {
 #[test]
 fn rate_dependent_errors_name_the_path() {
     invalid(
-        &Spec::MassSpringDamper(msd_params(0.0)),
+        &Spec::leaf::<hysteron::operators::MassSpringDamper<f64>>(msd_params(0.0)),
         "mass_spring_damper.dt: must be > 0 (got 0)",
     );
     invalid(
-        &Spec::MassSpringDamper(MassSpringDamperParams {
+        &Spec::leaf::<hysteron::operators::MassSpringDamper<f64>>(MassSpringDamperParams {
             m: -1.0,
             ..msd_params(0.01)
         }),
         "mass_spring_damper.m: must be > 0 (got -1)",
     );
     invalid(
-        &Spec::ViscousDamper { c: -1.0, dt: 0.01 },
+        &Spec::leaf::<hysteron::operators::ViscousDamper<f64>>(
+            hysteron::operators::ViscousDamperParams { c: -1.0, dt: 0.01 },
+        ),
         "viscous_damper.c: must be ≥ 0 (got -1)",
     );
     invalid(
         &Spec::Scaled {
             w: 2.0,
             inner: Box::new(Spec::Oversample {
-                inner: Box::new(Spec::ViscousDamper { c: 1.0, dt: -0.1 }),
+                inner: Box::new(Spec::leaf::<hysteron::operators::ViscousDamper<f64>>(
+                    hysteron::operators::ViscousDamperParams { c: 1.0, dt: -0.1 },
+                )),
                 q: 2,
             }),
         },
@@ -1259,14 +1326,18 @@ fn rate_dependent_errors_name_the_path() {
     );
     invalid(
         &Spec::Oversample {
-            inner: Box::new(Spec::Gain { k: 1.0 }),
+            inner: Box::new(Spec::leaf::<hysteron::operators::Gain<f64>>(
+                hysteron::operators::GainParams { k: 1.0 },
+            )),
             q: 0,
         },
         "oversample.q: must lie in [1, 100000] (got 0)",
     );
     invalid(
         &Spec::Oversample {
-            inner: Box::new(Spec::Gain { k: 1.0 }),
+            inner: Box::new(Spec::leaf::<hysteron::operators::Gain<f64>>(
+                hysteron::operators::GainParams { k: 1.0 },
+            )),
             q: 1_000_000,
         },
         "oversample.q: must lie in [1, 100000] (got 1000000)",
@@ -1310,28 +1381,44 @@ fn rate_dependent_errors_name_the_path() {
     );
 }
 
-/// `with_dt` sets the sample period of every rate-dependent node and keeps
-/// everything else; `with_params` keeps the dt (it is not a parameter).
+/// `with_dt` sets the sample period of every rate-dependent node as the
+/// tree gives it (`dt / q` inside an `oversample`, which once got `dt`) and
+/// keeps everything else; `with_params` keeps the dt (it is not a
+/// parameter).
 #[test]
-fn with_dt_overrides_every_rate_dependent_node() {
+fn with_dt_sets_the_period_the_tree_gives_every_rate_dependent_node() {
     let spec = Spec::Cascade {
         first: Box::new(Spec::Oversample {
-            inner: Box::new(Spec::MassSpringDamper(msd_params(0.01))),
+            inner: Box::new(Spec::leaf::<hysteron::operators::MassSpringDamper<f64>>(
+                msd_params(0.01),
+            )),
             q: 3,
         }),
         second: Box::new(Spec::Parallel {
-            left: Box::new(Spec::ViscousDamper { c: 2.0, dt: 0.02 }),
-            right: Box::new(Spec::Play(PlayParams { r: 0.1, y0: 0.0 })),
+            left: Box::new(Spec::leaf::<hysteron::operators::ViscousDamper<f64>>(
+                hysteron::operators::ViscousDamperParams { c: 2.0, dt: 0.02 },
+            )),
+            right: Box::new(Spec::leaf::<hysteron::operators::Play<f64>>(PlayParams {
+                r: 0.1,
+                y0: 0.0,
+            })),
         }),
     };
     let expected = Spec::Cascade {
         first: Box::new(Spec::Oversample {
-            inner: Box::new(Spec::MassSpringDamper(msd_params(0.5))),
+            inner: Box::new(Spec::leaf::<hysteron::operators::MassSpringDamper<f64>>(
+                msd_params(0.5 / 3.0),
+            )),
             q: 3,
         }),
         second: Box::new(Spec::Parallel {
-            left: Box::new(Spec::ViscousDamper { c: 2.0, dt: 0.5 }),
-            right: Box::new(Spec::Play(PlayParams { r: 0.1, y0: 0.0 })),
+            left: Box::new(Spec::leaf::<hysteron::operators::ViscousDamper<f64>>(
+                hysteron::operators::ViscousDamperParams { c: 2.0, dt: 0.5 },
+            )),
+            right: Box::new(Spec::leaf::<hysteron::operators::Play<f64>>(PlayParams {
+                r: 0.1,
+                y0: 0.0,
+            })),
         }),
     };
     assert_eq!(spec.with_dt(0.5), expected);
@@ -1354,17 +1441,19 @@ fn with_dt_overrides_every_rate_dependent_node() {
     assert_eq!(
         **first,
         Spec::Oversample {
-            inner: Box::new(Spec::MassSpringDamper(MassSpringDamperParams {
-                m: 1.0,
-                c: 4.0,
-                k: 100.0,
-                dt: 0.01,
-            })),
+            inner: Box::new(Spec::leaf::<hysteron::operators::MassSpringDamper<f64>>(
+                MassSpringDamperParams {
+                    m: 1.0,
+                    c: 4.0,
+                    k: 100.0,
+                    dt: 0.01,
+                }
+            )),
             q: 3,
         }
     );
     assert!(matches!(**second, Spec::Parallel { ref left, .. }
-        if **left == Spec::ViscousDamper { c: 0.5, dt: 0.02 }));
+        if **left == Spec::leaf::<hysteron::operators::ViscousDamper<f64>>(hysteron::operators::ViscousDamperParams { c: 0.5, dt: 0.02 })));
     // a new value out of range names the path
     let e = spec
         .with_params(&[1.0, -4.0, 100.0, 0.5, 0.2, 0.0])

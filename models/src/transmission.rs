@@ -4,7 +4,7 @@
 
 use hysteron_composition::{MechanicalSeries, OperatorExt, TravelLimits};
 use hysteron_operators::{
-    BoucWen, BoucWenParams, Float, Mms, MmsParams, Operator, Result, StiffnessMap,
+    BoucWen, BoucWenParams, Float, Mms, MmsParams, Operator, ParamSet, Result, StiffnessMap,
 };
 use serde::{Deserialize, Serialize};
 
@@ -67,6 +67,7 @@ where
 /// (input within about ±1.5 deg in output coordinates, force within about
 /// ±20 Nm); they are not identified from its data.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct TransmissionParams {
     /// Backlash (gap) size `b` (deg).
     pub backlash: f64,
@@ -118,6 +119,41 @@ impl TransmissionParams {
             z0: 0.0 - self.slider0,
             ..self.spring.clone()
         }
+    }
+
+    /// The same model with its flat parameters (in the order of the built
+    /// model's [`params`](Operator::params): `backlash, slider0`, the
+    /// friction's, the spring's) taken from the front of `p`.
+    ///
+    /// The spring's initial deflection is tied to the slider,
+    /// `z0 = −slider0` (see [`spring_params`](Self::spring_params)): its
+    /// entry must satisfy the tie, or the error names `spring.z0`. Not
+    /// validated otherwise ([`build`](Self::build) does that).
+    pub fn with_values(&self, p: &mut &[f64]) -> Result<Self> {
+        let gap = p.get(..2).ok_or(hysteron_operators::Error::ParamCount {
+            expected: 2,
+            got: p.len(),
+        })?;
+        let (backlash, slider0) = (gap[0], gap[1]);
+        *p = &p[2..];
+        let friction = self.friction.read(p)?;
+        let mut spring = self.spring_params().read(p)?;
+        if spring.z0 != 0.0 - slider0 {
+            return Err(hysteron_operators::Error::InvalidParameter {
+                name: "spring.z0".into(),
+                value: spring.z0,
+                reason: "must equal −slider0 in a `transmission` spec \
+                         (use a generic `series` spec to set it on its own)",
+            });
+        }
+        // Not used by the model: keep what the spec said.
+        spring.z0 = self.spring.z0;
+        Ok(Self {
+            backlash,
+            slider0,
+            friction,
+            spring,
+        })
     }
 
     /// Builds the paper's model from these parameters (validating all).

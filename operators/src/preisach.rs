@@ -20,7 +20,7 @@ use serde::{Deserialize, Serialize};
 /// Row-indexed lower-triangular arrays are written as ragged rows: row `i`
 /// has `i + 1` entries (`mu[i][j]` for `j ≤ i`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum PreisachMeasure<T> {
     /// **Discretized relay plane**: relay `(i, j)`, `j ≤ i`, has up
     /// threshold `α = t[i]`, down threshold `β = t[j]` and weight
@@ -101,6 +101,7 @@ pub enum PreisachStart {
 
 /// Parameters of the [`Preisach`] model.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct PreisachParams<T> {
     /// The Preisach measure.
     pub measure: PreisachMeasure<T>,

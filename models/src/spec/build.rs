@@ -1,0 +1,205 @@
+//! Building a [`Spec`] into a boxed operator, with every limit a spec
+//! must respect.
+
+use super::{Spec, SpecError};
+use hysteron_composition::{OperatorExt, Oversample, SolverOptions};
+use hysteron_operators::{check, Error, Operator};
+
+/// Largest `max_iter` / `max_expansions` a spec's solver may ask for (a
+/// bound on the work per solve).
+const MAX_SOLVER_ITER: usize = 100_000;
+
+/// Most implicit combinators nested on one path: each level solves its
+/// equation by probing the level inside it, so the work per sample grows
+/// geometrically with the depth (about 8× per level, measured with nested
+/// inverses).
+const MAX_IMPLICIT_DEPTH: usize = 4;
+
+/// Largest `q` of an `oversample` spec (a bound on the work per sample).
+const MAX_OVERSAMPLE: usize = 100_000;
+
+impl Spec {
+    /// Builds the model, validating every parameter.
+    ///
+    /// Errors are [`SpecError::Invalid`], naming the path through the tree
+    /// (`series.right.bouc_wen.stiffness.s[3]`). Besides what the operators
+    /// check, a `solver` must have `rel_tol, abs_tol ∈ [0, 1e-3]` and
+    /// `max_iter, max_expansions` in `[1, 100000]`, and at most 4 implicit
+    /// combinators may be nested on one path.
+    ///
+    /// ```
+    /// use hysteron_models::Spec;
+    /// use hysteron_operators::{Play, PlayParams};
+    /// let spec = Spec::Scaled {
+    ///     w: 2.0,
+    ///     inner: Box::new(Spec::leaf::<Play<f64>>(PlayParams { r: -1.0, y0: 0.0 })),
+    /// };
+    /// let err = spec.build().unwrap_err();
+    /// assert_eq!(err.to_string(), "scaled.inner.play.r: must be ≥ 0 (got -1)");
+    /// ```
+    pub fn build(&self) -> Result<Box<dyn Operator<f64>>, SpecError> {
+        let depth = self.implicit_depth();
+        if depth > MAX_IMPLICIT_DEPTH {
+            return Err(SpecError::invalid(
+                self.kind(),
+                Error::InvalidParameter {
+                    name: "nesting".into(),
+                    value: depth as f64,
+                    reason: "at most 4 implicit combinators (feedback, series, inverse, transmission) may be nested on one path: each level multiplies the work per sample",
+                },
+            ));
+        }
+        self.build_at(self.kind())
+    }
+
+    /// The largest number of implicit combinators (solved per sample) on
+    /// one path from the root to a leaf.
+    pub fn implicit_depth(&self) -> usize {
+        let own = usize::from(matches!(
+            self,
+            Spec::Feedback { .. }
+                | Spec::Series { .. }
+                | Spec::Inverse { .. }
+                | Spec::Transmission(_)
+        ));
+        own + self
+            .children()
+            .into_iter()
+            .map(|(_, c)| c.implicit_depth())
+            .max()
+            .unwrap_or(0)
+    }
+
+    fn build_at(&self, path: &str) -> Result<Box<dyn Operator<f64>>, SpecError> {
+        let invalid = |e: Error| SpecError::invalid(path, e);
+        let child =
+            |field: &str, spec: &Spec| spec.build_at(&format!("{path}.{field}.{}", spec.kind()));
+        let solver = |opts: &Option<SolverOptions<f64>>| -> Result<SolverOptions<f64>, SpecError> {
+            let opts = opts.unwrap_or_default();
+            check_solver(&opts).map_err(|e| invalid(e.in_path("solver")))?;
+            Ok(opts)
+        };
+        Ok(match self {
+            Spec::Leaf(leaf) => leaf
+                .entry()
+                .and_then(|e| e.build(&leaf.params))
+                .map_err(invalid)?,
+            Spec::Transmission(p) => p
+                .build()
+                .map_err(|e| invalid(transmission_names(e)))?
+                .boxed(),
+            Spec::Cascade { first, second } => {
+                let a = child("first", first)?;
+                let b = child("second", second)?;
+                a.then(b).boxed()
+            }
+            Spec::Parallel { left, right } => {
+                let a = child("left", left)?;
+                let b = child("right", right)?;
+                a.plus(b).boxed()
+            }
+            Spec::Scaled { w, inner } => {
+                check::finite("w", *w).map_err(invalid)?;
+                child("inner", inner)?.scaled(*w).map_err(invalid)?.boxed()
+            }
+            Spec::Feedback {
+                forward,
+                back,
+                solver: opts,
+            } => {
+                let opts = solver(opts)?;
+                let a = child("forward", forward)?;
+                let b = child("back", back)?;
+                a.feedback(b).with_solver(opts).boxed()
+            }
+            Spec::Series {
+                left,
+                right,
+                limits,
+                solver: opts,
+            } => {
+                limits.validate().map_err(invalid)?;
+                let opts = solver(opts)?;
+                let a = child("left", left)?;
+                let b = child("right", right)?;
+                a.series(b)
+                    .with_limits(*limits)
+                    .map_err(invalid)?
+                    .with_solver(opts)
+                    .boxed()
+            }
+            Spec::Inverse {
+                inner,
+                solver: opts,
+            } => {
+                let opts = solver(opts)?;
+                child("inner", inner)?.inverse().with_solver(opts).boxed()
+            }
+            Spec::Oversample { inner, q } => {
+                if *q == 0 || *q > MAX_OVERSAMPLE {
+                    return Err(invalid(Error::InvalidParameter {
+                        name: "q".into(),
+                        value: *q as f64,
+                        reason: "must lie in [1, 100000]",
+                    }));
+                }
+                let a = child("inner", inner)?;
+                Oversample::new(a, *q).map_err(invalid)?.boxed()
+            }
+        })
+    }
+}
+
+/// Checks a spec's solver options (see [`Spec::build`]).
+fn check_solver(o: &SolverOptions<f64>) -> Result<(), Error> {
+    check::non_negative("rel_tol", o.rel_tol)?;
+    check::non_negative("abs_tol", o.abs_tol)?;
+    // A loose tolerance silently returns wrong answers (rel_tol = 0.5
+    // halves a spring): cap both.
+    for (name, v, cap) in [("rel_tol", o.rel_tol, 1e-3), ("abs_tol", o.abs_tol, 1e-3)] {
+        if v > cap {
+            return Err(Error::InvalidParameter {
+                name: name.into(),
+                value: v,
+                reason: "must be ≤ 1e-3",
+            });
+        }
+    }
+    for (name, v) in [
+        ("max_iter", o.max_iter),
+        ("max_expansions", o.max_expansions),
+    ] {
+        if !(1..=MAX_SOLVER_ITER).contains(&v) {
+            return Err(Error::InvalidParameter {
+                name: name.into(),
+                value: v as f64,
+                reason: "must lie in [1, 100000]",
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The transmission's gap is its `backlash` and `slider0`: rename the
+/// library's `limits.b` / `limits.r0`.
+pub(super) fn transmission_names(e: Error) -> Error {
+    match e {
+        Error::InvalidParameter {
+            name,
+            value,
+            reason,
+        } => {
+            let name = match name.as_str() {
+                "limits.b" => "backlash".to_string(),
+                "limits.r0" => "slider0".to_string(),
+                _ => name,
+            };
+            Error::InvalidParameter {
+                name,
+                value,
+                reason,
+            }
+        }
+        other => other,
+    }
+}

@@ -1,0 +1,206 @@
+//! A [`Spec`] with new parameter values or sample periods: the spec-level
+//! counterparts of [`Operator::set_params`] and
+//! [`Operator::set_sample_period`].
+
+use super::build::transmission_names;
+use super::{LeafSpec, Spec, SpecError};
+use hysteron_composition::TravelLimits;
+use hysteron_operators::{Error, Operator};
+use serde_json::Value;
+
+impl Spec {
+    /// The same spec with the sample period of every rate-dependent node
+    /// set to `dt`, as [`Operator::set_sample_period`] sets it on the built
+    /// model: the nodes inside an `oversample` of `q` sub-steps get
+    /// `dt / q`. The rest of the tree is kept; the value is checked by
+    /// [`build`](Spec::build).
+    ///
+    /// ```
+    /// use hysteron_models::Spec;
+    /// let spec = Spec::from_json(r#"{"type": "oversample", "q": 4,
+    ///     "inner": {"type": "viscous_damper", "c": 2, "dt": 0.1}}"#)?;
+    /// assert_eq!(
+    ///     spec.with_dt(0.01),
+    ///     Spec::from_json(r#"{"type": "oversample", "q": 4,
+    ///         "inner": {"type": "viscous_damper", "c": 2, "dt": 0.0025}}"#)?
+    /// );
+    /// # Ok::<(), hysteron_models::SpecError>(())
+    /// ```
+    pub fn with_dt(&self, dt: f64) -> Spec {
+        let mut spec = self.clone();
+        spec.set_dt(dt);
+        spec
+    }
+
+    fn set_dt(&mut self, dt: f64) {
+        match self {
+            Spec::Leaf(leaf) => {
+                if leaf.entry().is_ok_and(|e| e.is_rate_dependent()) {
+                    if let Value::Object(m) = &mut leaf.params {
+                        m.insert("dt".into(), Value::from(dt));
+                    }
+                }
+            }
+            Spec::Oversample { inner, q } => inner.set_dt(dt / *q as f64),
+            Spec::Cascade {
+                first: a,
+                second: b,
+            }
+            | Spec::Parallel { left: a, right: b }
+            | Spec::Series {
+                left: a, right: b, ..
+            }
+            | Spec::Feedback {
+                forward: a,
+                back: b,
+                ..
+            } => {
+                a.set_dt(dt);
+                b.set_dt(dt);
+            }
+            Spec::Scaled { inner, .. } | Spec::Inverse { inner, .. } => inner.set_dt(dt),
+            Spec::Transmission(_) => {}
+        }
+    }
+
+    /// The same spec with the parameters `p`, given in the order of the
+    /// built operator's [`params`](Operator::params) (depth-first, as
+    /// [`param_names`](Operator::param_names) lists them): the inverse of
+    /// `spec.build()?.params()`. Everything that is not a parameter (the
+    /// tree, solver options, the kind of travel limits, the number of
+    /// knots or plays, sample periods) is kept.
+    ///
+    /// * `spec.with_params(&spec.build()?.params())? == spec`;
+    /// * `spec.with_params(&p)?.build()?.params() == p`.
+    ///
+    /// In a `transmission` spec the spring's initial deflection is not a
+    /// parameter of its own (the model uses `z0 = −slider0`), so its entry
+    /// in `p` must equal `−slider0` (otherwise an error naming
+    /// `spring.z0`; a generic `series` spec,
+    /// `Spec::from(&TransmissionParams)`, has no such tie).
+    ///
+    /// Errors: the spec itself does not build; `p` has the wrong length;
+    /// the new spec does not build (a value outside its parameter's range),
+    /// each as [`SpecError::Invalid`] naming the path like
+    /// [`build`](Spec::build).
+    ///
+    /// ```
+    /// use hysteron_models::Spec;
+    /// let spec = Spec::from_json(r#"{"type": "scaled", "w": 2,
+    ///     "inner": {"type": "play", "r": 0.5}}"#)?;
+    /// let model = spec.build()?;
+    /// assert_eq!(model.param_names(), ["w", "inner.play.r", "inner.play.y0"]);
+    /// let fitted = spec.with_params(&[3.0, 0.25, 0.0])?;
+    /// assert_eq!(fitted.build()?.params(), [3.0, 0.25, 0.0]);
+    /// assert_eq!(spec.with_params(&model.params())?, spec);
+    /// let err = spec.with_params(&[3.0, -1.0, 0.0]).unwrap_err();
+    /// assert_eq!(err.to_string(), "scaled.inner.play.r: must be ≥ 0 (got -1)");
+    /// # Ok::<(), hysteron_models::SpecError>(())
+    /// ```
+    pub fn with_params(&self, p: &[f64]) -> Result<Spec, SpecError> {
+        let root = self.kind();
+        let expected = self.build()?.n_params();
+        if p.len() != expected {
+            return Err(SpecError::invalid(
+                root,
+                Error::ParamCount {
+                    expected,
+                    got: p.len(),
+                },
+            ));
+        }
+        let mut rest = p;
+        let spec = self.fill(root, &mut rest)?;
+        spec.build()?;
+        Ok(spec)
+    }
+
+    /// [`with_params`](Spec::with_params) of the node at `path`, taking its
+    /// parameters from the front of `rest` (in the order of `params_into`
+    /// of the operator it builds).
+    fn fill(&self, path: &str, rest: &mut &[f64]) -> Result<Spec, SpecError> {
+        let invalid = |e: Error| SpecError::invalid(path, e);
+        let take = |rest: &mut &[f64], n: usize| -> Result<Vec<f64>, SpecError> {
+            if rest.len() < n {
+                return Err(invalid(Error::ParamCount {
+                    expected: n,
+                    got: rest.len(),
+                }));
+            }
+            let (head, tail) = rest.split_at(n);
+            *rest = tail;
+            Ok(head.to_vec())
+        };
+        let child = |field: &str, spec: &Spec, rest: &mut &[f64]| -> Result<Box<Spec>, SpecError> {
+            Ok(Box::new(
+                spec.fill(&format!("{path}.{field}.{}", spec.kind()), rest)?,
+            ))
+        };
+        Ok(match self {
+            Spec::Leaf(leaf) => Spec::Leaf(LeafSpec {
+                kind: leaf.kind,
+                params: leaf
+                    .entry()
+                    .and_then(|e| e.with_values(&leaf.params, rest))
+                    .map_err(invalid)?,
+            }),
+            Spec::Transmission(old) => Spec::Transmission(
+                old.with_values(rest)
+                    .map_err(|e| invalid(transmission_names(e)))?,
+            ),
+            Spec::Cascade { first, second } => Spec::Cascade {
+                first: child("first", first, rest)?,
+                second: child("second", second, rest)?,
+            },
+            Spec::Parallel { left, right } => Spec::Parallel {
+                left: child("left", left, rest)?,
+                right: child("right", right, rest)?,
+            },
+            Spec::Scaled { inner, .. } => Spec::Scaled {
+                w: take(rest, 1)?[0],
+                inner: child("inner", inner, rest)?,
+            },
+            Spec::Feedback {
+                forward,
+                back,
+                solver,
+            } => Spec::Feedback {
+                forward: child("forward", forward, rest)?,
+                back: child("back", back, rest)?,
+                solver: *solver,
+            },
+            Spec::Series {
+                left,
+                right,
+                limits,
+                solver,
+            } => {
+                let limits = match limits {
+                    TravelLimits::None => TravelLimits::None,
+                    TravelLimits::Range { .. } => {
+                        let v = take(rest, 2)?;
+                        TravelLimits::Range { lo: v[0], hi: v[1] }
+                    }
+                    TravelLimits::Gap { .. } => {
+                        let v = take(rest, 2)?;
+                        TravelLimits::Gap { b: v[0], r0: v[1] }
+                    }
+                };
+                Spec::Series {
+                    left: child("left", left, rest)?,
+                    right: child("right", right, rest)?,
+                    limits,
+                    solver: *solver,
+                }
+            }
+            Spec::Inverse { inner, solver } => Spec::Inverse {
+                inner: child("inner", inner, rest)?,
+                solver: *solver,
+            },
+            Spec::Oversample { inner, q } => Spec::Oversample {
+                inner: child("inner", inner, rest)?,
+                q: *q,
+            },
+        })
+    }
+}

@@ -1,0 +1,158 @@
+//! The open registry of leaf operators a spec can name.
+//!
+//! Every entry is a [`Leaf`] type behind [`Registered`]; its declared
+//! parameters give the JSON form (serde), the build, the flat parameter
+//! vector and the example the contract test runs. Adding a leaf operator
+//! is its own file plus one line in [`LEAVES`] (see `CONTRIBUTING.md`).
+
+use hysteron_composition::{PiBank, PiInverse};
+use hysteron_operators::{
+    BoucWen, Dahl, DeadZone, ElastoPlastic, Error, FieldInfo, FieldKind, Gain, Gms, Leaf, LuGre,
+    MassSpringDamper, MaxwellSlip, Mms, Operator, ParamSet, Play, Preisach, Saturation, Stop,
+    ViscousDamper,
+};
+use serde::{de::DeserializeOwned, Serialize};
+use serde_json::Value;
+use std::marker::PhantomData;
+use std::sync::LazyLock;
+
+/// Every leaf operator a spec can name, by its `type`.
+pub static LEAVES: &[&dyn LeafKind] = &[
+    &Registered::<Play<f64>>::NEW,
+    &Registered::<Stop<f64>>::NEW,
+    &Registered::<ElastoPlastic<f64>>::NEW,
+    &Registered::<DeadZone<f64>>::NEW,
+    &Registered::<Saturation<f64>>::NEW,
+    &Registered::<Gain<f64>>::NEW,
+    &Registered::<Mms<f64>>::NEW,
+    &Registered::<BoucWen<f64>>::NEW,
+    &Registered::<PiBank<f64>>::NEW,
+    &Registered::<PiInverse<f64>>::NEW,
+    &Registered::<Preisach<f64>>::NEW,
+    &Registered::<MassSpringDamper<f64>>::NEW,
+    &Registered::<ViscousDamper<f64>>::NEW,
+    &Registered::<MaxwellSlip<f64>>::NEW,
+    &Registered::<Dahl<f64>>::NEW,
+    &Registered::<LuGre<f64>>::NEW,
+    &Registered::<Gms<f64>>::NEW,
+];
+
+/// The registered leaf named `kind`.
+pub fn leaf_kind(kind: &str) -> Option<&'static dyn LeafKind> {
+    LEAVES.iter().copied().find(|l| l.kind() == kind)
+}
+
+/// The names of every leaf and combinator, for "expected one of" messages.
+pub(crate) fn all_kinds() -> &'static [&'static str] {
+    static KINDS: LazyLock<Vec<&'static str>> = LazyLock::new(|| {
+        LEAVES
+            .iter()
+            .map(|l| l.kind())
+            .chain(super::COMBINATORS.iter().copied())
+            .collect()
+    });
+    &KINDS
+}
+
+/// A leaf operator as the spec layer sees it: parameters as canonical JSON
+/// values (the declared struct's serde form), and everything else through
+/// the operator's declaration.
+pub trait LeafKind: Sync {
+    /// The spec `type` (= [`Operator::name`]).
+    fn kind(&self) -> &'static str;
+    /// The declared fields.
+    fn fields(&self) -> &'static [FieldInfo];
+    /// Reads the parameter object (the node without `type`) into its
+    /// canonical form; errors give serde's path inside the object.
+    fn canonical(
+        &self,
+        params: Value,
+    ) -> Result<Value, serde_path_to_error::Error<serde_json::Error>>;
+    /// Builds the operator from canonical parameters.
+    fn build(&self, params: &Value) -> Result<Box<dyn Operator<f64>>, Error>;
+    /// The same parameters with the flat entries taken from the front of
+    /// `p` (validated).
+    fn with_values(&self, params: &Value, p: &mut &[f64]) -> Result<Value, Error>;
+    /// The declaration's example, canonical.
+    fn example(&self) -> Value;
+    /// The example built with `f32` as the scalar.
+    fn example_f32(&self) -> Result<Box<dyn Operator<f32>>, Error>;
+    /// Whether the operator is rate-dependent: it declares its default
+    /// sample period as a fixed field `dt`.
+    fn is_rate_dependent(&self) -> bool {
+        self.fields()
+            .iter()
+            .any(|f| f.name == "dt" && f.kind == FieldKind::Fixed)
+    }
+}
+
+/// A [`Leaf`] type in the registry.
+pub struct Registered<L>(PhantomData<fn() -> L>);
+
+impl<L> Registered<L> {
+    /// The entry (a constant, for the static [`LEAVES`]).
+    pub const NEW: Self = Registered(PhantomData);
+}
+
+/// The typed parameters of a canonical value (checked when it was read,
+/// so this cannot fail; an error rather than a panic all the same).
+fn typed<P: DeserializeOwned>(v: &Value) -> Result<P, Error> {
+    P::deserialize(v).map_err(|_| Error::InvalidParameter {
+        name: "parameters".into(),
+        value: f64::NAN,
+        reason: "do not match the operator's declaration",
+    })
+}
+
+fn to_value<P: Serialize>(p: &P) -> Value {
+    // Serializing a declared struct of numbers cannot fail; non-finite
+    // numbers (which validation rejects) would become `null`.
+    serde_json::to_value(p).unwrap_or(Value::Null)
+}
+
+impl<L> LeafKind for Registered<L>
+where
+    L: Leaf<f64> + 'static,
+    L::Params: Serialize + DeserializeOwned,
+{
+    fn kind(&self) -> &'static str {
+        L::KIND
+    }
+
+    fn fields(&self) -> &'static [FieldInfo] {
+        <L::Params as ParamSet<f64>>::FIELDS
+    }
+
+    fn canonical(
+        &self,
+        params: Value,
+    ) -> Result<Value, serde_path_to_error::Error<serde_json::Error>> {
+        let p: L::Params = serde_path_to_error::deserialize(params)?;
+        // What the built operator reports (optional vectors written out),
+        // or the set as given if it does not build (`build` says why).
+        Ok(match L::from_params(p.clone()) {
+            Ok(op) => to_value(op.parameters()),
+            Err(_) => to_value(&p),
+        })
+    }
+
+    fn build(&self, params: &Value) -> Result<Box<dyn Operator<f64>>, Error> {
+        Ok(Box::new(L::from_params(typed(params)?)?))
+    }
+
+    fn with_values(&self, params: &Value, p: &mut &[f64]) -> Result<Value, Error> {
+        let old = L::from_params(typed(params)?)?.parameters().clone();
+        let new = old.read(p)?;
+        new.validate()?;
+        Ok(to_value(&new))
+    }
+
+    fn example(&self) -> Value {
+        to_value(&L::example())
+    }
+
+    fn example_f32(&self) -> Result<Box<dyn Operator<f32>>, Error> {
+        let p = <L::With<f32> as Leaf<f32>>::example();
+        Ok(Box::new(<L::With<f32> as Leaf<f32>>::from_params(p)?))
+    }
+}

@@ -1,0 +1,333 @@
+//! `with_params` over every kind of node and the repository's examples.
+
+use super::*;
+use hysteron_composition::PiBankParams;
+use hysteron_operators::{
+    BoucWenParams, DahlParams, DeadZoneParams, ElastoPlasticParams, GmsParams, LuGreParams,
+    MassSpringDamperParams, MaxwellSlipParams, MmsParams, PlayParams, SaturationParams,
+    StiffnessMap, StopParams,
+};
+
+/// The example specs of the repository (`examples/specs/*.json`).
+fn example_specs() -> Vec<(String, Spec)> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/specs");
+    let mut paths: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .collect();
+    paths.sort();
+    assert!(paths.len() >= 4, "{paths:?}");
+    paths
+        .into_iter()
+        .map(|p| {
+            let spec = Spec::from_json_file(&p).unwrap();
+            (p.display().to_string(), spec)
+        })
+        .collect()
+}
+
+/// One tree with every variant and every kind of travel limits.
+fn every_variant() -> Spec {
+    let b = Box::new;
+    let spring = BoucWenParams {
+        w: 0.6,
+        alpha: 1.0,
+        beta: 2.5,
+        gamma: 1.5,
+        n: 1.5,
+        h0: 0.1,
+        z0: -0.05,
+        stiffness: StiffnessMap::new(vec![0.0, 0.4, 1.0], vec![10.0, 12.0, 18.0]).unwrap(),
+    };
+    let transmission = TransmissionParams {
+        slider0: 0.05,
+        ..TransmissionParams::default()
+    };
+    Spec::Cascade {
+        first: b(Spec::Parallel {
+            left: b(Spec::Scaled {
+                w: 0.5,
+                inner: b(Spec::leaf::<hysteron_operators::Play<f64>>(PlayParams {
+                    r: 0.2,
+                    y0: 0.1,
+                })),
+            }),
+            right: b(Spec::Cascade {
+                first: b(Spec::leaf::<hysteron_operators::Stop<f64>>(StopParams {
+                    r: 0.3,
+                    s0: -0.1,
+                })),
+                second: b(Spec::leaf::<hysteron_operators::ElastoPlastic<f64>>(
+                    ElastoPlasticParams {
+                        k: 20.0,
+                        f_b: 1.0,
+                        f0: 0.2,
+                    },
+                )),
+            }),
+        }),
+        second: b(Spec::Parallel {
+            left: b(Spec::Feedback {
+                forward: b(Spec::leaf::<hysteron_operators::DeadZone<f64>>(
+                    DeadZoneParams {
+                        b_l: -0.1,
+                        b_r: 0.2,
+                    },
+                )),
+                back: b(Spec::leaf::<hysteron_operators::Saturation<f64>>(
+                    SaturationParams { lo: -1.0, hi: 2.0 },
+                )),
+                solver: Some(SolverOptions::default()),
+            }),
+            right: b(Spec::Parallel {
+                left: b(Spec::Series {
+                    left: b(Spec::leaf::<hysteron_operators::Mms<f64>>(MmsParams {
+                        f_c: 1.5,
+                        k: 30.0,
+                        y0: 0.2,
+                    })),
+                    right: b(Spec::leaf::<hysteron_operators::BoucWen<f64>>(
+                        spring.clone(),
+                    )),
+                    limits: TravelLimits::Range { lo: -0.2, hi: 0.3 },
+                    solver: None,
+                }),
+                right: b(Spec::Parallel {
+                    left: b(Spec::Series {
+                        left: b(Spec::leaf::<hysteron_operators::Gain<f64>>(
+                            hysteron_operators::GainParams { k: 3.0 },
+                        )),
+                        right: b(Spec::leaf::<hysteron_composition::PiBank<f64>>(
+                            PiBankParams {
+                                a0: 0.5,
+                                r: vec![0.0, 0.1, 0.4],
+                                w: vec![1.0, -0.5, 2.0],
+                                y0: Vec::new(),
+                            },
+                        )),
+                        limits: TravelLimits::None,
+                        solver: None,
+                    }),
+                    right: b(Spec::Parallel {
+                        left: b(Spec::Inverse {
+                            inner: b(Spec::leaf::<hysteron_operators::Gain<f64>>(
+                                hysteron_operators::GainParams { k: 2.0 },
+                            )),
+                            solver: None,
+                        }),
+                        right: b(Spec::Parallel {
+                            left: b(Spec::Transmission(transmission)),
+                            right: b(Spec::leaf::<hysteron_composition::PiBank<f64>>(
+                                PiBankParams {
+                                    a0: 0.0,
+                                    r: vec![0.2],
+                                    w: vec![1.0],
+                                    y0: vec![0.1],
+                                },
+                            )),
+                        }),
+                    }),
+                }),
+            }),
+        }),
+    }
+}
+
+fn all_specs() -> Vec<(String, Spec)> {
+    let mut specs = example_specs();
+    specs.push(("every variant".into(), every_variant()));
+    specs.push((
+        "transmission".into(),
+        Spec::Transmission(TransmissionParams::default()),
+    ));
+    specs.push((
+        "paper as series".into(),
+        Spec::from(&TransmissionParams::default()),
+    ));
+    specs.push((
+        "rate-dependent".into(),
+        Spec::Parallel {
+            left: Box::new(Spec::Oversample {
+                inner: Box::new(Spec::leaf::<hysteron_operators::MassSpringDamper<f64>>(
+                    MassSpringDamperParams {
+                        m: 0.5,
+                        c: 3.0,
+                        k: 200.0,
+                        dt: 0.0025,
+                    },
+                )),
+                q: 4,
+            }),
+            right: Box::new(Spec::leaf::<hysteron_operators::ViscousDamper<f64>>(
+                hysteron_operators::ViscousDamperParams { c: 2.0, dt: 0.01 },
+            )),
+        },
+    ));
+    specs.push((
+        "friction models".into(),
+        Spec::Parallel {
+            left: Box::new(Spec::leaf::<hysteron_operators::MaxwellSlip<f64>>(
+                MaxwellSlipParams {
+                    k: vec![20.0, 8.0, 3.0],
+                    f_b: vec![0.2, 0.5, 0.8],
+                    f0: vec![],
+                },
+            )),
+            right: Box::new(Spec::Parallel {
+                left: Box::new(Spec::leaf::<hysteron_operators::Dahl<f64>>(DahlParams {
+                    sigma: 30.0,
+                    f_c: 1.2,
+                    alpha: 1.5,
+                    f0: 0.3,
+                })),
+                right: Box::new(Spec::leaf::<hysteron_operators::LuGre<f64>>(LuGreParams {
+                    sigma0: 1e3,
+                    sigma1: 5.0,
+                    sigma2: 0.4,
+                    f_c: 1.0,
+                    f_s: 1.3,
+                    v_s: 0.05,
+                    delta: 2.0,
+                    z0: 1e-4,
+                    dt: 0.01,
+                })),
+            }),
+        },
+    ));
+    specs.push((
+        "gms".into(),
+        Spec::leaf::<hysteron_operators::Gms<f64>>(GmsParams {
+            k: vec![20.0, 8.0],
+            alpha: vec![0.6, 0.4],
+            f0: vec![0.1, 0.0],
+            c: 15.0,
+            f_c: 1.0,
+            f_s: 1.4,
+            v_s: 0.5,
+            delta: 2.0,
+            sigma2: 0.2,
+            dt: 0.01,
+        }),
+    ));
+    specs
+}
+
+fn bits(p: &[f64]) -> Vec<u64> {
+    p.iter().map(|v| v.to_bits()).collect()
+}
+
+#[test]
+fn with_params_of_own_params_is_the_same_spec() {
+    for (name, spec) in all_specs() {
+        let p = spec.build().unwrap().params();
+        let back = spec.with_params(&p).unwrap();
+        assert_eq!(back, spec, "{name}");
+        // bit for bit, signed zeros included
+        assert_eq!(
+            back.to_json_pretty().unwrap(),
+            spec.to_json_pretty().unwrap(),
+            "{name}"
+        );
+        assert_eq!(bits(&back.build().unwrap().params()), bits(&p), "{name}");
+    }
+}
+
+/// Each parameter changed on its own ends up in the place `params()`
+/// reads it from: the new spec builds to exactly `p`.
+#[test]
+fn every_parameter_is_written_to_its_own_field() {
+    for (name, spec) in all_specs() {
+        let model = spec.build().unwrap();
+        let p = model.params();
+        let names = model.param_names();
+        let domains = model.param_domains();
+        let mut checked = 0;
+        for i in 0..p.len() {
+            let candidates = [p[i] * 0.9375, p[i] * 1.0625, p[i] + 0.0625, p[i] - 0.0625];
+            let Some(v) = candidates
+                .into_iter()
+                .find(|&v| v != p[i] && domains[i].contains(v))
+            else {
+                continue;
+            };
+            let mut q = p.clone();
+            q[i] = v;
+            let accepted = model.clone().set_params(&q).is_ok();
+            match spec.with_params(&q) {
+                Ok(new) => {
+                    assert!(accepted, "{name}: {} = {v} accepted", names[i]);
+                    assert_eq!(
+                        bits(&new.build().unwrap().params()),
+                        bits(&q),
+                        "{name}: {}",
+                        names[i]
+                    );
+                    assert_ne!(new, spec, "{name}: {}", names[i]);
+                    checked += 1;
+                }
+                Err(e) => assert!(
+                    !accepted || e.to_string().contains("spring.z0"),
+                    "{name}: {} = {v}: {e}",
+                    names[i]
+                ),
+            }
+        }
+        assert!(
+            checked * 4 >= p.len() * 3,
+            "{name}: {checked} of {}",
+            p.len()
+        );
+    }
+}
+
+#[test]
+fn with_params_errors_name_the_path() {
+    let spec = Spec::from(&TransmissionParams::default());
+    let p = spec.build().unwrap().params();
+    let e = spec.with_params(&p[1..]).unwrap_err();
+    assert!(e.to_string().contains("parameter vector has"), "{e}");
+    let mut q = p.clone();
+    q[0] = -0.3; // limits.b
+    assert_eq!(
+        spec.with_params(&q).unwrap_err().to_string(),
+        "series.limits.b: must be > 0 (got -0.3)"
+    );
+    let names = spec.build().unwrap().param_names();
+    let s1 = names
+        .iter()
+        .position(|n| n == "right.bouc_wen.stiffness.s[1]")
+        .unwrap();
+    let mut q = p.clone();
+    q[s1] = -1.0;
+    assert_eq!(
+        spec.with_params(&q).unwrap_err().to_string(),
+        "series.right.bouc_wen.stiffness.s[1]: must be ≥ 0 (got -1)"
+    );
+    // A transmission spec ties the spring's z0 to −slider0.
+    let spec = Spec::Transmission(TransmissionParams::default());
+    let mut q = spec.build().unwrap().params();
+    q[1] = 0.1; // slider0, z0 left at 0
+    let e = spec.with_params(&q).unwrap_err().to_string();
+    assert!(
+        e.starts_with("transmission.spring.z0: must equal −slider0"),
+        "{e}"
+    );
+    let z0 = spec
+        .build()
+        .unwrap()
+        .param_names()
+        .iter()
+        .position(|n| n == "right.bouc_wen.z0")
+        .unwrap();
+    q[z0] = -0.1;
+    let new = spec.with_params(&q).unwrap();
+    assert_eq!(bits(&new.build().unwrap().params()), bits(&q));
+    let Spec::Transmission(t) = new else {
+        panic!("{new:?}")
+    };
+    assert_eq!(t.slider0, 0.1);
+    // and a spec that does not build is an error, not a panic
+    let bad = Spec::leaf::<hysteron_operators::Play<f64>>(PlayParams { r: -1.0, y0: 0.0 });
+    assert!(bad.with_params(&[1.0, 0.0]).is_err());
+}
