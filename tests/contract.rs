@@ -4,16 +4,20 @@
 //! trials leave no trace; clones are independent; boxed equals static; the
 //! flat parameter vector round-trips.
 
+use hysteron::models::spec::registry::LEAVES;
+use hysteron::models::Spec;
 use hysteron::operators::Domain;
 use hysteron::prelude::*;
 
 /// A signal with reversals of varying amplitude, repeated samples and a
 /// zero crossing, in the range of the paper's experiments.
-fn signal() -> Vec<f64> {
-    let mut xs: Vec<f64> = (0..600)
+fn signal<T: Float>() -> Vec<T> {
+    let mut xs: Vec<T> = (0..600)
         .map(|i| {
             let t = i as f64;
-            1.4 * (0.045 * t).sin() * (1.0 + 0.3 * (0.011 * t).sin()) + 0.05 * (0.31 * t).sin()
+            T::lit(
+                1.4 * (0.045 * t).sin() * (1.0 + 0.3 * (0.011 * t).sin()) + 0.05 * (0.31 * t).sin(),
+            )
         })
         .collect();
     // standstills
@@ -22,11 +26,12 @@ fn signal() -> Vec<f64> {
     xs
 }
 
-fn bits(v: &[f64]) -> Vec<u64> {
-    v.iter().map(|y| y.to_bits()).collect()
+/// The bits of each value (exact for `f32` too: widening is exact).
+fn bits<T: Float>(v: &[T]) -> Vec<u64> {
+    v.iter().map(|y| y.as_f64().to_bits()).collect()
 }
 
-fn trial_commit_loop<O: Operator<f64>>(op: &mut O, xs: &[f64]) -> Vec<f64> {
+fn trial_commit_loop<T: Float, O: Operator<T>>(op: &mut O, xs: &[T]) -> Vec<T> {
     xs.iter()
         .map(|&x| {
             let t = op.trial(x).expect("trial");
@@ -36,9 +41,10 @@ fn trial_commit_loop<O: Operator<f64>>(op: &mut O, xs: &[f64]) -> Vec<f64> {
         .collect()
 }
 
-/// The whole contract for one operator.
-fn check<O: Operator<f64> + Clone + 'static>(label: &str, op: O) {
-    let xs = signal();
+/// The whole contract for one operator, for any scalar.
+fn check<T: Float, O: Operator<T> + Clone + 'static>(label: &str, op: O) {
+    let xs = signal::<T>();
+    let lit = T::lit;
     let fresh = op.clone();
 
     // process == trial + commit loop, bit for bit
@@ -53,12 +59,12 @@ fn check<O: Operator<f64> + Clone + 'static>(label: &str, op: O) {
     // ... and leaves the same state: trials after either agree, output and
     // tangent (a batch loop that skips state a trial needs shows here)
     let last = xs[xs.len() - 1];
-    for probe in [last, last + 0.3, last - 0.3] {
+    for probe in [last, last + lit(0.3), last - lit(0.3)] {
         let (ta, tb) = (a.trial(probe), b.trial(probe));
         let (ta, tb) = (ta.unwrap(), tb.unwrap());
         assert_eq!(
-            (ta.output.to_bits(), ta.tangent.to_bits()),
-            (tb.output.to_bits(), tb.tangent.to_bits()),
+            (ta.output.as_f64().to_bits(), ta.tangent.as_f64().to_bits()),
+            (tb.output.as_f64().to_bits(), tb.tangent.as_f64().to_bits()),
             "{label}: state after process vs after trial/commit (probe {probe})"
         );
     }
@@ -67,10 +73,10 @@ fn check<O: Operator<f64> + Clone + 'static>(label: &str, op: O) {
     // first sample `keep` refuses; `keep` sees each output once, in order
     for cut in [0, 1, 2, 100, 101, 102, xs.len() / 2, xs.len() - 1, xs.len()] {
         let mut p = fresh.clone();
-        let mut ys = vec![f64::NAN; xs.len()];
+        let mut ys = vec![T::nan(); xs.len()];
         let mut seen = Vec::new();
         let n = p.process_while(&xs, &mut ys, &mut |i, y| {
-            seen.push((i, y.to_bits()));
+            seen.push((i, y.as_f64().to_bits()));
             i < cut
         });
         assert_eq!(n, cut, "{label}: process_while stopped at {n}, not {cut}");
@@ -80,7 +86,7 @@ fn check<O: Operator<f64> + Clone + 'static>(label: &str, op: O) {
             "{label}: process_while outputs (cut {cut})"
         );
         let offered: Vec<(usize, u64)> = (0..(cut + 1).min(xs.len()))
-            .map(|i| (i, reference[i].to_bits()))
+            .map(|i| (i, reference[i].as_f64().to_bits()))
             .collect();
         assert_eq!(seen, offered, "{label}: process_while offers (cut {cut})");
         // the refused sample left no trace
@@ -93,8 +99,8 @@ fn check<O: Operator<f64> + Clone + 'static>(label: &str, op: O) {
     // ... and a failing sample ends it there, uncommitted, without an error
     let mut p = fresh.clone();
     let mut bad = xs.clone();
-    bad[150] = f64::NAN;
-    let mut ys = vec![0.0; xs.len()];
+    bad[150] = T::nan();
+    let mut ys = vec![T::zero(); xs.len()];
     assert_eq!(
         p.process_while(&bad, &mut ys, &mut |_, _| true),
         150,
@@ -127,20 +133,20 @@ fn check<O: Operator<f64> + Clone + 'static>(label: &str, op: O) {
     let mut c = fresh.clone();
     let mut out = Vec::with_capacity(xs.len());
     for (i, &x) in xs.iter().enumerate() {
-        for probe in [x + 0.37, x - 1.1, 3.0 * x, -x] {
+        for probe in [x + lit(0.37), x - lit(1.1), lit(3.0) * x, -x] {
             c.trial(probe)
                 .unwrap_or_else(|e| panic!("{label}: probe {probe}: {e}"));
         }
         let t1 = c.trial(x).unwrap();
         let t2 = c.trial(x).unwrap();
         assert_eq!(
-            t1.output.to_bits(),
-            t2.output.to_bits(),
+            t1.output.as_f64().to_bits(),
+            t2.output.as_f64().to_bits(),
             "{label}: repeated trial at sample {i}"
         );
         assert_eq!(
-            t1.tangent.to_bits(),
-            t2.tangent.to_bits(),
+            t1.tangent.as_f64().to_bits(),
+            t2.tangent.as_f64().to_bits(),
             "{label}: repeated tangent at sample {i}"
         );
         c.commit();
@@ -158,11 +164,11 @@ fn check<O: Operator<f64> + Clone + 'static>(label: &str, op: O) {
     let mut d = fresh.clone();
     let half = xs.len() / 2;
     d.run(&xs[..half]).unwrap();
-    d.trial(xs[half] + 0.5).unwrap();
-    assert!(d.trial(f64::NAN).is_err(), "{label}: NaN input accepted");
+    d.trial(xs[half] + lit(0.5)).unwrap();
+    assert!(d.trial(T::nan()).is_err(), "{label}: NaN input accepted");
     d.commit();
     assert!(
-        d.trial(f64::INFINITY).is_err(),
+        d.trial(T::infinity()).is_err(),
         "{label}: infinite input accepted"
     );
     assert_eq!(
@@ -184,7 +190,7 @@ fn check<O: Operator<f64> + Clone + 'static>(label: &str, op: O) {
     let mut f = fresh.clone();
     f.run(&xs[..half]).unwrap();
     let mut g = f.clone();
-    g.run(&[5.0, -5.0, 2.0]).unwrap(); // drive the clone elsewhere
+    g.run(&[lit(5.0), lit(-5.0), lit(2.0)]).unwrap(); // drive the clone elsewhere
     g.reset();
     assert_eq!(
         bits(&f.run(&xs[half..]).unwrap()),
@@ -198,7 +204,7 @@ fn check<O: Operator<f64> + Clone + 'static>(label: &str, op: O) {
     );
 
     // boxed equals static, and a boxed clone of a boxed operator too
-    let mut boxed: Box<dyn Operator<f64>> = Box::new(fresh.clone());
+    let mut boxed: Box<dyn Operator<T>> = Box::new(fresh.clone());
     assert_eq!(
         bits(&boxed.run(&xs).unwrap()),
         bits(&reference),
@@ -227,24 +233,25 @@ fn check<O: Operator<f64> + Clone + 'static>(label: &str, op: O) {
     assert_eq!(domains.len(), p.len(), "{label}: param_domains");
     for ((v, d), name) in p.iter().zip(&domains).zip(h.param_names()) {
         assert!(
-            d.contains(*v),
+            d.contains(v.as_f64()),
             "{label}: {name} = {v} outside its domain {d:?}"
         );
     }
     // The domains are tight: a value just outside each bounded one is
-    // rejected by set_params.
+    // rejected by set_params (`e` is "just" in this scalar's precision).
+    let e = (4.0 * T::epsilon().as_f64()).max(1e-9);
     for (i, d) in domains.iter().enumerate() {
         let outside = match *d {
             Domain::Real => continue,
-            Domain::NonNegative => vec![-1e-9],
-            Domain::Positive => vec![0.0, -1e-9],
-            Domain::NonPositive => vec![1e-9],
-            Domain::AtLeast(a) => vec![a - 1e-9],
-            Domain::UnitInterval => vec![-1e-9, 1.0 + 1e-9],
+            Domain::NonNegative => vec![-e],
+            Domain::Positive => vec![0.0, -e],
+            Domain::NonPositive => vec![e],
+            Domain::AtLeast(a) => vec![a - e * a.abs().max(1.0)],
+            Domain::UnitInterval => vec![-e, 1.0 + e],
         };
         for v in outside {
             let mut q = p.clone();
-            q[i] = v;
+            q[i] = T::lit(v);
             assert!(
                 h.clone().set_params(&q).is_err(),
                 "{label}: {} = {v} accepted outside {d:?}",
@@ -265,11 +272,43 @@ fn check<O: Operator<f64> + Clone + 'static>(label: &str, op: O) {
     );
 
     // mismatched buffers are an error
-    let mut ys = vec![0.0; 3];
+    let mut ys = vec![T::zero(); 3];
     assert!(matches!(
         fresh.clone().process(&xs[..4], &mut ys),
         Err(Error::LengthMismatch { .. })
     ));
+}
+
+/// Every leaf of the spec registry, built from its declared example, in
+/// `f64` (boxed, as a spec builds it) and in `f32`; its name is its spec
+/// `type`, and its example spec reads back from its own JSON.
+#[test]
+fn every_registered_leaf_in_f64_and_f32() {
+    let mut kinds: Vec<&str> = LEAVES.iter().map(|l| l.kind()).collect();
+    kinds.sort_unstable();
+    kinds.dedup();
+    assert_eq!(kinds.len(), LEAVES.len(), "a kind is registered twice");
+    assert!(LEAVES.len() >= 17, "{kinds:?}");
+    for leaf in LEAVES {
+        let kind = leaf.kind();
+        let spec = leaf.example_spec();
+        assert_eq!(spec.kind(), kind);
+        let text = spec.to_json_pretty().unwrap();
+        assert_eq!(
+            Spec::from_json(&text).unwrap(),
+            spec,
+            "{kind}: JSON round trip"
+        );
+        let op = spec.build().unwrap_or_else(|e| panic!("{kind}: {e}"));
+        assert_eq!(op.name(), kind, "one name in the spec and the operator");
+        assert!(op.n_params() > 0, "{kind}: no parameters");
+        check(&format!("{kind} (f64)"), op);
+        let op32 = leaf
+            .example_f32()
+            .unwrap_or_else(|e| panic!("{kind} f32: {e}"));
+        assert_eq!(op32.name(), kind);
+        check(&format!("{kind} (f32)"), op32);
+    }
 }
 
 fn spring(n: f64) -> BoucWen<f64> {

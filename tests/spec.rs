@@ -1469,3 +1469,65 @@ fn with_dt_sets_the_period_the_tree_gives_every_rate_dependent_node() {
         "cascade.first.oversample.inner.mass_spring_damper.dt: must be > 0 (got 0)"
     );
 }
+
+/// A generic `series` with a gap whose `r0 ≠ 0` drives its spring from
+/// `−r0` at `x = 0`: the spring starts at rest there (`z0 = −r0`, the tie
+/// the series declares), so the first sample does not jump (a spring left
+/// at `z0 = 0` once jumped by 0.23 Nm), whatever `z0` the spec wrote; the
+/// tie is listed and `with_params` keeps it.
+#[test]
+fn a_series_gap_ties_its_spring_to_rest() {
+    let paper = TransmissionParams {
+        slider0: 0.1,
+        ..TransmissionParams::default()
+    };
+    let written = |z0: &str| {
+        let text = format!(
+            r#"{{"type": "series",
+                "left": {{"type": "mms", "f_c": 1.5, "k": 30}},
+                "right": {{"type": "bouc_wen", "w": 0.6, "alpha": 1, "beta": 2.5, "gamma": 1.5,
+                          "n": 1{z0}, "stiffness": {{"z": [0], "s": [10]}}}},
+                "limits": {{"type": "gap", "b": 0.3, "r0": 0.1}}}}"#
+        );
+        Spec::from_json(&text).unwrap()
+    };
+    let omitted = written("");
+    let explicit = written(r#", "z0": -0.1"#);
+    let mut stiff = paper.clone();
+    stiff.spring.stiffness = StiffnessMap::constant(10.0).unwrap();
+    let xs = [0.0, 1e-9, 2e-9, 0.05, 0.4, -0.4, 0.0];
+    let run = |s: &Spec| s.build().unwrap().run(&xs).unwrap();
+    let reference = run(&Spec::Transmission(stiff));
+    assert_eq!(bits(&run(&omitted)), bits(&reference));
+    assert_eq!(bits(&run(&explicit)), bits(&reference));
+    // no jump: a nanometre of input moves the force by about stiffness ×
+    // nanometre
+    let y = run(&omitted);
+    assert!((y[1] - y[0]).abs() < 1e-7, "{y:?}");
+    // the tie is declared, and kept by with_params
+    assert_eq!(omitted.tied_params(), ["limits.r0", "right.bouc_wen.z0"]);
+    let model = omitted.build().unwrap();
+    let names = model.param_names();
+    let mut p = model.params();
+    let r0 = names.iter().position(|n| n == "limits.r0").unwrap();
+    let z0 = names.iter().position(|n| n == "right.bouc_wen.z0").unwrap();
+    assert_eq!((p[r0], p[z0]), (0.1, -0.1));
+    assert_eq!(omitted.with_params(&p).unwrap(), omitted);
+    p[r0] = 0.05;
+    let e = omitted.with_params(&p).unwrap_err();
+    assert!(
+        e.to_string()
+            .starts_with("series.right.bouc_wen.z0: must equal −r0"),
+        "{e}"
+    );
+    p[z0] = -0.05;
+    let moved = omitted.with_params(&p).unwrap();
+    assert_eq!(moved.build().unwrap().params(), p);
+    // without a gap, or with another right element, nothing is tied
+    let range = Spec::from_json(
+        r#"{"type": "series", "left": {"type": "gain", "k": 1},
+            "right": {"type": "gain", "k": 2}, "limits": {"type": "gap", "b": 0.3, "r0": 0.1}}"#,
+    )
+    .unwrap();
+    assert!(range.tied_params().is_empty());
+}

@@ -143,7 +143,7 @@ impl TransmissionParams {
                 name: "spring.z0".into(),
                 value: spring.z0,
                 reason: "must equal −slider0 in a `transmission` spec \
-                         (use a generic `series` spec to set it on its own)",
+                         (move slider0 and spring.z0 together)",
             });
         }
         // Not used by the model: keep what the spec said.

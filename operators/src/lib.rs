@@ -41,49 +41,60 @@ mod memoryless;
 mod operator;
 pub mod params;
 
-mod bouc_wen;
-mod dahl;
-mod deadzone;
-mod elastoplastic;
 mod flow_table;
-mod gain;
-mod gms;
 mod hysteretic_state;
-mod lugre;
-mod mass_spring_damper;
-mod maxwell_slip;
-mod mms;
-mod play;
-mod preisach;
-mod saturation;
 mod stiffness;
-mod stop;
-mod viscous_damper;
 
-pub use bouc_wen::{BoucWen, BoucWenParams, StateSolver};
-pub use dahl::{Dahl, DahlLaw, DahlParams, DahlState};
-pub use deadzone::{dead_zone, DeadZone, DeadZoneLaw, DeadZoneParams};
+pub use bouc_wen::StateSolver;
 pub use domain::Domain;
-pub use elastoplastic::{ElastoPlastic, ElastoPlasticLaw, ElastoPlasticParams};
 pub use error::{Error, Result};
 pub use float::Float;
-pub use gain::{Gain, GainLaw, GainParams};
-pub use gms::{Gms, GmsParams};
 pub use leaf::{checked_step, Leaf, StepLaw, Stepped};
-pub use lugre::{LuGre, LuGreLaw, LuGreParams, LuGreState};
-pub use mass_spring_damper::{
-    MassSpringDamper, MassSpringDamperLaw, MassSpringDamperParams, MsdState,
-};
-pub use maxwell_slip::{MaxwellSlip, MaxwellSlipParams};
-pub use mms::{Mms, MmsLaw, MmsParams, MmsState};
 pub use operator::{
     check_input, check_lengths, check_output, process_by_trials, process_while_by_trials, Operator,
     Trial,
 };
 pub use params::{FieldInfo, FieldKind, ParamField, ParamSet};
-pub use play::{play_step, play_tangent, Play, PlayLaw, PlayParams};
-pub use preisach::{Preisach, PreisachMeasure, PreisachParams, PreisachStart};
-pub use saturation::{Saturation, SaturationLaw, SaturationParams};
 pub use stiffness::StiffnessMap;
-pub use stop::{stop_step, Stop, StopLaw, StopParams};
-pub use viscous_damper::{ViscousDamper, ViscousDamperLaw, ViscousDamperParams};
+
+/// Declares the leaf operators of this crate: each line is a module (its
+/// own file), whose public items are re-exported, and the [`Leaf`] type it
+/// defines. `for_each_leaf!(callback)` calls `callback!(Type, …)` with every
+/// one of them; the spec registry of `hysteron-models` is built that way,
+/// so a line here is all that registers a new leaf (see
+/// `CONTRIBUTING.md`).
+macro_rules! leaves {
+    ($d:tt; $($module:ident => $leaf:ident,)*) => {
+        $(
+            mod $module;
+            pub use $module::*;
+        )*
+
+        /// Calls `callback!(Play, Stop, …)` with every leaf operator type
+        /// of `hysteron-operators` (each generic over its scalar).
+        #[macro_export]
+        macro_rules! for_each_leaf {
+            ($d callback:ident) => {
+                $d callback! { $($leaf),* }
+            };
+        }
+    };
+}
+
+leaves! { $;
+    play => Play,
+    stop => Stop,
+    elastoplastic => ElastoPlastic,
+    deadzone => DeadZone,
+    saturation => Saturation,
+    gain => Gain,
+    mms => Mms,
+    bouc_wen => BoucWen,
+    preisach => Preisach,
+    mass_spring_damper => MassSpringDamper,
+    viscous_damper => ViscousDamper,
+    maxwell_slip => MaxwellSlip,
+    dahl => Dahl,
+    lugre => LuGre,
+    gms => Gms,
+}

@@ -2,8 +2,9 @@
 //! must respect.
 
 use super::{Spec, SpecError};
-use hysteron_composition::{OperatorExt, Oversample, SolverOptions};
-use hysteron_operators::{check, Error, Operator};
+use hysteron_composition::{OperatorExt, Oversample, SolverOptions, TravelLimits};
+use hysteron_operators::{check, BoucWen, Error, Leaf, Operator};
+use serde_json::Value;
 
 /// Largest `max_iter` / `max_expansions` a spec's solver may ask for (a
 /// bound on the work per solve).
@@ -121,7 +122,10 @@ impl Spec {
                 limits.validate().map_err(invalid)?;
                 let opts = solver(opts)?;
                 let a = child("left", left)?;
-                let b = child("right", right)?;
+                let b = match spring_at_rest(right, limits) {
+                    Some(tied) => child("right", &tied)?,
+                    None => child("right", right)?,
+                };
                 a.series(b)
                     .with_limits(*limits)
                     .map_err(invalid)?
@@ -148,6 +152,25 @@ impl Spec {
             }
         })
     }
+}
+
+/// The tie a series with a gap creates: its right element is driven by
+/// `x − r`, which is `−r0` at `x = 0`, so a `bouc_wen` spring there starts
+/// at rest at `z0 = −r0` (as the paper's model does, see
+/// [`TransmissionParams::spring_params`](crate::TransmissionParams::spring_params)).
+/// The spring with that `z0`, or `None` where there is no such tie.
+pub(super) fn spring_at_rest(right: &Spec, limits: &TravelLimits<f64>) -> Option<Spec> {
+    let (TravelLimits::Gap { r0, .. }, Spec::Leaf(leaf)) = (limits, right) else {
+        return None;
+    };
+    if leaf.kind != <BoucWen<f64> as Leaf<f64>>::KIND {
+        return None;
+    }
+    let mut leaf = leaf.clone();
+    if let Value::Object(m) = &mut leaf.params {
+        m.insert("z0".into(), Value::from(0.0 - r0));
+    }
+    Some(Spec::Leaf(leaf))
 }
 
 /// Checks a spec's solver options (see [`Spec::build`]).

@@ -2,13 +2,60 @@
 //! counterparts of [`Operator::set_params`] and
 //! [`Operator::set_sample_period`].
 
-use super::build::transmission_names;
+use super::build::{spring_at_rest, transmission_names};
 use super::{LeafSpec, Spec, SpecError};
 use hysteron_composition::TravelLimits;
 use hysteron_operators::{Error, Operator};
 use serde_json::Value;
 
+/// Why a spring's `z0` in a series with a gap cannot move on its own.
+const TIED_Z0: &str = "must equal −r0 of the series' gap: the spring is at rest at the input the \
+                       gap gives it at x = 0 (move r0 and z0 together)";
+
 impl Spec {
+    /// The parameters (named as [`Operator::param_names`] of the built
+    /// model names them) that are tied to another and so cannot be set, or
+    /// fitted, on their own: in a series with a gap whose right element is
+    /// a `bouc_wen` spring, and in a `transmission`, the gap's `r0` and the
+    /// spring's `z0 = −r0`.
+    ///
+    /// ```
+    /// use hysteron_models::{Spec, TransmissionParams};
+    /// let spec = Spec::from(&TransmissionParams::default());
+    /// assert_eq!(spec.tied_params(), ["limits.r0", "right.bouc_wen.z0"]);
+    /// let nested = Spec::Scaled { w: 2.0, inner: Box::new(spec) };
+    /// assert_eq!(
+    ///     nested.tied_params(),
+    ///     ["inner.series.limits.r0", "inner.series.right.bouc_wen.z0"]
+    /// );
+    /// ```
+    pub fn tied_params(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        self.ties_into("", &mut out);
+        out
+    }
+
+    fn ties_into(&self, prefix: &str, out: &mut Vec<String>) {
+        let tied = match self {
+            Spec::Transmission(_) => true,
+            Spec::Series { right, limits, .. } => spring_at_rest(right, limits).is_some(),
+            _ => false,
+        };
+        if tied {
+            out.push(format!("{prefix}limits.r0"));
+            out.push(format!("{prefix}right.bouc_wen.z0"));
+        }
+        for (field, child) in self.children() {
+            // prefixed as the built model names its children (a
+            // `transmission` builds a `series`)
+            let name = match child {
+                Spec::Transmission(_) => "series",
+                other => other.kind(),
+            };
+            child.ties_into(&format!("{prefix}{field}.{name}."), out);
+        }
+    }
+
     /// The same spec with the sample period of every rate-dependent node
     /// set to `dt`, as [`Operator::set_sample_period`] sets it on the built
     /// model: the nodes inside an `oversample` of `q` sub-steps get
@@ -73,11 +120,11 @@ impl Spec {
     /// * `spec.with_params(&spec.build()?.params())? == spec`;
     /// * `spec.with_params(&p)?.build()?.params() == p`.
     ///
-    /// In a `transmission` spec the spring's initial deflection is not a
-    /// parameter of its own (the model uses `z0 = −slider0`), so its entry
-    /// in `p` must equal `−slider0` (otherwise an error naming
-    /// `spring.z0`; a generic `series` spec,
-    /// `Spec::from(&TransmissionParams)`, has no such tie).
+    /// Tied parameters ([`tied_params`](Spec::tied_params)) must keep
+    /// their tie: in a `transmission` spec the spring's entry must equal
+    /// `−slider0` (otherwise an error naming `spring.z0`), in a series with
+    /// a gap the spring's `z0` must equal `−r0` (an error naming the
+    /// spring's `z0`). The spec keeps the `z0` it was written with.
     ///
     /// Errors: the spec itself does not build; `p` has the wrong length;
     /// the new spec does not build (a value outside its parameter's range),
@@ -186,9 +233,42 @@ impl Spec {
                         TravelLimits::Gap { b: v[0], r0: v[1] }
                     }
                 };
+                let left = child("left", left, rest)?;
+                let right = match spring_at_rest(right, &limits) {
+                    // The spring's z0 is tied to the gap's r0: its entry
+                    // must keep the tie; the spec keeps the z0 it had.
+                    Some(_) => {
+                        let at = format!("{path}.right.{}", right.kind());
+                        let new = child("right", right, rest)?;
+                        let (TravelLimits::Gap { r0, .. }, Spec::Leaf(leaf)) = (&limits, &*new)
+                        else {
+                            return Err(invalid(Error::ParamCount {
+                                expected: 0,
+                                got: rest.len(),
+                            }));
+                        };
+                        let z0 = leaf.params.get("z0").and_then(Value::as_f64);
+                        if z0 != Some(0.0 - r0) {
+                            return Err(SpecError::invalid(
+                                &at,
+                                Error::InvalidParameter {
+                                    name: "z0".into(),
+                                    value: z0.unwrap_or(f64::NAN),
+                                    reason: TIED_Z0,
+                                },
+                            ));
+                        }
+                        let mut leaf = leaf.clone();
+                        if let (Value::Object(m), Spec::Leaf(old)) = (&mut leaf.params, &**right) {
+                            m.insert("z0".into(), old.params["z0"].clone());
+                        }
+                        Box::new(Spec::Leaf(leaf))
+                    }
+                    None => child("right", right, rest)?,
+                };
                 Spec::Series {
-                    left: child("left", left, rest)?,
-                    right: child("right", right, rest)?,
+                    left,
+                    right,
                     limits,
                     solver: *solver,
                 }

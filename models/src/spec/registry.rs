@@ -3,39 +3,30 @@
 //! Every entry is a [`Leaf`] type behind [`Registered`]; its declared
 //! parameters give the JSON form (serde), the build, the flat parameter
 //! vector and the example the contract test runs. Adding a leaf operator
-//! is its own file plus one line in [`LEAVES`] (see `CONTRIBUTING.md`).
+//! is its own file plus one line in the `leaves!` list of
+//! `hysteron-operators` (see `CONTRIBUTING.md`).
 
 use hysteron_composition::{PiBank, PiInverse};
-use hysteron_operators::{
-    BoucWen, Dahl, DeadZone, ElastoPlastic, Error, FieldInfo, FieldKind, Gain, Gms, Leaf, LuGre,
-    MassSpringDamper, MaxwellSlip, Mms, Operator, ParamSet, Play, Preisach, Saturation, Stop,
-    ViscousDamper,
-};
+use hysteron_operators::{Error, FieldInfo, FieldKind, Leaf, Operator, ParamSet};
 use serde::{de::DeserializeOwned, Serialize};
 use serde_json::Value;
 use std::marker::PhantomData;
 use std::sync::LazyLock;
 
-/// Every leaf operator a spec can name, by its `type`.
-pub static LEAVES: &[&dyn LeafKind] = &[
-    &Registered::<Play<f64>>::NEW,
-    &Registered::<Stop<f64>>::NEW,
-    &Registered::<ElastoPlastic<f64>>::NEW,
-    &Registered::<DeadZone<f64>>::NEW,
-    &Registered::<Saturation<f64>>::NEW,
-    &Registered::<Gain<f64>>::NEW,
-    &Registered::<Mms<f64>>::NEW,
-    &Registered::<BoucWen<f64>>::NEW,
-    &Registered::<PiBank<f64>>::NEW,
-    &Registered::<PiInverse<f64>>::NEW,
-    &Registered::<Preisach<f64>>::NEW,
-    &Registered::<MassSpringDamper<f64>>::NEW,
-    &Registered::<ViscousDamper<f64>>::NEW,
-    &Registered::<MaxwellSlip<f64>>::NEW,
-    &Registered::<Dahl<f64>>::NEW,
-    &Registered::<LuGre<f64>>::NEW,
-    &Registered::<Gms<f64>>::NEW,
-];
+/// Builds [`LEAVES`] from the leaves of `hysteron-operators` and those
+/// of `hysteron-composition`.
+macro_rules! registry {
+    ($($leaf:ident),*) => {
+        /// Every leaf operator a spec can name, by its `type`.
+        pub static LEAVES: &[&dyn LeafKind] = &[
+            $(&Registered::<hysteron_operators::$leaf<f64>>::NEW,)*
+            &Registered::<PiBank<f64>>::NEW,
+            &Registered::<PiInverse<f64>>::NEW,
+        ];
+    };
+}
+
+hysteron_operators::for_each_leaf!(registry);
 
 /// The registered leaf named `kind`.
 pub fn leaf_kind(kind: &str) -> Option<&'static dyn LeafKind> {
@@ -75,6 +66,13 @@ pub trait LeafKind: Sync {
     fn with_values(&self, params: &Value, p: &mut &[f64]) -> Result<Value, Error>;
     /// The declaration's example, canonical.
     fn example(&self) -> Value;
+    /// The declaration's example as a spec.
+    fn example_spec(&self) -> super::Spec {
+        super::Spec::Leaf(super::LeafSpec {
+            kind: self.kind(),
+            params: self.example(),
+        })
+    }
     /// The example built with `f32` as the scalar.
     fn example_f32(&self) -> Result<Box<dyn Operator<f32>>, Error>;
     /// Whether the operator is rate-dependent: it declares its default
