@@ -97,4 +97,5 @@ leaves! { $;
     dahl => Dahl,
     lugre => LuGre,
     gms => Gms,
+    offset => Offset,
 }

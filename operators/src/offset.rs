@@ -1,0 +1,67 @@
+//! The offset `y = x + c` (memoryless).
+
+use crate::{declare_params, Float, Result, StepLaw, Stepped, Trial};
+
+declare_params! {
+    /// Parameters of the [`Offset`].
+    #[derive(Copy)]
+    pub struct OffsetParams<T> {
+        /// The constant added to the input (finite).
+        c: T => Real,
+    }
+}
+
+/// Offset `y = x + c` (memoryless): in a cascade after a model it shifts
+/// the model's output, a preload or a sensor bias; in parallel with a
+/// `gain` of 0 it is a constant. Tangent: 1.
+///
+/// ```
+/// use hysteron_operators::{Offset, Operator};
+/// let mut o = Offset::new(0.25_f64).unwrap();
+/// assert_eq!(o.run(&[1.0, -1.0]).unwrap(), vec![1.25, -0.75]);
+/// ```
+pub type Offset<T> = Stepped<OffsetLaw<T>, T>;
+
+/// The law of the [`Offset`] (no state).
+#[derive(Debug, Clone, PartialEq)]
+pub struct OffsetLaw<T>(OffsetParams<T>);
+
+impl<T: Float> Offset<T> {
+    /// An offset `c` (finite).
+    pub fn new(c: T) -> Result<Self> {
+        Self::from_params(OffsetParams { c })
+    }
+}
+
+impl<T: Float> StepLaw<T> for OffsetLaw<T> {
+    const KIND: &'static str = "offset";
+    type Params = OffsetParams<T>;
+    type State = ();
+    type With<U: Float> = OffsetLaw<U>;
+
+    fn new(p: OffsetParams<T>) -> Result<Self> {
+        p.validate()?;
+        Ok(Self(p))
+    }
+
+    fn params(&self) -> &OffsetParams<T> {
+        &self.0
+    }
+
+    fn example() -> OffsetParams<T> {
+        OffsetParams { c: T::lit(-0.75) }
+    }
+
+    fn initial(&self) {}
+
+    fn step(&self, _: &(), x: T) -> Result<((), Trial<T>)> {
+        let output = x + self.0.c;
+        Ok((
+            (),
+            Trial {
+                output,
+                tangent: T::one(),
+            },
+        ))
+    }
+}
