@@ -119,10 +119,10 @@ pub trait StepLaw<T: Float>: Clone + Debug + Send + Sync + 'static {
         Ok(())
     }
 
-    /// Sets the sample period for a rate-dependent law (the default, for a
-    /// rate-independent one, ignores it).
-    fn set_sample_period(&mut self, _dt: T) -> Result<()> {
-        Ok(())
+    /// Sets the sample period `dt > 0` for a rate-dependent law (the
+    /// default, for a rate-independent one, only checks it).
+    fn set_sample_period(&mut self, dt: T) -> Result<()> {
+        crate::check::positive("dt", dt)
     }
 }
 
