@@ -38,7 +38,7 @@ use crate::identify::{
 use crate::models::{Spec, SpecError};
 use crate::plot::{self, Panel, PlotError, Series, Style};
 use crate::simulate::DtSource;
-use crate::{Error, Operator};
+use crate::Operator;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::fmt;
 use std::io::IsTerminal;
@@ -170,8 +170,8 @@ impl fmt::Display for FitCmdError {
             FitCmdError::Tied { model, name } => write!(
                 f,
                 "--free: parameter `{name}` of model `{}` cannot be fitted on its own: \
-                 in a `transmission` spec the spring's z0 is -slider0; write the model \
-                 as a generic `series` spec to fit it",
+                 a spring in a gap starts at rest, its z0 is -r0 of the gap (-slider0 in a \
+                 `transmission` spec); keep both fixed",
                 model.display()
             ),
             FitCmdError::DuplicateFree { model, name } => write!(
@@ -389,33 +389,24 @@ impl Drop for Display {
     }
 }
 
-/// Refuses a free parameter that [`Spec::with_params`] cannot write back
-/// when it moves alone: nudged by a relative 1e-6, the spec reports a tie
-/// (a `transmission` spec's `z0 = −slider0`) rather than taking it.
+/// Refuses a free parameter that the model ties to another
+/// ([`Spec::tied_params`]: a gap's `r0` and its spring's `z0 = −r0`), which
+/// [`Spec::with_params`] cannot move on its own.
 fn refuse_tied(
     opts: &FitCmdOptions,
     spec: &Spec,
     model: &(dyn Operator<f64> + 'static),
     free: &[usize],
 ) -> Result<(), FitCmdError> {
-    let p = model.params();
-    for &i in free {
-        let mut q = p.clone();
-        q[i] += 1e-6 * p[i].abs().max(1e-3);
-        if let Err(SpecError::Invalid {
-            source: Error::InvalidParameter { name, .. },
-            ..
-        }) = spec.with_params(&q)
-        {
-            if name.ends_with("spring.z0") {
-                return Err(FitCmdError::Tied {
-                    model: opts.model.clone(),
-                    name: model.param_names()[i].clone(),
-                });
-            }
-        }
+    let tied = spec.tied_params();
+    let names = model.param_names();
+    match free.iter().find(|&&i| tied.contains(&names[i])) {
+        Some(&i) => Err(FitCmdError::Tied {
+            model: opts.model.clone(),
+            name: names[i].clone(),
+        }),
+        None => Ok(()),
     }
-    Ok(())
 }
 
 /// Runs the fit; see the module docs.

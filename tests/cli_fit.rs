@@ -520,15 +520,27 @@ fn fit_error_tied_parameter_of_a_transmission_spec() {
             .to_json_pretty()
             .unwrap(),
     );
-    for name in ["r0", "right.bouc_wen.z0"] {
+    // a generic series with a gap ties its spring the same way
+    s.write(
+        "series.json",
+        &Spec::from(&TransmissionParams::default())
+            .to_json_pretty()
+            .unwrap(),
+    );
+    for (model, name) in [
+        ("tr.json", "r0"),
+        ("tr.json", "right.bouc_wen.z0"),
+        ("series.json", "r0"),
+        ("series.json", "z0"),
+    ] {
         s.fails(
-            &[("--model", "tr.json"), ("--free", name)],
+            &[("--model", model), ("--free", name)],
             &[
                 "--free",
-                "model `tr.json`",
+                &format!("model `{model}`"),
                 "cannot be fitted on its own",
-                "z0 is -slider0",
-                "generic `series` spec",
+                "z0 is -r0 of the gap",
+                "-slider0 in a `transmission` spec",
             ],
         );
     }
