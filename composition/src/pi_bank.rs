@@ -2,7 +2,7 @@
 
 use hysteron_operators::{
     check_input, check_lengths, check_output, declare_params, play_step, play_tangent, Error,
-    Float, Leaf, Operator, Result, Trial,
+    Float, Operator, Result, Trial,
 };
 
 declare_params! {
@@ -238,26 +238,12 @@ impl<T: Float> Operator<T> for PiBank<T> {
     hysteron_operators::leaf_param_methods!(T);
 }
 
-impl<T: Float> Leaf<T> for PiBank<T> {
-    const KIND: &'static str = "pi_bank";
-    type Params = PiBankParams<T>;
-    type With<U: Float> = PiBank<U>;
-
-    fn from_params(p: PiBankParams<T>) -> Result<Self> {
-        PiBank::from_params(p)
+hysteron_operators::impl_leaf!(PiBank, PiBankParams, "pi_bank", p, example: {
+    let v = |xs: &[f64]| xs.iter().map(|&x| T::lit(x)).collect::<Vec<T>>();
+    PiBankParams {
+        a0: T::lit(0.5),
+        r: v(&[0.0, 0.3, 1.0]),
+        w: v(&[1.0, 0.5, 0.25]),
+        y0: v(&[0.0, 0.1, -0.2]),
     }
-
-    fn parameters(&self) -> &PiBankParams<T> {
-        &self.p
-    }
-
-    fn example() -> PiBankParams<T> {
-        let v = |xs: &[f64]| xs.iter().map(|&x| T::lit(x)).collect::<Vec<T>>();
-        PiBankParams {
-            a0: T::lit(0.5),
-            r: v(&[0.0, 0.3, 1.0]),
-            w: v(&[1.0, 0.5, 0.25]),
-            y0: v(&[0.0, 0.1, -0.2]),
-        }
-    }
-}
+});

@@ -257,21 +257,7 @@ impl<T: Float> Operator<T> for PiInverse<T> {
     hysteron_operators::leaf_param_methods!(T);
 }
 
-/// Its parameters are the forward bank's (`y0` written out in full).
-impl<T: Float> Leaf<T> for PiInverse<T> {
-    const KIND: &'static str = "pi_inverse";
-    type Params = PiBankParams<T>;
-    type With<U: Float> = PiInverse<U>;
-
-    fn from_params(p: PiBankParams<T>) -> Result<Self> {
-        PiInverse::from_params(p)
-    }
-
-    fn parameters(&self) -> &PiBankParams<T> {
-        &self.forward
-    }
-
-    fn example() -> PiBankParams<T> {
-        <PiBank<T> as Leaf<T>>::example()
-    }
-}
+// Its parameters are the forward bank's (`y0` written out in full).
+hysteron_operators::impl_leaf!(PiInverse, PiBankParams, "pi_inverse", forward, example: {
+    <PiBank<T> as Leaf<T>>::example()
+});

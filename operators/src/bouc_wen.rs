@@ -588,37 +588,25 @@ impl<T: Float> Operator<T> for BoucWen<T> {
     crate::leaf_param_methods!(T);
 }
 
-impl<T: Float> Leaf<T> for BoucWen<T> {
-    const KIND: &'static str = "bouc_wen";
-    type Params = BoucWenParams<T>;
-    type With<U: Float> = BoucWen<U>;
-
-    fn from_params(p: BoucWenParams<T>) -> Result<Self> {
-        BoucWen::from_params(p)
+crate::impl_leaf!(BoucWen, BoucWenParams, "bouc_wen", p, example: {
+    BoucWenParams {
+        w: T::lit(0.3),
+        alpha: T::one(),
+        beta: T::lit(0.6),
+        gamma: T::lit(0.4),
+        n: T::lit(1.5),
+        h0: T::lit(0.2),
+        z0: T::lit(-0.1),
+        stiffness: StiffnessMap::knots_unchecked(
+            vec![T::zero(), T::one()],
+            vec![T::lit(2.0), T::lit(3.0)],
+        ),
     }
+}, with_parameters: BoucWen::with_same_settings);
 
-    fn parameters(&self) -> &BoucWenParams<T> {
-        &self.p
-    }
-
-    fn example() -> BoucWenParams<T> {
-        BoucWenParams {
-            w: T::lit(0.3),
-            alpha: T::one(),
-            beta: T::lit(0.6),
-            gamma: T::lit(0.4),
-            n: T::lit(1.5),
-            h0: T::lit(0.2),
-            z0: T::lit(-0.1),
-            stiffness: StiffnessMap::knots_unchecked(
-                vec![T::zero(), T::one()],
-                vec![T::lit(2.0), T::lit(3.0)],
-            ),
-        }
-    }
-
-    /// Keeps the tolerance and the solver.
-    fn with_parameters(&self, p: BoucWenParams<T>) -> Result<Self> {
+impl<T: Float> BoucWen<T> {
+    /// The spring for new parameters with this one's tolerance and solver.
+    fn with_same_settings(&self, p: BoucWenParams<T>) -> Result<Self> {
         p.validate()?;
         Ok(Self::build(p, self.eq.rtol, self.solver))
     }

@@ -2,7 +2,7 @@
 //! solved exactly per sample.
 
 use crate::{
-    check, check_input, check_lengths, check_output, declare_params, Error, Float, Leaf, Operator,
+    check, check_input, check_lengths, check_output, declare_params, Error, Float, Operator,
     Result, Trial,
 };
 
@@ -285,35 +285,21 @@ impl<T: Float> Operator<T> for Gms<T> {
     crate::leaf_param_methods!(T);
 }
 
-impl<T: Float> Leaf<T> for Gms<T> {
-    const KIND: &'static str = "gms";
-    type Params = GmsParams<T>;
-    type With<U: Float> = Gms<U>;
-
-    fn from_params(p: GmsParams<T>) -> Result<Self> {
-        Gms::from_params(p)
+crate::impl_leaf!(Gms, GmsParams, "gms", p, example: {
+    let v = |xs: &[f64]| xs.iter().map(|&x| T::lit(x)).collect::<Vec<T>>();
+    GmsParams {
+        c: T::lit(50.0),
+        f_c: T::lit(1.0),
+        f_s: T::lit(1.5),
+        v_s: T::lit(0.01),
+        delta: T::lit(2.0),
+        sigma2: T::lit(0.1),
+        k: v(&[100.0, 20.0]),
+        alpha: v(&[0.5, 0.5]),
+        f0: v(&[0.1, -0.2]),
+        dt: T::lit(1e-3),
     }
-
-    fn parameters(&self) -> &GmsParams<T> {
-        &self.p
-    }
-
-    fn example() -> GmsParams<T> {
-        let v = |xs: &[f64]| xs.iter().map(|&x| T::lit(x)).collect::<Vec<T>>();
-        GmsParams {
-            c: T::lit(50.0),
-            f_c: T::lit(1.0),
-            f_s: T::lit(1.5),
-            v_s: T::lit(0.01),
-            delta: T::lit(2.0),
-            sigma2: T::lit(0.1),
-            k: v(&[100.0, 20.0]),
-            alpha: v(&[0.5, 0.5]),
-            f0: v(&[0.1, -0.2]),
-            dt: T::lit(1e-3),
-        }
-    }
-}
+});
 
 #[cfg(test)]
 mod tests {

@@ -42,6 +42,43 @@ pub trait Leaf<T: Float>: Operator<T> + Sized {
     }
 }
 
+/// Implements [`Leaf`] for an operator `Op<T>` that has an inherent
+/// `Op::from_params(Params<T>) -> Result<Op<T>>` and keeps its parameters
+/// in a field:
+/// `impl_leaf!(Gms, GmsParams, "gms", p, example: GmsParams { … });`, and
+/// optionally `, with_parameters: Op::method` (an inherent
+/// `fn(&self, Params<T>) -> Result<Self>` keeping settings that are not
+/// parameters).
+#[macro_export]
+macro_rules! impl_leaf {
+    ($op:ident, $params:ident, $kind:literal, $field:ident, example: $example:expr
+        $(, with_parameters: $with:path)? $(,)?) => {
+        impl<T: $crate::Float> $crate::Leaf<T> for $op<T> {
+            const KIND: &'static str = $kind;
+            type Params = $params<T>;
+            type With<U: $crate::Float> = $op<U>;
+
+            fn from_params(p: $params<T>) -> $crate::Result<Self> {
+                $op::from_params(p)
+            }
+
+            fn parameters(&self) -> &$params<T> {
+                &self.$field
+            }
+
+            fn example() -> $params<T> {
+                $example
+            }
+
+            $(
+                fn with_parameters(&self, p: $params<T>) -> $crate::Result<Self> {
+                    $with(self, p)
+                }
+            )?
+        }
+    };
+}
+
 /// The [`Operator`] methods of a [`Leaf`] that follow from its declared
 /// parameters: `name`, `n_params`, `params_into`, `param_names`,
 /// `param_domains` and `set_params`. Use inside `impl Operator<T> for …`.

@@ -2,7 +2,7 @@
 //! elastoplastic elements.
 
 use crate::{
-    check_input, check_lengths, check_output, declare_params, stop_step, Error, Float, Leaf,
+    check_input, check_lengths, check_output, declare_params, stop_step, Error, Float,
     Operator, Result, Trial,
 };
 
@@ -241,28 +241,14 @@ impl<T: Float> Operator<T> for MaxwellSlip<T> {
     crate::leaf_param_methods!(T);
 }
 
-impl<T: Float> Leaf<T> for MaxwellSlip<T> {
-    const KIND: &'static str = "maxwell_slip";
-    type Params = MaxwellSlipParams<T>;
-    type With<U: Float> = MaxwellSlip<U>;
-
-    fn from_params(p: MaxwellSlipParams<T>) -> Result<Self> {
-        MaxwellSlip::from_params(p)
+crate::impl_leaf!(MaxwellSlip, MaxwellSlipParams, "maxwell_slip", p, example: {
+    let v = |xs: &[f64]| xs.iter().map(|&x| T::lit(x)).collect::<Vec<T>>();
+    MaxwellSlipParams {
+        k: v(&[40.0, 10.0, 4.0]),
+        f_b: v(&[0.2, 0.3, 0.5]),
+        f0: v(&[0.1, -0.3, 0.0]),
     }
-
-    fn parameters(&self) -> &MaxwellSlipParams<T> {
-        &self.p
-    }
-
-    fn example() -> MaxwellSlipParams<T> {
-        let v = |xs: &[f64]| xs.iter().map(|&x| T::lit(x)).collect::<Vec<T>>();
-        MaxwellSlipParams {
-            k: v(&[40.0, 10.0, 4.0]),
-            f_b: v(&[0.2, 0.3, 0.5]),
-            f0: v(&[0.1, -0.3, 0.0]),
-        }
-    }
-}
+});
 
 #[cfg(test)]
 mod tests {

@@ -2,7 +2,7 @@
 //! an Everett function (tabulated or in closed form).
 
 use crate::{
-    check, check_input, check_output, Domain, Error, FieldInfo, FieldKind, Float, Leaf, Operator,
+    check, check_input, check_output, Domain, Error, FieldInfo, FieldKind, Float, Operator,
     ParamSet, Result, Trial,
 };
 use serde::{Deserialize, Serialize};
@@ -901,32 +901,18 @@ impl<T: Float> ParamSet<T> for PreisachParams<T> {
     }
 }
 
-impl<T: Float> Leaf<T> for Preisach<T> {
-    const KIND: &'static str = "preisach";
-    type Params = PreisachParams<T>;
-    type With<U: Float> = Preisach<U>;
-
-    fn from_params(p: PreisachParams<T>) -> Result<Self> {
-        Preisach::from_params(p)
+crate::impl_leaf!(Preisach, PreisachParams, "preisach", p, example: {
+    PreisachParams {
+        measure: PreisachMeasure::Tanh {
+            amplitude: T::lit(1.5),
+            hc: T::lit(0.3),
+            w: T::lit(0.4),
+            x_min: T::lit(-2.0),
+            x_max: T::lit(2.0),
+        },
+        start: PreisachStart::FromAbove,
     }
-
-    fn parameters(&self) -> &PreisachParams<T> {
-        &self.p
-    }
-
-    fn example() -> PreisachParams<T> {
-        PreisachParams {
-            measure: PreisachMeasure::Tanh {
-                amplitude: T::lit(1.5),
-                hc: T::lit(0.3),
-                w: T::lit(0.4),
-                x_min: T::lit(-2.0),
-                x_max: T::lit(2.0),
-            },
-            start: PreisachStart::FromAbove,
-        }
-    }
-}
+});
 
 #[cfg(test)]
 mod tests {
