@@ -124,11 +124,7 @@ fn decay<T: Float>(a: T, u: T, alpha: T) -> T {
 /// // α = 1: F = F_c (1 − e^{−σ x / F_c})
 /// assert!((y[1] - 2.0 * (1.0 - (-2.5_f64).exp())).abs() < 1e-15);
 /// ```
-pub type Dahl<T> = Stepped<DahlLaw<T>, T>;
-
-/// The law of [`Dahl`] friction: its parameters.
-#[derive(Debug, Clone, PartialEq)]
-pub struct DahlLaw<T>(DahlParams<T>);
+pub type Dahl<T> = Stepped<DahlParams<T>, T>;
 
 impl<T: Float> Dahl<T> {
     /// Dahl friction with rest stiffness `sigma`, Coulomb level `f_c` and
@@ -148,8 +144,8 @@ impl<T: Float> Dahl<T> {
     }
 }
 
-impl<T: Float> DahlLaw<T> {
-    fn initial(p: &DahlParams<T>) -> DahlState<T> {
+impl<T: Float> DahlParams<T> {
+    fn start(p: &DahlParams<T>) -> DahlState<T> {
         DahlState {
             x: T::zero(),
             f: p.f0,
@@ -161,7 +157,7 @@ impl<T: Float> DahlLaw<T> {
 
     /// One step from state `s` to input `x`: the new state and the tangent.
     #[inline(always)]
-    fn step(p: &DahlParams<T>, s: &DahlState<T>, x: T) -> (DahlState<T>, T) {
+    fn advance(p: &DahlParams<T>, s: &DahlState<T>, x: T) -> (DahlState<T>, T) {
         let dir = if x > s.x {
             1
         } else if x < s.x {
@@ -209,22 +205,12 @@ impl<T: Float> DahlLaw<T> {
     }
 }
 
-impl<T: Float> StepLaw<T> for DahlLaw<T> {
+impl<T: Float> StepLaw<T> for DahlParams<T> {
     const KIND: &'static str = "dahl";
-    type Params = DahlParams<T>;
     type State = DahlState<T>;
-    type With<U: Float> = DahlLaw<U>;
+    type With<U: Float> = DahlParams<U>;
 
-    fn new(p: DahlParams<T>) -> Result<Self> {
-        p.validate()?;
-        Ok(Self(p))
-    }
-
-    fn params(&self) -> &DahlParams<T> {
-        &self.0
-    }
-
-    fn example() -> DahlParams<T> {
+    fn example() -> Self {
         DahlParams {
             sigma: T::lit(40.0),
             f_c: T::lit(1.5),
@@ -234,12 +220,12 @@ impl<T: Float> StepLaw<T> for DahlLaw<T> {
     }
 
     fn initial(&self) -> DahlState<T> {
-        Self::initial(&self.0)
+        Self::start(self)
     }
 
     #[inline(always)]
     fn step(&self, s: &DahlState<T>, x: T) -> Result<(DahlState<T>, Trial<T>)> {
-        let (s, tangent) = Self::step(&self.0, s, x);
+        let (s, tangent) = Self::advance(self, s, x);
         let output = s.f;
         Ok((s, Trial { output, tangent }))
     }

@@ -27,11 +27,7 @@ declare_params! {
 /// let mut dz = DeadZone::new(-1.0_f64, 2.0).unwrap();
 /// assert_eq!(dz.run(&[-3.0, 0.0, 5.0]).unwrap(), vec![-2.0, 0.0, 3.0]);
 /// ```
-pub type DeadZone<T> = Stepped<DeadZoneLaw<T>, T>;
-
-/// The law of the [`DeadZone`] (memoryless: no state).
-#[derive(Debug, Clone, PartialEq)]
-pub struct DeadZoneLaw<T>(DeadZoneParams<T>);
+pub type DeadZone<T> = Stepped<DeadZoneParams<T>, T>;
 
 /// The dead-zone map.
 #[inline(always)]
@@ -58,22 +54,12 @@ impl<T: Float> DeadZone<T> {
     }
 }
 
-impl<T: Float> StepLaw<T> for DeadZoneLaw<T> {
+impl<T: Float> StepLaw<T> for DeadZoneParams<T> {
     const KIND: &'static str = "dead_zone";
-    type Params = DeadZoneParams<T>;
     type State = ();
-    type With<U: Float> = DeadZoneLaw<U>;
+    type With<U: Float> = DeadZoneParams<U>;
 
-    fn new(p: DeadZoneParams<T>) -> Result<Self> {
-        p.validate()?;
-        Ok(Self(p))
-    }
-
-    fn params(&self) -> &DeadZoneParams<T> {
-        &self.0
-    }
-
-    fn example() -> DeadZoneParams<T> {
+    fn example() -> Self {
         DeadZoneParams {
             b_l: T::lit(-0.5),
             b_r: T::lit(1.0),
@@ -84,7 +70,7 @@ impl<T: Float> StepLaw<T> for DeadZoneLaw<T> {
 
     #[inline(always)]
     fn step(&self, _: &(), x: T) -> Result<((), Trial<T>)> {
-        let DeadZoneParams { b_l, b_r } = self.0;
+        let DeadZoneParams { b_l, b_r } = *self;
         let tangent = if x >= b_r || x <= b_l {
             T::one()
         } else {
@@ -100,7 +86,7 @@ impl<T: Float> StepLaw<T> for DeadZoneLaw<T> {
     }
 
     fn run(&self, _: &mut (), xs: &[T], ys: &mut [T]) -> Result<()> {
-        let DeadZoneParams { b_l, b_r } = self.0;
+        let DeadZoneParams { b_l, b_r } = *self;
         map_samples(xs, ys, |x| dead_zone(b_l, b_r, x))
     }
 }

@@ -55,15 +55,7 @@ impl<T: Float> ElastoPlasticParams<T> {
 /// with `s_r` the [`Stop`](crate::Stop): linear with slope `k` until `|F| = F_b`, then
 /// sliding at `±F_b`. Parallel banks of these give the Maxwell-slip friction
 /// model.
-pub type ElastoPlastic<T> = Stepped<ElastoPlasticLaw<T>, T>;
-
-/// The law of the [`ElastoPlastic`] element: its parameters and the
-/// threshold `F_b/k` of its stop; the state is the stop's play position.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ElastoPlasticLaw<T> {
-    p: ElastoPlasticParams<T>,
-    stop: StopParams<T>,
-}
+pub type ElastoPlastic<T> = Stepped<ElastoPlasticParams<T>, T>;
 
 impl<T: Float> ElastoPlastic<T> {
     /// An element with stiffness `k` and break-away force `f_b`, unloaded.
@@ -76,22 +68,12 @@ impl<T: Float> ElastoPlastic<T> {
     }
 }
 
-impl<T: Float> StepLaw<T> for ElastoPlasticLaw<T> {
+impl<T: Float> StepLaw<T> for ElastoPlasticParams<T> {
     const KIND: &'static str = "elastoplastic";
-    type Params = ElastoPlasticParams<T>;
     type State = T;
-    type With<U: Float> = ElastoPlasticLaw<U>;
+    type With<U: Float> = ElastoPlasticParams<U>;
 
-    fn new(p: ElastoPlasticParams<T>) -> Result<Self> {
-        p.validate()?;
-        Ok(Self { p, stop: p.stop() })
-    }
-
-    fn params(&self) -> &ElastoPlasticParams<T> {
-        &self.p
-    }
-
-    fn example() -> ElastoPlasticParams<T> {
+    fn example() -> Self {
         ElastoPlasticParams {
             k: T::lit(4.0),
             f_b: T::lit(1.5),
@@ -100,13 +82,13 @@ impl<T: Float> StepLaw<T> for ElastoPlasticLaw<T> {
     }
 
     fn initial(&self) -> T {
-        -self.stop.s0
+        -self.stop().s0
     }
 
     #[inline(always)]
     fn step(&self, q: &T, x: T) -> Result<(T, Trial<T>)> {
-        let (s, q, tangent) = stop_step(self.stop.r, *q, x);
-        let k = self.p.k;
+        let (s, q, tangent) = stop_step(self.stop().r, *q, x);
+        let k = self.k;
         Ok((
             q,
             Trial {

@@ -20,11 +20,7 @@ declare_params! {
 /// let mut g = Gain::new(3.0_f64).unwrap();
 /// assert_eq!(g.trial(2.0).unwrap().output, 6.0);
 /// ```
-pub type Gain<T> = Stepped<GainLaw<T>, T>;
-
-/// The law of the [`Gain`] (memoryless: no state).
-#[derive(Debug, Clone, PartialEq)]
-pub struct GainLaw<T>(GainParams<T>);
+pub type Gain<T> = Stepped<GainParams<T>, T>;
 
 impl<T: Float> Gain<T> {
     /// A gain `k` (finite).
@@ -38,22 +34,12 @@ impl<T: Float> Gain<T> {
     }
 }
 
-impl<T: Float> StepLaw<T> for GainLaw<T> {
+impl<T: Float> StepLaw<T> for GainParams<T> {
     const KIND: &'static str = "gain";
-    type Params = GainParams<T>;
     type State = ();
-    type With<U: Float> = GainLaw<U>;
+    type With<U: Float> = GainParams<U>;
 
-    fn new(p: GainParams<T>) -> Result<Self> {
-        p.validate()?;
-        Ok(Self(p))
-    }
-
-    fn params(&self) -> &GainParams<T> {
-        &self.0
-    }
-
-    fn example() -> GainParams<T> {
+    fn example() -> Self {
         GainParams { k: T::lit(-2.5) }
     }
 
@@ -61,7 +47,7 @@ impl<T: Float> StepLaw<T> for GainLaw<T> {
 
     #[inline(always)]
     fn step(&self, _: &(), x: T) -> Result<((), Trial<T>)> {
-        let k = self.0.k;
+        let k = self.k;
         Ok((
             (),
             Trial {
@@ -72,7 +58,7 @@ impl<T: Float> StepLaw<T> for GainLaw<T> {
     }
 
     fn run(&self, _: &mut (), xs: &[T], ys: &mut [T]) -> Result<()> {
-        let k = self.0.k;
+        let k = self.k;
         map_samples(xs, ys, |x| k * x)?;
         check_finite_outputs(Self::KIND, xs, ys)
     }

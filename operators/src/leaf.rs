@@ -109,34 +109,27 @@ macro_rules! leaf_param_methods {
     };
 }
 
-/// The law of a plain leaf: declared parameters, a small state and a pure
-/// step `(state, x) → (state', y, dy/dx)`. [`Stepped`] turns it into an
-/// [`Operator`].
+/// The law of a plain leaf: its declared parameter set, with a small state
+/// and a pure step `(state, x) → (state', y, dy/dx)`. [`Stepped`] turns it
+/// into an [`Operator`] (validating the parameters first).
 ///
 /// # Requirements
-/// * `new(p)` validates `p` and may precompute constants from it;
-/// * `step` depends only on `self`, the state and `x` (finite: the driver
+/// * `step` depends only on the parameters, the state and `x` (finite: the driver
 ///   checks inputs, and checks that the output is finite and the tangent
 ///   not NaN);
 /// * an override of [`run`](StepLaw::run) is bit for bit the loop of
 ///   `step` it replaces, and leaves `s` at the state after the last
 ///   successful sample.
-pub trait StepLaw<T: Float>: Clone + Debug + Send + Sync + 'static {
+pub trait StepLaw<T: Float>: ParamSet<T> {
     /// The operator's name (see [`Leaf::KIND`]).
     const KIND: &'static str;
-    /// Its declared parameters.
-    type Params: ParamSet<T>;
     /// The state between samples.
     type State: Clone + Debug + PartialEq + Send + Sync + 'static;
     /// The same law for another scalar type.
     type With<U: Float>: StepLaw<U>;
 
-    /// The law for validated parameters.
-    fn new(p: Self::Params) -> Result<Self>;
-    /// Its parameters.
-    fn params(&self) -> &Self::Params;
     /// A valid example parameter set.
-    fn example() -> Self::Params;
+    fn example() -> Self;
     /// The state before the first sample.
     fn initial(&self) -> Self::State;
     /// One sample from state `s` to the finite input `x`: the new state and
@@ -186,10 +179,10 @@ pub struct Stepped<L: StepLaw<T>, T: Float> {
 }
 
 impl<T: Float, L: StepLaw<T>> Stepped<L, T> {
-    /// The operator for validated parameters, in its initial state
+    /// The operator for parameters `p` (validated), in its initial state
     /// ([`Leaf::from_params`]).
-    pub fn from_params(p: L::Params) -> Result<Self> {
-        let law = L::new(p)?;
+    pub fn from_params(law: L) -> Result<Self> {
+        law.validate()?;
         let s = law.initial();
         Ok(Self {
             law,
@@ -199,12 +192,7 @@ impl<T: Float, L: StepLaw<T>> Stepped<L, T> {
     }
 
     /// The parameters ([`Leaf::parameters`]).
-    pub fn parameters(&self) -> &L::Params {
-        self.law.params()
-    }
-
-    /// The law, for its own accessors.
-    pub fn law(&self) -> &L {
+    pub fn parameters(&self) -> &L {
         &self.law
     }
 
@@ -216,18 +204,18 @@ impl<T: Float, L: StepLaw<T>> Stepped<L, T> {
 
 impl<T: Float, L: StepLaw<T>> Leaf<T> for Stepped<L, T> {
     const KIND: &'static str = L::KIND;
-    type Params = L::Params;
+    type Params = L;
     type With<U: Float> = Stepped<L::With<U>, U>;
 
-    fn from_params(p: Self::Params) -> Result<Self> {
+    fn from_params(p: L) -> Result<Self> {
         Stepped::from_params(p)
     }
 
-    fn parameters(&self) -> &Self::Params {
-        Stepped::parameters(self)
+    fn parameters(&self) -> &L {
+        &self.law
     }
 
-    fn example() -> Self::Params {
+    fn example() -> L {
         L::example()
     }
 }

@@ -119,11 +119,7 @@ pub struct LuGreState<T> {
 /// let y = f.run(&x).unwrap();
 /// assert!((y[999] - p.steady_state(0.02)).abs() < 1e-12);
 /// ```
-pub type LuGre<T> = Stepped<LuGreLaw<T>, T>;
-
-/// The law of [`LuGre`] friction: its parameters.
-#[derive(Debug, Clone, PartialEq)]
-pub struct LuGreLaw<T>(LuGreParams<T>);
+pub type LuGre<T> = Stepped<LuGreParams<T>, T>;
 
 impl<T: Float> LuGre<T> {
     /// The committed bristle deflection `z`.
@@ -132,9 +128,9 @@ impl<T: Float> LuGre<T> {
     }
 }
 
-impl<T: Float> LuGreLaw<T> {
+impl<T: Float> LuGreParams<T> {
     #[inline(always)]
-    fn step(p: &LuGreParams<T>, s: &LuGreState<T>, x: T) -> (LuGreState<T>, T, T) {
+    fn advance(p: &LuGreParams<T>, s: &LuGreState<T>, x: T) -> (LuGreState<T>, T, T) {
         let one = T::one();
         let dx = x - s.x;
         let v = dx / p.dt;
@@ -189,22 +185,12 @@ impl<T: Float> LuGreLaw<T> {
     }
 }
 
-impl<T: Float> StepLaw<T> for LuGreLaw<T> {
+impl<T: Float> StepLaw<T> for LuGreParams<T> {
     const KIND: &'static str = "lugre";
-    type Params = LuGreParams<T>;
     type State = LuGreState<T>;
-    type With<U: Float> = LuGreLaw<U>;
+    type With<U: Float> = LuGreParams<U>;
 
-    fn new(p: LuGreParams<T>) -> Result<Self> {
-        p.validate()?;
-        Ok(Self(p))
-    }
-
-    fn params(&self) -> &LuGreParams<T> {
-        &self.0
-    }
-
-    fn example() -> LuGreParams<T> {
+    fn example() -> Self {
         LuGreParams {
             sigma0: T::lit(1e4),
             sigma1: T::lit(50.0),
@@ -221,20 +207,20 @@ impl<T: Float> StepLaw<T> for LuGreLaw<T> {
     fn initial(&self) -> LuGreState<T> {
         LuGreState {
             x: T::zero(),
-            z: self.0.z0,
+            z: self.z0,
             dir: 0,
         }
     }
 
     #[inline(always)]
     fn step(&self, s: &LuGreState<T>, x: T) -> Result<(LuGreState<T>, Trial<T>)> {
-        let (s, output, tangent) = Self::step(&self.0, s, x);
+        let (s, output, tangent) = Self::advance(self, s, x);
         Ok((s, Trial { output, tangent }))
     }
 
     fn set_sample_period(&mut self, dt: T) -> Result<()> {
         check::positive("dt", dt)?;
-        self.0.dt = dt;
+        self.dt = dt;
         Ok(())
     }
 }

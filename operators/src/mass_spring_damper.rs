@@ -58,11 +58,7 @@ pub struct MsdState<T> {
 /// let y = msd.run(&vec![5.0; 20_000]).unwrap();
 /// assert!((y[19_999] - 0.05).abs() < 1e-9);
 /// ```
-pub type MassSpringDamper<T> = Stepped<MassSpringDamperLaw<T>, T>;
-
-/// The law of the [`MassSpringDamper`]: its parameters.
-#[derive(Debug, Clone, PartialEq)]
-pub struct MassSpringDamperLaw<T>(MassSpringDamperParams<T>);
+pub type MassSpringDamper<T> = Stepped<MassSpringDamperParams<T>, T>;
 
 impl<T: Float> MassSpringDamper<T> {
     /// An oscillator with mass `m`, damping `c`, stiffness `k` and sample
@@ -78,22 +74,12 @@ impl<T: Float> MassSpringDamper<T> {
     }
 }
 
-impl<T: Float> StepLaw<T> for MassSpringDamperLaw<T> {
+impl<T: Float> StepLaw<T> for MassSpringDamperParams<T> {
     const KIND: &'static str = "mass_spring_damper";
-    type Params = MassSpringDamperParams<T>;
     type State = MsdState<T>;
-    type With<U: Float> = MassSpringDamperLaw<U>;
+    type With<U: Float> = MassSpringDamperParams<U>;
 
-    fn new(p: MassSpringDamperParams<T>) -> Result<Self> {
-        p.validate()?;
-        Ok(Self(p))
-    }
-
-    fn params(&self) -> &MassSpringDamperParams<T> {
-        &self.0
-    }
-
-    fn example() -> MassSpringDamperParams<T> {
+    fn example() -> Self {
         MassSpringDamperParams {
             m: T::lit(2.0),
             c: T::lit(10.0),
@@ -112,7 +98,7 @@ impl<T: Float> StepLaw<T> for MassSpringDamperLaw<T> {
 
     #[inline(always)]
     fn step(&self, s: &MsdState<T>, u: T) -> Result<(MsdState<T>, Trial<T>)> {
-        let MassSpringDamperParams { m, c, k, dt } = self.0;
+        let MassSpringDamperParams { m, c, k, dt } = *self;
         let MsdState { y, v, a } = *s;
         let (two, four) = (T::lit(2.0), T::lit(4.0));
         let k_eff = k + two * c / dt + four * m / (dt * dt);
@@ -141,7 +127,7 @@ impl<T: Float> StepLaw<T> for MassSpringDamperLaw<T> {
 
     fn set_sample_period(&mut self, dt: T) -> Result<()> {
         check::positive("dt", dt)?;
-        self.0.dt = dt;
+        self.dt = dt;
         Ok(())
     }
 }

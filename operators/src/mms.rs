@@ -52,11 +52,7 @@ pub struct MmsState<T> {
 /// let y = f.run(&[0.01, 0.2, 1.0]).unwrap();
 /// assert!(y[0] > 0.0 && y[0] < y[1] && y[1] < y[2] && y[2] <= 2.0);
 /// ```
-pub type Mms<T> = Stepped<MmsLaw<T>, T>;
-
-/// The law of [`Mms`] friction: its parameters.
-#[derive(Debug, Clone, PartialEq)]
-pub struct MmsLaw<T>(MmsParams<T>);
+pub type Mms<T> = Stepped<MmsParams<T>, T>;
 
 impl<T: Float> Mms<T> {
     /// MMS friction with Coulomb level `f_c` and rate `k`, starting unloaded.
@@ -74,8 +70,8 @@ impl<T: Float> Mms<T> {
     }
 }
 
-impl<T: Float> MmsLaw<T> {
-    fn initial(p: &MmsParams<T>) -> MmsState<T> {
+impl<T: Float> MmsParams<T> {
+    fn start(p: &MmsParams<T>) -> MmsState<T> {
         MmsState {
             x: T::zero(),
             y: p.y0,
@@ -88,7 +84,7 @@ impl<T: Float> MmsLaw<T> {
 
     /// One step from state `s` to input `x`: the new state and the tangent.
     #[inline(always)]
-    fn step(p: &MmsParams<T>, s: &MmsState<T>, x: T) -> (MmsState<T>, T) {
+    fn advance(p: &MmsParams<T>, s: &MmsState<T>, x: T) -> (MmsState<T>, T) {
         let dir = if x > s.x {
             1
         } else if x < s.x {
@@ -161,22 +157,12 @@ fn on_branch<T: Float>(rise: T, target: T, y_r: T) -> T {
     }
 }
 
-impl<T: Float> StepLaw<T> for MmsLaw<T> {
+impl<T: Float> StepLaw<T> for MmsParams<T> {
     const KIND: &'static str = "mms";
-    type Params = MmsParams<T>;
     type State = MmsState<T>;
-    type With<U: Float> = MmsLaw<U>;
+    type With<U: Float> = MmsParams<U>;
 
-    fn new(p: MmsParams<T>) -> Result<Self> {
-        p.validate()?;
-        Ok(Self(p))
-    }
-
-    fn params(&self) -> &MmsParams<T> {
-        &self.0
-    }
-
-    fn example() -> MmsParams<T> {
+    fn example() -> Self {
         MmsParams {
             f_c: T::lit(1.5),
             k: T::lit(30.0),
@@ -185,12 +171,12 @@ impl<T: Float> StepLaw<T> for MmsLaw<T> {
     }
 
     fn initial(&self) -> MmsState<T> {
-        Self::initial(&self.0)
+        Self::start(self)
     }
 
     #[inline(always)]
     fn step(&self, s: &MmsState<T>, x: T) -> Result<(MmsState<T>, Trial<T>)> {
-        let (s, tangent) = Self::step(&self.0, s, x);
+        let (s, tangent) = Self::advance(self, s, x);
         let output = s.y;
         Ok((s, Trial { output, tangent }))
     }
@@ -215,7 +201,7 @@ impl<T: Float> StepLaw<T> for MmsLaw<T> {
                 *state = s;
                 return Err(Error::NonFiniteInput { value: x.as_f64() }.at_sample(i));
             }
-            let next = Self::step(&self.0, &s, x).0;
+            let next = Self::advance(self, &s, x).0;
             if !next.y.is_finite() {
                 *state = s;
                 return Err(non_finite(x, i));
@@ -235,8 +221,8 @@ impl<T: Float> StepLaw<T> for MmsLaw<T> {
             // per sample), and the outputs; the same operations on the same
             // values as one loop.
             let up = s.dir > 0;
-            let target = if up { self.0.f_c } else { -self.0.f_c };
-            let (k, x_r, y_r) = (self.0.k, s.x_r, s.y_r);
+            let target = if up { self.f_c } else { -self.f_c };
+            let (k, x_r, y_r) = (self.k, s.x_r, s.y_r);
             while i < xs.len() {
                 // The block's part of the run: same direction (or standing
                 // still); a non-finite sample ends the run here and is

@@ -20,11 +20,7 @@ declare_params! {
 /// let mut o = Offset::new(0.25_f64).unwrap();
 /// assert_eq!(o.run(&[1.0, -1.0]).unwrap(), vec![1.25, -0.75]);
 /// ```
-pub type Offset<T> = Stepped<OffsetLaw<T>, T>;
-
-/// The law of the [`Offset`] (no state).
-#[derive(Debug, Clone, PartialEq)]
-pub struct OffsetLaw<T>(OffsetParams<T>);
+pub type Offset<T> = Stepped<OffsetParams<T>, T>;
 
 impl<T: Float> Offset<T> {
     /// An offset `c` (finite).
@@ -33,29 +29,19 @@ impl<T: Float> Offset<T> {
     }
 }
 
-impl<T: Float> StepLaw<T> for OffsetLaw<T> {
+impl<T: Float> StepLaw<T> for OffsetParams<T> {
     const KIND: &'static str = "offset";
-    type Params = OffsetParams<T>;
     type State = ();
-    type With<U: Float> = OffsetLaw<U>;
+    type With<U: Float> = OffsetParams<U>;
 
-    fn new(p: OffsetParams<T>) -> Result<Self> {
-        p.validate()?;
-        Ok(Self(p))
-    }
-
-    fn params(&self) -> &OffsetParams<T> {
-        &self.0
-    }
-
-    fn example() -> OffsetParams<T> {
+    fn example() -> Self {
         OffsetParams { c: T::lit(-0.75) }
     }
 
     fn initial(&self) {}
 
     fn step(&self, _: &(), x: T) -> Result<((), Trial<T>)> {
-        let output = x + self.0.c;
+        let output = x + self.c;
         Ok((
             (),
             Trial {

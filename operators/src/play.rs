@@ -28,11 +28,7 @@ declare_params! {
 /// let mut p = Play::new(1.0_f64).unwrap();
 /// assert_eq!(p.run(&[2.0, 1.5, 0.0, -1.0]).unwrap(), vec![1.0, 1.0, 1.0, 0.0]);
 /// ```
-pub type Play<T> = Stepped<PlayLaw<T>, T>;
-
-/// The law of the [`Play`]: its parameters; the state is the output.
-#[derive(Debug, Clone, PartialEq)]
-pub struct PlayLaw<T>(PlayParams<T>);
+pub type Play<T> = Stepped<PlayParams<T>, T>;
 
 /// One play step: `max(x − r, min(x + r, y_prev))`.
 ///
@@ -140,22 +136,12 @@ impl<T: Float> Play<T> {
     }
 }
 
-impl<T: Float> StepLaw<T> for PlayLaw<T> {
+impl<T: Float> StepLaw<T> for PlayParams<T> {
     const KIND: &'static str = "play";
-    type Params = PlayParams<T>;
     type State = T;
-    type With<U: Float> = PlayLaw<U>;
+    type With<U: Float> = PlayParams<U>;
 
-    fn new(p: PlayParams<T>) -> Result<Self> {
-        p.validate()?;
-        Ok(Self(p))
-    }
-
-    fn params(&self) -> &PlayParams<T> {
-        &self.0
-    }
-
-    fn example() -> PlayParams<T> {
+    fn example() -> Self {
         PlayParams {
             r: T::lit(0.5),
             y0: T::lit(0.2),
@@ -163,12 +149,12 @@ impl<T: Float> StepLaw<T> for PlayLaw<T> {
     }
 
     fn initial(&self) -> T {
-        self.0.y0
+        self.y0
     }
 
     #[inline(always)]
     fn step(&self, y: &T, x: T) -> Result<(T, Trial<T>)> {
-        let r = self.0.r;
+        let r = self.r;
         let next = play_step(r, *y, x);
         Ok((
             next,
@@ -182,7 +168,7 @@ impl<T: Float> StepLaw<T> for PlayLaw<T> {
     /// Two samples per step of the dependency chain for `r > 0` (see
     /// `play_pairs`), finiteness checked once per block of outputs.
     fn run(&self, state: &mut T, xs: &[T], ys: &mut [T]) -> Result<()> {
-        let r = self.0.r;
+        let r = self.r;
         let mut y = *state;
         // From a finite state a play step maps a finite input to a finite
         // output and a non-finite one (NaN, ±∞) to a non-finite output (in

@@ -23,11 +23,7 @@ declare_params! {
 /// let mut s = Saturation::new(-1.0_f64, 2.0).unwrap();
 /// assert_eq!(s.run(&[-3.0, 0.5, 5.0]).unwrap(), vec![-1.0, 0.5, 2.0]);
 /// ```
-pub type Saturation<T> = Stepped<SaturationLaw<T>, T>;
-
-/// The law of the [`Saturation`] (memoryless: no state).
-#[derive(Debug, Clone, PartialEq)]
-pub struct SaturationLaw<T>(SaturationParams<T>);
+pub type Saturation<T> = Stepped<SaturationParams<T>, T>;
 
 impl<T: Float> Saturation<T> {
     /// A saturation with limits `lo < hi`.
@@ -36,22 +32,12 @@ impl<T: Float> Saturation<T> {
     }
 }
 
-impl<T: Float> StepLaw<T> for SaturationLaw<T> {
+impl<T: Float> StepLaw<T> for SaturationParams<T> {
     const KIND: &'static str = "saturation";
-    type Params = SaturationParams<T>;
     type State = ();
-    type With<U: Float> = SaturationLaw<U>;
+    type With<U: Float> = SaturationParams<U>;
 
-    fn new(p: SaturationParams<T>) -> Result<Self> {
-        p.validate()?;
-        Ok(Self(p))
-    }
-
-    fn params(&self) -> &SaturationParams<T> {
-        &self.0
-    }
-
-    fn example() -> SaturationParams<T> {
+    fn example() -> Self {
         SaturationParams {
             lo: T::lit(-1.0),
             hi: T::lit(0.75),
@@ -62,7 +48,7 @@ impl<T: Float> StepLaw<T> for SaturationLaw<T> {
 
     #[inline(always)]
     fn step(&self, _: &(), x: T) -> Result<((), Trial<T>)> {
-        let SaturationParams { lo, hi } = self.0;
+        let SaturationParams { lo, hi } = *self;
         let tangent = if x > lo && x < hi {
             T::one()
         } else {
@@ -78,7 +64,7 @@ impl<T: Float> StepLaw<T> for SaturationLaw<T> {
     }
 
     fn run(&self, _: &mut (), xs: &[T], ys: &mut [T]) -> Result<()> {
-        let SaturationParams { lo, hi } = self.0;
+        let SaturationParams { lo, hi } = *self;
         map_samples(xs, ys, |x| x.max(lo).min(hi))
     }
 }

@@ -31,12 +31,7 @@ declare_params! {
 /// let mut s = Stop::new(1.0_f64).unwrap();
 /// assert_eq!(s.run(&[0.5, 2.0, 1.5]).unwrap(), vec![0.5, 1.0, 0.5]);
 /// ```
-pub type Stop<T> = Stepped<StopLaw<T>, T>;
-
-/// The law of the [`Stop`]: its parameters; the state is the play
-/// position `q = x − s`.
-#[derive(Debug, Clone, PartialEq)]
-pub struct StopLaw<T>(StopParams<T>);
+pub type Stop<T> = Stepped<StopParams<T>, T>;
 
 /// One stop step from play position `q`: returns `(s, q_new, tangent)`.
 ///
@@ -65,22 +60,12 @@ impl<T: Float> Stop<T> {
     }
 }
 
-impl<T: Float> StepLaw<T> for StopLaw<T> {
+impl<T: Float> StepLaw<T> for StopParams<T> {
     const KIND: &'static str = "stop";
-    type Params = StopParams<T>;
     type State = T;
-    type With<U: Float> = StopLaw<U>;
+    type With<U: Float> = StopParams<U>;
 
-    fn new(p: StopParams<T>) -> Result<Self> {
-        p.validate()?;
-        Ok(Self(p))
-    }
-
-    fn params(&self) -> &StopParams<T> {
-        &self.0
-    }
-
-    fn example() -> StopParams<T> {
+    fn example() -> Self {
         StopParams {
             r: T::lit(0.5),
             s0: T::lit(0.25),
@@ -88,12 +73,12 @@ impl<T: Float> StepLaw<T> for StopLaw<T> {
     }
 
     fn initial(&self) -> T {
-        -self.0.s0
+        -self.s0
     }
 
     #[inline(always)]
     fn step(&self, q: &T, x: T) -> Result<(T, Trial<T>)> {
-        let (s, q, tangent) = stop_step(self.0.r, *q, x);
+        let (s, q, tangent) = stop_step(self.r, *q, x);
         Ok((q, Trial { output: s, tangent }))
     }
 }

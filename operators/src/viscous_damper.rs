@@ -33,11 +33,7 @@ declare_params! {
 /// let f = d.run(&x).unwrap();
 /// assert!((f[99] - 6.0).abs() < 1e-9);
 /// ```
-pub type ViscousDamper<T> = Stepped<ViscousDamperLaw<T>, T>;
-
-/// The law of the [`ViscousDamper`]; the state is the last input.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ViscousDamperLaw<T>(ViscousDamperParams<T>);
+pub type ViscousDamper<T> = Stepped<ViscousDamperParams<T>, T>;
 
 impl<T: Float> ViscousDamper<T> {
     /// A damper with coefficient `c ≥ 0` and sample period `dt > 0`.
@@ -46,22 +42,12 @@ impl<T: Float> ViscousDamper<T> {
     }
 }
 
-impl<T: Float> StepLaw<T> for ViscousDamperLaw<T> {
+impl<T: Float> StepLaw<T> for ViscousDamperParams<T> {
     const KIND: &'static str = "viscous_damper";
-    type Params = ViscousDamperParams<T>;
     type State = T;
-    type With<U: Float> = ViscousDamperLaw<U>;
+    type With<U: Float> = ViscousDamperParams<U>;
 
-    fn new(p: ViscousDamperParams<T>) -> Result<Self> {
-        p.validate()?;
-        Ok(Self(p))
-    }
-
-    fn params(&self) -> &ViscousDamperParams<T> {
-        &self.0
-    }
-
-    fn example() -> ViscousDamperParams<T> {
+    fn example() -> Self {
         ViscousDamperParams {
             c: T::lit(2.0),
             dt: T::lit(0.01),
@@ -74,7 +60,7 @@ impl<T: Float> StepLaw<T> for ViscousDamperLaw<T> {
 
     #[inline(always)]
     fn step(&self, x_prev: &T, x: T) -> Result<(T, Trial<T>)> {
-        let ViscousDamperParams { c, dt } = self.0;
+        let ViscousDamperParams { c, dt } = *self;
         let v = (x - *x_prev) / dt;
         Ok((
             x,
@@ -87,7 +73,7 @@ impl<T: Float> StepLaw<T> for ViscousDamperLaw<T> {
 
     fn set_sample_period(&mut self, dt: T) -> Result<()> {
         check::positive("dt", dt)?;
-        self.0.dt = dt;
+        self.dt = dt;
         Ok(())
     }
 }
