@@ -9,14 +9,14 @@ declare_params! {
     /// Parameters of a [`PiBank`].
     pub struct PiBankParams<T> {
         /// Weight of the linear term `a0 · x`.
-        a0: T => Real,
+        a0: T => Real = 0.5,
         /// Thresholds `r_j ≥ 0`.
-        r: Vec<T> => NonNegative,
+        r: Vec<T> => NonNegative = [0.0, 0.3, 1.0],
         /// Weights `w_j` (finite, any sign).
-        w: Vec<T> => Real,
+        w: Vec<T> => Real = [1.0, 0.5, 0.25],
         /// Initial play outputs at `x = 0` (default all 0).
         #[serde(default)]
-        y0: Vec<T> => Real,
+        y0: Vec<T> => Real = [0.0, 0.1, -0.2],
     }
     check = PiBankParams::shape;
 }
@@ -238,12 +238,4 @@ impl<T: Float> Operator<T> for PiBank<T> {
     hysteron_operators::leaf_param_methods!(T);
 }
 
-hysteron_operators::impl_leaf!(PiBank, PiBankParams, "pi_bank", p, example: {
-    let v = |xs: &[f64]| xs.iter().map(|&x| T::lit(x)).collect::<Vec<T>>();
-    PiBankParams {
-        a0: T::lit(0.5),
-        r: v(&[0.0, 0.3, 1.0]),
-        w: v(&[1.0, 0.5, 0.25]),
-        y0: v(&[0.0, 0.1, -0.2]),
-    }
-});
+hysteron_operators::impl_leaf!(PiBank, PiBankParams, "pi_bank", p);

@@ -2,7 +2,7 @@
 //! 2001), itself a play-type Prandtl-Ishlinskii operator.
 
 use crate::{PiBank, PiBankParams};
-use hysteron_operators::{Error, Float, Leaf, Operator, Result, Trial};
+use hysteron_operators::{Error, Float, Operator, Result, Trial};
 
 /// The analytic inverse `x = P⁻¹[y]` of a play-type Prandtl-Ishlinskii
 /// operator `y = P[x] = a0 · x + Σ_j w_j play_{r_j}[x]` ([`PiBank`]),
@@ -258,6 +258,4 @@ impl<T: Float> Operator<T> for PiInverse<T> {
 }
 
 // Its parameters are the forward bank's (`y0` written out in full).
-hysteron_operators::impl_leaf!(PiInverse, PiBankParams, "pi_inverse", forward, example: {
-    <PiBank<T> as Leaf<T>>::example()
-});
+hysteron_operators::impl_leaf!(PiInverse, PiBankParams, "pi_inverse", forward);

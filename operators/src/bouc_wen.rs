@@ -15,22 +15,22 @@ declare_params! {
     /// returns an error at that sample.
     pub struct BoucWenParams<T> {
         /// Elastic weight `w ∈ [0, 1]` (1: purely elastic, 0: purely hysteretic).
-        w: T => UnitInterval,
+        w: T => UnitInterval = 0.3,
         /// `α` (finite; 1 removes the model's redundant scaling).
-        alpha: T => Real,
+        alpha: T => Real = 1.0,
         /// `β` (finite, any sign).
-        beta: T => Real,
+        beta: T => Real = 0.6,
         /// `γ` (finite, any sign).
-        gamma: T => Real,
+        gamma: T => Real = 0.4,
         /// Exponent `n ≥ 1`.
-        n: T => AtLeast(1.0),
+        n: T => AtLeast(1.0) = 1.5,
         /// Hysteretic state `h` at the initial input `z0`, before the first sample.
         #[serde(default)]
-        h0: T => Real,
+        h0: T => Real = 0.2,
         /// The input at which the spring starts (default 0): the state before the
         /// first sample is `(z0, h0)`, and the first sample moves from `z0`.
         #[serde(default)]
-        z0: T => Real,
+        z0: T => Real = -0.1,
         /// Stiffness map `S(z)`.
         stiffness: StiffnessMap<T> => nested,
     }
@@ -588,21 +588,7 @@ impl<T: Float> Operator<T> for BoucWen<T> {
     crate::leaf_param_methods!(T);
 }
 
-crate::impl_leaf!(BoucWen, BoucWenParams, "bouc_wen", p, example: {
-    BoucWenParams {
-        w: T::lit(0.3),
-        alpha: T::one(),
-        beta: T::lit(0.6),
-        gamma: T::lit(0.4),
-        n: T::lit(1.5),
-        h0: T::lit(0.2),
-        z0: T::lit(-0.1),
-        stiffness: StiffnessMap::knots_unchecked(
-            vec![T::zero(), T::one()],
-            vec![T::lit(2.0), T::lit(3.0)],
-        ),
-    }
-}, with_parameters: BoucWen::with_same_settings);
+crate::impl_leaf!(BoucWen, BoucWenParams, "bouc_wen", p, with_parameters: BoucWen::with_same_settings);
 
 impl<T: Float> BoucWen<T> {
     /// The spring for new parameters with this one's tolerance and solver.

@@ -7,16 +7,16 @@ declare_params! {
     #[derive(Copy)]
     pub struct DahlParams<T> {
         /// Rest stiffness `σ > 0` (slope `dF/dx` at `F = 0`), force per input unit.
-        sigma: T => Positive,
+        sigma: T => Positive = 40.0,
         /// Coulomb friction level `F_c > 0`.
-        f_c: T => Positive,
+        f_c: T => Positive = 1.5,
         /// Shape exponent `α ≥ 0` (Dahl: 1 for most materials; 0 gives the
         /// elastoplastic element, larger values a rounder approach).
-        alpha: T => NonNegative,
+        alpha: T => NonNegative = 1.5,
         /// Friction force at input `x = 0` before the first sample (default 0).
         /// With `|f0| ≤ F_c` the force stays in `[−F_c, F_c]`.
         #[serde(default)]
-        f0: T => Real,
+        f0: T => Real = 0.3,
     }
     check = DahlParams::ratios;
 }
@@ -210,14 +210,6 @@ impl<T: Float> StepLaw<T> for DahlParams<T> {
     type State = DahlState<T>;
     type With<U: Float> = DahlParams<U>;
 
-    fn example() -> Self {
-        DahlParams {
-            sigma: T::lit(40.0),
-            f_c: T::lit(1.5),
-            alpha: T::lit(1.5),
-            f0: T::lit(0.3),
-        }
-    }
 
     fn initial(&self) -> DahlState<T> {
         Self::start(self)

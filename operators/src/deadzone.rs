@@ -8,9 +8,9 @@ declare_params! {
     #[derive(Copy)]
     pub struct DeadZoneParams<T> {
         /// Left limit `b_l ≤ 0`.
-        b_l: T => NonPositive,
+        b_l: T => NonPositive = -0.5,
         /// Right limit `b_r ≥ 0`.
-        b_r: T => NonNegative,
+        b_r: T => NonNegative = 1.0,
     }
 }
 
@@ -59,12 +59,6 @@ impl<T: Float> StepLaw<T> for DeadZoneParams<T> {
     type State = ();
     type With<U: Float> = DeadZoneParams<U>;
 
-    fn example() -> Self {
-        DeadZoneParams {
-            b_l: T::lit(-0.5),
-            b_r: T::lit(1.0),
-        }
-    }
 
     fn initial(&self) {}
 

@@ -7,12 +7,12 @@ declare_params! {
     #[derive(Copy)]
     pub struct ElastoPlasticParams<T> {
         /// Spring stiffness `k > 0`.
-        k: T => Positive,
+        k: T => Positive = 4.0,
         /// Break-away force `F_b ≥ 0`.
-        f_b: T => NonNegative,
+        f_b: T => NonNegative = 1.5,
         /// Force at input `x = 0` before the first sample (default 0).
         #[serde(default)]
-        f0: T => Real,
+        f0: T => Real = -0.5,
     }
     check = ElastoPlasticParams::ratios;
 }
@@ -73,13 +73,6 @@ impl<T: Float> StepLaw<T> for ElastoPlasticParams<T> {
     type State = T;
     type With<U: Float> = ElastoPlasticParams<U>;
 
-    fn example() -> Self {
-        ElastoPlasticParams {
-            k: T::lit(4.0),
-            f_b: T::lit(1.5),
-            f0: T::lit(-0.5),
-        }
-    }
 
     fn initial(&self) -> T {
         -self.stop().s0

@@ -8,7 +8,7 @@ declare_params! {
     #[derive(Copy)]
     pub struct GainParams<T> {
         /// The gain (finite).
-        k: T => Real,
+        k: T => Real = -2.5,
     }
 }
 
@@ -39,9 +39,6 @@ impl<T: Float> StepLaw<T> for GainParams<T> {
     type State = ();
     type With<U: Float> = GainParams<U>;
 
-    fn example() -> Self {
-        GainParams { k: T::lit(-2.5) }
-    }
 
     fn initial(&self) {}
 

@@ -11,31 +11,31 @@ declare_params! {
     pub struct GmsParams<T> {
         /// Attraction rate `C > 0` (force per second) of a slipping element
         /// towards its Stribeck limit.
-        c: T => Positive,
+        c: T => Positive = 50.0,
         /// Coulomb level `F_c > 0` of the Stribeck curve.
-        f_c: T => Positive,
+        f_c: T => Positive = 1.0,
         /// Static level `F_s > 0` of the Stribeck curve (`F_s < F_c` allowed).
-        f_s: T => Positive,
+        f_s: T => Positive = 1.5,
         /// Stribeck velocity `v_s > 0`.
-        v_s: T => Positive,
+        v_s: T => Positive = 0.01,
         /// Stribeck exponent `δ ≥ 1` (default 2; `δ ≥ 1` keeps the tangent at
         /// a standstill finite).
         #[serde(default = "two")]
-        delta: T => AtLeast(1.0),
+        delta: T => AtLeast(1.0) = 2.0,
         /// Viscous friction `σ2 ≥ 0`.
         #[serde(default)]
-        sigma2: T => NonNegative,
+        sigma2: T => NonNegative = 0.1,
         /// Element stiffnesses `k_i > 0`.
-        k: Vec<T> => Positive,
+        k: Vec<T> => Positive = [100.0, 20.0],
         /// Element weights `α_i > 0`: element `i` slips at `α_i s(v)`.
-        alpha: Vec<T> => Positive,
+        alpha: Vec<T> => Positive = [0.5, 0.5],
         /// Element forces at input `x = 0` before the first sample (default
         /// empty: all 0).
         #[serde(default)]
-        f0: Vec<T> => Real,
+        f0: Vec<T> => Real = [0.1, -0.2],
         /// Sample period `dt > 0` (s) until the structure above sets one
         /// ([`Operator::set_sample_period`]). Not a fitted parameter.
-        dt: T => fixed,
+        dt: T => fixed = 1e-3,
     }
     check = GmsParams::shape;
 }
@@ -285,21 +285,7 @@ impl<T: Float> Operator<T> for Gms<T> {
     crate::leaf_param_methods!(T);
 }
 
-crate::impl_leaf!(Gms, GmsParams, "gms", p, example: {
-    let v = |xs: &[f64]| xs.iter().map(|&x| T::lit(x)).collect::<Vec<T>>();
-    GmsParams {
-        c: T::lit(50.0),
-        f_c: T::lit(1.0),
-        f_s: T::lit(1.5),
-        v_s: T::lit(0.01),
-        delta: T::lit(2.0),
-        sigma2: T::lit(0.1),
-        k: v(&[100.0, 20.0]),
-        alpha: v(&[0.5, 0.5]),
-        f0: v(&[0.1, -0.2]),
-        dt: T::lit(1e-3),
-    }
-});
+crate::impl_leaf!(Gms, GmsParams, "gms", p);
 
 #[cfg(test)]
 mod tests {

@@ -31,8 +31,11 @@ pub trait Leaf<T: Float>: Operator<T> + Sized {
     /// The parameters it was built from.
     fn parameters(&self) -> &Self::Params;
 
-    /// A valid example parameter set (for docs and the contract test).
-    fn example() -> Self::Params;
+    /// A valid example parameter set (for docs and the contract test); the
+    /// default is the values declared with the parameters.
+    fn example() -> Self::Params {
+        <Self::Params as ParamSet<T>>::example()
+    }
 
     /// The operator with new parameters and this one's settings that are
     /// not parameters (a solver tolerance, say), in its initial state. The
@@ -45,13 +48,13 @@ pub trait Leaf<T: Float>: Operator<T> + Sized {
 /// Implements [`Leaf`] for an operator `Op<T>` that has an inherent
 /// `Op::from_params(Params<T>) -> Result<Op<T>>` and keeps its parameters
 /// in a field:
-/// `impl_leaf!(Gms, GmsParams, "gms", p, example: GmsParams { … });`, and
+/// `impl_leaf!(Gms, GmsParams, "gms", p);`, and
 /// optionally `, with_parameters: Op::method` (an inherent
 /// `fn(&self, Params<T>) -> Result<Self>` keeping settings that are not
 /// parameters).
 #[macro_export]
 macro_rules! impl_leaf {
-    ($op:ident, $params:ident, $kind:literal, $field:ident, example: $example:expr
+    ($op:ident, $params:ident, $kind:literal, $field:ident
         $(, with_parameters: $with:path)? $(,)?) => {
         impl<T: $crate::Float> $crate::Leaf<T> for $op<T> {
             const KIND: &'static str = $kind;
@@ -64,10 +67,6 @@ macro_rules! impl_leaf {
 
             fn parameters(&self) -> &$params<T> {
                 &self.$field
-            }
-
-            fn example() -> $params<T> {
-                $example
             }
 
             $(
@@ -128,8 +127,6 @@ pub trait StepLaw<T: Float>: ParamSet<T> {
     /// The same law for another scalar type.
     type With<U: Float>: StepLaw<U>;
 
-    /// A valid example parameter set.
-    fn example() -> Self;
     /// The state before the first sample.
     fn initial(&self) -> Self::State;
     /// One sample from state `s` to the finite input `x`: the new state and

@@ -7,30 +7,30 @@ declare_params! {
     #[derive(Copy)]
     pub struct LuGreParams<T> {
         /// Bristle stiffness `σ0 > 0` (force per input unit).
-        sigma0: T => Positive,
+        sigma0: T => Positive = 1e4,
         /// Bristle damping `σ1 ≥ 0` (force per velocity).
-        sigma1: T => NonNegative,
+        sigma1: T => NonNegative = 50.0,
         /// Viscous friction `σ2 ≥ 0` (force per velocity).
-        sigma2: T => NonNegative,
+        sigma2: T => NonNegative = 0.4,
         /// Coulomb friction level `F_c > 0`.
-        f_c: T => Positive,
+        f_c: T => Positive = 1.0,
         /// Static (stiction) friction level `F_s > 0`. Usually `F_s ≥ F_c`;
         /// `F_s < F_c` is allowed (`g` then rises with speed and stays
         /// positive).
-        f_s: T => Positive,
+        f_s: T => Positive = 1.5,
         /// Stribeck velocity `v_s > 0` (input units per second).
-        v_s: T => Positive,
+        v_s: T => Positive = 0.01,
         /// Stribeck exponent `δ > 0` (default 2).
         #[serde(default = "two")]
-        delta: T => Positive,
+        delta: T => Positive = 2.0,
         /// Bristle deflection at input `x = 0` before the first sample
         /// (default 0).
         #[serde(default)]
-        z0: T => Real,
+        z0: T => Real = 1e-5,
         /// Sample period `dt > 0` (s) until the structure above sets one
         /// ([`Operator::set_sample_period`](crate::Operator::set_sample_period)).
         /// Not a fitted parameter.
-        dt: T => fixed,
+        dt: T => fixed = 1e-3,
     }
     check = |p| check::positive("dt", p.dt);
 }
@@ -190,19 +190,6 @@ impl<T: Float> StepLaw<T> for LuGreParams<T> {
     type State = LuGreState<T>;
     type With<U: Float> = LuGreParams<U>;
 
-    fn example() -> Self {
-        LuGreParams {
-            sigma0: T::lit(1e4),
-            sigma1: T::lit(50.0),
-            sigma2: T::lit(0.4),
-            f_c: T::lit(1.0),
-            f_s: T::lit(1.5),
-            v_s: T::lit(0.01),
-            delta: T::lit(2.0),
-            z0: T::lit(1e-5),
-            dt: T::lit(1e-3),
-        }
-    }
 
     fn initial(&self) -> LuGreState<T> {
         LuGreState {

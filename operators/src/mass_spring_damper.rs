@@ -7,15 +7,15 @@ declare_params! {
     #[derive(Copy)]
     pub struct MassSpringDamperParams<T> {
         /// Mass `m > 0`.
-        m: T => Positive,
+        m: T => Positive = 2.0,
         /// Viscous damping `c ≥ 0`.
-        c: T => NonNegative,
+        c: T => NonNegative = 10.0,
         /// Stiffness `k ≥ 0`.
-        k: T => NonNegative,
+        k: T => NonNegative = 5e4,
         /// Sample period `dt > 0` (s) until the structure above sets one
         /// ([`Operator::set_sample_period`](crate::Operator::set_sample_period)).
         /// Not a fitted parameter.
-        dt: T => fixed,
+        dt: T => fixed = 1.0 / 15000.0,
     }
     check = |p| check::positive("dt", p.dt);
 }
@@ -79,14 +79,6 @@ impl<T: Float> StepLaw<T> for MassSpringDamperParams<T> {
     type State = MsdState<T>;
     type With<U: Float> = MassSpringDamperParams<U>;
 
-    fn example() -> Self {
-        MassSpringDamperParams {
-            m: T::lit(2.0),
-            c: T::lit(10.0),
-            k: T::lit(5e4),
-            dt: T::lit(1.0 / 15000.0),
-        }
-    }
 
     fn initial(&self) -> MsdState<T> {
         MsdState {

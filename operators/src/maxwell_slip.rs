@@ -10,15 +10,15 @@ declare_params! {
     /// Parameters of a [`MaxwellSlip`] bank.
     pub struct MaxwellSlipParams<T> {
         /// Element stiffnesses `k_i > 0`.
-        k: Vec<T> => Positive,
+        k: Vec<T> => Positive = [40.0, 10.0, 4.0],
         /// Element break-away forces `F_i > 0`.
-        f_b: Vec<T> => Positive,
+        f_b: Vec<T> => Positive = [0.2, 0.3, 0.5],
         /// Element forces at input `x = 0` before the first sample (default
         /// empty: all 0). A value outside `[−F_i, F_i]` is clipped there at the
         /// first sample, as in the [`ElastoPlastic`](crate::ElastoPlastic)
         /// element.
         #[serde(default)]
-        f0: Vec<T> => Real,
+        f0: Vec<T> => Real = [0.1, -0.3, 0.0],
     }
     check = MaxwellSlipParams::shape;
 }
@@ -241,14 +241,7 @@ impl<T: Float> Operator<T> for MaxwellSlip<T> {
     crate::leaf_param_methods!(T);
 }
 
-crate::impl_leaf!(MaxwellSlip, MaxwellSlipParams, "maxwell_slip", p, example: {
-    let v = |xs: &[f64]| xs.iter().map(|&x| T::lit(x)).collect::<Vec<T>>();
-    MaxwellSlipParams {
-        k: v(&[40.0, 10.0, 4.0]),
-        f_b: v(&[0.2, 0.3, 0.5]),
-        f0: v(&[0.1, -0.3, 0.0]),
-    }
-});
+crate::impl_leaf!(MaxwellSlip, MaxwellSlipParams, "maxwell_slip", p);
 
 #[cfg(test)]
 mod tests {

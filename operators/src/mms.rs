@@ -7,13 +7,13 @@ declare_params! {
     #[derive(Copy)]
     pub struct MmsParams<T> {
         /// Coulomb friction level `F_c > 0`.
-        f_c: T => Positive,
+        f_c: T => Positive = 1.5,
         /// Exponential rate (initial stiffness over `F_c`) `K > 0`, in 1/input unit.
-        k: T => Positive,
+        k: T => Positive = 30.0,
         /// Friction force at input `x = 0` before the first sample (default 0).
         /// With `|y0| ≤ F_c` the output stays in `[−F_c, F_c]`.
         #[serde(default)]
-        y0: T => Real,
+        y0: T => Real = -0.4,
     }
 }
 
@@ -162,13 +162,6 @@ impl<T: Float> StepLaw<T> for MmsParams<T> {
     type State = MmsState<T>;
     type With<U: Float> = MmsParams<U>;
 
-    fn example() -> Self {
-        MmsParams {
-            f_c: T::lit(1.5),
-            k: T::lit(30.0),
-            y0: T::lit(-0.4),
-        }
-    }
 
     fn initial(&self) -> MmsState<T> {
         Self::start(self)

@@ -7,7 +7,7 @@ declare_params! {
     #[derive(Copy)]
     pub struct OffsetParams<T> {
         /// The constant added to the input (finite).
-        c: T => Real,
+        c: T => Real = -0.75,
     }
 }
 
@@ -34,9 +34,6 @@ impl<T: Float> StepLaw<T> for OffsetParams<T> {
     type State = ();
     type With<U: Float> = OffsetParams<U>;
 
-    fn example() -> Self {
-        OffsetParams { c: T::lit(-0.75) }
-    }
 
     fn initial(&self) {}
 

@@ -79,6 +79,10 @@ pub trait ParamSet<T: Float>: Clone + Debug + PartialEq + Send + Sync + 'static 
     /// constraints that tie entries together.
     fn validate(&self) -> Result<()>;
 
+    /// A valid example set: the values declared with the fields (docs and
+    /// the contract test run it).
+    fn example() -> Self;
+
     /// The entry names in flat order.
     fn names(&self) -> Vec<String> {
         let mut v = Vec::with_capacity(self.count());
@@ -126,6 +130,28 @@ pub trait ParamField<T: Float>: Sized {
     fn read(&self, kind: FieldKind, p: &mut &[T]) -> Result<Self>;
     /// Checks the entries against the domain, naming them.
     fn validate(&self, name: &str, kind: FieldKind) -> Result<()>;
+    /// The example of a field declared without one: 0, empty, or a nested
+    /// set's example.
+    fn example_default() -> Self;
+}
+
+/// A field value from the example written in its declaration: a number for
+/// `T`, a list of numbers for `Vec<T>`.
+pub trait FromExample<T: Float, E> {
+    /// The value.
+    fn from_example(e: E) -> Self;
+}
+
+impl<T: Float> FromExample<T, f64> for T {
+    fn from_example(e: f64) -> T {
+        T::lit(e)
+    }
+}
+
+impl<T: Float, const N: usize> FromExample<T, [f64; N]> for Vec<T> {
+    fn from_example(e: [f64; N]) -> Vec<T> {
+        e.iter().map(|&v| T::lit(v)).collect()
+    }
 }
 
 /// Takes `n` values from the front of `p`.
@@ -172,6 +198,9 @@ impl<T: Float> ParamField<T> for T {
             _ => Ok(()),
         }
     }
+    fn example_default() -> Self {
+        T::zero()
+    }
 }
 
 impl<T: Float> ParamField<T> for Vec<T> {
@@ -210,13 +239,18 @@ impl<T: Float> ParamField<T> for Vec<T> {
         }
         Ok(())
     }
+    fn example_default() -> Self {
+        Vec::new()
+    }
 }
 
 /// Declares a parameter set once: the struct (with its serde form), and
 /// its [`ParamSet`] implementation, from one list of fields.
 ///
 /// Each field is written
-/// `/// doc` … `name: Type => Kind,` where `Kind` is a [`Domain`] variant
+/// `/// doc` … `name: Type => Kind = example,` (the example value
+/// optional: a number, or `[numbers]` for a vector; 0, empty or the nested
+/// set's example without it) where `Kind` is a [`Domain`] variant
 /// (`Positive`, `AtLeast(1.0)`, …), `nested` or `fixed` (see the
 /// [module documentation](crate::params)), optionally preceded by
 /// `#[serde(...)]` attributes (after the doc comment), typically
@@ -232,9 +266,9 @@ impl<T: Float> ParamField<T> for Vec<T> {
 ///     #[derive(Copy)]
 ///     pub struct LevelsParams<T> {
 ///         /// Level in the positive direction, `> 0`.
-///         up: T => Positive,
+///         up: T => Positive = 1.0,
 ///         /// Level in the negative direction, `> 0`.
-///         down: T => Positive,
+///         down: T => Positive = 2.0,
 ///         /// Initial output (default 0).
 ///         #[serde(default)]
 ///         y0: T => Real,
@@ -242,7 +276,8 @@ impl<T: Float> ParamField<T> for Vec<T> {
 ///     check = |p: &LevelsParams<_>| hysteron_operators::check::finite("up", p.up / p.down);
 /// }
 ///
-/// let p = LevelsParams { up: 1.0_f64, down: 2.0, y0: 0.0 };
+/// let p = LevelsParams::<f64>::example();
+/// assert_eq!(p, LevelsParams { up: 1.0, down: 2.0, y0: 0.0 });
 /// assert_eq!(p.names(), ["up", "down", "y0"]);
 /// assert_eq!(p.values(), [1.0, 2.0, 0.0]);
 /// let err = p.with_values(&[1.0, -2.0, 0.0]).unwrap_err();
@@ -256,7 +291,7 @@ macro_rules! declare_params {
             $(
                 $(#[doc = $doc:literal])*
                 $(#[serde($($serde:tt)*)])*
-                $field:ident : $ty:ty => $kind:ident $(($arg:expr))?
+                $field:ident : $ty:ty => $kind:ident $(($arg:expr))? $(= $example:expr)?
             ),* $(,)?
         }
         $(check = $check:expr;)?
@@ -327,6 +362,12 @@ macro_rules! declare_params {
                 })
             }
 
+            fn example() -> Self {
+                Self {
+                    $($field: $crate::declare_params!(@example T, $ty $(, $example)?),)*
+                }
+            }
+
             fn validate(&self) -> $crate::Result<()> {
                 $($crate::ParamField::<T>::validate(
                     &self.$field,
@@ -350,6 +391,10 @@ macro_rules! declare_params {
         }
 
         $crate::nested_param_field!($name);
+    };
+    (@example $t:ident, $ty:ty) => { <$ty as $crate::ParamField<$t>>::example_default() };
+    (@example $t:ident, $ty:ty, $e:expr) => {
+        <$ty as $crate::params::FromExample<$t, _>>::from_example($e)
     };
     (@kind nested) => { $crate::FieldKind::Nested };
     (@kind fixed) => { $crate::FieldKind::Fixed };
@@ -379,6 +424,9 @@ macro_rules! nested_param_field {
             }
             fn validate(&self, name: &str, _: $crate::FieldKind) -> $crate::Result<()> {
                 $crate::ParamSet::<T>::validate(self).map_err(|e| e.in_path(name))
+            }
+            fn example_default() -> Self {
+                <Self as $crate::ParamSet<T>>::example()
             }
         }
     };

@@ -7,10 +7,10 @@ declare_params! {
     #[derive(Copy)]
     pub struct PlayParams<T> {
         /// Threshold (half the backlash gap) `r ≥ 0`.
-        r: T => NonNegative,
+        r: T => NonNegative = 0.5,
         /// Output at input `x = 0` before the first sample (default 0).
         #[serde(default)]
-        y0: T => Real,
+        y0: T => Real = 0.2,
     }
 }
 
@@ -141,12 +141,6 @@ impl<T: Float> StepLaw<T> for PlayParams<T> {
     type State = T;
     type With<U: Float> = PlayParams<U>;
 
-    fn example() -> Self {
-        PlayParams {
-            r: T::lit(0.5),
-            y0: T::lit(0.2),
-        }
-    }
 
     fn initial(&self) -> T {
         self.y0

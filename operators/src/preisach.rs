@@ -899,20 +899,23 @@ impl<T: Float> ParamSet<T> for PreisachParams<T> {
     fn validate(&self) -> Result<()> {
         self.measure.validate()
     }
+
+    /// A `tanh` measure starting from above.
+    fn example() -> Self {
+        PreisachParams {
+            measure: PreisachMeasure::Tanh {
+                amplitude: T::lit(1.5),
+                hc: T::lit(0.3),
+                w: T::lit(0.4),
+                x_min: T::lit(-2.0),
+                x_max: T::lit(2.0),
+            },
+            start: PreisachStart::FromAbove,
+        }
+    }
 }
 
-crate::impl_leaf!(Preisach, PreisachParams, "preisach", p, example: {
-    PreisachParams {
-        measure: PreisachMeasure::Tanh {
-            amplitude: T::lit(1.5),
-            hc: T::lit(0.3),
-            w: T::lit(0.4),
-            x_min: T::lit(-2.0),
-            x_max: T::lit(2.0),
-        },
-        start: PreisachStart::FromAbove,
-    }
-});
+crate::impl_leaf!(Preisach, PreisachParams, "preisach", p);
 
 #[cfg(test)]
 mod tests {

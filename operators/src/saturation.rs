@@ -8,9 +8,9 @@ declare_params! {
     #[derive(Copy)]
     pub struct SaturationParams<T> {
         /// Lower limit.
-        lo: T => Real,
+        lo: T => Real = -1.0,
         /// Upper limit, `hi > lo`.
-        hi: T => Real,
+        hi: T => Real = 0.75,
     }
     check = |p| check::ordered("lo", p.lo, "hi", p.hi);
 }
@@ -37,12 +37,6 @@ impl<T: Float> StepLaw<T> for SaturationParams<T> {
     type State = ();
     type With<U: Float> = SaturationParams<U>;
 
-    fn example() -> Self {
-        SaturationParams {
-            lo: T::lit(-1.0),
-            hi: T::lit(0.75),
-        }
-    }
 
     fn initial(&self) {}
 

@@ -31,11 +31,6 @@ impl<T: Float> StiffnessMap<T> {
         Ok(map)
     }
 
-    /// A map through knots known to be valid (not checked).
-    pub(crate) fn knots_unchecked(z: Vec<T>, s: Vec<T>) -> Self {
-        Self { z, s }
-    }
-
     /// A constant stiffness `k ≥ 0`.
     pub fn constant(k: T) -> Result<Self> {
         Self::new(vec![T::zero()], vec![k])
@@ -188,6 +183,14 @@ impl<T: Float> ParamSet<T> for StiffnessMap<T> {
 
     fn validate(&self) -> Result<()> {
         StiffnessMap::validate(self)
+    }
+
+    /// Two knots: `S = 2` at `|z| = 0` rising to `3` at `|z| = 1`.
+    fn example() -> Self {
+        Self {
+            z: vec![T::zero(), T::one()],
+            s: vec![T::lit(2.0), T::lit(3.0)],
+        }
     }
 }
 

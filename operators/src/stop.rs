@@ -7,10 +7,10 @@ declare_params! {
     #[derive(Copy)]
     pub struct StopParams<T> {
         /// Threshold `r ≥ 0`: the output stays in `[−r, r]`.
-        r: T => NonNegative,
+        r: T => NonNegative = 0.5,
         /// Output at input `x = 0` before the first sample (default 0).
         #[serde(default)]
-        s0: T => Real,
+        s0: T => Real = 0.25,
     }
 }
 
@@ -65,12 +65,6 @@ impl<T: Float> StepLaw<T> for StopParams<T> {
     type State = T;
     type With<U: Float> = StopParams<U>;
 
-    fn example() -> Self {
-        StopParams {
-            r: T::lit(0.5),
-            s0: T::lit(0.25),
-        }
-    }
 
     fn initial(&self) -> T {
         -self.s0

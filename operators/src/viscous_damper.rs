@@ -7,11 +7,11 @@ declare_params! {
     #[derive(Copy)]
     pub struct ViscousDamperParams<T> {
         /// Damping coefficient `c ≥ 0`.
-        c: T => NonNegative,
+        c: T => NonNegative = 2.0,
         /// Sample period `dt > 0` (s) until the structure above sets one
         /// ([`Operator::set_sample_period`](crate::Operator::set_sample_period)).
         /// Not a fitted parameter.
-        dt: T => fixed,
+        dt: T => fixed = 0.01,
     }
     check = |p| check::positive("dt", p.dt);
 }
@@ -47,12 +47,6 @@ impl<T: Float> StepLaw<T> for ViscousDamperParams<T> {
     type State = T;
     type With<U: Float> = ViscousDamperParams<U>;
 
-    fn example() -> Self {
-        ViscousDamperParams {
-            c: T::lit(2.0),
-            dt: T::lit(0.01),
-        }
-    }
 
     fn initial(&self) -> T {
         T::zero()
