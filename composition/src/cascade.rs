@@ -1,6 +1,6 @@
 //! Cascade: the output of one operator drives the next.
 
-use crate::pair::{pair_domains, pair_names, set_pair};
+use crate::Child;
 use hysteron_operators::{Float, Operator, Result, Trial};
 
 /// Cascade `y = B[A[x]]` (signal-flow composition, `a.then(b)`).
@@ -43,12 +43,7 @@ impl<A, B> Cascade<A, B> {
     }
 }
 
-impl<T, A, B> Operator<T> for Cascade<A, B>
-where
-    T: Float,
-    A: Operator<T> + Clone,
-    B: Operator<T> + Clone,
-{
+impl<T: Float, A: Child<T>, B: Child<T>> Operator<T> for Cascade<A, B> {
     fn name(&self) -> &'static str {
         "cascade"
     }
@@ -79,31 +74,5 @@ where
         self.second.reset();
     }
 
-    fn set_sample_period(&mut self, dt: T) -> Result<()> {
-        self.first.set_sample_period(dt)?;
-        self.second.set_sample_period(dt)
-    }
-
-    fn n_params(&self) -> usize {
-        self.first.n_params() + self.second.n_params()
-    }
-
-    fn params_into(&self, out: &mut Vec<T>) {
-        self.first.params_into(out);
-        self.second.params_into(out);
-    }
-
-    fn param_domains(&self) -> Vec<hysteron_operators::Domain> {
-        pair_domains(&self.first, &self.second)
-    }
-
-    fn param_names(&self) -> Vec<String> {
-        pair_names(&self.first, &self.second, ["first", "second"])
-    }
-
-    fn set_params(&mut self, p: &[T]) -> Result<()> {
-        set_pair(&mut self.first, &mut self.second, p, ["first", "second"])?;
-        self.pending = false;
-        Ok(())
-    }
+    crate::pair::pair_methods!(first, second);
 }

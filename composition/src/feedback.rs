@@ -1,7 +1,7 @@
 //! Feedback: `y = A[x − B[y]]`, solved implicitly every sample.
 
-use crate::pair::{pair_domains, pair_names, set_pair};
 use crate::solve::{solve, SolverOptions, Start};
+use crate::Child;
 use hysteron_operators::{check_input, Float, Operator, Result, Trial};
 
 /// Negative feedback loop `y = A[x − B[y]]` (`a.feedback(b)`), with `A`
@@ -52,12 +52,7 @@ impl<T: Float, A, B> Feedback<T, A, B> {
     }
 }
 
-impl<T, A, B> Operator<T> for Feedback<T, A, B>
-where
-    T: Float,
-    A: Operator<T> + Clone,
-    B: Operator<T> + Clone,
-{
+impl<T: Float, A: Child<T>, B: Child<T>> Operator<T> for Feedback<T, A, B> {
     fn name(&self) -> &'static str {
         "feedback"
     }
@@ -116,31 +111,5 @@ where
         self.pending = None;
     }
 
-    fn set_sample_period(&mut self, dt: T) -> Result<()> {
-        self.forward.set_sample_period(dt)?;
-        self.back.set_sample_period(dt)
-    }
-
-    fn n_params(&self) -> usize {
-        self.forward.n_params() + self.back.n_params()
-    }
-
-    fn params_into(&self, out: &mut Vec<T>) {
-        self.forward.params_into(out);
-        self.back.params_into(out);
-    }
-
-    fn param_domains(&self) -> Vec<hysteron_operators::Domain> {
-        pair_domains(&self.forward, &self.back)
-    }
-
-    fn param_names(&self) -> Vec<String> {
-        pair_names(&self.forward, &self.back, ["forward", "back"])
-    }
-
-    fn set_params(&mut self, p: &[T]) -> Result<()> {
-        set_pair(&mut self.forward, &mut self.back, p, ["forward", "back"])?;
-        self.reset();
-        Ok(())
-    }
+    crate::pair::pair_methods!(forward, back);
 }

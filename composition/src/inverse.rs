@@ -2,6 +2,7 @@
 
 use crate::pair::prefixed;
 use crate::solve::{solve, SolverOptions, Start};
+use crate::Child;
 use hysteron_operators::{check_input, Error, Float, Operator, Result, Trial};
 
 /// Inverse `u = A⁻¹[x]` of a non-decreasing operator `A` (`a.inverse()`):
@@ -115,11 +116,7 @@ where
     }
 }
 
-impl<T, A> Operator<T> for Inverse<T, A>
-where
-    T: Float,
-    A: Operator<T> + Clone,
-{
+impl<T: Float, A: Child<T>> Operator<T> for Inverse<T, A> {
     fn name(&self) -> &'static str {
         "inverse"
     }

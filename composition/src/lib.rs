@@ -23,6 +23,7 @@
 #![warn(missing_docs)]
 
 mod cascade;
+mod child;
 mod ext;
 mod feedback;
 mod inverse;
@@ -37,6 +38,7 @@ mod series;
 mod solve;
 
 pub use cascade::Cascade;
+pub use child::Child;
 pub use ext::OperatorExt;
 pub use feedback::Feedback;
 pub use inverse::Inverse;

@@ -1,6 +1,7 @@
 //! Oversampling: an operator run at an integer multiple of the data rate.
 
 use crate::pair::prefixed;
+use crate::Child;
 use hysteron_operators::{check_input, Domain, Error, Float, Operator, Result, Trial};
 
 /// Runs `inner` at `q` times the data rate (`Oversample::new(inner, q)`):
@@ -99,11 +100,7 @@ impl<T: Float, A> Oversample<T, A> {
     }
 }
 
-impl<T, A> Operator<T> for Oversample<T, A>
-where
-    T: Float,
-    A: Operator<T> + Clone,
-{
+impl<T: Float, A: Child<T>> Operator<T> for Oversample<T, A> {
     fn name(&self) -> &'static str {
         "oversample"
     }

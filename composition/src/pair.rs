@@ -58,3 +58,46 @@ pub(crate) fn prefixed<'a, T: Float, O: Operator<T>>(
         .into_iter()
         .map(move |n| format!("{label}.{kind}.{n}"))
 }
+
+/// The sample-period and parameter methods of a combinator over two
+/// children in fields `$a` and `$b` (named so in parameter paths:
+/// `first.play.r`): the period reaches both, parameters are `$a`'s then
+/// `$b`'s, set atomically, and `set_params` ends with `self.reset()`. Use
+/// inside `impl Operator<T> for …`.
+macro_rules! pair_methods {
+    ($a:ident, $b:ident) => {
+        fn set_sample_period(&mut self, dt: T) -> Result<()> {
+            self.$a.set_sample_period(dt)?;
+            self.$b.set_sample_period(dt)
+        }
+
+        fn n_params(&self) -> usize {
+            self.$a.n_params() + self.$b.n_params()
+        }
+
+        fn params_into(&self, out: &mut Vec<T>) {
+            self.$a.params_into(out);
+            self.$b.params_into(out);
+        }
+
+        fn param_domains(&self) -> Vec<hysteron_operators::Domain> {
+            $crate::pair::pair_domains(&self.$a, &self.$b)
+        }
+
+        fn param_names(&self) -> Vec<String> {
+            $crate::pair::pair_names(&self.$a, &self.$b, [stringify!($a), stringify!($b)])
+        }
+
+        fn set_params(&mut self, p: &[T]) -> Result<()> {
+            $crate::pair::set_pair(
+                &mut self.$a,
+                &mut self.$b,
+                p,
+                [stringify!($a), stringify!($b)],
+            )?;
+            self.reset();
+            Ok(())
+        }
+    };
+}
+pub(crate) use pair_methods;

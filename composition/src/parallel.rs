@@ -1,6 +1,6 @@
 //! Parallel connection: outputs add.
 
-use crate::pair::{pair_domains, pair_names, set_pair};
+use crate::Child;
 use hysteron_operators::{Float, Operator, Result, Trial};
 
 /// Parallel connection `y = A[x] + B[x]` (`a.plus(b)`). As mechanical
@@ -31,12 +31,7 @@ impl<A, B> Parallel<A, B> {
     }
 }
 
-impl<T, A, B> Operator<T> for Parallel<A, B>
-where
-    T: Float,
-    A: Operator<T> + Clone,
-    B: Operator<T> + Clone,
-{
+impl<T: Float, A: Child<T>, B: Child<T>> Operator<T> for Parallel<A, B> {
     fn name(&self) -> &'static str {
         "parallel"
     }
@@ -72,31 +67,5 @@ where
         self.right.reset();
     }
 
-    fn set_sample_period(&mut self, dt: T) -> Result<()> {
-        self.left.set_sample_period(dt)?;
-        self.right.set_sample_period(dt)
-    }
-
-    fn n_params(&self) -> usize {
-        self.left.n_params() + self.right.n_params()
-    }
-
-    fn params_into(&self, out: &mut Vec<T>) {
-        self.left.params_into(out);
-        self.right.params_into(out);
-    }
-
-    fn param_domains(&self) -> Vec<hysteron_operators::Domain> {
-        pair_domains(&self.left, &self.right)
-    }
-
-    fn param_names(&self) -> Vec<String> {
-        pair_names(&self.left, &self.right, ["left", "right"])
-    }
-
-    fn set_params(&mut self, p: &[T]) -> Result<()> {
-        set_pair(&mut self.left, &mut self.right, p, ["left", "right"])?;
-        self.pending = false;
-        Ok(())
-    }
+    crate::pair::pair_methods!(left, right);
 }

@@ -1,6 +1,7 @@
 //! Scaling an operator's output by a weight.
 
 use crate::pair::prefixed;
+use crate::Child;
 use hysteron_operators::{check, check_output, Float, Operator, Result, Trial};
 
 /// Weighted operator `y = w · A[x]` (`a.scaled(w)`), `w` finite. Its
@@ -36,11 +37,7 @@ impl<T: Float, A> Scaled<T, A> {
     }
 }
 
-impl<T, A> Operator<T> for Scaled<T, A>
-where
-    T: Float,
-    A: Operator<T> + Clone,
-{
+impl<T: Float, A: Child<T>> Operator<T> for Scaled<T, A> {
     fn name(&self) -> &'static str {
         "scaled"
     }

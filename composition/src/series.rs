@@ -2,6 +2,7 @@
 
 use crate::pair::{pair_domains, pair_names, set_pair};
 use crate::solve::{solve, Root, SolverOptions, Start};
+use crate::Child;
 use hysteron_operators::{
     check, check_input, check_lengths, Domain, Error, Float, Operator, Result, Trial,
 };
@@ -266,12 +267,7 @@ impl<T: Float, L: Operator<T>, R: Operator<T>> MechanicalSeries<T, L, R> {
     }
 }
 
-impl<T, L, R> Operator<T> for MechanicalSeries<T, L, R>
-where
-    T: Float,
-    L: Operator<T> + Clone,
-    R: Operator<T> + Clone,
-{
+impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, R> {
     fn name(&self) -> &'static str {
         "series"
     }
