@@ -70,15 +70,20 @@ enum Command {
         /// The output CSV file (written atomically; may not be the input).
         #[arg(long, value_name = "OUT.csv")]
         output: PathBuf,
-        /// Also draw y over the input column as an SVG figure.
+        /// Also draw the output over the input column as an SVG figure.
         #[arg(long, value_name = "LOOP.svg")]
         plot: Option<PathBuf>,
+        /// The name of the output column written (an error if the input
+        /// already has a column of that name).
+        #[arg(long, value_name = "NAME", default_value = "y")]
+        output_column: String,
         /// Sample period (s) of every rate-dependent node of the model
         /// (mass_spring_damper, viscous_damper), overriding the spec's dt.
         #[arg(long, value_name = "SECONDS", conflicts_with = "time_column")]
         dt: Option<f64>,
         /// Take the sample period from this time column of the CSV file
-        /// (uniformly spaced within 1e-9 relative), overriding the spec's dt.
+        /// (uniformly spaced up to 0.1 % of a step, the rounding of written
+        /// stamps), overriding the spec's dt.
         #[arg(long, value_name = "NAME")]
         time_column: Option<String>,
     },
@@ -124,7 +129,8 @@ enum Command {
         #[arg(long, value_name = "SECONDS", conflicts_with = "time_column")]
         dt: Option<f64>,
         /// Take the sample period from this time column of the CSV file
-        /// (uniformly spaced within 1e-9 relative), overriding the spec's dt.
+        /// (uniformly spaced up to 0.1 % of a step, the rounding of written
+        /// stamps), overriding the spec's dt.
         #[arg(long, value_name = "NAME")]
         time_column: Option<String>,
     },
@@ -337,6 +343,7 @@ fn main() -> ExitCode {
             column,
             output,
             plot,
+            output_column,
             dt,
             time_column,
         } => simulate::run(&simulate::SimulateOptions {
@@ -345,6 +352,7 @@ fn main() -> ExitCode {
             column,
             output,
             plot,
+            output_column,
             dt: simulate::DtSource::from_options(dt, time_column),
         })
         .map(|report| {

@@ -1,7 +1,8 @@
 //! The `simulate` job: runs a model spec (JSON, see
 //! [`Spec`]) over one column of a CSV file and writes
-//! the input's columns plus the output `y`, optionally with a loop figure
-//! of `y` over the input.
+//! the input's columns plus the output (column `y`, or the name given by
+//! `--output-column`), optionally with a loop figure of the output over the
+//! input.
 //!
 //! Nothing is written unless everything before succeeded: the model is
 //! loaded and built, the input read and checked, the whole run simulated
@@ -17,7 +18,7 @@ use crate::Operator;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-/// Name of the output column.
+/// The default name of the output column.
 pub const OUTPUT_COLUMN: &str = "y";
 
 /// Options of the simulate job.
@@ -31,8 +32,11 @@ pub struct SimulateOptions {
     pub column: String,
     /// The output CSV file.
     pub output: PathBuf,
-    /// Optional SVG figure of `y` over the input column.
+    /// Optional SVG figure of the output over the input column.
     pub plot: Option<PathBuf>,
+    /// The name of the output column ([`OUTPUT_COLUMN`] by default); it may
+    /// not be a column of the input already.
+    pub output_column: String,
     /// Where the sample period of the rate-dependent nodes of the model
     /// comes from (default: the spec's own `dt`).
     pub dt: DtSource,
@@ -49,7 +53,8 @@ pub enum DtSource {
     /// This value (seconds).
     Value(f64),
     /// The step of this time column of the input CSV file (uniformly
-    /// spaced within 1e-9 relative, see [`csvio::read_time_step`]).
+    /// spaced up to the rounding of written stamps, see
+    /// [`csvio::read_time_step`]).
     TimeColumn(String),
 }
 
@@ -94,7 +99,7 @@ pub enum SimulateError {
     /// The input could not be read or is invalid.
     Input(CsvIoError),
     /// The input already has a column named like the output column.
-    OutputColumnExists(PathBuf),
+    OutputColumnExists(PathBuf, String),
     /// The operator failed at a sample.
     Operator(Box<csvio::SampleFailure>),
     /// Writing the output failed.
@@ -125,9 +130,10 @@ impl fmt::Display for SimulateError {
                 e => write!(f, "model `{}`: {e}", p.display()),
             },
             SimulateError::Input(e) => write!(f, "input {e}"),
-            SimulateError::OutputColumnExists(p) => write!(
+            SimulateError::OutputColumnExists(p, name) => write!(
                 f,
-                "input `{}` already has a column `{OUTPUT_COLUMN}`; rename it first",
+                "input `{}` already has a column `{name}`: name the output column \
+                 otherwise with --output-column",
                 p.display()
             ),
             SimulateError::Operator(o) => {
@@ -202,8 +208,12 @@ pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
     let mut model = spec.build().map_err(model_err)?;
 
     let table = csvio::read_column(&opts.input, &opts.column).map_err(SimulateError::Input)?;
-    if table.headers.iter().any(|h| h.trim() == OUTPUT_COLUMN) {
-        return Err(SimulateError::OutputColumnExists(opts.input.clone()));
+    let out_name = opts.output_column.trim();
+    if table.headers.iter().any(|h| h.trim() == out_name) {
+        return Err(SimulateError::OutputColumnExists(
+            opts.input.clone(),
+            out_name.to_string(),
+        ));
     }
 
     let y = model.run(&table.values).map_err(|e| {
@@ -221,7 +231,7 @@ pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
     let svg = match &opts.plot {
         Some(p) => {
             let title = format!("{} over {}", file_name(&opts.model), file_name(&opts.input));
-            let panel = plot::loop_panel(&title, &opts.column, OUTPUT_COLUMN, &table.values, &y);
+            let panel = plot::loop_panel(&title, &opts.column, out_name, &table.values, &y);
             Some(
                 plot::render(&[panel], 1, 1, (760, 560))
                     .map_err(|e| SimulateError::Plot(p.clone(), e))?,
@@ -235,8 +245,7 @@ pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
     if let Some(p) = &opts.plot {
         csvio::target_dir(p).map_err(SimulateError::Write)?;
     }
-    csvio::write_with_column(&opts.output, &table, OUTPUT_COLUMN, &y)
-        .map_err(SimulateError::Write)?;
+    csvio::write_with_column(&opts.output, &table, out_name, &y).map_err(SimulateError::Write)?;
     let mut files = vec![opts.output.clone()];
     if let (Some(p), Some(svg)) = (&opts.plot, svg) {
         csvio::write_string_atomic(p, &svg).map_err(SimulateError::Write)?;

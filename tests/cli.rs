@@ -693,6 +693,143 @@ fn simulate_mass_spring_damper_with_time_column_matches_in_process() {
     assert_no_temp_files(s.dir());
 }
 
+/// Measured time stamps are written rounded (`1.000976562` for 1025/1024
+/// s at 9 decimals); such a column is uniform to within its rounding and is
+/// accepted (a 1e-9 relative check on each step once refused it), the
+/// period being the mean step: the output matches `--dt 1/1024` to the
+/// rounding of the last stamp.
+#[test]
+fn simulate_accepts_rounded_time_stamps() {
+    let s = Setup::new();
+    s.write("msd.json", MSD_SPEC);
+    let n = 3000;
+    let mut text = String::from("t,x\n");
+    let mut x = Vec::new();
+    for i in 0..n {
+        let t = i as f64 / 1024.0;
+        let v = 10.0 * (std::f64::consts::TAU * 3.0 * t).sin();
+        x.push(v);
+        text.push_str(&format!("{t:.9},{v}\n"));
+    }
+    assert!(text.contains("1.000976562,"), "a rounded stamp");
+    s.write("f.csv", &text);
+    s.simulate(&[
+        "--model",
+        "msd.json",
+        "--input",
+        "f.csv",
+        "--output",
+        "o.csv",
+        "--time-column",
+        "t",
+    ])
+    .assert()
+    .success();
+    let (headers, rows) = read_csv(&s.path("o.csv"));
+    let y = column(&headers, &rows, "y");
+    let exact = Spec::from_json(MSD_SPEC)
+        .unwrap()
+        .with_dt(1.0 / 1024.0)
+        .build()
+        .unwrap()
+        .run(&x)
+        .unwrap();
+    let scale = exact.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let err = y
+        .iter()
+        .zip(&exact)
+        .fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
+    // the mean step differs from 1/1024 by at most 5e-10 s / 2.9 s
+    assert!(err <= 1e-8 * scale, "max error {err:e} of {scale:e}");
+}
+
+/// The Bouc-Wen benchmark as an `oversample` spec (20 sub-steps of the
+/// oscillator per data sample) run by `simulate --time-column` over three
+/// periods of `val_multisine`: the last period matches the published output
+/// to ≤ 1e-5 m RMS. When the time column's period reached the inner
+/// oscillator as the data period instead of T/20, the error was 7.7e-4 m.
+#[test]
+fn simulate_time_column_gives_an_oversampled_spec_its_sub_step() {
+    let s = Setup::new();
+    s.write(
+        "bw.json",
+        r#"{"type": "oversample", "q": 20, "inner": {"type": "feedback",
+            "forward": {"type": "mass_spring_damper", "m": 2, "c": 10, "k": 50000, "dt": 1},
+            "back": {"type": "bouc_wen", "w": 0, "alpha": 50000, "beta": 800, "gamma": -1100,
+                     "n": 1, "stiffness": {"z": [0], "s": [1]}}}}"#,
+    );
+    let data = fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("data/boucwen-benchmark/val_multisine.csv"),
+    )
+    .unwrap();
+    let rows: Vec<(f64, f64)> = data
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let v: Vec<f64> = l.split(',').map(|c| c.parse().unwrap()).collect();
+            (v[1], v[2])
+        })
+        .collect();
+    let n = rows.len();
+    let mut text = String::from("t,u\n");
+    for i in 0..3 * n {
+        text.push_str(&format!("{},{}\n", i as f64 / 750.0, rows[i % n].0));
+    }
+    s.write("u.csv", &text);
+    s.simulate(&[
+        "--model",
+        "bw.json",
+        "--input",
+        "u.csv",
+        "--column",
+        "u",
+        "--output",
+        "o.csv",
+        "--time-column",
+        "t",
+    ])
+    .assert()
+    .success();
+    let (headers, out) = read_csv(&s.path("o.csv"));
+    let y = column(&headers, &out, "y");
+    let sq: f64 = y[2 * n..]
+        .iter()
+        .zip(&rows)
+        .map(|(a, (_, b))| (a - b) * (a - b))
+        .sum();
+    let rms = (sq / n as f64).sqrt();
+    assert!(rms <= 1e-5, "rms error {rms:e} m");
+}
+
+/// `--output-column` names the output; a name the input already has is an
+/// error naming it (the input may have a `y` column of its own).
+#[test]
+fn simulate_output_column_is_named_and_may_not_clash() {
+    let s = Setup::new();
+    s.write("g.json", r#"{"type": "gain", "k": 2}"#);
+    s.write("f.csv", "x,y\n1,10\n2,20\n");
+    let args = ["--model", "g.json", "--input", "f.csv", "--output", "o.csv"];
+    s.fails(
+        &args,
+        &[
+            "input `f.csv`",
+            "already has a column `y`",
+            "--output-column",
+        ],
+    );
+    s.fails(
+        &[&args[..], &["--output-column", "x"]].concat(),
+        &["already has a column `x`"],
+    );
+    s.simulate(&[&args[..], &["--output-column", "force"]].concat())
+        .assert()
+        .success();
+    let (headers, rows) = read_csv(&s.path("o.csv"));
+    assert_eq!(headers, ["x", "y", "force"]);
+    assert_eq!(column(&headers, &rows, "force"), [2.0, 4.0]);
+    assert_eq!(column(&headers, &rows, "y"), [10.0, 20.0]);
+}
+
 #[test]
 fn simulate_error_non_uniform_time_column_names_the_row() {
     let s = Setup::new();
