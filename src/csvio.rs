@@ -552,6 +552,39 @@ pub fn join_paths(files: &[PathBuf]) -> String {
 
 /// The first entry of `others` that `output` names (compared with
 /// [`same_file`]), for refusing to overwrite an input.
+/// An output path that names an input file (compared after
+/// canonicalization, also when the output does not exist yet).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{what} `{}` is the same file as the {other_what} `{}`: refusing to overwrite it", output.display(), other.display())]
+pub struct SameFile {
+    /// Which output (`output`, `plot`, …).
+    pub what: String,
+    /// The output path.
+    pub output: PathBuf,
+    /// Which input it names (`input`, `model`, `output`, …).
+    pub other_what: &'static str,
+    /// The input path.
+    pub other: PathBuf,
+}
+
+/// Refuses an output `output` (called `what`) that is one of `others`
+/// (each with its name): the one check every command makes before writing.
+pub fn refuse_same(
+    what: &str,
+    output: &Path,
+    others: &[(&'static str, &Path)],
+) -> Result<(), SameFile> {
+    match clash(output, others) {
+        Some((other_what, other)) => Err(SameFile {
+            what: what.to_string(),
+            output: output.to_path_buf(),
+            other_what,
+            other: other.to_path_buf(),
+        }),
+        None => Ok(()),
+    }
+}
+
 pub fn clash<'a>(
     output: &Path,
     others: &[(&'static str, &'a Path)],

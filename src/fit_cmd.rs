@@ -28,25 +28,18 @@
 //! `--patience`, ran out, or the solver stopped on a numerical problem) is
 //! not an error: the report is printed with a `NOT CONVERGED` line and the
 //! last iterate is written like a converged fit, and the program exits with
-//! code [`EXIT_NOT_CONVERGED`] (3) so that scripts can tell. A converged
+//! code [`EXIT_NOT_CONVERGED`](crate::fitting::EXIT_NOT_CONVERGED) (3) so that scripts can tell. A converged
 //! fit exits with 0; errors (nothing written) with 1.
 
 use crate::csvio::{self, CsvIoError};
-use crate::identify::{
-    fit_with_progress, free_by_names, FitError, FitOptions, FitReport, FitStatus, Progress,
-};
+use crate::fitting::{not_converged_note, Display};
+use crate::identify::{fit_with_progress, free_by_names, FitError, FitOptions, FitReport};
 use crate::models::{Spec, SpecError};
+use crate::period::DtSource;
 use crate::plot::{self, Panel, PlotError, Series, Style};
-use crate::simulate::DtSource;
 use crate::Operator;
-use indicatif::{ProgressBar, ProgressStyle};
 use std::fmt;
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use std::time::Duration;
-
-/// Exit code of a fit that ran but did not converge (see the module docs).
-pub const EXIT_NOT_CONVERGED: u8 = 3;
 
 /// Options of the fit job.
 #[derive(Debug, Clone, PartialEq)]
@@ -80,16 +73,7 @@ pub struct FitCmdOptions {
 #[derive(Debug)]
 pub enum FitCmdError {
     /// An output path names an input file or the other output.
-    SameFile {
-        /// Which output (`output` or `plot`).
-        what: &'static str,
-        /// The output path.
-        output: PathBuf,
-        /// Which file it collides with (`data`, `model` or `output`).
-        other_what: &'static str,
-        /// That file.
-        other: PathBuf,
-    },
+    SameFile(csvio::SameFile),
     /// `--input-column` and `--output-column` name the same column.
     SameColumn(String),
     /// The model spec could not be read, parsed or built.
@@ -138,17 +122,7 @@ pub enum FitCmdError {
 impl fmt::Display for FitCmdError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            FitCmdError::SameFile {
-                what,
-                output,
-                other_what,
-                other,
-            } => write!(
-                f,
-                "{what} `{}` is the same file as the {other_what} `{}`: refusing to overwrite it",
-                output.display(),
-                other.display()
-            ),
+            FitCmdError::SameFile(e) => write!(f, "{e}"),
             FitCmdError::SameColumn(c) => write!(
                 f,
                 "--input-column and --output-column both name the column `{c}`"
@@ -222,97 +196,9 @@ pub struct FitCmdReport {
 
 impl FitCmdReport {
     /// Whether the fit converged (exit code 0, otherwise
-    /// [`EXIT_NOT_CONVERGED`]).
+    /// [`EXIT_NOT_CONVERGED`](crate::fitting::EXIT_NOT_CONVERGED)).
     pub fn converged(&self) -> bool {
         self.report.status.converged()
-    }
-}
-
-/// `v` with `sig` significant digits, fixed notation for moderate
-/// magnitudes and scientific otherwise (like C's `%g`, trailing zeros
-/// dropped).
-pub fn fmt_g(v: f64, sig: usize) -> String {
-    if v == 0.0 || !v.is_finite() {
-        return format!("{v}");
-    }
-    let sig = sig.max(1);
-    let exp = v.abs().log10().floor() as i32;
-    let trim = |s: String| {
-        if s.contains('.') {
-            s.trim_end_matches('0').trim_end_matches('.').to_string()
-        } else {
-            s
-        }
-    };
-    if (-4..sig as i32).contains(&exp) {
-        let decimals = (sig as i32 - 1 - exp).max(0) as usize;
-        trim(format!("{v:.decimals$}"))
-    } else {
-        let s = format!("{v:.*e}", sig - 1);
-        match s.split_once('e') {
-            Some((m, e)) => format!("{}e{e}", trim(m.to_string())),
-            None => s,
-        }
-    }
-}
-
-/// A [`FitReport`] as text: a table of the free parameters (name, start,
-/// value, standard error, 95 % confidence interval), then cost, RMS,
-/// NRMSE, iterations, evaluations, wall time and status; a fit that did not
-/// converge gets a `NOT CONVERGED` status and a line saying so. Ends with
-/// a newline.
-#[derive(Debug, Clone, Copy)]
-pub struct ReportTable<'a>(pub &'a FitReport);
-
-impl fmt::Display for ReportTable<'_> {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let r = self.0;
-        let w = r
-            .params
-            .iter()
-            .map(|p| p.name.len())
-            .max()
-            .unwrap_or(0)
-            .max("parameter".len());
-        writeln!(
-            f,
-            "{:<w$}  {:>13}  {:>13}  {:>10}  95% CI",
-            "parameter", "start", "value", "std error"
-        )?;
-        for p in &r.params {
-            let se = p.std_error.map_or("-".to_string(), |s| fmt_g(s, 3));
-            let ci = p.ci95.map_or("-".to_string(), |(a, b)| {
-                format!("[{}, {}]", fmt_g(a, 7), fmt_g(b, 7))
-            });
-            writeln!(
-                f,
-                "{:<w$}  {:>13}  {:>13}  {:>10}  {ci}",
-                p.name,
-                fmt_g(p.start, 7),
-                fmt_g(p.value, 7),
-                se
-            )?;
-        }
-        writeln!(f, "cost         {:.6e}", r.cost)?;
-        writeln!(f, "RMS          {:.6e}", r.rms)?;
-        match r.nrmse {
-            Some(v) => writeln!(f, "NRMSE        {v:.6e}")?,
-            None => writeln!(f, "NRMSE        - (constant output)")?,
-        }
-        writeln!(f, "iterations   {}", r.iterations)?;
-        writeln!(f, "evaluations  {}", r.evaluations)?;
-        writeln!(f, "wall time    {:.3} s", r.wall_time.as_secs_f64())?;
-        match &r.status {
-            FitStatus::Converged(why) => writeln!(f, "status       converged ({why})"),
-            FitStatus::NotConverged(why) | FitStatus::Failed(why) => {
-                writeln!(f, "status       NOT CONVERGED: {why}")?;
-                writeln!(
-                    f,
-                    "the fit did not converge: the parameters written are its last iterate \
-                     (exit code {EXIT_NOT_CONVERGED})"
-                )
-            }
-        }
     }
 }
 
@@ -330,62 +216,9 @@ impl fmt::Display for FitCmdReport {
             self.columns.0,
             self.columns.1
         )?;
-        write!(f, "{}", ReportTable(&self.report))?;
+        write!(f, "{}", self.report)?;
+        not_converged_note(f, &self.report)?;
         write!(f, "wrote {}", csvio::join_paths(&self.files))
-    }
-}
-
-/// Fails with [`FitCmdError::SameFile`] when `output` names one of
-/// `others`.
-fn refuse_same(
-    what: &'static str,
-    output: &Path,
-    others: &[(&'static str, &Path)],
-) -> Result<(), FitCmdError> {
-    if let Some((other_what, other)) = csvio::clash(output, others) {
-        return Err(FitCmdError::SameFile {
-            what,
-            output: output.to_path_buf(),
-            other_what,
-            other: other.to_path_buf(),
-        });
-    }
-    Ok(())
-}
-
-/// The progress display: a spinner line on stderr, drawn only when asked
-/// for and stderr is a terminal; cleared when dropped.
-pub(crate) struct Display(ProgressBar);
-
-impl Display {
-    pub(crate) fn new(wanted: bool) -> Self {
-        if !(wanted && std::io::stderr().is_terminal()) {
-            return Display(ProgressBar::hidden());
-        }
-        let bar = ProgressBar::new_spinner();
-        if let Ok(style) = ProgressStyle::with_template("{spinner} fitting [{elapsed}] {msg}") {
-            bar.set_style(style);
-        }
-        bar.set_message("starting");
-        bar.enable_steady_tick(Duration::from_millis(120));
-        Display(bar)
-    }
-
-    pub(crate) fn update(&self, p: Progress) {
-        self.message(format!(
-            "iteration {}, {} evaluations, cost {:.6e}",
-            p.iteration, p.evaluations, p.cost
-        ));
-    }
-
-    pub(crate) fn message(&self, message: String) {
-        self.0.set_message(message);
-    }
-}
-
-impl Drop for Display {
-    fn drop(&mut self) {
-        self.0.finish_and_clear();
     }
 }
 
@@ -415,10 +248,11 @@ pub fn run(opts: &FitCmdOptions) -> Result<FitCmdReport, FitCmdError> {
         ("data", opts.data.as_path()),
         ("model", opts.model.as_path()),
     ];
-    refuse_same("output", &opts.output, &inputs)?;
+    csvio::refuse_same("output", &opts.output, &inputs).map_err(FitCmdError::SameFile)?;
     if let Some(p) = &opts.plot {
-        refuse_same("plot", p, &inputs)?;
-        refuse_same("plot", p, &[("output", opts.output.as_path())])?;
+        csvio::refuse_same("plot", p, &inputs).map_err(FitCmdError::SameFile)?;
+        csvio::refuse_same("plot", p, &[("output", opts.output.as_path())])
+            .map_err(FitCmdError::SameFile)?;
     }
     if opts.input_column.trim() == opts.output_column.trim() {
         return Err(FitCmdError::SameColumn(opts.input_column.clone()));
@@ -559,11 +393,11 @@ fn figure(
     // plotters labels ticks with a fixed format: keep the numbers on the
     // axes short by scaling the sample index and the residual by a power
     // of ten named in the axis label.
-    let (index_scale, index_label) = power_of_ten(x.len().saturating_sub(1) as f64, "sample");
+    let (index_scale, index_label) = plot::power_of_ten(x.len().saturating_sub(1) as f64, "sample");
     let index: Vec<f64> = (0..x.len()).map(|i| i as f64 / index_scale).collect();
     let residual: Vec<f64> = y_fit.iter().zip(y).map(|(f, m)| f - m).collect();
     let largest = residual.iter().fold(0.0_f64, |a, r| a.max(r.abs()));
-    let (res_scale, res_label) = power_of_ten(largest, &format!("{output} residual"));
+    let (res_scale, res_label) = plot::power_of_ten(largest, &format!("{output} residual"));
     let residual: Vec<f64> = residual.iter().map(|r| r / res_scale).collect();
 
     let mut loop_panel = Panel::new(&title, input, output);
@@ -590,50 +424,7 @@ fn figure(
     plot::render(&[loop_panel, time_panel, res_panel], 1, 3, (1500, 480))
 }
 
-/// For values up to `largest` in magnitude: the power of ten to divide
-/// them by so that axis labels stay short (1 when they already are), and
-/// the axis label naming it (`sample / 1e3`).
-pub(crate) fn power_of_ten(largest: f64, label: &str) -> (f64, String) {
-    if !(largest.is_finite() && largest > 0.0) {
-        return (1.0, label.to_string());
-    }
-    let exp = largest.log10().floor() as i32;
-    if (-2..3).contains(&exp) {
-        (1.0, label.to_string())
-    } else {
-        (10f64.powi(exp), format!("{label} / 1e{exp}"))
-    }
-}
-
 fn file_name(p: &Path) -> String {
     p.file_name()
         .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn fmt_g_is_short_and_exact_enough() {
-        assert_eq!(fmt_g(1.5, 7), "1.5");
-        assert_eq!(fmt_g(0.0, 7), "0");
-        assert_eq!(fmt_g(-2.0, 7), "-2");
-        assert_eq!(fmt_g(1.0 / 3.0, 7), "0.3333333");
-        assert_eq!(fmt_g(12345.678, 7), "12345.68");
-        assert_eq!(fmt_g(1.23456789e-7, 4), "1.235e-7");
-        assert_eq!(fmt_g(2.5e9, 7), "2.5e9");
-        assert_eq!(fmt_g(f64::NAN, 7), "NaN");
-    }
-
-    #[test]
-    fn axis_scales_are_powers_of_ten() {
-        assert_eq!(
-            power_of_ten(19999.0, "sample"),
-            (1e4, "sample / 1e4".into())
-        );
-        assert_eq!(power_of_ten(999.0, "sample"), (1.0, "sample".into()));
-        assert_eq!(power_of_ten(3.2e-15, "r"), (1e-15, "r / 1e-15".into()));
-        assert_eq!(power_of_ten(0.0, "r"), (1.0, "r".into()));
-    }
 }

@@ -23,12 +23,13 @@
 //! everything before succeeded, files are written atomically, no output may
 //! be an input, errors are one line with exit code 1, and an
 //! identification whose stages ran but did not both converge exits with
-//! code [`EXIT_NOT_CONVERGED`](crate::fit_cmd::EXIT_NOT_CONVERGED) (3) after writing its result.
+//! code [`EXIT_NOT_CONVERGED`](crate::fitting::EXIT_NOT_CONVERGED) (3) after writing its result.
 
 use crate::csvio::join_paths;
 use crate::csvio::{self, CsvIoError};
-use crate::fit_cmd::{Display, ReportTable};
+use crate::fitting::{not_converged_note, Display};
 use crate::identify::paper::{identify_paper, PaperError, PaperIdentification, PaperOptions};
+use crate::identify::report::fmt_g;
 use crate::models::{Spec, SpecError, TransmissionParams};
 use crate::operators::BoucWen;
 use crate::plot::{self, Panel, PlotError, Series, Style};
@@ -66,16 +67,7 @@ pub struct IdentifyPaperOptions {
 #[derive(Debug)]
 pub enum IdentifyPaperError {
     /// An output names an input or the other output.
-    SameFile {
-        /// Which output.
-        what: String,
-        /// Its path.
-        output: PathBuf,
-        /// Which file it collides with.
-        other_what: &'static str,
-        /// That file.
-        other: PathBuf,
-    },
+    SameFile(csvio::SameFile),
     /// Input and output columns are the same.
     SameColumn(String),
     /// The start spec could not be read, is invalid, or is not a
@@ -105,17 +97,7 @@ pub enum IdentifyPaperError {
 impl fmt::Display for IdentifyPaperError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            IdentifyPaperError::SameFile {
-                what,
-                output,
-                other_what,
-                other,
-            } => write!(
-                f,
-                "{what} `{}` is the same file as the {other_what} `{}`: refusing to overwrite it",
-                output.display(),
-                other.display()
-            ),
+            IdentifyPaperError::SameFile(e) => write!(f, "{e}"),
             IdentifyPaperError::SameColumn(c) => write!(
                 f,
                 "--input-column and --output-column both name the column `{c}`"
@@ -183,7 +165,7 @@ pub struct IdentifyPaperReport {
 
 impl IdentifyPaperReport {
     /// Whether both stages converged (exit code 0, otherwise
-    /// [`EXIT_NOT_CONVERGED`](crate::fit_cmd::EXIT_NOT_CONVERGED)).
+    /// [`EXIT_NOT_CONVERGED`](crate::fitting::EXIT_NOT_CONVERGED)).
     pub fn converged(&self) -> bool {
         self.result.spring.report.status.converged() && self.result.bedstop.status.converged()
     }
@@ -191,7 +173,7 @@ impl IdentifyPaperReport {
 
 fn list(v: &[f64]) -> String {
     v.iter()
-        .map(|v| crate::fit_cmd::fmt_g(*v, 6))
+        .map(|v| fmt_g(*v, 6))
         .collect::<Vec<_>>()
         .join(", ")
 }
@@ -214,24 +196,26 @@ impl fmt::Display for IdentifyPaperReport {
             "\nstage 1: the spring's shape on the loop, knots through {} points of its last increasing branch",
             r.spring.points.len()
         )?;
-        write!(f, "{}", ReportTable(&r.spring.report))?;
+        write!(f, "{}", r.spring.report)?;
+        not_converged_note(f, &r.spring.report)?;
         let map = &r.spring.spring.stiffness;
         writeln!(f, "knots z      [{}]", list(map.knots_z()))?;
         writeln!(f, "knots S      [{}]", list(map.knots_s()))?;
         writeln!(f, "\nstage 2: the bedstop on the chirp, spring fixed")?;
-        write!(f, "{}", ReportTable(&r.bedstop))?;
+        write!(f, "{}", r.bedstop)?;
+        not_converged_note(f, &r.bedstop)?;
         let p = &r.params;
         writeln!(
             f,
             "\nidentified: backlash {}, f_c {}, k {}, w {}, beta {}, gamma {}, n {}, h0 {}",
-            crate::fit_cmd::fmt_g(p.backlash, 7),
-            crate::fit_cmd::fmt_g(p.friction.f_c, 7),
-            crate::fit_cmd::fmt_g(p.friction.k, 7),
-            crate::fit_cmd::fmt_g(p.spring.w, 7),
-            crate::fit_cmd::fmt_g(p.spring.beta, 7),
-            crate::fit_cmd::fmt_g(p.spring.gamma, 7),
-            crate::fit_cmd::fmt_g(p.spring.n, 7),
-            crate::fit_cmd::fmt_g(p.spring.h0, 7),
+            fmt_g(p.backlash, 7),
+            fmt_g(p.friction.f_c, 7),
+            fmt_g(p.friction.k, 7),
+            fmt_g(p.spring.w, 7),
+            fmt_g(p.spring.beta, 7),
+            fmt_g(p.spring.gamma, 7),
+            fmt_g(p.spring.n, 7),
+            fmt_g(p.spring.h0, 7),
         )?;
         writeln!(
             f,
@@ -240,24 +224,6 @@ impl fmt::Display for IdentifyPaperReport {
         )?;
         write!(f, "wrote {}", join_paths(&self.files))
     }
-}
-
-fn refuse_same(
-    what: &str,
-    output: &Path,
-    others: &[(&'static str, &Path)],
-) -> Result<(), IdentifyPaperError> {
-    for (other_what, other) in others {
-        if csvio::same_file(output, other) {
-            return Err(IdentifyPaperError::SameFile {
-                what: what.to_string(),
-                output: output.to_path_buf(),
-                other_what,
-                other: other.to_path_buf(),
-            });
-        }
-    }
-    Ok(())
 }
 
 /// Reads the starting values: a `transmission` spec.
@@ -290,7 +256,7 @@ pub fn run(opts: &IdentifyPaperOptions) -> Result<IdentifyPaperReport, IdentifyP
     if let Some(s) = &opts.start {
         inputs.push(("start spec", s.as_path()));
     }
-    refuse_same("output", &opts.output, &inputs)?;
+    csvio::refuse_same("output", &opts.output, &inputs).map_err(IdentifyPaperError::SameFile)?;
     let figures: Vec<(&str, PathBuf)> = match &opts.plot {
         Some(dir) => vec![
             ("loop", dir.join("loop.svg")),
@@ -299,8 +265,9 @@ pub fn run(opts: &IdentifyPaperOptions) -> Result<IdentifyPaperReport, IdentifyP
         None => Vec::new(),
     };
     for (_, p) in &figures {
-        refuse_same("plot", p, &inputs)?;
-        refuse_same("plot", p, &[("output", opts.output.as_path())])?;
+        csvio::refuse_same("plot", p, &inputs).map_err(IdentifyPaperError::SameFile)?;
+        csvio::refuse_same("plot", p, &[("output", opts.output.as_path())])
+            .map_err(IdentifyPaperError::SameFile)?;
     }
     if opts.input_column.trim() == opts.output_column.trim() {
         return Err(IdentifyPaperError::SameColumn(opts.input_column.clone()));
@@ -452,7 +419,7 @@ fn chirp_figure(
 ) -> Result<String, PlotError> {
     let (xl, fl) = (&opts.input_column, &opts.output_column);
     let (scale, index_label) =
-        crate::fit_cmd::power_of_ten(x.len().saturating_sub(1) as f64, "sample");
+        crate::plot::power_of_ten(x.len().saturating_sub(1) as f64, "sample");
     let index: Vec<f64> = (0..x.len()).map(|i| i as f64 / scale).collect();
     let mut over_time = Panel::new(
         &format!("chirp: {}", file_name(&opts.chirp)),

@@ -39,8 +39,10 @@ pub mod analyze;
 pub mod bench;
 pub mod csvio;
 pub mod fit_cmd;
+pub mod fitting;
 pub mod identify_paper;
 pub mod paper;
+pub mod period;
 pub mod plot;
 pub mod simulate;
 

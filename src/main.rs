@@ -30,7 +30,7 @@
 
 use clap::{Parser, Subcommand};
 use hysteron::models::describing::SineOptions;
-use hysteron::{analyze, bench, csvio, fit_cmd, identify_paper, paper, simulate};
+use hysteron::{analyze, bench, csvio, fit_cmd, fitting, identify_paper, paper, period, simulate};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -271,12 +271,12 @@ fn main() -> ExitCode {
             plot,
             patience: usize::try_from(patience).unwrap_or(usize::MAX),
             progress: !no_progress,
-            dt: simulate::DtSource::from_options(dt, time_column),
+            dt: period::DtSource::from_options(dt, time_column),
         })
         .map(|report| {
             println!("{report}");
             if !report.converged() {
-                return Some(ExitCode::from(fit_cmd::EXIT_NOT_CONVERGED));
+                return Some(ExitCode::from(fitting::EXIT_NOT_CONVERGED));
             }
             None
         })
@@ -307,7 +307,7 @@ fn main() -> ExitCode {
         .map(|report| {
             println!("{report}");
             if !report.converged() {
-                return Some(ExitCode::from(fit_cmd::EXIT_NOT_CONVERGED));
+                return Some(ExitCode::from(fitting::EXIT_NOT_CONVERGED));
             }
             None
         })
@@ -353,7 +353,7 @@ fn main() -> ExitCode {
             output,
             plot,
             output_column,
-            dt: simulate::DtSource::from_options(dt, time_column),
+            dt: period::DtSource::from_options(dt, time_column),
         })
         .map(|report| {
             println!("{report}");

@@ -306,9 +306,35 @@ pub fn loop_panel(title: &str, x_label: &str, y_label: &str, x: &[f64], y: &[f64
     p
 }
 
+/// For values up to `largest` in magnitude: the power of ten to divide
+/// them by so that axis labels stay short (1 when they already are), and
+/// the axis label naming it (`sample / 1e3`).
+pub fn power_of_ten(largest: f64, label: &str) -> (f64, String) {
+    if !(largest.is_finite() && largest > 0.0) {
+        return (1.0, label.to_string());
+    }
+    let exp = largest.log10().floor() as i32;
+    if (-2..3).contains(&exp) {
+        (1.0, label.to_string())
+    } else {
+        (10f64.powi(exp), format!("{label} / 1e{exp}"))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn axis_scales_are_powers_of_ten() {
+        assert_eq!(
+            power_of_ten(19999.0, "sample"),
+            (1e4, "sample / 1e4".into())
+        );
+        assert_eq!(power_of_ten(999.0, "sample"), (1.0, "sample".into()));
+        assert_eq!(power_of_ten(3.2e-15, "r"), (1e-15, "r / 1e-15".into()));
+        assert_eq!(power_of_ten(0.0, "r"), (1.0, "r".into()));
+    }
 
     #[test]
     fn huge_values_are_an_error_not_a_hang() {

@@ -39,44 +39,7 @@ pub struct SimulateOptions {
     pub output_column: String,
     /// Where the sample period of the rate-dependent nodes of the model
     /// comes from (default: the spec's own `dt`).
-    pub dt: DtSource,
-}
-
-/// Where the sample period of a model's rate-dependent nodes
-/// (`mass_spring_damper`, `viscous_damper`) comes from; it overrides every
-/// `dt` of the spec ([`Spec::with_dt`]).
-#[derive(Debug, Clone, PartialEq, Default)]
-pub enum DtSource {
-    /// The spec's own values.
-    #[default]
-    Spec,
-    /// This value (seconds).
-    Value(f64),
-    /// The step of this time column of the input CSV file (uniformly
-    /// spaced up to the rounding of written stamps, see
-    /// [`csvio::read_time_step`]).
-    TimeColumn(String),
-}
-
-impl DtSource {
-    /// The spec with the sample period applied (`data` is the CSV file a
-    /// time column is read from).
-    pub fn apply(&self, spec: Spec, data: &Path) -> Result<Spec, CsvIoError> {
-        Ok(match self {
-            DtSource::Spec => spec,
-            DtSource::Value(dt) => spec.with_dt(*dt),
-            DtSource::TimeColumn(column) => spec.with_dt(csvio::read_time_step(data, column)?),
-        })
-    }
-
-    /// From the CLI options `--dt` and `--time-column` (at most one given).
-    pub fn from_options(dt: Option<f64>, time_column: Option<String>) -> Self {
-        match (dt, time_column) {
-            (Some(dt), _) => DtSource::Value(dt),
-            (None, Some(c)) => DtSource::TimeColumn(c),
-            (None, None) => DtSource::Spec,
-        }
-    }
+    pub dt: crate::period::DtSource,
 }
 
 /// An error of the simulate job (one-line message naming file, row and
@@ -84,16 +47,7 @@ impl DtSource {
 #[derive(Debug)]
 pub enum SimulateError {
     /// An output path names an input file.
-    SameFile {
-        /// Which output (`output` or `plot`).
-        what: &'static str,
-        /// The output path.
-        output: PathBuf,
-        /// Which input (`input`, `model` or `output`).
-        other_what: &'static str,
-        /// The input path.
-        other: PathBuf,
-    },
+    SameFile(csvio::SameFile),
     /// The model spec could not be read, parsed or built.
     Model(PathBuf, SpecError),
     /// The input could not be read or is invalid.
@@ -111,17 +65,7 @@ pub enum SimulateError {
 impl fmt::Display for SimulateError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            SimulateError::SameFile {
-                what,
-                output,
-                other_what,
-                other,
-            } => write!(
-                f,
-                "{what} `{}` is the same file as the {other_what} `{}`: refusing to overwrite it",
-                output.display(),
-                other.display()
-            ),
+            SimulateError::SameFile(e) => write!(f, "{e}"),
             SimulateError::Model(p, e) => match e {
                 // The I/O error already names the file; don't repeat it.
                 SpecError::Io { message, .. } => {
@@ -171,32 +115,17 @@ impl fmt::Display for SimulateReport {
     }
 }
 
-fn refuse_same(
-    what: &'static str,
-    output: &Path,
-    others: &[(&'static str, &Path)],
-) -> Result<(), SimulateError> {
-    if let Some((other_what, other)) = csvio::clash(output, others) {
-        return Err(SimulateError::SameFile {
-            what,
-            output: output.to_path_buf(),
-            other_what,
-            other: other.to_path_buf(),
-        });
-    }
-    Ok(())
-}
-
 /// Runs the model over the input; see the module docs.
 pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
     let inputs = [
         ("input", opts.input.as_path()),
         ("model", opts.model.as_path()),
     ];
-    refuse_same("output", &opts.output, &inputs)?;
+    csvio::refuse_same("output", &opts.output, &inputs).map_err(SimulateError::SameFile)?;
     if let Some(p) = &opts.plot {
-        refuse_same("plot", p, &inputs)?;
-        refuse_same("plot", p, &[("output", opts.output.as_path())])?;
+        csvio::refuse_same("plot", p, &inputs).map_err(SimulateError::SameFile)?;
+        csvio::refuse_same("plot", p, &[("output", opts.output.as_path())])
+            .map_err(SimulateError::SameFile)?;
     }
 
     let model_err = |e| SimulateError::Model(opts.model.clone(), e);

@@ -17,6 +17,7 @@ pub mod batch;
 pub mod benchmark;
 mod fit;
 pub mod paper;
+pub mod report;
 mod transform;
 
 pub use fit::{
