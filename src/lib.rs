@@ -35,17 +35,6 @@ pub use hysteron_identify as identify;
 pub use hysteron_models as models;
 pub use hysteron_operators as operators;
 
-pub mod analyze;
-pub mod bench;
-pub mod csvio;
-pub mod fit_cmd;
-pub mod fitting;
-pub mod identify_paper;
-pub mod paper;
-pub mod period;
-pub mod plot;
-pub mod simulate;
-
 pub use hysteron_operators::{Error, Float, Operator, Result, Trial};
 
 /// Everything needed to build and run models.

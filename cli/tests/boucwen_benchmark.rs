@@ -11,11 +11,11 @@
 //! increment here, the trapezoidal rule in time in the reference (with that
 //! rule instead, the same pipeline matches the data to 1e-15 m).
 
-use hysteron::csvio::read_columns;
 use hysteron::models::benchmark::{
     boucwen_system, boucwen_system_at_data_rate, periodic_steady_state, BoucWenBenchmarkParams,
 };
 use hysteron::models::signal::{decimate_fir_periodic, fft_upsample};
+use hysteron_cli::csvio::read_columns;
 use std::path::Path;
 
 /// The threshold on the simulation RMS error (m).
@@ -23,7 +23,7 @@ const THRESHOLD: f64 = 1e-6;
 
 fn validation_data() -> (Vec<f64>, Vec<f64>) {
     let path =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("data/boucwen-benchmark/val_multisine.csv");
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../data/boucwen-benchmark/val_multisine.csv");
     let mut c = read_columns(&path, &["t", "u", "y"]).expect("val_multisine.csv");
     assert_eq!(c.values[0].len(), 8192);
     // 750 Hz

@@ -687,11 +687,11 @@ pub struct SampleFailure {
     /// The input value at that sample, if known.
     pub value: Option<f64>,
     /// The operator's error.
-    pub error: hysteron_operators::Error,
+    pub error: crate::operators::Error,
 }
 
 impl SampleFailure {
-    /// Locates `error` (an [`Error::AtSample`](hysteron_operators::Error::AtSample)
+    /// Locates `error` (an [`Error::AtSample`](crate::operators::Error::AtSample)
     /// or any other) in a run over `values`, whose records sit at `lines`.
     pub fn locate(
         model: &Path,
@@ -700,10 +700,10 @@ impl SampleFailure {
         column: &str,
         values: &[f64],
         lines: &[u64],
-        error: hysteron_operators::Error,
+        error: crate::operators::Error,
     ) -> Self {
         let (index, error) = match error {
-            hysteron_operators::Error::AtSample { index, source } => (Some(index), *source),
+            crate::operators::Error::AtSample { index, source } => (Some(index), *source),
             other => (None, other),
         };
         SampleFailure {

@@ -24,10 +24,10 @@
 //!   the boxed paper model with rayon (each record from the initial state,
 //!   into preallocated outputs), on 1 and on 2 threads.
 
-use hysteron_composition::PiBank;
-use hysteron_identify::batch::process_records;
-use hysteron_models::{Spec, TransmissionParams};
-use hysteron_operators::{BoucWen, Error, Mms, Operator, Play, Result, StateSolver};
+use crate::composition::PiBank;
+use crate::identify::batch::process_records;
+use crate::models::{Spec, TransmissionParams};
+use crate::operators::{BoucWen, Error, Mms, Operator, Play, Result, StateSolver};
 use std::f64::consts::TAU;
 use std::fmt;
 use std::time::Instant;
@@ -73,7 +73,7 @@ pub fn mms() -> Result<Mms<f64>> {
 }
 
 /// The paper's model with its default parameters, built statically.
-pub fn paper_model() -> Result<hysteron_models::PaperModel> {
+pub fn paper_model() -> Result<crate::models::PaperModel> {
     TransmissionParams::default().build()
 }
 

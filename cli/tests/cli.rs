@@ -229,7 +229,7 @@ fn simulate_matches_the_spec_run_in_process() {
 
 #[test]
 fn simulate_every_example_spec() {
-    let specs = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/specs");
+    let specs = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/specs");
     let mut paths: Vec<PathBuf> = fs::read_dir(&specs)
         .unwrap()
         .map(|e| e.unwrap().path())
@@ -759,7 +759,7 @@ fn simulate_time_column_gives_an_oversampled_spec_its_sub_step() {
                      "n": 1, "stiffness": {"z": [0], "s": [1]}}}}"#,
     );
     let data = fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("data/boucwen-benchmark/val_multisine.csv"),
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../data/boucwen-benchmark/val_multisine.csv"),
     )
     .unwrap();
     let rows: Vec<(f64, f64)> = data

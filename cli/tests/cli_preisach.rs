@@ -11,7 +11,7 @@ mod common;
 use common::*;
 
 fn example() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/specs/preisach.json")
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/specs/preisach.json")
 }
 
 /// Columns `t, x` of a CSV with a major loop and a minor loop inside it.

@@ -6,9 +6,9 @@
 //! check `process` against the trial + commit loop bit for bit, including
 //! the state it leaves behind.
 
-use hysteron::bench::{kernel_input, paper_model, paper_model_from_json};
 use hysteron::models::paper_state;
 use hysteron::prelude::*;
+use hysteron_cli::bench::{kernel_input, paper_model, paper_model_from_json};
 
 fn bits(v: &[f64]) -> Vec<u64> {
     v.iter().map(|y| y.to_bits()).collect()

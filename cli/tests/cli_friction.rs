@@ -30,7 +30,7 @@ fn column(headers: &[String], rows: &[Vec<String>], name: &str) -> Vec<f64> {
 
 fn example(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("examples/specs")
+        .join("../examples/specs")
         .join(name)
 }
 

@@ -1,36 +1,38 @@
 //! `hysteron`: the command-line program (see `hysteron --help`).
 //!
 //! * `hysteron paper [--out DIR]`: runs the paper's experiments, writes a
-//!   CSV per experiment and the figures (see [`hysteron::paper`]);
+//!   CSV per experiment and the figures (see [`hysteron_cli::paper`]);
 //! * `hysteron simulate --model SPEC.json --input IN.csv [--column x]
 //!   --output OUT.csv [--plot LOOP.svg] [--dt SECONDS | --time-column t]`:
 //!   runs a model spec over one column of a CSV file (see
-//!   [`hysteron::simulate`]); `--dt` or a uniformly spaced time column sets
+//!   [`hysteron_cli::simulate`]); `--dt` or a uniformly spaced time column sets
 //!   the sample period of the spec's rate-dependent nodes;
 //! * `hysteron fit --model SPEC.json --data DATA.csv [--input-column x]
 //!   [--output-column y] --free a,b,c --output FITTED.json [--plot FIT.svg]
 //!   [--dt SECONDS | --time-column t]`:
 //!   fits parameters of a model spec to a record (see
-//!   [`hysteron::fit_cmd`]);
+//!   [`hysteron_cli::fit_cmd`]);
 //! * `hysteron analyze --model SPEC.json --amplitudes A1,A2,...
 //!   [--samples-per-period N] [--settle-periods P] [--steady-tol TOL]
 //!   [--dt SECONDS] [--output OUT.csv]`: the describing function and the
 //!   work per loop of a model spec driven by sines (see
-//!   [`hysteron::analyze`]);
+//!   [`hysteron_cli::analyze`]);
 //! * `hysteron identify-paper --loop LOOP.csv --chirp CHIRP.csv --output
 //!   FITTED.json [--plot DIR]`: the paper's two-stage identification (see
-//!   [`hysteron::identify_paper`]).
+//!   [`hysteron_cli::identify_paper`]).
 //!
 //! * `hysteron bench [--samples N] [--runs R] [--kernel NAME]`: times the
-//!   kernel table of the performance issue (see [`hysteron::bench`]).
+//!   kernel table of the performance issue (see [`hysteron_cli::bench`]).
 //!
 //! Errors are one line on stderr (`error: ...`) and exit code 1; usage
 //! errors are clap's, exit code 2; a fit that ran but did not converge
 //! exits with code 3 (its report says so and its result is written).
 
 use clap::{Parser, Subcommand};
-use hysteron::models::describing::SineOptions;
-use hysteron::{analyze, bench, csvio, fit_cmd, fitting, identify_paper, paper, period, simulate};
+use hysteron_cli::models::describing::SineOptions;
+use hysteron_cli::{
+    analyze, bench, csvio, fit_cmd, fitting, identify_paper, paper, period, simulate,
+};
 use std::path::PathBuf;
 use std::process::ExitCode;
 

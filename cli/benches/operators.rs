@@ -1,5 +1,5 @@
 //! Throughput of the elementary operators and of composed models, on the
-//! kernels of `hysteron bench` (defined once, in [`hysteron::bench`]).
+//! kernels of `hysteron bench` (defined once, in [`hysteron_cli::bench`]).
 //!
 //! Every benchmark runs `reset()` + `process()` over the same precomputed
 //! input of `N` samples, `x_i = 2.5 sin(2π i/2000) + 0.3 sin(2π i/97.3)`,
@@ -12,10 +12,10 @@
 
 use criterion::measurement::WallTime;
 use criterion::{criterion_group, criterion_main, BenchmarkGroup, Criterion, Throughput};
-use hysteron::bench::{
+use hysteron::prelude::*;
+use hysteron_cli::bench::{
     bouc_wen, kernel_input, mms, paper_model, paper_model_from_json, pi_bank, play, BW15_RTOL,
 };
-use hysteron::prelude::*;
 use std::hint::black_box;
 use std::time::Duration;
 

@@ -23,13 +23,13 @@
 //! 819 200 integration steps with the Bouc-Wen exponent free (non-integer
 //! during the fit).
 
-use hysteron::csvio::read_columns;
 use hysteron::identify::benchmark::identify_boucwen;
 use hysteron::identify::{FitOptions, FitStatus};
 use hysteron::models::benchmark::{
     boucwen_system, boucwen_system_at_data_rate, periodic_steady_state, BoucWenBenchmarkParams,
 };
 use hysteron::models::signal::{decimate_fir_periodic, fft_upsample};
+use hysteron_cli::csvio::read_columns;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;

@@ -1,0 +1,21 @@
+//! # hysteron-cli
+//!
+//! The `hysteron` program's commands as a library (the binary is
+//! `src/main.rs`): each command is a module with its options, its run
+//! function and its report; `csvio`, `plot`, `period` and `fitting` are
+//! what they share. The library facade `hysteron` depends on none of this
+//! (no clap, plotters, indicatif or csv).
+
+pub use hysteron::{composition, identify, models, operators};
+pub use hysteron::{Error, Float, Operator, Result, Trial};
+
+pub mod analyze;
+pub mod bench;
+pub mod csvio;
+pub mod fit_cmd;
+pub mod fitting;
+pub mod identify_paper;
+pub mod paper;
+pub mod period;
+pub mod plot;
+pub mod simulate;
