@@ -376,3 +376,40 @@ fn swapping_parts_gives_a_working_model() {
     assert!(f.iter().all(|v| v.is_finite()));
     assert!(f.iter().fold(0.0_f64, |a, v| a.max(v.abs())) > 2.0);
 }
+
+/// The `sines` run's parts are where its pieces landed: 0.05 Hz × 2 cycles
+/// (40 s at 1 kHz, both ends: 40 001 samples), a 1 s pause (1000), 0.5 Hz
+/// × 4 (8001), a pause, 5 Hz × 10 (2001); each starts at x = 0 on a whole
+/// second. The other experiments are one part each.
+#[test]
+fn sines_parts_are_where_the_pieces_landed() {
+    let exps = paper_experiments(&TransmissionParams::default()).unwrap();
+    let sines = exps.iter().find(|e| e.name == "sines").unwrap();
+    let got: Vec<(&str, std::ops::Range<usize>)> = sines
+        .parts
+        .iter()
+        .map(|p| (p.label.as_str(), p.range.clone()))
+        .collect();
+    assert_eq!(
+        got,
+        [
+            ("0.05 Hz", 0..40_001),
+            ("0.5 Hz", 41_001..49_002),
+            ("5 Hz", 50_002..52_003)
+        ]
+    );
+    assert_eq!(sines.signal.len(), 52_003);
+    for (p, t0) in sines.parts.iter().zip([0.0, 41.0, 50.0]) {
+        let i = p.range.start;
+        assert!(sines.signal.x[i].abs() < 1e-12, "{}", p.label);
+        assert!(
+            (sines.signal.t[i] - t0).abs() < 2e-3,
+            "{}",
+            sines.signal.t[i]
+        );
+    }
+    for e in exps.iter().filter(|e| e.name != "sines") {
+        assert_eq!(e.parts.len(), 1, "{}", e.name);
+        assert_eq!(e.parts[0].range, 0..e.signal.len(), "{}", e.name);
+    }
+}

@@ -18,19 +18,11 @@
 //!
 //! # Splitting the `sines` run
 //!
-//! The `sines` signal is one record; its parts are found from the known
-//! construction in
-//! [`paper_experiments`](crate::models::experiments::paper_experiments):
-//! a sine of `c` cycles at `f` Hz has `round(c / f · FS) + 1` samples (both ends included, see
-//! [`sine`](crate::models::experiments::sine)), and a pause of `p` seconds
-//! adds `round(p · FS)` samples holding the last value (see
-//! [`Signal::then`](crate::models::experiments::Signal::then)). With
-//! `FS = 1000` Hz: 0.05 Hz × 2 cycles = 40 s → 40 001 samples, 1 s pause
-//! → 1000, 0.5 Hz × 4 cycles = 8 s → 8001, pause 1000, 5 Hz × 10 cycles =
-//! 2 s → 2001; 52 003 in all. [`sines_parts`] computes these ranges and
-//! the job checks that they add up to the signal's length (an error
-//! otherwise, so a change of the experiment cannot silently mislabel the
-//! figure).
+//! The `sines` signal is one record; the summary rows and the left panel
+//! of `loops.svg` take its stretches from the experiment's own
+//! [`parts`](crate::models::experiments::Experiment::parts), which
+//! [`paper_experiments`](crate::models::experiments::paper_experiments)
+//! records while it joins the pieces.
 //!
 //! # Loop width
 //!
@@ -44,11 +36,10 @@
 //! whether runs from different initial states ended on the same loop.
 
 use crate::csvio::{self, CsvIoError};
-use crate::models::experiments::{self, Experiment, Record, FS};
+use crate::models::experiments::{self, Experiment, Part, Record};
 use crate::models::TransmissionParams;
 use crate::plot::{self, Panel, PlotError, Series, Style};
 use std::fmt;
-use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -61,8 +52,8 @@ pub enum PaperError {
     Experiments(crate::Error),
     /// A simulation failed.
     Simulation(String, crate::Error),
-    /// The `sines` record does not have the expected layout.
-    Layout(String),
+    /// An experiment the figures need is missing.
+    Missing(String),
     /// Writing a file failed.
     Write(CsvIoError),
     /// Drawing a figure failed.
@@ -80,7 +71,7 @@ impl fmt::Display for PaperError {
             ),
             PaperError::Experiments(e) => write!(f, "building the experiments: {e}"),
             PaperError::Simulation(n, e) => write!(f, "experiment `{n}`: {e}"),
-            PaperError::Layout(m) => write!(f, "{m}"),
+            PaperError::Missing(n) => write!(f, "no experiment named `{n}`"),
             PaperError::Write(e) => write!(f, "writing {e}"),
             PaperError::Plot(n, e) => write!(f, "figure `{n}`: {e}"),
         }
@@ -196,38 +187,6 @@ impl fmt::Display for PaperReport {
     }
 }
 
-/// Samples of a sine of `cycles` periods at `freq` Hz, sampled at `fs`
-/// (both ends included), as built by `experiments::sine`.
-fn sine_samples(freq: f64, cycles: f64, fs: f64) -> usize {
-    (cycles / freq * fs).round() as usize + 1
-}
-
-/// Samples added by a pause of `seconds`, as built by `Signal::then`.
-fn pause_samples(seconds: f64, fs: f64) -> usize {
-    (seconds * fs).round() as usize
-}
-
-/// The index ranges of the 0.05, 0.5 and 5 Hz parts of the `sines` run
-/// (pauses excluded), from its known construction (see the module docs),
-/// and the total length the run must have.
-pub fn sines_parts() -> ([(&'static str, Range<usize>); 3], usize) {
-    let parts = [
-        ("0.05 Hz", 0.05, 2.0),
-        ("0.5 Hz", 0.5, 4.0),
-        ("5 Hz", 5.0, 10.0),
-    ];
-    let pause = pause_samples(1.0, FS);
-    let mut start = 0;
-    let mut out: [(&'static str, Range<usize>); 3] = Default::default();
-    for (i, (label, f, c)) in parts.into_iter().enumerate() {
-        let n = sine_samples(f, c, FS);
-        out[i] = (label, start..start + n);
-        start += n + pause;
-    }
-    let total = start - pause;
-    (out, total)
-}
-
 /// The forces at the zero crossings of `x`, interpolated to `x = 0`, with
 /// `true` for a rising crossing.
 pub fn zero_crossings(x: &[f64], f: &[f64]) -> Vec<(f64, bool)> {
@@ -298,26 +257,25 @@ pub fn run(opts: &PaperOptions) -> Result<PaperReport, PaperError> {
             .iter()
             .position(|e| e.name == name)
             .map(|i| (&experiments[i], &records[i]))
-            .ok_or_else(|| PaperError::Layout(format!("no experiment named `{name}`")))
+            .ok_or_else(|| PaperError::Missing(name.into()))
     };
-    let (_, sines) = find("sines")?;
-    let (ranges, total) = sines_parts();
-    if sines.x.len() != total {
-        return Err(PaperError::Layout(format!(
-            "the `sines` run has {} samples, its known construction gives {total}: \
-             update `paper::sines_parts`",
-            sines.x.len()
-        )));
-    }
+    let (sines_experiment, sines) = find("sines")?;
+    let ranges = &sines_experiment.parts;
     let parts: Vec<RunSummary> = ranges
         .iter()
-        .map(|(label, r)| summarise(label, &sines.x[r.clone()], &sines.force[r.clone()]))
+        .map(|p| {
+            summarise(
+                &p.label,
+                &sines.x[p.range.clone()],
+                &sines.force[p.range.clone()],
+            )
+        })
         .collect();
 
     let figures: [(&str, String); 3] = [
         (
             "loops.svg",
-            loops_figure(&ranges, sines, find("sine-5hz-I")?, find("sine-5hz-II")?)?,
+            loops_figure(ranges, sines, find("sine-5hz-I")?, find("sine-5hz-II")?)?,
         ),
         ("chirp.svg", chirp_figure(find("chirp")?)?),
         ("stiffness.svg", stiffness_figure(&params)?),
@@ -363,7 +321,7 @@ pub fn write_record(path: &Path, r: &Record) -> Result<(), CsvIoError> {
 }
 
 fn loops_figure(
-    ranges: &[(&'static str, Range<usize>); 3],
+    ranges: &[Part],
     sines: &Record,
     one: (&Experiment, &Record),
     two: (&Experiment, &Record),
@@ -376,12 +334,9 @@ fn loops_figure(
     // The 0.05 and 0.5 Hz loops nearly coincide (the model is
     // rate-independent and the drive reaches almost the same amplitude):
     // the slowest is drawn as a wide band under the others.
-    for (i, (label, r)) in ranges.iter().enumerate() {
-        let s = Series::line(
-            *label,
-            points(&sines.x[r.clone()], &sines.force[r.clone()]),
-            i,
-        );
+    for (i, p) in ranges.iter().enumerate() {
+        let r = p.range.clone();
+        let s = Series::line(&p.label, points(&sines.x[r.clone()], &sines.force[r]), i);
         left.series
             .push(if i == 0 { s.with_style(Style::Band) } else { s });
     }
@@ -390,15 +345,17 @@ fn loops_figure(
         "input x [deg]",
         "force F [Nm]",
     );
-    let five = &ranges[2].1;
-    right.series.push(
-        Series::line(
-            "5 Hz in sines",
-            points(&sines.x[five.clone()], &sines.force[five.clone()]),
-            7,
-        )
-        .with_style(Style::Band),
-    );
+    if let Some(five) = ranges.iter().find(|p| p.label == "5 Hz") {
+        let r = five.range.clone();
+        right.series.push(
+            Series::line(
+                "5 Hz in sines",
+                points(&sines.x[r.clone()], &sines.force[r]),
+                7,
+            )
+            .with_style(Style::Band),
+        );
+    }
     right.series.push(Series::line(
         "initial state I",
         points(&one.1.x, &one.1.force),
@@ -485,28 +442,6 @@ fn stiffness_figure(params: &TransmissionParams) -> Result<String, PaperError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn sines_parts_match_the_construction() {
-        let (parts, total) = sines_parts();
-        assert_eq!(parts[0].1, 0..40_001);
-        assert_eq!(parts[1].1, 41_001..49_002);
-        assert_eq!(parts[2].1, 50_002..52_003);
-        assert_eq!(total, 52_003);
-        let e = experiments::paper_experiments(&TransmissionParams::default()).unwrap();
-        let sines = e.iter().find(|e| e.name == "sines").unwrap();
-        assert_eq!(sines.signal.len(), total);
-        // Each part starts at x = 0 at a whole second (t = 0, 41, 50).
-        for (r, t0) in parts.iter().zip([0.0, 41.0, 50.0]) {
-            let i = r.1.start;
-            assert!(sines.signal.x[i].abs() < 1e-12);
-            assert!(
-                (sines.signal.t[i] - t0).abs() < 2e-3,
-                "{}",
-                sines.signal.t[i]
-            );
-        }
-    }
 
     #[test]
     fn loop_width_of_a_known_loop() {

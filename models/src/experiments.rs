@@ -11,6 +11,7 @@ use crate::{paper_state, TransmissionParams, TransmissionState};
 use hysteron_operators::{Error, Operator, Result};
 use serde::Serialize;
 use std::f64::consts::TAU;
+use std::ops::Range;
 
 /// A sampled input signal.
 #[derive(Debug, Clone, PartialEq, Default, Serialize)]
@@ -149,6 +150,41 @@ pub struct Experiment {
     pub signal: Signal,
     /// Model parameters, including initial states.
     pub params: TransmissionParams,
+    /// The labelled stretches of `signal` (pauses between them excluded),
+    /// in order; a single-piece experiment has one part covering it all.
+    pub parts: Vec<Part>,
+}
+
+/// A labelled stretch of an experiment's signal: samples `range`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Part {
+    /// Short label, e.g. `5 Hz`.
+    pub label: String,
+    /// Sample indices of the stretch in the experiment's signal.
+    pub range: Range<usize>,
+}
+
+/// Pieces played one after the other with `pause` seconds of held input
+/// between them: the joined signal and where each piece landed in it.
+fn in_sequence(pieces: Vec<(&str, Signal)>, pause: f64, fs: f64) -> Result<(Signal, Vec<Part>)> {
+    let mut joined = Signal::default();
+    let mut parts = Vec::with_capacity(pieces.len());
+    for (i, (label, piece)) in pieces.into_iter().enumerate() {
+        joined = joined.then(if i == 0 { 0.0 } else { pause }, fs, &piece)?;
+        let end = joined.len();
+        parts.push(Part {
+            label: label.into(),
+            range: end - piece.len()..end,
+        });
+    }
+    Ok((joined, parts))
+}
+
+fn whole(label: &str, signal: &Signal) -> Vec<Part> {
+    vec![Part {
+        label: label.into(),
+        range: 0..signal.len(),
+    }]
 }
 
 /// Sampling rate of the paper's experiments as reproduced here (Hz).
@@ -162,7 +198,8 @@ pub const DRIVE: Drive = Drive { a0: 1.5, f_bw: 2.0 };
 /// The paper's experiments with the given model parameters:
 ///
 /// * `sines`: 0.05 Hz (2 cycles), 0.5 Hz (4 cycles) and 5 Hz (10 cycles) in
-///   sequence with 1 s pauses (Figure 3);
+///   sequence with 1 s pauses (Figure 3), its [`Part`]s labelled `0.05 Hz`,
+///   `0.5 Hz` and `5 Hz`;
 /// * `sine-5hz-I`, `sine-5hz-II`: 5 Hz from two opposite initial states:
 ///   the slider at either stop, the spring state `h0` at its bound
 ///   `±(α/(β+γ))^{1/n}` and the friction holding the spring's force
@@ -174,10 +211,17 @@ pub fn paper_experiments(params: &TransmissionParams) -> Result<Vec<Experiment>>
     // Validate first: the initial states below are derived from the
     // parameters.
     params.build()?;
-    let sines = sine(0.05, a(0.05), 2.0, FS)?
-        .then(1.0, FS, &sine(0.5, a(0.5), 4.0, FS)?)?
-        .then(1.0, FS, &sine(5.0, a(5.0), 10.0, FS)?)?;
+    let (sines, sines_parts) = in_sequence(
+        vec![
+            ("0.05 Hz", sine(0.05, a(0.05), 2.0, FS)?),
+            ("0.5 Hz", sine(0.5, a(0.5), 4.0, FS)?),
+            ("5 Hz", sine(5.0, a(5.0), 10.0, FS)?),
+        ],
+        1.0,
+        FS,
+    )?;
     let five = sine(5.0, a(5.0), 10.0, FS)?;
+    let down_chirp = chirp(5.0, 0.1, 20.0, FS, a)?;
     let loaded = |sign: f64| {
         let mut p = params.clone();
         p.slider0 = sign * 0.5 * p.backlash;
@@ -198,23 +242,27 @@ pub fn paper_experiments(params: &TransmissionParams) -> Result<Vec<Experiment>>
             description: "0.05, 0.5 and 5 Hz sines in sequence (Figure 3)".into(),
             signal: sines,
             params: params.clone(),
+            parts: sines_parts,
         },
         Experiment {
             name: "sine-5hz-I".into(),
             description: "5 Hz from initial state I: slider at the upper stop, spring state at +bound".into(),
+            parts: whole("5 Hz", &five),
             signal: five.clone(),
             params: loaded(1.0),
         },
         Experiment {
             name: "sine-5hz-II".into(),
             description: "5 Hz from initial state II: slider at the lower stop, spring state at -bound".into(),
+            parts: whole("5 Hz", &five),
             signal: five,
             params: loaded(-1.0),
         },
         Experiment {
             name: "chirp".into(),
             description: "linear down-chirp 5 -> 0.1 Hz over 20 s, amplitude growing as frequency falls (Figure 10)".into(),
-            signal: chirp(5.0, 0.1, 20.0, FS, a)?,
+            parts: whole("5 -> 0.1 Hz", &down_chirp),
+            signal: down_chirp,
             params: params.clone(),
         },
     ])
