@@ -354,16 +354,16 @@ fn leaves() {
         })
         .unwrap(),
     );
-    check("bouc-wen n=1", spring(1.0));
-    check("bouc-wen n=1.5", spring(1.5));
-    check("bouc-wen n=2", spring(2.0));
-    check("bouc-wen n=2.7", spring(2.7));
+    check("bouc_wen n=1", spring(1.0));
+    check("bouc_wen n=1.5", spring(1.5));
+    check("bouc_wen n=2", spring(2.0));
+    check("bouc_wen n=2.7", spring(2.7));
     check(
-        "bouc-wen n=1.5 adaptive",
+        "bouc_wen n=1.5 adaptive",
         spring(1.5).with_solver(StateSolver::Adaptive),
     );
     check(
-        "bouc-wen n=2.7 adaptive",
+        "bouc_wen n=2.7 adaptive",
         spring(2.7).with_solver(StateSolver::Adaptive),
     );
     check("pi bank", pi());
@@ -545,7 +545,7 @@ fn combinators() {
             .feedback(BoucWen::constant(1.0, 0.0, 5e4, 800.0, -1100.0, 1.0).unwrap()),
     );
     check(
-        "oversample bouc-wen",
+        "oversample bouc_wen",
         Oversample::new(spring(1.5), 5).unwrap(),
     );
     check(
@@ -567,7 +567,7 @@ fn combinators() {
         .unwrap(),
     );
     check("inverse", pi().inverse());
-    check("inverse bouc-wen", spring(1.0).inverse());
+    check("inverse bouc_wen", spring(1.0).inverse());
     check(
         "inverse preisach + gain",
         Preisach::from_params(PreisachParams {

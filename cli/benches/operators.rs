@@ -95,10 +95,10 @@ fn benches(c: &mut Criterion) {
     {
         let mut g = c.benchmark_group("bouc_wen");
         g.throughput(elements.clone());
-        bench_op(&mut g, "n=1", bouc_wen(1.0).expect("bouc-wen"), &x, &mut y);
+        bench_op(&mut g, "n=1", bouc_wen(1.0).expect("bouc_wen"), &x, &mut y);
         let bw15 = bouc_wen(1.5)
             .and_then(|b| b.with_tolerance(BW15_RTOL))
-            .expect("bouc-wen");
+            .expect("bouc_wen");
         bench_op(&mut g, "n=1.5", bw15.clone(), &x, &mut y);
         let adaptive = bw15.with_solver(StateSolver::Adaptive);
         bench_op(&mut g, "n=1.5 adaptive", adaptive, &x, &mut y);
@@ -109,9 +109,9 @@ fn benches(c: &mut Criterion) {
         // every `set_params` of a fit), default tolerance 1e-10.
         let mut g = c.benchmark_group("bouc_wen_table_build");
         for n in [1.5, 2.7, 8.0] {
-            assert!(bouc_wen(n).expect("bouc-wen").is_tabulated());
+            assert!(bouc_wen(n).expect("bouc_wen").is_tabulated());
             g.bench_function(format!("n={n}"), |b| {
-                b.iter(|| black_box(bouc_wen(black_box(n)).expect("bouc-wen")))
+                b.iter(|| black_box(bouc_wen(black_box(n)).expect("bouc_wen")))
             });
         }
         g.finish();

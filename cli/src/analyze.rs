@@ -14,8 +14,9 @@
 //! columns `amplitude, gain, phase_deg, re, im, work`).
 
 use crate::csvio::{self, CsvIoError};
+use crate::model_file::ModelFileError;
 use crate::models::describing::{AnalysisError, DescribingFunction, SineOptions, SteadyCycle};
-use crate::models::{Spec, SpecError};
+use crate::models::Spec;
 use std::fmt;
 use std::path::PathBuf;
 
@@ -37,46 +38,28 @@ pub struct AnalyzeOptions {
 }
 
 /// An error of the analyze job (one-line message).
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum AnalyzeError {
     /// The output path names the model file.
+    #[error("output `{}` is the same file as the model: refusing to overwrite it", .0.display())]
     SameFile(PathBuf),
     /// No amplitudes were given.
+    #[error("no amplitudes given")]
     NoAmplitudes,
     /// The model spec could not be read, parsed or built.
-    Model(PathBuf, SpecError),
+    #[error(transparent)]
+    Model(#[from] ModelFileError),
     /// An amplitude or option is outside its range.
+    #[error(transparent)]
     Argument(AnalysisError),
     /// The analysis of the model at one amplitude failed (operator error,
     /// no steady state).
+    #[error("model `{}`: {}", .0.display(), .1)]
     Analysis(PathBuf, AnalysisError),
     /// Writing the output failed.
+    #[error("output {0}")]
     Write(CsvIoError),
 }
-
-impl fmt::Display for AnalyzeError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            AnalyzeError::SameFile(p) => write!(
-                f,
-                "output `{}` is the same file as the model: refusing to overwrite it",
-                p.display()
-            ),
-            AnalyzeError::NoAmplitudes => write!(f, "no amplitudes given"),
-            AnalyzeError::Model(p, e) => match e {
-                SpecError::Io { message, .. } => {
-                    write!(f, "model `{}`: {message}", p.display())
-                }
-                e => write!(f, "model `{}`: {e}", p.display()),
-            },
-            AnalyzeError::Argument(e) => write!(f, "{e}"),
-            AnalyzeError::Analysis(p, e) => write!(f, "model `{}`: {e}", p.display()),
-            AnalyzeError::Write(e) => write!(f, "output {e}"),
-        }
-    }
-}
-
-impl std::error::Error for AnalyzeError {}
 
 /// One row of the table.
 #[derive(Debug, Clone, PartialEq)]
@@ -155,7 +138,7 @@ pub fn run(opts: &AnalyzeOptions) -> Result<AnalyzeReport, AnalyzeError> {
             }));
         }
     }
-    let model_err = |e| AnalyzeError::Model(opts.model.clone(), e);
+    let model_err = |e| ModelFileError::new(&opts.model, e);
     let mut spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
     if let Some(dt) = opts.dt {
         spec = spec.with_dt(dt);

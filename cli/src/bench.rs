@@ -9,9 +9,9 @@
 //! * input `x_i = 2.5 sin(2π i/2000) + 0.3 sin(2π i/97.3)`, `f64`, read from
 //!   one buffer and written to another (`reset` + `process` per run);
 //! * `play`: threshold 0.5;
-//! * `pi64`: `0.1 x + Σ_j w_j play_{r_j}(x)`, `r_j = 3j/64`,
+//! * `pi_bank 64`: `0.1 x + Σ_j w_j play_{r_j}(x)`, `r_j = 3j/64`,
 //!   `w_j = exp(−r_j)/64`, `j = 0..63`;
-//! * `bouc-wen n=1`, `bouc-wen n=1.5`: `ż = ẋ − β|ẋ||z|^{n−1}z − γẋ|z|^n`,
+//! * `bouc_wen n=1`, `bouc_wen n=1.5`: `ż = ẋ − β|ẋ||z|^{n−1}z − γẋ|z|^n`,
 //!   `H = a k x + (1 − a) k z`, `β = 0.7`, `γ = 0.3`, `a = 0.1`, `k = 1`
 //!   (the library's [`BoucWen`] with `w = a`, `α = 1`, constant `S = k`);
 //!   `n = 1.5` runs at [`BW15_RTOL`] (tabulated flow), and the command prints its measured
@@ -32,7 +32,7 @@ use std::f64::consts::TAU;
 use std::fmt;
 use std::time::Instant;
 
-/// Relative local error tolerance of the `bouc-wen n=1.5` kernel.
+/// Relative local error tolerance of the `bouc_wen n=1.5` kernel.
 pub const BW15_RTOL: f64 = 1e-10;
 
 /// Signals in the batch kernels.
@@ -224,25 +224,25 @@ pub fn run(opts: &BenchOptions) -> std::result::Result<BenchReport, String> {
             runs,
         )?);
     }
-    if wanted("pi64") {
+    if wanted("pi_bank 64") {
         timings.push(time_op(
-            "pi64",
+            "pi_bank 64",
             &mut pi_bank(64).map_err(lib)?,
             &x,
             &mut y,
             runs,
         )?);
     }
-    if wanted("bouc-wen n=1") {
+    if wanted("bouc_wen n=1") {
         let mut bw = bouc_wen(1.0).map_err(lib)?;
-        timings.push(time_op("bouc-wen n=1", &mut bw, &x, &mut y, runs)?);
+        timings.push(time_op("bouc_wen n=1", &mut bw, &x, &mut y, runs)?);
     }
-    if wanted("bouc-wen n=1.5") {
+    if wanted("bouc_wen n=1.5") {
         let mut bw = bouc_wen(1.5)
             .map_err(lib)?
             .with_tolerance(BW15_RTOL)
             .map_err(lib)?;
-        timings.push(time_op("bouc-wen n=1.5", &mut bw, &x, &mut y, runs)?);
+        timings.push(time_op("bouc_wen n=1.5", &mut bw, &x, &mut y, runs)?);
         // The reference is the other solver: step-by-step adaptive
         // integration at a tolerance a thousand times tighter.
         let mut reference = bouc_wen(1.5)
@@ -257,7 +257,7 @@ pub fn run(opts: &BenchOptions) -> std::result::Result<BenchReport, String> {
             .zip(&want)
             .fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
         notes.push(format!(
-            "bouc-wen n=1.5 ({}, rtol {BW15_RTOL:e}): max |error| {:.2e} of max |H| {scale:.3} (relative {:.2e}) against adaptive DP5 at rtol 1e-13",
+            "bouc_wen n=1.5 ({}, rtol {BW15_RTOL:e}): max |error| {:.2e} of max |H| {scale:.3} (relative {:.2e}) against adaptive DP5 at rtol 1e-13",
             if bw.is_tabulated() { "tabulated flow" } else { "adaptive DP5" },
             err,
             err / scale

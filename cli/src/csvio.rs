@@ -15,15 +15,15 @@
 //! file and, where relevant, the row (1-based data row, and the line in the
 //! file) and the column.
 
-use std::fmt;
 use std::fs;
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 /// An error reading or writing a CSV file (one-line message).
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum CsvIoError {
     /// The file could not be opened or read.
+    #[error("`{}`: {}", path.display(), one_line(&source.to_string()))]
     Io {
         /// The file.
         path: PathBuf,
@@ -31,16 +31,19 @@ pub enum CsvIoError {
         source: io::Error,
     },
     /// The file has no header row.
+    #[error("`{}`: empty file (no header row)", path.display())]
     NoHeader {
         /// The file.
         path: PathBuf,
     },
     /// The file has a header but no data rows.
+    #[error("`{}`: no data rows after the header", path.display())]
     NoRows {
         /// The file.
         path: PathBuf,
     },
     /// The requested column is not in the header.
+    #[error("`{}`: no column `{column}` in the header (columns: {})", path.display(), available.join(", "))]
     MissingColumn {
         /// The file.
         path: PathBuf,
@@ -50,6 +53,7 @@ pub enum CsvIoError {
         available: Vec<String>,
     },
     /// A cell is not a number, or not a finite one.
+    #[error("`{}`, row {row} (line {line}), column `{column}`: `{value}` is {reason}", path.display())]
     BadCell {
         /// The file.
         path: PathBuf,
@@ -66,6 +70,7 @@ pub enum CsvIoError {
     },
     /// A time column is not uniformly spaced (or does not increase, or
     /// has fewer than two rows).
+    #[error("`{}`, row {row} (line {line}), column `{column}`: {message}", path.display())]
     NotUniform {
         /// The file.
         path: PathBuf,
@@ -80,6 +85,7 @@ pub enum CsvIoError {
     },
     /// The CSV structure is broken (for example a row with a different
     /// number of fields than the header, or invalid UTF-8).
+    #[error("`{}`{}: malformed CSV: {}", path.display(), row_line(*row, *line), one_line(message))]
     Malformed {
         /// The file.
         path: PathBuf,
@@ -92,86 +98,13 @@ pub enum CsvIoError {
     },
 }
 
-impl fmt::Display for CsvIoError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            CsvIoError::Io { path, source } => {
-                write!(f, "`{}`: {}", path.display(), one_line(&source.to_string()))
-            }
-            CsvIoError::NoHeader { path } => {
-                write!(f, "`{}`: empty file (no header row)", path.display())
-            }
-            CsvIoError::NoRows { path } => {
-                write!(f, "`{}`: no data rows after the header", path.display())
-            }
-            CsvIoError::MissingColumn {
-                path,
-                column,
-                available,
-            } => write!(
-                f,
-                "`{}`: no column `{}` in the header (columns: {})",
-                path.display(),
-                column,
-                available.join(", ")
-            ),
-            CsvIoError::BadCell {
-                path,
-                row,
-                line,
-                column,
-                value,
-                reason,
-            } => write!(
-                f,
-                "`{}`, row {} (line {}), column `{}`: `{}` is {}",
-                path.display(),
-                row,
-                line,
-                column,
-                value,
-                reason
-            ),
-            CsvIoError::NotUniform {
-                path,
-                row,
-                line,
-                column,
-                message,
-            } => write!(
-                f,
-                "`{}`, row {} (line {}), column `{}`: {}",
-                path.display(),
-                row,
-                line,
-                column,
-                message
-            ),
-            CsvIoError::Malformed {
-                path,
-                row,
-                line,
-                message,
-            } => {
-                write!(f, "`{}`", path.display())?;
-                match (row, line) {
-                    (Some(r), Some(l)) => write!(f, ", row {r} (line {l})")?,
-                    (None, Some(l)) => write!(f, ", line {l}")?,
-                    (Some(r), None) => write!(f, ", row {r}")?,
-                    (None, None) => {}
-                }
-                write!(f, ": malformed CSV: {}", one_line(message))
-            }
-        }
-    }
-}
-
-impl std::error::Error for CsvIoError {
-    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
-        match self {
-            CsvIoError::Io { source, .. } => Some(source),
-            _ => None,
-        }
+/// `, row r (line l)`, `, line l`, `, row r` or nothing.
+fn row_line(row: Option<usize>, line: Option<u64>) -> String {
+    match (row, line) {
+        (Some(r), Some(l)) => format!(", row {r} (line {l})"),
+        (None, Some(l)) => format!(", line {l}"),
+        (Some(r), None) => format!(", row {r}"),
+        (None, None) => String::new(),
     }
 }
 
@@ -717,27 +650,18 @@ impl SampleFailure {
         }
     }
 
-    /// Writes ` at sample i: input `f`, row r (line l), column `c` = v: error`.
-    pub fn fmt_location(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self.at {
-            Some((i, row, line)) => write!(
-                f,
-                " at sample {i}: {} `{}`, row {row} (line {line}), column `{}`",
-                self.role,
-                self.file.display(),
-                self.column
-            )?,
-            None => write!(
-                f,
-                " on {} `{}`, column `{}`",
-                self.role,
-                self.file.display(),
-                self.column
-            )?,
-        }
-        if let Some(v) = self.value {
-            write!(f, " = {v}")?;
-        }
-        write!(f, ": {}", self.error)
+    /// ` at sample i: input `f`, row r (line l), column `c` = v: error`.
+    pub fn location(&self) -> String {
+        let (role, file, column) = (self.role, self.file.display(), &self.column);
+        let place = match self.at {
+            Some((i, row, line)) => {
+                format!(
+                    " at sample {i}: {role} `{file}`, row {row} (line {line}), column `{column}`"
+                )
+            }
+            None => format!(" on {role} `{file}`, column `{column}`"),
+        };
+        let value = self.value.map_or_else(String::new, |v| format!(" = {v}"));
+        format!("{place}{value}: {}", self.error)
     }
 }

@@ -34,7 +34,8 @@
 use crate::csvio::{self, CsvIoError};
 use crate::fitting::{not_converged_note, Display};
 use crate::identify::{fit_with_progress, free_by_names, FitError, FitOptions, FitReport};
-use crate::models::{Spec, SpecError};
+use crate::model_file::ModelFileError;
+use crate::models::Spec;
 use crate::period::DtSource;
 use crate::plot::{self, Panel, PlotError, Series, Style};
 use crate::Operator;
@@ -70,17 +71,22 @@ pub struct FitCmdOptions {
 
 /// An error of the fit job (one-line message naming file, row and column
 /// where relevant).
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum FitCmdError {
     /// An output path names an input file or the other output.
-    SameFile(csvio::SameFile),
+    #[error(transparent)]
+    SameFile(#[from] csvio::SameFile),
     /// `--input-column` and `--output-column` name the same column.
+    #[error("--input-column and --output-column both name the column `{0}`")]
     SameColumn(String),
     /// The model spec could not be read, parsed or built.
-    Model(PathBuf, SpecError),
+    #[error(transparent)]
+    Model(#[from] ModelFileError),
     /// The data could not be read or is invalid.
+    #[error("data {0}")]
     Data(CsvIoError),
     /// `--free` names no parameter.
+    #[error("--free names no parameter of model `{}` (the model has: {available})", model.display())]
     NoFree {
         /// The model spec.
         model: PathBuf,
@@ -88,10 +94,17 @@ pub enum FitCmdError {
         available: String,
     },
     /// A `--free` name is unknown or ambiguous.
+    #[error("--free: model `{}`: {}", .0.display(), .1)]
     Free(PathBuf, FitError),
     /// A `--free` parameter that the spec cannot hold on its own (the
     /// slider's `limits.r0` or the spring's `z0` of a `transmission`
     /// spec, tied by `z0 = −slider0`).
+    #[error(
+        "--free: parameter `{name}` of model `{}` cannot be fitted on its own: a spring in a \
+         gap starts at rest, its z0 is -r0 of the gap (-slider0 in a `transmission` spec); \
+         keep both fixed",
+        model.display()
+    )]
     Tied {
         /// The model spec.
         model: PathBuf,
@@ -99,6 +112,7 @@ pub enum FitCmdError {
         name: String,
     },
     /// Two `--free` names give the same parameter.
+    #[error("--free: parameter `{name}` of model `{}` is named twice", model.display())]
     DuplicateFree {
         /// The model spec.
         model: PathBuf,
@@ -107,71 +121,22 @@ pub enum FitCmdError {
     },
     /// The model cannot be simulated over the record with the starting
     /// parameters.
+    #[error("model `{}` fails at the starting parameters{}", .0.model.display(), .0.location())]
     Start(Box<csvio::SampleFailure>),
     /// The fit could not run.
+    #[error("fit: {0}")]
     Fit(FitError),
     /// The fitted parameters could not be written into the spec, or the
     /// fitted spec cannot be simulated over the record.
+    #[error("fitted parameters of model `{}`: {}", .0.display(), .1)]
     Fitted(PathBuf, String),
     /// Writing an output failed.
+    #[error("output {0}")]
     Write(CsvIoError),
     /// Drawing the figure failed.
+    #[error("plot `{}`: {}", .0.display(), .1)]
     Plot(PathBuf, PlotError),
 }
-
-impl fmt::Display for FitCmdError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            FitCmdError::SameFile(e) => write!(f, "{e}"),
-            FitCmdError::SameColumn(c) => write!(
-                f,
-                "--input-column and --output-column both name the column `{c}`"
-            ),
-            FitCmdError::Model(p, e) => match e {
-                // The I/O error already names the file; don't repeat it.
-                SpecError::Io { message, .. } => {
-                    write!(f, "model `{}`: {message}", p.display())
-                }
-                e => write!(f, "model `{}`: {e}", p.display()),
-            },
-            FitCmdError::Data(e) => write!(f, "data {e}"),
-            FitCmdError::NoFree { model, available } => write!(
-                f,
-                "--free names no parameter of model `{}` (the model has: {available})",
-                model.display()
-            ),
-            FitCmdError::Free(p, e) => write!(f, "--free: model `{}`: {e}", p.display()),
-            FitCmdError::Tied { model, name } => write!(
-                f,
-                "--free: parameter `{name}` of model `{}` cannot be fitted on its own: \
-                 a spring in a gap starts at rest, its z0 is -r0 of the gap (-slider0 in a \
-                 `transmission` spec); keep both fixed",
-                model.display()
-            ),
-            FitCmdError::DuplicateFree { model, name } => write!(
-                f,
-                "--free: parameter `{name}` of model `{}` is named twice",
-                model.display()
-            ),
-            FitCmdError::Start(s) => {
-                write!(
-                    f,
-                    "model `{}` fails at the starting parameters",
-                    s.model.display()
-                )?;
-                s.fmt_location(f)
-            }
-            FitCmdError::Fit(e) => write!(f, "fit: {e}"),
-            FitCmdError::Fitted(p, e) => {
-                write!(f, "fitted parameters of model `{}`: {e}", p.display())
-            }
-            FitCmdError::Write(e) => write!(f, "output {e}"),
-            FitCmdError::Plot(p, e) => write!(f, "plot `{}`: {e}", p.display()),
-        }
-    }
-}
-
-impl std::error::Error for FitCmdError {}
 
 /// What the fit job did: the library's report plus where.
 #[derive(Debug, Clone, PartialEq)]
@@ -258,7 +223,7 @@ pub fn run(opts: &FitCmdOptions) -> Result<FitCmdReport, FitCmdError> {
         return Err(FitCmdError::SameColumn(opts.input_column.clone()));
     }
 
-    let model_err = |e| FitCmdError::Model(opts.model.clone(), e);
+    let model_err = |e| ModelFileError::new(&opts.model, e);
     let spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
     let spec = opts.dt.apply(spec, &opts.data).map_err(FitCmdError::Data)?;
     let model = spec.build().map_err(model_err)?;

@@ -64,18 +64,23 @@ pub struct IdentifyPaperOptions {
 }
 
 /// An error of the identify-paper job (one-line message).
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum IdentifyPaperError {
     /// An output names an input or the other output.
-    SameFile(csvio::SameFile),
+    #[error(transparent)]
+    SameFile(#[from] csvio::SameFile),
     /// Input and output columns are the same.
+    #[error("--input-column and --output-column both name the column `{0}`")]
     SameColumn(String),
     /// The start spec could not be read, is invalid, or is not a
     /// `transmission` spec.
+    #[error("start `{}`: {}", .0.display(), .1)]
     Start(PathBuf, String),
     /// A record could not be read or is invalid.
+    #[error("record {0}")]
     Data(CsvIoError),
     /// The identification failed.
+    #[error("identification{}: {error}", record_named(error, loop_record, chirp))]
     Paper {
         /// The loop record.
         loop_record: PathBuf,
@@ -85,66 +90,36 @@ pub enum IdentifyPaperError {
         error: PaperError,
     },
     /// The identified parameters do not give a usable model.
+    #[error("identified model: {0}")]
     Identified(String),
     /// The figure directory could not be created.
+    #[error("cannot create figure directory `{}`: {}", .0.display(), csvio::one_line(&.1.to_string()))]
     PlotDir(PathBuf, std::io::Error),
     /// Writing an output failed.
+    #[error("output {0}")]
     Write(CsvIoError),
     /// Drawing a figure failed.
+    #[error("plot `{}`: {}", .0.display(), .1)]
     Plot(PathBuf, PlotError),
 }
 
-impl fmt::Display for IdentifyPaperError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            IdentifyPaperError::SameFile(e) => write!(f, "{e}"),
-            IdentifyPaperError::SameColumn(c) => write!(
-                f,
-                "--input-column and --output-column both name the column `{c}`"
-            ),
-            IdentifyPaperError::Start(p, e) => write!(f, "start `{}`: {e}", p.display()),
-            IdentifyPaperError::Data(e) => write!(f, "record {e}"),
-            IdentifyPaperError::Paper {
-                loop_record,
-                chirp,
-                error,
-            } => {
-                // Name the file of a record-specific error.
-                let record = match error {
-                    PaperError::Data { record, .. } | PaperError::NoIncreasingBranch { record } => {
-                        Some(*record)
-                    }
-                    PaperError::TooFewPoints { .. } => Some("loop"),
-                    PaperError::Fit { stage: 1, .. } => Some("loop"),
-                    PaperError::Fit { stage: 2, .. } => Some("chirp"),
-                    _ => None,
-                };
-                match record {
-                    Some("loop") => write!(
-                        f,
-                        "identification (loop `{}`): {error}",
-                        loop_record.display()
-                    ),
-                    Some("chirp") => {
-                        write!(f, "identification (chirp `{}`): {error}", chirp.display())
-                    }
-                    _ => write!(f, "identification: {error}"),
-                }
-            }
-            IdentifyPaperError::Identified(e) => write!(f, "identified model: {e}"),
-            IdentifyPaperError::PlotDir(p, e) => write!(
-                f,
-                "cannot create figure directory `{}`: {}",
-                p.display(),
-                csvio::one_line(&e.to_string())
-            ),
-            IdentifyPaperError::Write(e) => write!(f, "output {e}"),
-            IdentifyPaperError::Plot(p, e) => write!(f, "plot `{}`: {e}", p.display()),
+/// ` (loop `FILE`)` or ` (chirp `FILE`)` when `error` belongs to one
+/// record, else nothing.
+fn record_named(error: &PaperError, loop_record: &Path, chirp: &Path) -> String {
+    let record = match error {
+        PaperError::Data { record, .. } | PaperError::NoIncreasingBranch { record } => {
+            Some(*record)
         }
+        PaperError::TooFewPoints { .. } | PaperError::Fit { stage: 1, .. } => Some("loop"),
+        PaperError::Fit { stage: 2, .. } => Some("chirp"),
+        _ => None,
+    };
+    match record {
+        Some("loop") => format!(" (loop `{}`)", loop_record.display()),
+        Some("chirp") => format!(" (chirp `{}`)", chirp.display()),
+        _ => String::new(),
     }
 }
-
-impl std::error::Error for IdentifyPaperError {}
 
 /// What the job did.
 #[derive(Debug, Clone, PartialEq)]

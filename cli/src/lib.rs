@@ -15,6 +15,7 @@ pub mod csvio;
 pub mod fit_cmd;
 pub mod fitting;
 pub mod identify_paper;
+pub mod model_file;
 pub mod paper;
 pub mod period;
 pub mod plot;

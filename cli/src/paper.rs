@@ -44,46 +44,26 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 /// An error of the paper job (one-line message).
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum PaperError {
     /// The output directory could not be created.
+    #[error("cannot create output directory `{}`: {}", .0.display(), csvio::one_line(&.1.to_string()))]
     OutDir(PathBuf, std::io::Error),
     /// Building the experiments failed.
+    #[error("building the experiments: {0}")]
     Experiments(crate::Error),
     /// A simulation failed.
+    #[error("experiment `{0}`: {1}")]
     Simulation(String, crate::Error),
     /// An experiment the figures need is missing.
+    #[error("no experiment named `{0}`")]
     Missing(String),
     /// Writing a file failed.
-    Write(CsvIoError),
+    #[error("writing {0}")]
+    Write(#[from] CsvIoError),
     /// Drawing a figure failed.
+    #[error("figure `{0}`: {1}")]
     Plot(String, PlotError),
-}
-
-impl fmt::Display for PaperError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            PaperError::OutDir(p, e) => write!(
-                f,
-                "cannot create output directory `{}`: {}",
-                p.display(),
-                csvio::one_line(&e.to_string())
-            ),
-            PaperError::Experiments(e) => write!(f, "building the experiments: {e}"),
-            PaperError::Simulation(n, e) => write!(f, "experiment `{n}`: {e}"),
-            PaperError::Missing(n) => write!(f, "no experiment named `{n}`"),
-            PaperError::Write(e) => write!(f, "writing {e}"),
-            PaperError::Plot(n, e) => write!(f, "figure `{n}`: {e}"),
-        }
-    }
-}
-
-impl std::error::Error for PaperError {}
-
-impl From<CsvIoError> for PaperError {
-    fn from(e: CsvIoError) -> Self {
-        PaperError::Write(e)
-    }
 }
 
 /// Options of the paper job.

@@ -16,16 +16,9 @@ use plotters::prelude::*;
 use std::fmt;
 
 /// An error while drawing a figure.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("drawing failed: {0}")]
 pub struct PlotError(pub String);
-
-impl fmt::Display for PlotError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "drawing failed: {}", self.0)
-    }
-}
-
-impl std::error::Error for PlotError {}
 
 fn err<E: fmt::Debug>(e: E) -> PlotError {
     PlotError(crate::csvio::one_line(&format!("{e:?}")))

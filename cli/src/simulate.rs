@@ -12,7 +12,8 @@
 //! yet).
 
 use crate::csvio::{self, CsvIoError};
-use crate::models::{Spec, SpecError};
+use crate::model_file::ModelFileError;
+use crate::models::Spec;
 use crate::plot::{self, PlotError};
 use crate::Operator;
 use std::fmt;
@@ -44,53 +45,35 @@ pub struct SimulateOptions {
 
 /// An error of the simulate job (one-line message naming file, row and
 /// column where relevant).
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum SimulateError {
     /// An output path names an input file.
-    SameFile(csvio::SameFile),
+    #[error(transparent)]
+    SameFile(#[from] csvio::SameFile),
     /// The model spec could not be read, parsed or built.
-    Model(PathBuf, SpecError),
+    #[error(transparent)]
+    Model(#[from] ModelFileError),
     /// The input could not be read or is invalid.
+    #[error("input {0}")]
     Input(CsvIoError),
     /// The input already has a column named like the output column.
+    #[error(
+        "input `{}` already has a column `{}`: name the output column otherwise \
+         with --output-column",
+        .0.display(),
+        .1
+    )]
     OutputColumnExists(PathBuf, String),
     /// The operator failed at a sample.
+    #[error("model `{}` failed{}", .0.model.display(), .0.location())]
     Operator(Box<csvio::SampleFailure>),
     /// Writing the output failed.
+    #[error("output {0}")]
     Write(CsvIoError),
     /// Drawing the figure failed.
+    #[error("plot `{}`: {}", .0.display(), .1)]
     Plot(PathBuf, PlotError),
 }
-
-impl fmt::Display for SimulateError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            SimulateError::SameFile(e) => write!(f, "{e}"),
-            SimulateError::Model(p, e) => match e {
-                // The I/O error already names the file; don't repeat it.
-                SpecError::Io { message, .. } => {
-                    write!(f, "model `{}`: {message}", p.display())
-                }
-                e => write!(f, "model `{}`: {e}", p.display()),
-            },
-            SimulateError::Input(e) => write!(f, "input {e}"),
-            SimulateError::OutputColumnExists(p, name) => write!(
-                f,
-                "input `{}` already has a column `{name}`: name the output column \
-                 otherwise with --output-column",
-                p.display()
-            ),
-            SimulateError::Operator(o) => {
-                write!(f, "model `{}` failed", o.model.display())?;
-                o.fmt_location(f)
-            }
-            SimulateError::Write(e) => write!(f, "output {e}"),
-            SimulateError::Plot(p, e) => write!(f, "plot `{}`: {e}", p.display()),
-        }
-    }
-}
-
-impl std::error::Error for SimulateError {}
 
 /// What the simulate job did.
 #[derive(Debug, Clone, PartialEq)]
@@ -128,7 +111,7 @@ pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
             .map_err(SimulateError::SameFile)?;
     }
 
-    let model_err = |e| SimulateError::Model(opts.model.clone(), e);
+    let model_err = |e| ModelFileError::new(&opts.model, e);
     let spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
     let spec = opts
         .dt

@@ -49,9 +49,9 @@ fn prints_one_row_per_kernel_in_the_issue_format() {
         kernels,
         [
             "play",
-            "pi64",
-            "bouc-wen n=1",
-            "bouc-wen n=1.5",
+            "pi_bank 64",
+            "bouc_wen n=1",
+            "bouc_wen n=1.5",
             "mms",
             "paper model",
             "paper model, boxed from JSON",
@@ -74,7 +74,7 @@ fn prints_one_row_per_kernel_in_the_issue_format() {
     // The accuracy note of the n = 1.5 kernel: a measured relative error.
     let note = stdout
         .lines()
-        .find(|l| l.starts_with("bouc-wen n=1.5"))
+        .find(|l| l.starts_with("bouc_wen n=1.5"))
         .unwrap_or_else(|| panic!("no accuracy note: {stdout}"));
     let rel: f64 = note
         .rsplit("(relative ")

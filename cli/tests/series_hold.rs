@@ -144,7 +144,7 @@ fn series_at_limits_with_other_children() {
     );
     // A spring without a batch loop for process_while (n ≠ 1: the default).
     check_series(
-        "mms and bouc-wen n=1.5 in a gap",
+        "mms and bouc_wen n=1.5 in a gap",
         Mms::new(1.5, 30.0)
             .unwrap()
             .series(spring(1.5))
@@ -156,7 +156,7 @@ fn series_at_limits_with_other_children() {
     );
     // Range limits.
     check_series(
-        "elastoplastic and bouc-wen in a range",
+        "elastoplastic and bouc_wen in a range",
         ElastoPlastic::new(30.0, 1.5)
             .unwrap()
             .series(spring(1.0))

@@ -9,7 +9,7 @@ use hysteron_models::signal::fft_upsample;
 use hysteron_operators::Error;
 
 /// The seven physical parameters, as named in the composed system
-/// (`forward.mass-spring-damper.*`, `back.bouc-wen.*`; unique suffixes).
+/// (`forward.mass-spring-damper.*`, `back.bouc_wen.*`; unique suffixes).
 pub const FREE: [&str; 7] = ["m", "c", "k", "alpha", "beta", "gamma", "n"];
 
 /// Why the benchmark identification failed.

@@ -133,7 +133,7 @@ impl Default for BoucWenBenchmarkParams {
 
 /// The benchmark system at the integration rate: `G.feedback(BW)`.
 /// Its parameters are `forward.mass-spring-damper.{m, c, k}` then
-/// `back.bouc-wen.{w, alpha, beta, gamma, n, h0, z0, stiffness…}`.
+/// `back.bouc_wen.{w, alpha, beta, gamma, n, h0, z0, stiffness…}`.
 pub type BoucWenSystem = Feedback<f64, MassSpringDamper<f64>, BoucWen<f64>>;
 
 /// Builds `y = G[u − z]`, `z = BW[y]` with `G` stepping at
