@@ -302,6 +302,10 @@ fn every_registered_leaf_in_f64_and_f32() {
         let op = spec.build().unwrap_or_else(|e| panic!("{kind}: {e}"));
         assert_eq!(op.name(), kind, "one name in the spec and the operator");
         assert!(op.n_params() > 0, "{kind}: no parameters");
+        assert!(
+            leaf.equation().chars().count() > 5,
+            "{kind}: declare the equation it implements (Leaf::EQUATION)"
+        );
         check(&format!("{kind} (f64)"), op);
         let op32 = leaf
             .example_f32()

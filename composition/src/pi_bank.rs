@@ -238,4 +238,10 @@ impl<T: Float> Operator<T> for PiBank<T> {
     hysteron_operators::leaf_param_methods!(T);
 }
 
-hysteron_operators::impl_leaf!(PiBank, PiBankParams, "pi_bank", p);
+hysteron_operators::impl_leaf!(
+    PiBank,
+    PiBankParams,
+    "pi_bank",
+    p,
+    equation: "y = a0 x + Σ_j w_j play_{r_j}[x] (Prandtl-Ishlinskii)"
+);

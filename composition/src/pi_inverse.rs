@@ -258,4 +258,10 @@ impl<T: Float> Operator<T> for PiInverse<T> {
 }
 
 // Its parameters are the forward bank's (`y0` written out in full).
-hysteron_operators::impl_leaf!(PiInverse, PiBankParams, "pi_inverse", forward);
+hysteron_operators::impl_leaf!(
+    PiInverse,
+    PiBankParams,
+    "pi_inverse",
+    forward,
+    equation: "x = pi_bank⁻¹[y] = â0 y + Σ_j ŵ_j play_{r̂_j}[y], the analytic inverse of the pi_bank with these parameters"
+);

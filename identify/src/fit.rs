@@ -157,6 +157,12 @@ pub struct FitReport {
     pub wall_time: Duration,
     /// How it ended.
     pub status: FitStatus,
+    /// Correlation matrix of the free parameters (in the order of
+    /// `params`), `ρ_ij = C_ij / √(C_ii C_jj)` from the Gauss-Newton
+    /// covariance `C = σ² (JᵀJ)⁻¹`; `None` where `JᵀJ` is singular. The
+    /// reparametrization of bounded parameters is monotone and increasing,
+    /// so to first order it leaves the correlations unchanged.
+    pub correlation: Option<Vec<Vec<f64>>>,
 }
 
 fn seconds<S: serde::Serializer>(d: &Duration, s: S) -> Result<S::Ok, S::Error> {
@@ -505,6 +511,13 @@ pub fn fit_with_progress(
         })
         .collect();
 
+    let correlation = cov.as_ref().and_then(|c| {
+        let sd: Vec<f64> = (0..k).map(|j| c[(j, j)].sqrt()).collect();
+        let rows: Vec<Vec<f64>> = (0..k)
+            .map(|i| (0..k).map(|j| c[(i, j)] / (sd[i] * sd[j])).collect())
+            .collect();
+        rows.iter().flatten().all(|v| v.is_finite()).then_some(rows)
+    });
     let rms = (ssr / m as f64).sqrt();
     let mean = y.iter().sum::<f64>() / m as f64;
     let sd_y = (y.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / m as f64).sqrt();
@@ -520,6 +533,7 @@ pub fn fit_with_progress(
         evaluations: problem.evaluations.load(Ordering::Relaxed),
         wall_time: started.elapsed(),
         status,
+        correlation,
     };
     Ok(Fit {
         model: fitted,

@@ -149,3 +149,48 @@ fn batches_equal_sequential_runs_and_report_errors_per_entry() {
         Err(hysteron_operators::Error::LengthMismatch { .. })
     ));
 }
+
+/// The correlation matrix is a correlation matrix (unit diagonal,
+/// symmetric, entries in [−1, 1]); with noise it exists, and two
+/// parameters that only act as a product (`w · k` of a scaled gain) are
+/// reported as correlated beyond 0.99, or the covariance as singular.
+#[test]
+fn correlation_matrix_is_reported_and_flags_a_product() {
+    use hysteron_composition::OperatorExt;
+    use hysteron_operators::Gain;
+    let x = decaying_sine(20_000);
+    let t = truth(1.5);
+    let mut rng = StdRng::seed_from_u64(7);
+    let noise = Normal::new(0.0, 0.01).unwrap();
+    let y: Vec<f64> = t
+        .clone()
+        .run(&x)
+        .unwrap()
+        .into_iter()
+        .map(|v| v + noise.sample(&mut rng))
+        .collect();
+    let start = perturbed(&t, &[1.1, 0.9, 1.1, 1.05]);
+    let idx = free_by_names(start.as_ref(), &FREE).unwrap();
+    let f = fit(start.as_ref(), &x, &y, &idx, &FitOptions::default()).unwrap();
+    let c = f
+        .report
+        .correlation
+        .expect("a noisy, well-posed fit has one");
+    assert_eq!(c.len(), FREE.len());
+    for i in 0..c.len() {
+        assert!((c[i][i] - 1.0).abs() < 1e-12, "diagonal {}", c[i][i]);
+        for j in 0..c.len() {
+            assert!((c[i][j] - c[j][i]).abs() < 1e-12);
+            assert!(c[i][j].abs() <= 1.0 + 1e-12, "{}", c[i][j]);
+        }
+    }
+
+    // y = w · k · x: only the product is identifiable.
+    let product = Gain::new(1.5_f64).unwrap().scaled(2.0).unwrap();
+    let yp: Vec<f64> = x.iter().map(|v| 3.3 * v + noise.sample(&mut rng)).collect();
+    let all: Vec<usize> = (0..product.n_params()).collect();
+    let f = fit(&product, &x, &yp, &all, &FitOptions::default()).unwrap();
+    if let Some(c) = f.report.correlation {
+        assert!(c[0][1].abs() > 0.99, "product correlation {}", c[0][1]);
+    }
+}

@@ -588,7 +588,14 @@ impl<T: Float> Operator<T> for BoucWen<T> {
     crate::leaf_param_methods!(T);
 }
 
-crate::impl_leaf!(BoucWen, BoucWenParams, "bouc_wen", p, with_parameters: BoucWen::with_same_settings);
+crate::impl_leaf!(
+    BoucWen,
+    BoucWenParams,
+    "bouc_wen",
+    p,
+    equation: "H = w S(z) z + (1 − w) S(z) h, dh/dz = α − |h|^n (β sgn(ż h) + γ), z = x − z0",
+    with_parameters: BoucWen::with_same_settings
+);
 
 impl<T: Float> BoucWen<T> {
     /// The spring for new parameters with this one's tolerance and solver.

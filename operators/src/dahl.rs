@@ -207,6 +207,7 @@ impl<T: Float> DahlParams<T> {
 
 impl<T: Float> StepLaw<T> for DahlParams<T> {
     const KIND: &'static str = "dahl";
+    const EQUATION: &'static str = "dF/dx = σ |1 − (F/F_c) sgn ẋ|^α sgn(1 − (F/F_c) sgn ẋ)";
     type State = DahlState<T>;
     type With<U: Float> = DahlParams<U>;
 

@@ -56,6 +56,7 @@ impl<T: Float> DeadZone<T> {
 
 impl<T: Float> StepLaw<T> for DeadZoneParams<T> {
     const KIND: &'static str = "dead_zone";
+    const EQUATION: &'static str = "y = x − b_r above b_r, x − b_l below b_l, 0 in between";
     type State = ();
     type With<U: Float> = DeadZoneParams<U>;
 

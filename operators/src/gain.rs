@@ -36,6 +36,7 @@ impl<T: Float> Gain<T> {
 
 impl<T: Float> StepLaw<T> for GainParams<T> {
     const KIND: &'static str = "gain";
+    const EQUATION: &'static str = "y = k x";
     type State = ();
     type With<U: Float> = GainParams<U>;
 

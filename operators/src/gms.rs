@@ -285,7 +285,13 @@ impl<T: Float> Operator<T> for Gms<T> {
     crate::leaf_param_methods!(T);
 }
 
-crate::impl_leaf!(Gms, GmsParams, "gms", p);
+crate::impl_leaf!(
+    Gms,
+    GmsParams,
+    "gms",
+    p,
+    equation: "F = Σ F_i + σ2 v; stick Ḟ_i = k_i v until |F_i| = α_i s(v), slip Ḟ_i = sgn(v) C (1 − sgn(v) F_i/(α_i s(v)))"
+);
 
 #[cfg(test)]
 mod tests {

@@ -20,6 +20,9 @@ use core::fmt::Debug;
 pub trait Leaf<T: Float>: Operator<T> + Sized {
     /// The operator's name (snake case).
     const KIND: &'static str;
+    /// The equation it implements, one line of plain text (for Python
+    /// docstrings and listings; the type's rustdoc says more).
+    const EQUATION: &'static str;
     /// Its declared parameters.
     type Params: ParamSet<T>;
     /// The same operator for another scalar type.
@@ -48,16 +51,17 @@ pub trait Leaf<T: Float>: Operator<T> + Sized {
 /// Implements [`Leaf`] for an operator `Op<T>` that has an inherent
 /// `Op::from_params(Params<T>) -> Result<Op<T>>` and keeps its parameters
 /// in a field:
-/// `impl_leaf!(Gms, GmsParams, "gms", p);`, and
+/// `impl_leaf!(Gms, GmsParams, "gms", p, equation: "F = …");`, and
 /// optionally `, with_parameters: Op::method` (an inherent
 /// `fn(&self, Params<T>) -> Result<Self>` keeping settings that are not
 /// parameters).
 #[macro_export]
 macro_rules! impl_leaf {
-    ($op:ident, $params:ident, $kind:literal, $field:ident
+    ($op:ident, $params:ident, $kind:literal, $field:ident, equation: $equation:literal
         $(, with_parameters: $with:path)? $(,)?) => {
         impl<T: $crate::Float> $crate::Leaf<T> for $op<T> {
             const KIND: &'static str = $kind;
+            const EQUATION: &'static str = $equation;
             type Params = $params<T>;
             type With<U: $crate::Float> = $op<U>;
 
@@ -122,6 +126,8 @@ macro_rules! leaf_param_methods {
 pub trait StepLaw<T: Float>: ParamSet<T> {
     /// The operator's name (see [`Leaf::KIND`]).
     const KIND: &'static str;
+    /// The equation (see [`Leaf::EQUATION`]).
+    const EQUATION: &'static str;
     /// The state between samples.
     type State: Clone + Debug + PartialEq + Send + Sync + 'static;
     /// The same law for another scalar type.
@@ -201,6 +207,7 @@ impl<T: Float, L: StepLaw<T>> Stepped<L, T> {
 
 impl<T: Float, L: StepLaw<T>> Leaf<T> for Stepped<L, T> {
     const KIND: &'static str = L::KIND;
+    const EQUATION: &'static str = L::EQUATION;
     type Params = L;
     type With<U: Float> = Stepped<L::With<U>, U>;
 

@@ -241,7 +241,13 @@ impl<T: Float> Operator<T> for MaxwellSlip<T> {
     crate::leaf_param_methods!(T);
 }
 
-crate::impl_leaf!(MaxwellSlip, MaxwellSlipParams, "maxwell_slip", p);
+crate::impl_leaf!(
+    MaxwellSlip,
+    MaxwellSlipParams,
+    "maxwell_slip",
+    p,
+    equation: "F = Σ_i k_i · stop_{F_i/k_i}[x] (parallel elastoplastic elements)"
+);
 
 #[cfg(test)]
 mod tests {

@@ -31,6 +31,7 @@ impl<T: Float> Offset<T> {
 
 impl<T: Float> StepLaw<T> for OffsetParams<T> {
     const KIND: &'static str = "offset";
+    const EQUATION: &'static str = "y = x + c";
     type State = ();
     type With<U: Float> = OffsetParams<U>;
 

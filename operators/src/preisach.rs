@@ -915,7 +915,13 @@ impl<T: Float> ParamSet<T> for PreisachParams<T> {
     }
 }
 
-crate::impl_leaf!(Preisach, PreisachParams, "preisach", p);
+crate::impl_leaf!(
+    Preisach,
+    PreisachParams,
+    "preisach",
+    p,
+    equation: "y = ∬_{α≥β} μ(α, β) γ_{αβ}[x] dα dβ (relays γ_{αβ} switching up at α, down at β)"
+);
 
 #[cfg(test)]
 mod tests {

@@ -34,6 +34,7 @@ impl<T: Float> Saturation<T> {
 
 impl<T: Float> StepLaw<T> for SaturationParams<T> {
     const KIND: &'static str = "saturation";
+    const EQUATION: &'static str = "y = clamp(x, lo, hi)";
     type State = ();
     type With<U: Float> = SaturationParams<U>;
 

@@ -62,6 +62,7 @@ impl<T: Float> Stop<T> {
 
 impl<T: Float> StepLaw<T> for StopParams<T> {
     const KIND: &'static str = "stop";
+    const EQUATION: &'static str = "s = x − play_r[x] ∈ [−r, r], from s0";
     type State = T;
     type With<U: Float> = StopParams<U>;
 

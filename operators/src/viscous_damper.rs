@@ -44,6 +44,7 @@ impl<T: Float> ViscousDamper<T> {
 
 impl<T: Float> StepLaw<T> for ViscousDamperParams<T> {
     const KIND: &'static str = "viscous_damper";
+    const EQUATION: &'static str = "F = c ẋ, ẋ the backward difference (x_k − x_{k−1})/dt";
     type State = T;
     type With<U: Float> = ViscousDamperParams<U>;
 

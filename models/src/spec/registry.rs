@@ -51,6 +51,8 @@ pub(crate) fn all_kinds() -> &'static [&'static str] {
 pub trait LeafKind: Sync {
     /// The spec `type` (= [`Operator::name`]).
     fn kind(&self) -> &'static str;
+    /// The equation it implements ([`Leaf::EQUATION`]).
+    fn equation(&self) -> &'static str;
     /// The declared fields.
     fn fields(&self) -> &'static [FieldInfo];
     /// Reads the parameter object (the node without `type`) into its
@@ -115,6 +117,10 @@ where
 {
     fn kind(&self) -> &'static str {
         L::KIND
+    }
+
+    fn equation(&self) -> &'static str {
+        L::EQUATION
     }
 
     fn fields(&self) -> &'static [FieldInfo] {
