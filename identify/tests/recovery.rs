@@ -177,11 +177,11 @@ fn correlation_matrix_is_reported_and_flags_a_product() {
         .correlation
         .expect("a noisy, well-posed fit has one");
     assert_eq!(c.len(), FREE.len());
-    for i in 0..c.len() {
-        assert!((c[i][i] - 1.0).abs() < 1e-12, "diagonal {}", c[i][i]);
-        for j in 0..c.len() {
-            assert!((c[i][j] - c[j][i]).abs() < 1e-12);
-            assert!(c[i][j].abs() <= 1.0 + 1e-12, "{}", c[i][j]);
+    for (i, row) in c.iter().enumerate() {
+        assert!((row[i] - 1.0).abs() < 1e-12, "diagonal {}", row[i]);
+        for (j, v) in row.iter().enumerate() {
+            assert!((v - c[j][i]).abs() < 1e-12);
+            assert!(v.abs() <= 1.0 + 1e-12, "{v}");
         }
     }
 
