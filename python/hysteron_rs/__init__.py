@@ -1,0 +1,105 @@
+"""hysteron_rs: hysteresis operators and their algebra, from numpy.
+
+Build a model from a spec (a dict or JSON text, as the ``hysteron`` CLI
+reads it) or from constructors and combinator methods, run it on float64
+arrays, and fit its parameters to records::
+
+    import numpy as np
+    import hysteron_rs as hy
+
+    model = hy.play(0.5).then(hy.dead_zone(-1.0, 1.0))
+    y = model.run(np.sin(np.linspace(0, 20, 2000)))
+    same = hy.Model.from_spec(model.to_spec())
+
+Every leaf operator of the Rust registry has a constructor of the same
+name (``play``, ``bouc_wen``, ``maxwell_slip``, ...), whose docstring gives
+its equation and parameters. Errors are subclasses of ``HysteronError``
+(a ``ValueError``) carrying the library's messages.
+
+The distribution is ``hysteron-rs`` (the PyPI name ``hysteron`` belongs to
+an unrelated package); the import name is ``hysteron_rs``.
+"""
+
+from __future__ import annotations
+
+from ._native import (
+    AnalysisError,
+    DescribingFunction,
+    FitError,
+    FitResult,
+    HysteronError,
+    InputError,
+    LoopEnergy,
+    Model,
+    ParameterError,
+    SolverError,
+    SpecError,
+    __version__,
+    describing_function,
+    fit,
+    leaf_kinds,
+    loop_energy,
+    paper_model,
+    run_batch,
+    run_parameter_sets,
+)
+from ._operators import (
+    bouc_wen,
+    dahl,
+    dead_zone,
+    elastoplastic,
+    gain,
+    gms,
+    lugre,
+    mass_spring_damper,
+    maxwell_slip,
+    mms,
+    offset,
+    pi_bank,
+    pi_inverse,
+    play,
+    preisach,
+    saturation,
+    stop,
+    viscous_damper,
+)
+
+__all__ = [
+    "AnalysisError",
+    "DescribingFunction",
+    "FitError",
+    "FitResult",
+    "HysteronError",
+    "InputError",
+    "LoopEnergy",
+    "Model",
+    "ParameterError",
+    "SolverError",
+    "SpecError",
+    "__version__",
+    "bouc_wen",
+    "dahl",
+    "dead_zone",
+    "describing_function",
+    "elastoplastic",
+    "fit",
+    "gain",
+    "gms",
+    "leaf_kinds",
+    "loop_energy",
+    "lugre",
+    "mass_spring_damper",
+    "maxwell_slip",
+    "mms",
+    "offset",
+    "paper_model",
+    "pi_bank",
+    "pi_inverse",
+    "play",
+    "preisach",
+    "run_batch",
+    "run_parameter_sets",
+    "saturation",
+    "stop",
+    "viscous_damper",
+]

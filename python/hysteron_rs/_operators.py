@@ -1,0 +1,80 @@
+"""One constructor per leaf operator of the Rust registry.
+
+The constructors are made at import from ``leaf_kinds()``, the registry's
+own declaration of every leaf (its ``type``, equation and fields), so a
+leaf added in Rust gets its Python constructor with no Python change.
+Arguments follow the declaration order; a field with a default in the
+spec may be left out (``None`` means "the spec's default").
+"""
+
+from __future__ import annotations
+
+import inspect
+from typing import Any, Callable, Dict, List
+
+from ._native import Model, leaf, leaf_kinds
+
+__all__: List[str] = []
+
+
+def _make(entry: Dict[str, Any]) -> Callable[..., Model]:
+    kind: str = entry["type"]
+    fields: List[Dict[str, Any]] = entry["fields"]
+    names = [f["name"] for f in fields]
+
+    def construct(*args: Any, **kwargs: Any) -> Model:
+        if len(args) > positional:
+            raise TypeError(
+                f"{kind}() takes at most {positional} positional arguments "
+                f"({len(args)} given)"
+            )
+        params: Dict[str, Any] = {}
+        for name, value in zip(names, args):
+            params[name] = value
+        for name, value in kwargs.items():
+            if name not in names:
+                raise TypeError(
+                    f"{kind}() got an unexpected keyword argument {name!r} "
+                    f"(its fields: {', '.join(names)})"
+                )
+            if name in params:
+                raise TypeError(f"{kind}() got multiple values for argument {name!r}")
+            params[name] = value
+        return leaf(kind, {k: v for k, v in params.items() if v is not None})
+
+    # Required fields after an optional one can only be given by keyword.
+    parameters = []
+    seen_optional = keyword_only = False
+    for f in fields:
+        keyword_only = keyword_only or (f["required"] and seen_optional)
+        seen_optional = seen_optional or not f["required"]
+        parameters.append(
+            inspect.Parameter(
+                f["name"],
+                inspect.Parameter.KEYWORD_ONLY
+                if keyword_only
+                else inspect.Parameter.POSITIONAL_OR_KEYWORD,
+                default=inspect.Parameter.empty if f["required"] else None,
+            )
+        )
+    positional = sum(
+        p.kind is inspect.Parameter.POSITIONAL_OR_KEYWORD for p in parameters
+    )
+    construct.__signature__ = inspect.Signature(parameters)  # type: ignore[attr-defined]
+    construct.__name__ = kind
+    construct.__qualname__ = kind
+    construct.__module__ = "hysteron_rs"
+    lines = [f"The ``{kind}`` operator: {entry['equation']}.", "", "Parameters:"]
+    for f in fields:
+        note = "" if f["required"] else " (optional)"
+        setting = " Not a fitted parameter." if f["kind"] == "fixed" else ""
+        lines.append(f"    {f['name']}{note}: {f['doc']}{setting}")
+    lines += ["", f"Example: ``{kind}(**{entry['example']!r})``."]
+    construct.__doc__ = "\n".join(lines)
+    return construct
+
+
+for _entry in leaf_kinds():
+    globals()[_entry["type"]] = _make(_entry)
+    __all__.append(_entry["type"])
+del _entry

@@ -1,0 +1,53 @@
+//! Reading numpy arrays (or anything numpy can turn into one) as samples.
+
+use crate::errors::InputError;
+use numpy::{PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+
+/// The samples of `obj`, `np.asarray(obj, dtype=float64)`, which must be
+/// 1-D and non-empty; any memory layout (a strided view is copied in
+/// order). `what` names the argument in messages. Finiteness is left to
+/// the library, which names the sample.
+pub fn samples(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<f64>> {
+    let py = obj.py();
+    let np = py.import("numpy")?;
+    let unreadable = |e: PyErr| {
+        InputError::new_err(format!(
+            "{what}: cannot be read as an array of float64: {}",
+            e.value(py)
+        ))
+    };
+    let raw = np.call_method1("asarray", (obj,)).map_err(unreadable)?;
+    // Only real numbers: numpy would cast complex values to their real part
+    // (and strings to numbers) without a word.
+    let dtype = raw.getattr("dtype")?;
+    let kind: String = dtype.getattr("kind")?.extract()?;
+    if !matches!(kind.as_str(), "i" | "u" | "f") {
+        return Err(InputError::new_err(format!(
+            "{what}: cannot be read as an array of float64: its dtype is {} (real numbers needed)",
+            dtype.str()?
+        )));
+    }
+    let no_copy = pyo3::types::PyDict::new(py);
+    no_copy.set_item("copy", false)?;
+    let converted = raw
+        .call_method("astype", (np.getattr("float64")?,), Some(&no_copy))
+        .map_err(unreadable)?;
+    let array = converted.cast::<PyArrayDyn<f64>>().map_err(|_| {
+        InputError::new_err(format!("{what}: numpy did not return a float64 array"))
+    })?;
+    if array.ndim() != 1 {
+        let dims: Vec<String> = array.shape().iter().map(usize::to_string).collect();
+        return Err(InputError::new_err(format!(
+            "{what}: must be 1-D, got shape ({})",
+            dims.join(", ")
+        )));
+    }
+    if array.len() == 0 {
+        return Err(InputError::new_err(format!("{what}: is empty")));
+    }
+    let read = array
+        .try_readonly()
+        .map_err(|e| InputError::new_err(format!("{what}: cannot be read ({e})")))?;
+    Ok(read.as_array().iter().copied().collect())
+}

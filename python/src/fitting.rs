@@ -1,0 +1,261 @@
+//! `fit`: Levenberg-Marquardt identification of a model's free parameters.
+
+use crate::array::samples;
+use crate::errors::{fit_error, spec_error, ParameterError};
+use crate::model::Model;
+use hysteron::identify::{fit_with_progress, FitOptions, FitReport, FitStatus, Progress};
+use numpy::PyArray2;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::sync::Mutex;
+
+/// The outcome of `fit`: the fitted model and what the fit found.
+///
+/// Standard errors come from the Gauss-Newton covariance
+/// `C = σ² (JᵀJ)⁻¹`, `σ² = Σ r² / (m − k)` (delta method through the
+/// reparametrization of bounded parameters); 95 % intervals are
+/// `θ ± 1.96 σ_θ` mapped back, so they respect the bounds.
+#[pyclass(module = "hysteron_rs", frozen)]
+pub struct FitResult {
+    model: Py<Model>,
+    report: FitReport,
+    history: Vec<Progress>,
+}
+
+fn status_text(s: &FitStatus) -> (&'static str, &str) {
+    match s {
+        FitStatus::Converged(why) => ("converged", why),
+        FitStatus::NotConverged(why) => ("not_converged", why),
+        FitStatus::Failed(why) => ("failed", why),
+    }
+}
+
+#[pymethods]
+impl FitResult {
+    /// The model with the fitted parameters, in its initial state.
+    #[getter]
+    fn model(&self, py: Python<'_>) -> Py<Model> {
+        self.model.clone_ref(py)
+    }
+
+    /// The free parameters' paths, in the order of every per-parameter
+    /// field.
+    #[getter]
+    fn free(&self) -> Vec<String> {
+        self.report.params.iter().map(|p| p.name.clone()).collect()
+    }
+
+    /// Fitted values, keyed by parameter path.
+    #[getter]
+    fn values<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for p in &self.report.params {
+            d.set_item(&p.name, p.value)?;
+        }
+        Ok(d)
+    }
+
+    /// Starting values, keyed by parameter path.
+    #[getter]
+    fn start<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for p in &self.report.params {
+            d.set_item(&p.name, p.start)?;
+        }
+        Ok(d)
+    }
+
+    /// Standard errors keyed by path (`None` where `JᵀJ` is singular).
+    #[getter]
+    fn std_errors<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for p in &self.report.params {
+            d.set_item(&p.name, p.std_error)?;
+        }
+        Ok(d)
+    }
+
+    /// 95 % confidence intervals `(lo, hi)` keyed by path (`None` where
+    /// `JᵀJ` is singular).
+    #[getter]
+    fn ci95<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for p in &self.report.params {
+            d.set_item(&p.name, p.ci95)?;
+        }
+        Ok(d)
+    }
+
+    /// The free parameters' correlation matrix (rows and columns in the
+    /// order of `free`) as a 2-D array, or `None` where `JᵀJ` is singular.
+    #[getter]
+    fn correlation<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyArray2<f64>>>> {
+        match &self.report.correlation {
+            Some(rows) => Ok(Some(PyArray2::from_vec2(py, rows).map_err(|e| {
+                ParameterError::new_err(format!("correlation matrix: {e}"))
+            })?)),
+            None => Ok(None),
+        }
+    }
+
+    /// Final cost `½ Σ r²`.
+    #[getter]
+    fn cost(&self) -> f64 {
+        self.report.cost
+    }
+
+    /// Root-mean-square residual.
+    #[getter]
+    fn rms(&self) -> f64 {
+        self.report.rms
+    }
+
+    /// `rms / std(y)`; `None` for a constant record.
+    #[getter]
+    fn nrmse(&self) -> Option<f64> {
+        self.report.nrmse
+    }
+
+    /// `"converged"`, `"not_converged"` (the budget ran out) or `"failed"`.
+    #[getter]
+    fn status(&self) -> &'static str {
+        status_text(&self.report.status).0
+    }
+
+    /// Why the fit stopped.
+    #[getter]
+    fn message(&self) -> String {
+        status_text(&self.report.status).1.to_string()
+    }
+
+    /// True when a convergence criterion was met.
+    #[getter]
+    fn converged(&self) -> bool {
+        self.report.status.converged()
+    }
+
+    /// Levenberg-Marquardt iterations.
+    #[getter]
+    fn iterations(&self) -> usize {
+        self.report.iterations
+    }
+
+    /// Model simulations over the whole record.
+    #[getter]
+    fn evaluations(&self) -> usize {
+        self.report.evaluations
+    }
+
+    /// Wall time of the fit (s).
+    #[getter]
+    fn wall_time(&self) -> f64 {
+        self.report.wall_time.as_secs_f64()
+    }
+
+    /// One dict per iteration: `iteration`, `evaluations` (so far) and
+    /// `cost` at the start of that iteration.
+    #[getter]
+    fn history<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        self.history
+            .iter()
+            .map(|p| {
+                let d = PyDict::new(py);
+                d.set_item("iteration", p.iteration)?;
+                d.set_item("evaluations", p.evaluations)?;
+                d.set_item("cost", p.cost)?;
+                Ok(d)
+            })
+            .collect()
+    }
+
+    /// The report as the CLI prints it.
+    fn __str__(&self) -> String {
+        self.report.to_string()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "FitResult(status={:?}, rms={}, free={:?})",
+            self.status(),
+            self.report.rms,
+            self.free()
+        )
+    }
+}
+
+/// Fits the parameters `free` (full paths or unique suffixes) of `model`
+/// to the record `(x, y)`: residuals `model(x) − y` from the model's
+/// initial state, Levenberg-Marquardt with central finite differences,
+/// bounded parameters through a reparametrization that keeps them inside
+/// their domains. The other parameters stay at the model's values. The
+/// GIL is released while it runs.
+///
+/// `patience` bounds the evaluations (`patience · (k + 1)`); `stride`
+/// compares every `stride`-th output with `y` (`len(x) = stride ·
+/// len(y)`).
+#[pyfunction]
+#[pyo3(signature = (model, x, y, free, *, patience=200, stride=1, ftol=1e-12, xtol=1e-12, gtol=0.0))]
+#[allow(clippy::too_many_arguments)] // the Python keyword arguments
+pub fn fit(
+    py: Python<'_>,
+    model: &Model,
+    x: &Bound<'_, PyAny>,
+    y: &Bound<'_, PyAny>,
+    free: Vec<String>,
+    patience: usize,
+    stride: usize,
+    ftol: f64,
+    xtol: f64,
+    gtol: f64,
+) -> PyResult<FitResult> {
+    let xs = samples(x, "x")?;
+    let ys = samples(y, "y")?;
+    let idx = model.indices(&free)?;
+    let names = model.operator().param_names();
+    let tied = model.spec().tied_params();
+    if let Some(name) = idx.iter().map(|&i| &names[i]).find(|n| tied.contains(n)) {
+        return Err(ParameterError::new_err(format!(
+            "parameter `{name}` cannot be fitted on its own: it is tied to another (a gap's r0 \
+             and its spring's z0 = -r0); keep both fixed"
+        )));
+    }
+    for (i, a) in idx.iter().enumerate() {
+        if idx[..i].contains(a) {
+            return Err(ParameterError::new_err(format!(
+                "parameter `{}` is named twice in `free`",
+                names[*a]
+            )));
+        }
+    }
+    let opts = FitOptions {
+        ftol,
+        xtol,
+        gtol,
+        patience,
+        stride,
+        ..FitOptions::default()
+    };
+    let start = dyn_clone::clone_box(model.operator());
+    let history = Mutex::new(Vec::new());
+    let record = |p: Progress| {
+        if let Ok(mut h) = history.lock() {
+            h.push(p);
+        }
+    };
+    let fitted = py
+        .detach(|| {
+            let mut m = start;
+            m.reset();
+            fit_with_progress(m.as_ref(), &xs, &ys, &idx, &opts, &record)
+        })
+        .map_err(|e| fit_error(py, e))?;
+    let spec = model
+        .spec()
+        .with_params(&fitted.report.all_params)
+        .map_err(spec_error)?;
+    Ok(FitResult {
+        model: Py::new(py, Model::from_rust_spec(spec)?)?,
+        report: fitted.report,
+        history: history.into_inner().unwrap_or_default(),
+    })
+}

@@ -1,0 +1,73 @@
+"""fit: recovering known parameters, the result object, its errors."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import hysteron_rs as hy
+
+
+def _record(n: int = 4000) -> np.ndarray:
+    t = np.linspace(0.0, 1.0, n)
+    return 2.0 * np.exp(-2.0 * t) * np.sin(2 * np.pi * 8 * t)
+
+
+def test_noise_free_recovery_of_a_bouc_wen_spring() -> None:
+    truth = hy.bouc_wen(0.3, 1.0, 0.8, 0.4, 1.5, stiffness={"z": [0.0], "s": [3.0]})
+    x = _record()
+    y = truth.run(x)
+    start = truth.with_params(w=0.4, beta=0.6, gamma=0.5)
+    result = hy.fit(start, x, y, ["w", "beta", "gamma"])
+    assert result.converged and result.status == "converged", result.message
+    for name, value in result.values.items():
+        want = truth.params[name]
+        assert abs(value - want) <= 1e-6 * abs(want), (name, value, want)
+    assert result.free == ["w", "beta", "gamma"]
+    assert result.start == {"w": 0.4, "beta": 0.6, "gamma": 0.5}
+    assert result.rms < 1e-8
+    assert result.model.params == pytest.approx(truth.params, rel=1e-6)
+    assert np.allclose(result.model.run(x), y, atol=1e-7)
+    hist = result.history
+    assert len(hist) >= 1 and hist[-1]["cost"] <= hist[0]["cost"]
+    assert "converged" in str(result)
+
+
+def test_noisy_fit_reports_uncertainty_and_correlation() -> None:
+    truth = hy.mms(1.5, 20.0)
+    x = _record()
+    rng = np.random.default_rng(1)
+    y = truth.run(x) + 0.01 * rng.standard_normal(x.size)
+    result = hy.fit(hy.mms(1.0, 10.0), x, y, ["f_c", "k"])
+    se = result.std_errors
+    for name in ("f_c", "k"):
+        lo, hi = result.ci95[name]
+        assert lo < result.values[name] < hi
+        assert se[name] is not None and se[name] > 0
+        assert lo < truth.params[name] < hi  # 95 %: this seed's interval holds the truth
+    c = result.correlation
+    assert c is not None and c.shape == (2, 2)
+    assert np.allclose(np.diag(c), 1.0) and np.allclose(c, c.T)
+    assert result.nrmse is not None and result.nrmse < 0.05
+
+
+def test_fit_errors() -> None:
+    m = hy.mms(1.0, 10.0)
+    x = _record(100)
+    y = m.run(x)
+    with pytest.raises(hy.ParameterError, match="unknown parameter"):
+        hy.fit(m, x, y, ["nope"])
+    with pytest.raises(hy.FitError, match="no free parameters"):
+        hy.fit(m, x, y, [])
+    with pytest.raises(hy.FitError, match="input has 100 samples, output 99"):
+        hy.fit(m, x, y[:-1], ["k"])
+    with pytest.raises(hy.FitError, match="output sample 3 is not finite"):
+        bad = y.copy()
+        bad[3] = np.nan
+        hy.fit(m, x, bad, ["k"])
+    with pytest.raises(hy.ParameterError, match="named twice"):
+        hy.fit(m, x, y, ["k", "k"])
+    with pytest.raises(hy.ParameterError, match="tied"):
+        hy.fit(hy.paper_model(), x, x, ["right.bouc_wen.z0"])
+    with pytest.raises(hy.FitError, match="patience"):
+        hy.fit(m, x, y, ["k"], patience=0)

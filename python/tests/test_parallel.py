@@ -1,0 +1,82 @@
+"""Threads, batches and the Dask path give the serial results."""
+
+from __future__ import annotations
+
+import threading
+
+import numpy as np
+import pytest
+
+import hysteron_rs as hy
+
+
+def _records(n: int, length: int) -> list:
+    rng = np.random.default_rng(5)
+    t = np.linspace(0.0, 1.0, length)
+    return [a * np.sin(2 * np.pi * f * t) for a, f in zip(rng.uniform(0.5, 2.0, n), rng.uniform(1, 5, n))]
+
+
+def test_two_threads_two_models_match_serial_runs() -> None:
+    x = _records(1, 200_000)[0]
+    want = hy.paper_model().run(x)
+    models = [hy.paper_model(), hy.paper_model()]
+    out: dict = {}
+
+    def work(i: int) -> None:
+        out[i] = models[i].run(x)
+
+    threads = [threading.Thread(target=work, args=(i,)) for i in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert np.array_equal(out[0], want) and np.array_equal(out[1], want)
+
+
+def test_one_model_in_two_threads_is_refused_not_corrupted() -> None:
+    model = hy.paper_model()
+    x = _records(1, 2_000_000)[0]
+    errors: list = []
+    results: list = []
+
+    def work() -> None:
+        try:
+            results.append(model.run(x))
+        except RuntimeError as e:  # PyO3's borrow check: "Already borrowed"
+            errors.append(e)
+
+    threads = [threading.Thread(target=work) for _ in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert len(results) + len(errors) == 2 and results
+
+
+def test_run_batch_and_parameter_sets_match_serial_runs() -> None:
+    model = hy.paper_model()
+    records = _records(16, 3000)
+    for threads in (None, 1, 2):
+        got = hy.run_batch(model, records, threads=threads)
+        for r, y in zip(records, got):
+            fresh = hy.paper_model()
+            assert np.array_equal(y, fresh.run(r))
+    x = records[0]
+    sets = [{"left.mms.f_c": f} for f in (0.5, 1.0, 2.0)]
+    got = hy.run_parameter_sets(model, sets, x)
+    for s, y in zip(sets, got):
+        assert np.array_equal(y, model.with_params(s).run(x))
+
+
+def test_dask_local_cluster_with_two_workers() -> None:
+    distributed = pytest.importorskip("dask.distributed")
+    from hysteron_rs.dask import map_records
+
+    model = hy.paper_model()
+    records = _records(12, 2000)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        with distributed.Client(cluster) as client:
+            got = map_records(client, model, records)
+    assert len(got) == len(records)
+    for r, y in zip(records, got):
+        assert np.array_equal(y, hy.paper_model().run(r))

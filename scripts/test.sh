@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Every test of the project: Rust (cargo test --workspace), then the Python
+# package (installed from python/ into a fresh virtual environment, its stubs
+# checked by mypy's stubtest, pytest). Needs rustup's toolchain, python3 with
+# venv, and the package registries (crates.io, PyPI).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+echo "== cargo test --workspace"
+cargo test --workspace
+
+echo "== Python: install hysteron-rs into target/py-venv"
+python3 -m venv target/py-venv
+venv=target/py-venv/bin
+"$venv/python" -m pip install -q --upgrade pip
+"$venv/python" -m pip install -q "./python[test]"
+
+echo "== Python: the CLI the bit-identity tests compare with"
+cargo build --release -q -p hysteron-cli
+export HYSTERON_BIN="$PWD/target/release/hysteron"
+
+echo "== Python: stubtest"
+(cd target && "../$venv/python" -m mypy.stubtest hysteron_rs)
+
+echo "== Python: pytest"
+"$venv/python" -m pytest -q python/tests
