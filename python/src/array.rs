@@ -1,7 +1,7 @@
 //! Reading numpy arrays (or anything numpy can turn into one) as samples.
 
 use crate::errors::InputError;
-use numpy::{PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArray1, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
 /// The samples of `obj`, `np.asarray(obj, dtype=float64)`, which must be
@@ -9,6 +9,17 @@ use pyo3::prelude::*;
 /// order). `what` names the argument in messages. Finiteness is left to
 /// the library, which names the sample.
 pub fn samples(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<f64>> {
+    let read = readonly(obj, what)?;
+    // One memcpy for a contiguous array, element by element otherwise.
+    Ok(match read.as_slice() {
+        Ok(slice) => slice.to_vec(),
+        Err(_) => read.as_array().iter().copied().collect(),
+    })
+}
+
+/// `obj` as a 1-D, non-empty float64 array, checked as for [`samples`],
+/// borrowed read-only (no copy when it already is one).
+pub fn readonly<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<PyReadonlyArray1<'py, f64>> {
     let py = obj.py();
     let np = py.import("numpy")?;
     let unreadable = |e: PyErr| {
@@ -46,8 +57,10 @@ pub fn samples(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<f64>> {
     if array.len() == 0 {
         return Err(InputError::new_err(format!("{what}: is empty")));
     }
-    let read = array
+    let array = array.cast::<PyArray1<f64>>().map_err(|_| {
+        InputError::new_err(format!("{what}: numpy did not return a 1-D float64 array"))
+    })?;
+    array
         .try_readonly()
-        .map_err(|e| InputError::new_err(format!("{what}: cannot be read ({e})")))?;
-    Ok(read.as_array().iter().copied().collect())
+        .map_err(|e| InputError::new_err(format!("{what}: cannot be read ({e})")))
 }

@@ -1,11 +1,11 @@
 //! `Model`: a spec and the operator built from it, with its running state.
 
-use crate::array::samples;
+use crate::array::readonly;
 use crate::errors::{operator_error, spec_error, ParameterError, SpecError as PySpecError};
 use hysteron::composition::{SolverOptions, TravelLimits};
 use hysteron::identify::free_by_names;
 use hysteron::models::Spec;
-use hysteron::Operator;
+use hysteron::{Error, Operator};
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
@@ -52,6 +52,20 @@ impl Model {
     pub fn indices(&self, names: &[String]) -> PyResult<Vec<usize>> {
         let refs: Vec<&str> = names.iter().map(String::as_str).collect();
         free_by_names(self.op.as_ref(), &refs).map_err(|e| ParameterError::new_err(e.to_string()))
+    }
+}
+
+/// Samples per GIL release in [`Model::run`].
+const RUN_CHUNK: usize = 1 << 15;
+
+/// An error at sample `i` of a chunk as the error at sample `start + i`.
+fn shift_sample(e: Error, start: usize) -> Error {
+    match e {
+        Error::AtSample { index, source } => Error::AtSample {
+            index: index + start,
+            source,
+        },
+        other => other,
     }
 }
 
@@ -261,11 +275,31 @@ impl Model {
         py: Python<'py>,
         x: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let xs = samples(x, "x")?;
-        let op = &mut self.op;
-        let ys = py
-            .detach(move || op.run(&xs))
-            .map_err(|e| operator_error(py, e))?;
+        let xs = readonly(x, "x")?;
+        let n = xs.len()?;
+        let mut ys = vec![0.0; n];
+        // A strided array is copied once into order; a contiguous one is
+        // copied chunk by chunk, small enough to stay in cache. Each chunk
+        // is copied with the GIL held (no Python thread can write the
+        // array meanwhile) and run with the GIL released.
+        let strided: Option<Vec<f64>> = match xs.as_slice() {
+            Ok(_) => None,
+            Err(_) => Some(xs.as_array().iter().copied().collect()),
+        };
+        let mut chunk = Vec::with_capacity(RUN_CHUNK.min(n));
+        for (k, out) in ys.chunks_mut(RUN_CHUNK).enumerate() {
+            let start = k * RUN_CHUNK;
+            let range = start..start + out.len();
+            chunk.clear();
+            match &strided {
+                Some(all) => chunk.extend_from_slice(&all[range]),
+                None => chunk.extend_from_slice(&xs.as_slice()?[range]),
+            }
+            let op = &mut self.op;
+            let input = &chunk;
+            py.detach(move || op.process(input, out))
+                .map_err(|e| operator_error(py, shift_sample(e, start)))?;
+        }
         Ok(PyArray1::from_vec(py, ys))
     }
 
