@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Every test of the project: Rust (cargo test --workspace), then the Python
 # package (installed from python/ into a fresh virtual environment, its stubs
-# checked by mypy's stubtest, pytest). Needs rustup's toolchain, python3 with
+# checked by mypy's stubtest, mypy, pytest). Needs rustup's toolchain, python3 with
 # venv, and the package registries (crates.io, PyPI).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -21,6 +21,9 @@ export HYSTERON_BIN="$PWD/target/release/hysteron"
 
 echo "== Python: stubtest"
 (cd target && "../$venv/python" -m mypy.stubtest hysteron_rs)
+
+echo "== Python: mypy on the package, the examples and the benchmark"
+"$venv/python" -m mypy python/hysteron_rs examples/python python/bench
 
 echo "== Python: pytest"
 "$venv/python" -m pytest -q python/tests

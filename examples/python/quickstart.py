@@ -17,6 +17,7 @@ needed for the plot)::
 from __future__ import annotations
 
 import argparse
+from typing import List, Optional, Tuple
 
 import numpy as np
 
@@ -37,10 +38,11 @@ def compose(f_c: float, k: float, w: float, beta: float) -> hy.Model:
     return friction.series(spring, limits={"type": "gap", "b": 0.3, "r0": 0.0})
 
 
-def main() -> None:
+def main(argv: Optional[List[str]] = None) -> Tuple[hy.Model, hy.FitResult]:
+    """Runs the quickstart; returns the true model and the fit result."""
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--output", default="quickstart.png", help="the PNG to write")
-    args = ap.parse_args()
+    args = ap.parse_args(argv)
 
     # The "measured" record: 4 cycles of a decaying sine, 1 % noise.
     t = np.linspace(0.0, 4.0, 8000)
@@ -55,8 +57,9 @@ def main() -> None:
     result = hy.fit(start, x, measured, ["f_c", "k", "w", "beta"])
     print(result)
     for name, value in result.values.items():
-        lo, hi = result.ci95[name]
-        print(f"{name:28s} true {truth.params[name]:8.4f}  fitted {value:8.4f}  95 % [{lo:.4f}, {hi:.4f}]")
+        interval = result.ci95[name]  # None where JᵀJ is singular
+        ci = f"95 % [{interval[0]:.4f}, {interval[1]:.4f}]" if interval else "no interval"
+        print(f"{name:28s} true {truth.params[name]:8.4f}  fitted {value:8.4f}  {ci}")
 
     fitted = result.model.run(x)
 
@@ -66,7 +69,7 @@ def main() -> None:
     import matplotlib.pyplot as plt
 
     fig, (loops, time) = plt.subplots(1, 2, figsize=(10, 4), constrained_layout=True)
-    loops.plot(x, measured, ".", ms=1.5, color="0.6", label="measured")
+    loops.plot(x, measured, lw=3.0, color="0.75", label="measured")
     loops.plot(x, start.run(x), lw=1.0, color="tab:orange", ls="--", label="start")
     loops.plot(x, fitted, lw=1.2, color="tab:blue", label="fitted")
     loops.set_xlabel("displacement x")
@@ -79,6 +82,7 @@ def main() -> None:
     time.set_title(f"residual (RMS {result.rms:.3g}, NRMSE {result.nrmse:.2g})")
     fig.savefig(args.output, dpi=110)
     print(f"wrote {args.output}")
+    return truth, result
 
 
 if __name__ == "__main__":

@@ -16,7 +16,9 @@ Prints, on the same machine in the same run:
 * ``threads``: two paper models run in two threads against the same two
   runs one after the other (the GIL is released while a model runs);
 * ``dask``: 64 records through ``hysteron_rs.dask.map_records`` on a
-  LocalCluster of 2 worker processes against 1 (one thread each).
+  LocalCluster of 2 worker processes against 1 (one thread each), sent
+  from the client, and loaded by the workers from ``.npy`` files with only
+  a summary sent back.
 """
 
 from __future__ import annotations
@@ -26,6 +28,7 @@ import os
 import pathlib
 import statistics
 import subprocess
+import tempfile
 import threading
 import time
 
@@ -120,13 +123,26 @@ def main() -> None:
 
     from hysteron_rs.dask import map_records
 
-    records = [x[i * 100_000 : (i + 1) * 100_000] for i in range(64)]
-    timings = {}
-    for workers in (1, 2):
-        with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, Client(cluster) as client:
-            map_records(client, model, records[:4])  # warm the workers
-            timings[workers] = median_time(lambda: map_records(client, model, records), runs)
-    print(f"dask    64 records x 100000 samples: 1 worker {timings[1]:.3f} s, 2 workers {timings[2]:.3f} s, speed-up {timings[1] / timings[2]:.2f}x")
+    length = max(1, n // 16)  # 625 000 samples each by default: 0.04 s of work each
+    records = [x[:length] + 0.01 * i for i in range(64)]
+    with tempfile.TemporaryDirectory() as tmp:
+        paths = []
+        for i, r in enumerate(records):
+            paths.append(os.path.join(tmp, f"record{i}.npy"))
+            np.save(paths[-1], r)
+        sent: dict = {}
+        loaded: dict = {}
+        for workers in (1, 2):
+            with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, Client(cluster) as client:
+                map_records(client, model, records[:4])  # warm the workers
+                sent[workers] = median_time(lambda: map_records(client, model, records), runs)
+                loaded[workers] = median_time(lambda: map_records(client, model, paths, load=np.load, reduce=peak), runs)
+    print(f"dask    64 records x {length} samples sent from the client: 1 worker {sent[1]:.3f} s, 2 workers {sent[2]:.3f} s, speed-up {sent[1] / sent[2]:.2f}x")
+    print(f"dask    64 records x {length} samples loaded by the workers (np.load, peak |y| back): 1 worker {loaded[1]:.3f} s, 2 workers {loaded[2]:.3f} s, speed-up {loaded[1] / loaded[2]:.2f}x")
+
+
+def peak(y: np.ndarray) -> float:
+    return float(np.max(np.abs(y)))
 
 
 if __name__ == "__main__":

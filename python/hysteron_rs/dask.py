@@ -1,9 +1,9 @@
 """Running a batch of records over a Dask cluster.
 
 ``map_records(client, model, records)`` sends the model (pickled through
-its spec) and the records to the cluster's workers in chunks, runs each
-chunk there with ``run_batch`` on one thread per task, and gathers the
-outputs in order. The scheduler is Dask's; nothing here schedules::
+its spec) to every worker once, cuts the records into chunks, runs each
+chunk on a worker with ``run_batch`` on one thread per task, and gathers
+the results in order. The scheduler is Dask's; nothing here schedules::
 
     from dask.distributed import Client, LocalCluster
     import hysteron_rs as hy
@@ -13,52 +13,106 @@ outputs in order. The scheduler is Dask's; nothing here schedules::
         outputs = map_records(client, hy.paper_model(), records)
 
 On a real cluster only the client changes: ``Client("tcp://scheduler:8786")``.
+
+Records sent from the client travel through it (8 bytes a sample each
+way), which on a small machine costs as much as a fast model's run. Where
+the records live on storage the workers can read, send their names and a
+``load`` function instead, and reduce each output on the worker when only
+a summary is wanted::
+
+    rms = map_records(client, model, paths, load=np.load,
+                      reduce=lambda y: float(np.sqrt(np.mean(y * y))))
+
 Each record runs from the model's initial state, as in ``run_batch``.
 """
 
 from __future__ import annotations
 
-from typing import Any, List, Optional, Sequence
+from typing import Any, Callable, List, Optional, Sequence
 
 import numpy as np
 import numpy.typing as npt
 
-from ._native import Model, run_batch
+from ._native import HysteronError, Model, run_batch
 
 __all__ = ["map_records"]
 
 
-def _run_chunk(model: Model, chunk: Sequence[npt.NDArray[np.float64]]) -> List[npt.NDArray[np.float64]]:
-    # One thread per task: Dask runs as many tasks as the workers have threads.
-    return run_batch(model, chunk, threads=1)
+def _run_chunk(
+    model: Model,
+    offset: int,
+    chunk: Sequence[Any],
+    load: Optional[Callable[[Any], npt.ArrayLike]],
+    reduce: Optional[Callable[[npt.NDArray[np.float64]], Any]],
+) -> List[Any]:
+    arrays = [load(r) for r in chunk] if load is not None else chunk
+    try:
+        # One thread per task: Dask runs as many tasks as the workers have threads.
+        outputs: List[Any] = run_batch(model, arrays, threads=1)
+    except HysteronError as e:
+        raise _renumbered(e, offset) from None
+    return [reduce(y) for y in outputs] if reduce is not None else outputs
+
+
+def _renumbered(e: HysteronError, offset: int) -> HysteronError:
+    """``e`` (about record ``i`` of a chunk) about record ``offset + i``."""
+    local = getattr(e, "index", None)
+    if local is None:
+        return e
+    prefix = f"record {local}: "
+    message = str(e)
+    if message.startswith(prefix):
+        message = message[len(prefix) :]
+    out = type(e)(f"record {offset + local}: {message}")
+    out.index = offset + local  # type: ignore[attr-defined]
+    if hasattr(e, "sample"):
+        out.sample = e.sample  # type: ignore[attr-defined]
+    return out
 
 
 def map_records(
     client: Any,
     model: Model,
-    records: Sequence[npt.ArrayLike],
+    records: Sequence[Any],
     *,
+    load: Optional[Callable[[Any], npt.ArrayLike]] = None,
+    reduce: Optional[Callable[[npt.NDArray[np.float64]], Any]] = None,
     chunk_size: Optional[int] = None,
-) -> List[npt.NDArray[np.float64]]:
+) -> List[Any]:
     """Runs ``model`` over every record on the cluster of ``client``.
 
+    ``records`` are 1-D float arrays, or, with ``load``, anything ``load``
+    turns into one on the worker (file names, keys, seeds). ``reduce``,
+    if given, is applied to each output on the worker and its result is
+    returned instead of the output. Both must be picklable (module-level
+    functions, or what cloudpickle takes).
+
     Records are cut into chunks of ``chunk_size`` (default: about four
-    chunks per worker thread), each a task; the model is scattered once.
-    Errors are raised as in ``run_batch``, naming the record within its
-    chunk.
+    chunks per worker thread), each a task. An error is raised as in
+    ``run_batch``, with ``index`` the record's position in ``records``.
     """
-    arrays = [np.ascontiguousarray(r, dtype=np.float64) for r in records]
-    if not arrays:
+    if load is None:
+        items: List[Any] = [np.ascontiguousarray(r, dtype=np.float64) for r in records]
+    else:
+        items = list(records)
+    if not items:
         return []
     if chunk_size is None:
         threads = sum(client.nthreads().values()) or 1
-        chunk_size = max(1, len(arrays) // (4 * threads))
+        chunk_size = max(1, len(items) // (4 * threads))
     if chunk_size < 1:
         raise ValueError("chunk_size: must be at least 1")
-    chunks = [arrays[i : i + chunk_size] for i in range(0, len(arrays), chunk_size)]
-    shared = client.scatter(model, broadcast=True)
-    futures = client.map(_run_chunk, [shared] * len(chunks), chunks, pure=False)
-    out: List[npt.NDArray[np.float64]] = []
+    offsets = list(range(0, len(items), chunk_size))
+    chunks = [items[i : i + chunk_size] for i in offsets]
+    shared = client.scatter(model, broadcast=True, hash=False)
+    # Scattered, the chunks go to the workers directly, not through the
+    # scheduler inside the task graph.
+    data = client.scatter(chunks, hash=False)
+    n = len(chunks)
+    futures = client.map(
+        _run_chunk, [shared] * n, offsets, data, [load] * n, [reduce] * n, pure=False
+    )
+    out: List[Any] = []
     for part in client.gather(futures):
         out.extend(part)
     return out

@@ -25,43 +25,43 @@ use pyo3::prelude::*;
 use pyo3::PyErr;
 
 pyo3::create_exception!(
-    _native,
+    hysteron_rs,
     HysteronError,
     PyValueError,
     "Every error of hysteron_rs (a ValueError)."
 );
 pyo3::create_exception!(
-    _native,
+    hysteron_rs,
     SpecError,
     HysteronError,
     "A spec that is not valid JSON or not a spec; the message names the path in the document."
 );
 pyo3::create_exception!(
-    _native,
+    hysteron_rs,
     ParameterError,
     HysteronError,
     "A parameter outside its domain, a parameter vector of the wrong length, or an unknown or ambiguous parameter name."
 );
 pyo3::create_exception!(
-    _native,
+    hysteron_rs,
     InputError,
     HysteronError,
     "An input that is not a non-empty, finite, 1-D float array (the message names the sample)."
 );
 pyo3::create_exception!(
-    _native,
+    hysteron_rs,
     SolverError,
     HysteronError,
     "A model that failed while running: an implicit solve without a root, a jump, a non-finite output."
 );
 pyo3::create_exception!(
-    _native,
+    hysteron_rs,
     AnalysisError,
     HysteronError,
     "A describing-function or loop-energy analysis that could not run or did not reach a steady cycle."
 );
 pyo3::create_exception!(
-    _native,
+    hysteron_rs,
     FitError,
     HysteronError,
     "A fit that cannot start (empty or mismatched records, no free parameters, a bad option)."

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import pickle
+
 import numpy as np
 import pytest
 
@@ -116,3 +118,16 @@ def test_batch_errors_name_the_record() -> None:
         hy.run_batch(hy.play(0.1), [[1.0]], threads=0)
     with pytest.raises(hy.ParameterError, match="must be ≥ 0"):
         hy.run_parameter_sets(hy.play(0.1), [{"r": -1.0}], [1.0])
+
+
+def test_errors_pickle_as_the_package_classes() -> None:
+    # Their module is hysteron_rs, so multiprocessing and Dask hand them
+    # back as the same classes, with their attributes.
+    with pytest.raises(hy.InputError) as err:
+        hy.gain(1.0).run([0.0, np.nan])
+    back = pickle.loads(pickle.dumps(err.value))
+    assert type(back) is hy.InputError and isinstance(back, hy.HysteronError)
+    assert str(back) == str(err.value) and back.sample == 1
+    for cls in (hy.HysteronError, hy.SpecError, hy.ParameterError, hy.InputError, hy.SolverError, hy.AnalysisError, hy.FitError):
+        assert cls.__module__ == "hysteron_rs"
+        assert type(pickle.loads(pickle.dumps(cls("m")))) is cls

@@ -68,15 +68,36 @@ def test_run_batch_and_parameter_sets_match_serial_runs() -> None:
         assert np.array_equal(y, model.with_params(s).run(x))
 
 
-def test_dask_local_cluster_with_two_workers() -> None:
+def _peak(y: np.ndarray) -> float:
+    return float(np.max(np.abs(y)))
+
+
+def test_dask_local_cluster_with_two_workers(tmp_path) -> None:
     distributed = pytest.importorskip("dask.distributed")
     from hysteron_rs.dask import map_records
 
     model = hy.paper_model()
     records = _records(12, 2000)
+    paths = []
+    for i, r in enumerate(records):
+        paths.append(str(tmp_path / f"record{i}.npy"))
+        np.save(paths[-1], r)
+    bad = [r.copy() for r in records]
+    bad[9][5] = np.nan
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
         with distributed.Client(cluster) as client:
+            assert len(client.nthreads()) == 2
             got = map_records(client, model, records)
-    assert len(got) == len(records)
-    for r, y in zip(records, got):
-        assert np.array_equal(y, hy.paper_model().run(r))
+            loaded = map_records(client, model, paths, load=np.load, chunk_size=5)
+            peaks = map_records(client, model, paths, load=np.load, reduce=_peak)
+            with pytest.raises(hy.InputError) as err:
+                map_records(client, model, bad, chunk_size=4)
+            assert map_records(client, model, []) == []
+    assert len(got) == len(loaded) == len(peaks) == len(records)
+    for r, y, z, p in zip(records, got, loaded, peaks):
+        want = hy.paper_model().run(r)
+        assert np.array_equal(y, want) and np.array_equal(z, want)
+        assert p == _peak(want)
+    # Record 9 is record 1 of the third chunk: named by its place in the batch.
+    assert err.value.index == 9 and err.value.sample == 5
+    assert str(err.value).startswith("record 9: at sample 5")
