@@ -131,3 +131,27 @@ def test_errors_pickle_as_the_package_classes() -> None:
     for cls in (hy.HysteronError, hy.SpecError, hy.ParameterError, hy.InputError, hy.SolverError, hy.AnalysisError, hy.FitError):
         assert cls.__module__ == "hysteron_rs"
         assert type(pickle.loads(pickle.dumps(cls("m")))) is cls
+
+
+def test_strided_and_converted_arrays_read_as_their_values() -> None:
+    base = np.sin(np.linspace(0.0, 30.0, 90_001))
+    for view in (base[::2], base[::-1], base[10::3], base.astype(np.float32), (base * 100).astype(np.int64)):
+        want = hy.paper_model().run(np.ascontiguousarray(view, dtype=np.float64))
+        assert np.array_equal(hy.paper_model().run(view), want)
+
+
+@pytest.mark.parametrize("stride", [1, 3])
+def test_an_error_past_the_first_chunk_names_its_sample_in_the_whole_run(stride: int) -> None:
+    # run() works in chunks of 32768 samples; the index is the run's own.
+    x = np.repeat(np.sin(np.linspace(0.0, 40.0, 100_000)), stride)
+    x[70_001 * stride] = np.nan
+    view = x[::stride]
+    model = hy.paper_model()
+    with pytest.raises(hy.InputError) as err:
+        model.run(view)
+    assert err.value.sample == 70_001 and "at sample 70001" in str(err.value)
+    # Every sample before it was committed: the next sample continues from
+    # sample 70000's state.
+    fresh = hy.paper_model()
+    want = fresh.run(np.append(view[:70_001], 0.25))[-1]
+    assert model.run([0.25])[0] == want
