@@ -9,6 +9,9 @@ use hysteron::models::Spec;
 use hysteron::operators::Domain;
 use hysteron::prelude::*;
 
+mod common;
+use common::{bits, trial_commit_loop};
+
 /// A signal with reversals of varying amplitude, repeated samples and a
 /// zero crossing, in the range of the paper's experiments.
 fn signal<T: Float>() -> Vec<T> {
@@ -27,20 +30,6 @@ fn signal<T: Float>() -> Vec<T> {
 }
 
 /// The bits of each value (exact for `f32` too: widening is exact).
-fn bits<T: Float>(v: &[T]) -> Vec<u64> {
-    v.iter().map(|y| y.as_f64().to_bits()).collect()
-}
-
-fn trial_commit_loop<T: Float, O: Operator<T>>(op: &mut O, xs: &[T]) -> Vec<T> {
-    xs.iter()
-        .map(|&x| {
-            let t = op.trial(x).expect("trial");
-            op.commit();
-            t.output
-        })
-        .collect()
-}
-
 /// The whole contract for one operator, for any scalar.
 fn check<T: Float, O: Operator<T> + Clone + 'static>(label: &str, op: O) {
     let xs = signal::<T>();

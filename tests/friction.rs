@@ -22,12 +22,6 @@ const EPS: f64 = f64::EPSILON;
 // Signals
 // ---------------------------------------------------------------------------
 
-/// `a + (b − a) t`, kept inside `[a, b]` (rounding must not add a
-/// reversal).
-fn lerp(a: f64, b: f64, t: f64) -> f64 {
-    (a + (b - a) * t).clamp(a.min(b), a.max(b))
-}
-
 /// A piecewise-monotone signal from 0: ramps of 1–8 samples to random
 /// turning points in `[−amp, amp]`, some held values and some reversals of
 /// a relative size 1e-12.
@@ -62,23 +56,6 @@ fn signal(amp: f64, max_legs: usize) -> impl Strategy<Value = Vec<f64>> {
         }
         xs
     })
-}
-
-/// The same signal with `m` linearly interpolated samples inserted between
-/// each pair, and the indices of the original samples in it.
-fn refine(xs: &[f64], m: usize) -> (Vec<f64>, Vec<usize>) {
-    let mut fine = Vec::new();
-    let mut at = Vec::new();
-    let mut prev = 0.0;
-    for &x in xs {
-        for k in 1..=m {
-            fine.push(lerp(prev, x, k as f64 / (m + 1) as f64));
-        }
-        at.push(fine.len());
-        fine.push(x);
-        prev = x;
-    }
-    (fine, at)
 }
 
 fn run_trials(op: &mut impl Operator<f64>, xs: &[f64]) -> Result<Vec<Trial<f64>>, TestCaseError> {
@@ -315,7 +292,7 @@ fn maxwell_slip_and_dahl_are_exactly_rate_independent() {
         256,
         (maxwell_slip(1.0), dahl(false), signal(1.5, 20), 1_usize..5),
         |(ms, dahl, xs, m)| {
-            let (fine, at) = refine(&xs, m);
+            let (fine, at) = refine(&xs, &[m]);
             let ops: [Box<dyn Operator<f64>>; 2] = [
                 ok(MaxwellSlip::from_params(ms))?.boxed(),
                 ok(Dahl::from_params(dahl))?.boxed(),

@@ -60,12 +60,6 @@ fn leg() -> impl Strategy<Value = Leg> {
     ]
 }
 
-/// `a + (b − a) t`, kept inside `[a, b]` (rounding could step outside, which
-/// would add a reversal).
-fn lerp(a: f64, b: f64, t: f64) -> f64 {
-    (a + (b - a) * t).clamp(a.min(b), a.max(b))
-}
-
 fn next_up(x: f64) -> f64 {
     if x == 0.0 {
         f64::from_bits(1)
@@ -158,25 +152,6 @@ fn frac() -> impl Strategy<Value = f64> {
 /// A play/stop threshold (relative to the signal amplitude), sometimes 0.
 fn threshold() -> impl Strategy<Value = f64> {
     prop_oneof![1 => Just(0.0), 6 => 0.0_f64..2.0]
-}
-
-/// Inserts `m_i` linearly interpolated samples before each sample `x_i`
-/// (the first segment starts at the initial input 0). Returns the refined
-/// signal and the indices of the original samples in it.
-fn refine(xs: &[f64], ms: &[usize]) -> (Vec<f64>, Vec<usize>) {
-    let mut fine = Vec::new();
-    let mut at = Vec::with_capacity(xs.len());
-    let mut prev = 0.0;
-    for (i, &x) in xs.iter().enumerate() {
-        let m = ms[i % ms.len()];
-        for k in 1..=m {
-            fine.push(lerp(prev, x, k as f64 / (m + 1) as f64));
-        }
-        at.push(fine.len());
-        fine.push(x);
-        prev = x;
-    }
-    (fine, at)
 }
 
 fn refinement() -> impl Strategy<Value = Vec<usize>> {

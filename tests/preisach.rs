@@ -78,11 +78,6 @@ fn models() -> Vec<(&'static str, Preisach<f64>)> {
 // Signals
 // ---------------------------------------------------------------------------
 
-/// `a + (b − a) t`, kept inside `[a, b]`.
-fn lerp(a: f64, b: f64, t: f64) -> f64 {
-    (a + (b - a) * t).clamp(a.min(b), a.max(b))
-}
-
 /// Monotone ramps from `from` through the turning points, `n` samples each.
 fn ramps(from: f64, legs: &[(f64, usize)]) -> Vec<f64> {
     let mut xs = Vec::new();

@@ -207,10 +207,8 @@ impl<T: Float> DahlParams<T> {
 
 impl<T: Float> StepLaw<T> for DahlParams<T> {
     const KIND: &'static str = "dahl";
-    const EQUATION: &'static str = "dF/dx = σ |1 − (F/F_c) sgn ẋ|^α sgn(1 − (F/F_c) sgn ẋ)";
     type State = DahlState<T>;
     type With<U: Float> = DahlParams<U>;
-
 
     fn initial(&self) -> DahlState<T> {
         Self::start(self)
@@ -222,6 +220,8 @@ impl<T: Float> StepLaw<T> for DahlParams<T> {
         let output = s.f;
         Ok((s, Trial { output, tangent }))
     }
+
+    const EQUATION: &'static str = "dF/dx = σ |1 − (F/F_c) sgn ẋ|^α sgn(1 − (F/F_c) sgn ẋ)";
 }
 
 #[cfg(test)]

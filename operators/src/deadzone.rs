@@ -56,10 +56,8 @@ impl<T: Float> DeadZone<T> {
 
 impl<T: Float> StepLaw<T> for DeadZoneParams<T> {
     const KIND: &'static str = "dead_zone";
-    const EQUATION: &'static str = "y = x − b_r above b_r, x − b_l below b_l, 0 in between";
     type State = ();
     type With<U: Float> = DeadZoneParams<U>;
-
 
     fn initial(&self) {}
 
@@ -84,4 +82,6 @@ impl<T: Float> StepLaw<T> for DeadZoneParams<T> {
         let DeadZoneParams { b_l, b_r } = *self;
         map_samples(xs, ys, |x| dead_zone(b_l, b_r, x))
     }
+
+    const EQUATION: &'static str = "y = x − b_r above b_r, x − b_l below b_l, 0 in between";
 }

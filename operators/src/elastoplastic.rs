@@ -70,10 +70,8 @@ impl<T: Float> ElastoPlastic<T> {
 
 impl<T: Float> StepLaw<T> for ElastoPlasticParams<T> {
     const KIND: &'static str = "elastoplastic";
-    const EQUATION: &'static str = "F = k · stop_{F_b/k}[x]: slope k until |F| = F_b, then sliding at ±F_b";
     type State = T;
     type With<U: Float> = ElastoPlasticParams<U>;
-
 
     fn initial(&self) -> T {
         -self.stop().s0
@@ -91,4 +89,6 @@ impl<T: Float> StepLaw<T> for ElastoPlasticParams<T> {
             },
         ))
     }
+
+    const EQUATION: &'static str = "F = k · stop_{F_b/k}[x]: slope k until |F| = F_b, then sliding at ±F_b";
 }

@@ -36,10 +36,8 @@ impl<T: Float> Gain<T> {
 
 impl<T: Float> StepLaw<T> for GainParams<T> {
     const KIND: &'static str = "gain";
-    const EQUATION: &'static str = "y = k x";
     type State = ();
     type With<U: Float> = GainParams<U>;
-
 
     fn initial(&self) {}
 
@@ -60,4 +58,6 @@ impl<T: Float> StepLaw<T> for GainParams<T> {
         map_samples(xs, ys, |x| k * x)?;
         check_finite_outputs(Self::KIND, xs, ys)
     }
+
+    const EQUATION: &'static str = "y = k x";
 }

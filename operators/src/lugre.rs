@@ -187,10 +187,8 @@ impl<T: Float> LuGreParams<T> {
 
 impl<T: Float> StepLaw<T> for LuGreParams<T> {
     const KIND: &'static str = "lugre";
-    const EQUATION: &'static str = "ż = v − σ0 |v| z / g(v), g(v) = F_c + (F_s − F_c) exp(−|v/v_s|^δ), F = σ0 z + σ1 ż + σ2 v";
     type State = LuGreState<T>;
     type With<U: Float> = LuGreParams<U>;
-
 
     fn initial(&self) -> LuGreState<T> {
         LuGreState {
@@ -211,6 +209,8 @@ impl<T: Float> StepLaw<T> for LuGreParams<T> {
         self.dt = dt;
         Ok(())
     }
+
+    const EQUATION: &'static str = "ż = v − σ0 |v| z / g(v), g(v) = F_c + (F_s − F_c) exp(−|v/v_s|^δ), F = σ0 z + σ1 ż + σ2 v";
 }
 
 #[cfg(test)]

@@ -76,10 +76,8 @@ impl<T: Float> MassSpringDamper<T> {
 
 impl<T: Float> StepLaw<T> for MassSpringDamperParams<T> {
     const KIND: &'static str = "mass_spring_damper";
-    const EQUATION: &'static str = "m ÿ + c ẏ + k y = u (input force u, output displacement y; Newmark average acceleration, step dt)";
     type State = MsdState<T>;
     type With<U: Float> = MassSpringDamperParams<U>;
-
 
     fn initial(&self) -> MsdState<T> {
         MsdState {
@@ -123,6 +121,8 @@ impl<T: Float> StepLaw<T> for MassSpringDamperParams<T> {
         self.dt = dt;
         Ok(())
     }
+
+    const EQUATION: &'static str = "m ÿ + c ẏ + k y = u (input force u, output displacement y; Newmark average acceleration, step dt)";
 }
 
 #[cfg(test)]

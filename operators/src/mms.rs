@@ -159,10 +159,8 @@ fn on_branch<T: Float>(rise: T, target: T, y_r: T) -> T {
 
 impl<T: Float> StepLaw<T> for MmsParams<T> {
     const KIND: &'static str = "mms";
-    const EQUATION: &'static str = "y = y_r + (sgn(ẋ) F_c − y_r)(1 − exp(−K |x − x_r|)), (x_r, y_r) the last reversal";
     type State = MmsState<T>;
     type With<U: Float> = MmsParams<U>;
-
 
     fn initial(&self) -> MmsState<T> {
         Self::start(self)
@@ -265,4 +263,6 @@ impl<T: Float> StepLaw<T> for MmsParams<T> {
         *state = s;
         Ok(())
     }
+
+    const EQUATION: &'static str = "y = y_r + (sgn(ẋ) F_c − y_r)(1 − exp(−K |x − x_r|)), (x_r, y_r) the last reversal";
 }

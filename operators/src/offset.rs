@@ -31,10 +31,8 @@ impl<T: Float> Offset<T> {
 
 impl<T: Float> StepLaw<T> for OffsetParams<T> {
     const KIND: &'static str = "offset";
-    const EQUATION: &'static str = "y = x + c";
     type State = ();
     type With<U: Float> = OffsetParams<U>;
-
 
     fn initial(&self) {}
 
@@ -48,4 +46,6 @@ impl<T: Float> StepLaw<T> for OffsetParams<T> {
             },
         ))
     }
+
+    const EQUATION: &'static str = "y = x + c";
 }

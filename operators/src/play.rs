@@ -138,10 +138,8 @@ impl<T: Float> Play<T> {
 
 impl<T: Float> StepLaw<T> for PlayParams<T> {
     const KIND: &'static str = "play";
-    const EQUATION: &'static str = "y_k = max(x_k − r, min(x_k + r, y_{k−1})), from y0";
     type State = T;
     type With<U: Float> = PlayParams<U>;
-
 
     fn initial(&self) -> T {
         self.y0
@@ -189,6 +187,8 @@ impl<T: Float> StepLaw<T> for PlayParams<T> {
         *state = y;
         Ok(())
     }
+
+    const EQUATION: &'static str = "y_k = max(x_k − r, min(x_k + r, y_{k−1})), from y0";
 }
 
 #[cfg(test)]

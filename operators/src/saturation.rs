@@ -34,10 +34,8 @@ impl<T: Float> Saturation<T> {
 
 impl<T: Float> StepLaw<T> for SaturationParams<T> {
     const KIND: &'static str = "saturation";
-    const EQUATION: &'static str = "y = clamp(x, lo, hi)";
     type State = ();
     type With<U: Float> = SaturationParams<U>;
-
 
     fn initial(&self) {}
 
@@ -62,4 +60,6 @@ impl<T: Float> StepLaw<T> for SaturationParams<T> {
         let SaturationParams { lo, hi } = *self;
         map_samples(xs, ys, |x| x.max(lo).min(hi))
     }
+
+    const EQUATION: &'static str = "y = clamp(x, lo, hi)";
 }

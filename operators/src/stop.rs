@@ -62,10 +62,8 @@ impl<T: Float> Stop<T> {
 
 impl<T: Float> StepLaw<T> for StopParams<T> {
     const KIND: &'static str = "stop";
-    const EQUATION: &'static str = "s = x − play_r[x] ∈ [−r, r], from s0";
     type State = T;
     type With<U: Float> = StopParams<U>;
-
 
     fn initial(&self) -> T {
         -self.s0
@@ -76,4 +74,6 @@ impl<T: Float> StepLaw<T> for StopParams<T> {
         let (s, q, tangent) = stop_step(self.r, *q, x);
         Ok((q, Trial { output: s, tangent }))
     }
+
+    const EQUATION: &'static str = "s = x − play_r[x] ∈ [−r, r], from s0";
 }

@@ -44,10 +44,8 @@ impl<T: Float> ViscousDamper<T> {
 
 impl<T: Float> StepLaw<T> for ViscousDamperParams<T> {
     const KIND: &'static str = "viscous_damper";
-    const EQUATION: &'static str = "F = c ẋ, ẋ the backward difference (x_k − x_{k−1})/dt";
     type State = T;
     type With<U: Float> = ViscousDamperParams<U>;
-
 
     fn initial(&self) -> T {
         T::zero()
@@ -71,4 +69,6 @@ impl<T: Float> StepLaw<T> for ViscousDamperParams<T> {
         self.dt = dt;
         Ok(())
     }
+
+    const EQUATION: &'static str = "F = c ẋ, ẋ the backward difference (x_k − x_{k−1})/dt";
 }

@@ -2,7 +2,7 @@
 //! with the GIL released.
 
 use crate::array::samples;
-use crate::errors::{operator_error, HysteronError, InputError, ParameterError};
+use crate::errors::{operator_error, HysteronError, InputError};
 use crate::model::Model;
 use hysteron::identify::batch::{simulate_parameter_sets, simulate_records};
 use hysteron::Result as RustResult;
@@ -88,16 +88,7 @@ pub fn run_parameter_sets<'py>(
     let mut vectors = Vec::with_capacity(sets.len());
     for (i, set) in sets.iter().enumerate() {
         let mut p = base.clone();
-        for (k, v) in set.iter() {
-            let name: String = k.extract().map_err(|_| {
-                ParameterError::new_err(format!("set {i}: parameter names must be strings"))
-            })?;
-            let value: f64 = v.extract().map_err(|_| {
-                ParameterError::new_err(format!("set {i}: parameter `{name}`: not a number"))
-            })?;
-            let idx = model.indices(std::slice::from_ref(&name))?;
-            p[idx[0]] = value;
-        }
+        model.change(&mut p, set, &format!("set {i}: "))?;
         vectors.push(p);
     }
     let op = model.operator();

@@ -3,7 +3,9 @@
 use crate::array::samples;
 use crate::errors::{fit_error, spec_error, ParameterError};
 use crate::model::Model;
-use hysteron::identify::{fit_with_progress, FitOptions, FitReport, FitStatus, Progress};
+use hysteron::identify::{
+    fit_with_progress, FitOptions, FitReport, FitStatus, FittedParam, Progress,
+};
 use numpy::PyArray2;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -20,6 +22,33 @@ pub struct FitResult {
     model: Py<Model>,
     report: FitReport,
     history: Vec<Progress>,
+    /// Final cost `½ Σ r²`.
+    #[pyo3(get)]
+    cost: f64,
+    /// Root-mean-square residual.
+    #[pyo3(get)]
+    rms: f64,
+    /// `rms / std(y)`; `None` for a constant record.
+    #[pyo3(get)]
+    nrmse: Option<f64>,
+    /// `"converged"`, `"not_converged"` (the budget ran out) or `"failed"`.
+    #[pyo3(get)]
+    status: &'static str,
+    /// Why the fit stopped.
+    #[pyo3(get)]
+    message: String,
+    /// True when a convergence criterion was met.
+    #[pyo3(get)]
+    converged: bool,
+    /// Levenberg-Marquardt iterations.
+    #[pyo3(get)]
+    iterations: usize,
+    /// Model simulations over the whole record.
+    #[pyo3(get)]
+    evaluations: usize,
+    /// Wall time of the fit (s).
+    #[pyo3(get)]
+    wall_time: f64,
 }
 
 fn status_text(s: &FitStatus) -> (&'static str, &str) {
@@ -27,6 +56,21 @@ fn status_text(s: &FitStatus) -> (&'static str, &str) {
         FitStatus::Converged(why) => ("converged", why),
         FitStatus::NotConverged(why) => ("not_converged", why),
         FitStatus::Failed(why) => ("failed", why),
+    }
+}
+
+impl FitResult {
+    /// A dict keyed by parameter path of `value` of each free parameter.
+    fn per_param<'py, V: IntoPyObject<'py> + Copy>(
+        &self,
+        py: Python<'py>,
+        value: impl Fn(&FittedParam) -> V,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for p in &self.report.params {
+            d.set_item(&p.name, value(p))?;
+        }
+        Ok(d)
     }
 }
 
@@ -48,42 +92,26 @@ impl FitResult {
     /// Fitted values, keyed by parameter path.
     #[getter]
     fn values<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let d = PyDict::new(py);
-        for p in &self.report.params {
-            d.set_item(&p.name, p.value)?;
-        }
-        Ok(d)
+        self.per_param(py, |p| p.value)
     }
 
     /// Starting values, keyed by parameter path.
     #[getter]
     fn start<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let d = PyDict::new(py);
-        for p in &self.report.params {
-            d.set_item(&p.name, p.start)?;
-        }
-        Ok(d)
+        self.per_param(py, |p| p.start)
     }
 
     /// Standard errors keyed by path (`None` where `JᵀJ` is singular).
     #[getter]
     fn std_errors<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let d = PyDict::new(py);
-        for p in &self.report.params {
-            d.set_item(&p.name, p.std_error)?;
-        }
-        Ok(d)
+        self.per_param(py, |p| p.std_error)
     }
 
     /// 95 % confidence intervals `(lo, hi)` keyed by path (`None` where
     /// `JᵀJ` is singular).
     #[getter]
     fn ci95<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let d = PyDict::new(py);
-        for p in &self.report.params {
-            d.set_item(&p.name, p.ci95)?;
-        }
-        Ok(d)
+        self.per_param(py, |p| p.ci95)
     }
 
     /// The free parameters' correlation matrix (rows and columns in the
@@ -96,60 +124,6 @@ impl FitResult {
             })?)),
             None => Ok(None),
         }
-    }
-
-    /// Final cost `½ Σ r²`.
-    #[getter]
-    fn cost(&self) -> f64 {
-        self.report.cost
-    }
-
-    /// Root-mean-square residual.
-    #[getter]
-    fn rms(&self) -> f64 {
-        self.report.rms
-    }
-
-    /// `rms / std(y)`; `None` for a constant record.
-    #[getter]
-    fn nrmse(&self) -> Option<f64> {
-        self.report.nrmse
-    }
-
-    /// `"converged"`, `"not_converged"` (the budget ran out) or `"failed"`.
-    #[getter]
-    fn status(&self) -> &'static str {
-        status_text(&self.report.status).0
-    }
-
-    /// Why the fit stopped.
-    #[getter]
-    fn message(&self) -> String {
-        status_text(&self.report.status).1.to_string()
-    }
-
-    /// True when a convergence criterion was met.
-    #[getter]
-    fn converged(&self) -> bool {
-        self.report.status.converged()
-    }
-
-    /// Levenberg-Marquardt iterations.
-    #[getter]
-    fn iterations(&self) -> usize {
-        self.report.iterations
-    }
-
-    /// Model simulations over the whole record.
-    #[getter]
-    fn evaluations(&self) -> usize {
-        self.report.evaluations
-    }
-
-    /// Wall time of the fit (s).
-    #[getter]
-    fn wall_time(&self) -> f64 {
-        self.report.wall_time.as_secs_f64()
     }
 
     /// One dict per iteration: `iteration`, `evaluations` (so far) and
@@ -176,7 +150,7 @@ impl FitResult {
     fn __repr__(&self) -> String {
         format!(
             "FitResult(status={:?}, rms={}, free={:?})",
-            self.status(),
+            self.status,
             self.report.rms,
             self.free()
         )
@@ -253,9 +227,20 @@ pub fn fit(
         .spec()
         .with_params(&fitted.report.all_params)
         .map_err(spec_error)?;
+    let report = fitted.report;
+    let (status, why) = status_text(&report.status);
     Ok(FitResult {
         model: Py::new(py, Model::from_rust_spec(spec)?)?,
-        report: fitted.report,
+        cost: report.cost,
+        rms: report.rms,
+        nrmse: report.nrmse,
+        status,
+        message: why.to_string(),
+        converged: report.status.converged(),
+        iterations: report.iterations,
+        evaluations: report.evaluations,
+        wall_time: report.wall_time.as_secs_f64(),
+        report,
         history: history.into_inner().unwrap_or_default(),
     })
 }

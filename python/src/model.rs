@@ -48,6 +48,32 @@ impl Model {
         self.op.as_ref()
     }
 
+    /// Writes the values of `changes` (a dict keyed by full path or unique
+    /// suffix) into the flat parameter vector `p`; `context` starts every
+    /// message (`"set 3: "`).
+    pub fn change(
+        &self,
+        p: &mut [f64],
+        changes: &Bound<'_, PyDict>,
+        context: &str,
+    ) -> PyResult<()> {
+        for (k, v) in changes.iter() {
+            let name: String = k.extract().map_err(|_| {
+                ParameterError::new_err(format!(
+                    "{context}parameter names must be strings, got {k}"
+                ))
+            })?;
+            let value: f64 = v.extract().map_err(|_| {
+                ParameterError::new_err(format!("{context}parameter `{name}`: {v} is not a number"))
+            })?;
+            let refs = [name.as_str()];
+            let i = free_by_names(self.op.as_ref(), &refs)
+                .map_err(|e| ParameterError::new_err(format!("{context}{e}")))?[0];
+            p[i] = value;
+        }
+        Ok(())
+    }
+
     /// The indices of `names` (full paths or unique suffixes).
     pub fn indices(&self, names: &[String]) -> PyResult<Vec<usize>> {
         let refs: Vec<&str> = names.iter().map(String::as_str).collect();
@@ -244,16 +270,7 @@ impl Model {
     ) -> PyResult<Model> {
         let mut p = self.op.params();
         for dict in [values, kwargs].into_iter().flatten() {
-            for (k, v) in dict.iter() {
-                let name: String = k.extract().map_err(|_| {
-                    ParameterError::new_err(format!("parameter names must be strings, got {k}"))
-                })?;
-                let value: f64 = v.extract().map_err(|_| {
-                    ParameterError::new_err(format!("parameter `{name}`: {v} is not a number"))
-                })?;
-                let i = self.indices(std::slice::from_ref(&name))?[0];
-                p[i] = value;
-            }
+            self.change(&mut p, dict, "")?;
         }
         let spec = self.spec.with_params(&p).map_err(spec_error)?;
         Model::from_rust_spec(spec)

@@ -101,3 +101,14 @@ def test_dask_local_cluster_with_two_workers(tmp_path) -> None:
     # Record 9 is record 1 of the third chunk: named by its place in the batch.
     assert err.value.index == 9 and err.value.sample == 5
     assert str(err.value).startswith("record 9: at sample 5")
+
+
+def test_parameter_set_errors_name_the_set() -> None:
+    model = hy.paper_model()
+    x = _records(1, 100)[0]
+    with pytest.raises(hy.ParameterError, match=r"^set 1: unknown parameter `nope`"):
+        hy.run_parameter_sets(model, [{"f_c": 1.0}, {"nope": 1.0}], x)
+    with pytest.raises(hy.ParameterError, match=r"^set 0: parameter `f_c`: abc is not a number"):
+        hy.run_parameter_sets(model, [{"f_c": "abc"}], x)
+    with pytest.raises(hy.ParameterError, match=r"^parameter `f_c`: abc is not a number"):
+        model.with_params(f_c="abc")

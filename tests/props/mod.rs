@@ -70,3 +70,28 @@ pub fn bits(v: &[f64]) -> Vec<u64> {
 pub fn max_abs(xs: &[f64]) -> f64 {
     xs.iter().fold(0.0, |m, x| m.max(x.abs()))
 }
+
+/// `a + (b − a) t`, kept inside `[a, b]` (rounding could step outside, which
+/// would add a reversal).
+pub fn lerp(a: f64, b: f64, t: f64) -> f64 {
+    (a + (b - a) * t).clamp(a.min(b), a.max(b))
+}
+
+/// Inserts `m_i` linearly interpolated samples before each sample `x_i`
+/// (the first segment starts at the initial input 0). Returns the refined
+/// signal and the indices of the original samples in it.
+pub fn refine(xs: &[f64], ms: &[usize]) -> (Vec<f64>, Vec<usize>) {
+    let mut fine = Vec::new();
+    let mut at = Vec::with_capacity(xs.len());
+    let mut prev = 0.0;
+    for (i, &x) in xs.iter().enumerate() {
+        let m = ms[i % ms.len()];
+        for k in 1..=m {
+            fine.push(lerp(prev, x, k as f64 / (m + 1) as f64));
+        }
+        at.push(fine.len());
+        fine.push(x);
+        prev = x;
+    }
+    (fine, at)
+}

@@ -4,7 +4,7 @@ use super::*;
 use hysteron_composition::PiBankParams;
 use hysteron_operators::{
     BoucWenParams, DahlParams, DeadZoneParams, ElastoPlasticParams, GmsParams, LuGreParams,
-    MassSpringDamperParams, MaxwellSlipParams, MmsParams, PlayParams, SaturationParams,
+    MassSpringDamperParams, MaxwellSlipParams, MmsParams, ParamSet, PlayParams, SaturationParams,
     StiffnessMap, StopParams,
 };
 
@@ -197,18 +197,8 @@ fn all_specs() -> Vec<(String, Spec)> {
     ));
     specs.push((
         "gms".into(),
-        Spec::leaf::<hysteron_operators::Gms<f64>>(GmsParams {
-            k: vec![20.0, 8.0],
-            alpha: vec![0.6, 0.4],
-            f0: vec![0.1, 0.0],
-            c: 15.0,
-            f_c: 1.0,
-            f_s: 1.4,
-            v_s: 0.5,
-            delta: 2.0,
-            sigma2: 0.2,
-            dt: 0.01,
-        }),
+        // Its declared example (two elements, dt = 1e-3).
+        Spec::leaf::<hysteron_operators::Gms<f64>>(GmsParams::example()),
     ));
     specs
 }

@@ -6,22 +6,29 @@
 //! check `process` against the trial + commit loop bit for bit, including
 //! the state it leaves behind.
 
-use hysteron::models::paper_state;
+use hysteron::models::{paper_state, PaperModel, Spec, SpecError, TransmissionParams};
 use hysteron::prelude::*;
-use hysteron_cli::bench::{kernel_input, paper_model, paper_model_from_json};
 
-fn bits(v: &[f64]) -> Vec<u64> {
-    v.iter().map(|y| y.to_bits()).collect()
+mod common;
+use common::{bits, trial_commit_loop};
+
+/// The input of `hysteron bench`: `2.5 sin(2π i/2000) + 0.3 sin(2π i/97.3)`.
+fn kernel_input(n: usize) -> Vec<f64> {
+    let tau = std::f64::consts::TAU;
+    (0..n)
+        .map(|i| 2.5 * (tau * i as f64 / 2000.0).sin() + 0.3 * (tau * i as f64 / 97.3).sin())
+        .collect()
 }
 
-fn trial_commit_loop<O: Operator<f64> + ?Sized>(op: &mut O, xs: &[f64]) -> Vec<f64> {
-    xs.iter()
-        .map(|&x| {
-            let t = op.trial(x).expect("trial");
-            op.commit();
-            t.output
-        })
-        .collect()
+/// The paper's model, static.
+fn paper_model() -> Result<PaperModel> {
+    TransmissionParams::default().build()
+}
+
+/// The same model from its JSON spec (a boxed `series` tree).
+fn paper_model_from_json() -> std::result::Result<Box<dyn Operator<f64>>, SpecError> {
+    let json = Spec::from(&TransmissionParams::default()).to_json_pretty()?;
+    Spec::from_json(&json)?.build()
 }
 
 /// `process` (in one call, and split at awkward places) equals the
