@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Every test of the project: Rust (cargo test --workspace), then the Python
 # package (installed from python/ into a fresh virtual environment, its stubs
-# checked by mypy's stubtest, mypy, pytest). Needs rustup's toolchain, python3 with
+# checked by mypy's stubtest, mypy, pytest), then the C API and the FMUs
+# (capi/checks: C programs built with cc, FMUs checked with FMPy). Needs rustup's toolchain, python3 with
 # venv, and the package registries (crates.io, PyPI).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -15,8 +16,8 @@ venv=target/py-venv/bin
 "$venv/python" -m pip install -q --upgrade pip
 "$venv/python" -m pip install -q "./python[test]"
 
-echo "== Python: the CLI the bit-identity tests compare with"
-cargo build --release -q -p hysteron-cli
+echo "== Python: the CLI the bit-identity tests compare with, and libhysteron_c.so"
+cargo build --release -q -p hysteron-cli -p hysteron-c
 export HYSTERON_BIN="$PWD/target/release/hysteron"
 
 echo "== Python: stubtest"
@@ -27,3 +28,7 @@ echo "== Python: mypy on the package, the examples and the benchmark"
 
 echo "== Python: pytest"
 "$venv/python" -m pytest -q python/tests
+
+echo "== C and FMI: FMPy (an independent FMI 2.0 host) and the system's cc"
+"$venv/python" -m pip install -q "fmpy>=0.3.20,<0.4"
+"$venv/python" -m pytest -q capi/checks

@@ -21,6 +21,10 @@
 //!   FITTED.json [--plot DIR]`: the paper's two-stage identification (see
 //!   [`hysteron_cli::identify_paper`]).
 //!
+//! * `hysteron export-fmu --model SPEC.json --output MODEL.fmu [--name
+//!   NAME] [--library libhysteron_c.so]`: the spec as an FMI 2.0
+//!   co-simulation FMU (see [`hysteron_cli::export_fmu`]).
+//!
 //! * `hysteron bench [--samples N] [--runs R] [--kernel NAME]`: times the
 //!   kernel table of the performance issue (see [`hysteron_cli::bench`]).
 //!
@@ -31,7 +35,7 @@
 use clap::{Parser, Subcommand};
 use hysteron_cli::models::describing::SineOptions;
 use hysteron_cli::{
-    analyze, bench, csvio, fit_cmd, fitting, identify_paper, paper, period, simulate,
+    analyze, bench, csvio, export_fmu, fit_cmd, fitting, identify_paper, paper, period, simulate,
 };
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -224,6 +228,26 @@ enum Command {
         #[arg(long)]
         no_progress: bool,
     },
+    /// Write a model spec (JSON) as an FMI 2.0 co-simulation FMU: input x,
+    /// output y, every parameter a tunable Real named by its path, for
+    /// Simulink, OpenModelica, Dymola, FMPy and other FMI hosts (Linux
+    /// x86-64 binary).
+    ExportFmu {
+        /// The model spec (JSON, see hysteron::models::Spec).
+        #[arg(long, value_name = "SPEC.json")]
+        model: PathBuf,
+        /// The FMU to write (a zip archive, written atomically).
+        #[arg(long, value_name = "MODEL.fmu")]
+        output: PathBuf,
+        /// The model's name and identifier (letters, digits and `_`;
+        /// default: the output's file name).
+        #[arg(long, value_name = "NAME")]
+        name: Option<String>,
+        /// The FMU binary (default: libhysteron_c.so next to this program,
+        /// built by `cargo build --release`).
+        #[arg(long, value_name = "libhysteron_c.so")]
+        library: Option<PathBuf>,
+    },
     /// Time the operator kernels (play, 64-play PI, Bouc-Wen n = 1 and
     /// 1.5, MMS, the paper's model static and boxed from JSON, rayon
     /// batches on 1 and 2 threads) on the input
@@ -356,6 +380,22 @@ fn main() -> ExitCode {
             plot,
             output_column,
             dt: period::DtSource::from_options(dt, time_column),
+        })
+        .map(|report| {
+            println!("{report}");
+            None
+        })
+        .map_err(|e| e.to_string()),
+        Command::ExportFmu {
+            model,
+            output,
+            name,
+            library,
+        } => export_fmu::run(&export_fmu::ExportFmuOptions {
+            model,
+            output,
+            name,
+            library,
         })
         .map(|report| {
             println!("{report}");

@@ -1,0 +1,541 @@
+//! The `fmi2*` functions of the FMU binary. Each checks its pointers,
+//! runs under a panic guard, and reports an error through the logger with
+//! `fmi2Error`; the instance stays usable (its state is that before the
+//! failed call).
+#![allow(non_snake_case)]
+
+use super::instance::{Instance, Mode, Snapshot};
+use super::types::*;
+use crate::status::panic_text;
+use std::ffi::{c_char, CStr, CString};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+/// An instance with the host's callbacks.
+struct Component {
+    name: CString,
+    callbacks: fmi2CallbackFunctions,
+    inst: Instance,
+}
+
+impl Component {
+    fn log(&self, status: fmi2Status, message: &str) {
+        log_to(&self.callbacks, &self.name, status, message);
+    }
+}
+
+fn log_to(callbacks: &fmi2CallbackFunctions, name: &CStr, status: fmi2Status, message: &str) {
+    let Some(logger) = callbacks.logger else {
+        return;
+    };
+    // The message is the format string (`%` doubled, no arguments): hosts
+    // that format it printf-style and hosts that show it as it is (FMPy)
+    // both read it.
+    let text = CString::new(message.replace('\0', " ").replace('%', "%%")).unwrap_or_default();
+    // SAFETY: the host's logger, with NUL-terminated strings and a format
+    // that consumes no arguments.
+    unsafe {
+        logger(
+            callbacks.componentEnvironment,
+            name.as_ptr(),
+            status,
+            c"logStatusError".as_ptr(),
+            text.as_ptr(),
+        );
+    }
+}
+
+/// Runs `body` on the component `c`: NULL is `fmi2Error`, an `Err` is
+/// logged and `fmi2Error`, a panic is logged and `fmi2Fatal`.
+fn with(c: fmi2Component, body: impl FnOnce(&mut Component) -> Result<(), String>) -> fmi2Status {
+    // SAFETY: `c` is NULL or a component from fmi2Instantiate, used by one
+    // thread at a time (FMI 2.0 §2.1.3).
+    let Some(comp) = (unsafe { (c as *mut Component).as_mut() }) else {
+        return fmi2Status::Error;
+    };
+    match catch_unwind(AssertUnwindSafe(|| body(comp))) {
+        Ok(Ok(())) => fmi2Status::OK,
+        Ok(Err(message)) => {
+            comp.log(fmi2Status::Error, &message);
+            fmi2Status::Error
+        }
+        Err(payload) => {
+            comp.log(
+                fmi2Status::Fatal,
+                &format!(
+                    "internal error (a bug in hysteron): {}",
+                    panic_text(&payload)
+                ),
+            );
+            fmi2Status::Fatal
+        }
+    }
+}
+
+/// `*ptr` as text, for messages and names.
+///
+/// # Safety
+/// `ptr` is NULL or NUL-terminated.
+unsafe fn text(ptr: fmi2String) -> Option<String> {
+    if ptr.is_null() {
+        return None;
+    }
+    Some(
+        unsafe { CStr::from_ptr(ptr) }
+            .to_string_lossy()
+            .into_owned(),
+    )
+}
+
+/// `(vr, n)` and `(value, n)` as slices (empty for `n = 0`).
+///
+/// # Safety
+/// For `n > 0` the pointers are NULL or valid for `n` elements.
+unsafe fn slices<'a, T>(
+    vr: *const fmi2ValueReference,
+    values: *const T,
+    n: usize,
+) -> Result<(&'a [u32], &'a [T]), String> {
+    if n == 0 {
+        return Ok((&[], &[]));
+    }
+    if vr.is_null() || values.is_null() {
+        return Err("vr or value: NULL".into());
+    }
+    Ok(unsafe {
+        (
+            std::slice::from_raw_parts(vr, n),
+            std::slice::from_raw_parts(values, n),
+        )
+    })
+}
+
+#[no_mangle]
+pub extern "C" fn fmi2GetTypesPlatform() -> *const c_char {
+    c"default".as_ptr()
+}
+
+#[no_mangle]
+pub extern "C" fn fmi2GetVersion() -> *const c_char {
+    c"2.0".as_ptr()
+}
+
+/// # Safety
+/// Pointers as FMI 2.0 specifies for `fmi2Instantiate`.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2Instantiate(
+    instanceName: fmi2String,
+    fmuType: std::ffi::c_int,
+    fmuGUID: fmi2String,
+    fmuResourceLocation: fmi2String,
+    functions: *const fmi2CallbackFunctions,
+    _visible: fmi2Boolean,
+    _loggingOn: fmi2Boolean,
+) -> fmi2Component {
+    let Some(callbacks) = (unsafe { functions.as_ref() }).copied() else {
+        return std::ptr::null_mut();
+    };
+    let name = unsafe { text(instanceName) }.unwrap_or_else(|| "hysteron".into());
+    let c_name = CString::new(name.replace('\0', " ")).unwrap_or_default();
+    let made = catch_unwind(AssertUnwindSafe(|| -> Result<Instance, String> {
+        if fmuType != fmi2Type::CoSimulation as std::ffi::c_int {
+            return Err(
+                "only Co-Simulation is supported (fmuType must be fmi2CoSimulation)".into(),
+            );
+        }
+        let guid = unsafe { text(fmuGUID) }.ok_or("fmuGUID: NULL")?;
+        let resources = unsafe { text(fmuResourceLocation) }.ok_or("fmuResourceLocation: NULL")?;
+        Instance::from_resources(&resources, &guid)
+    }));
+    match made {
+        Ok(Ok(inst)) => Box::into_raw(Box::new(Component {
+            name: c_name,
+            callbacks,
+            inst,
+        })) as fmi2Component,
+        Ok(Err(message)) => {
+            log_to(&callbacks, &c_name, fmi2Status::Error, &message);
+            std::ptr::null_mut()
+        }
+        Err(payload) => {
+            log_to(
+                &callbacks,
+                &c_name,
+                fmi2Status::Fatal,
+                &panic_text(&payload),
+            );
+            std::ptr::null_mut()
+        }
+    }
+}
+
+/// # Safety
+/// `c` is NULL or a component from `fmi2Instantiate`, not used afterwards.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2FreeInstance(c: fmi2Component) {
+    if !c.is_null() {
+        // SAFETY: made by Box::into_raw in fmi2Instantiate, freed once.
+        drop(unsafe { Box::from_raw(c as *mut Component) });
+    }
+}
+
+#[no_mangle]
+pub extern "C" fn fmi2SetDebugLogging(
+    c: fmi2Component,
+    _loggingOn: fmi2Boolean,
+    _nCategories: usize,
+    _categories: *const fmi2String,
+) -> fmi2Status {
+    // Errors are always logged; there is nothing else to log.
+    with(c, |_| Ok(()))
+}
+
+#[no_mangle]
+pub extern "C" fn fmi2SetupExperiment(
+    c: fmi2Component,
+    _toleranceDefined: fmi2Boolean,
+    _tolerance: fmi2Real,
+    startTime: fmi2Real,
+    _stopTimeDefined: fmi2Boolean,
+    _stopTime: fmi2Real,
+) -> fmi2Status {
+    with(c, |comp| comp.inst.setup(startTime))
+}
+
+#[no_mangle]
+pub extern "C" fn fmi2EnterInitializationMode(c: fmi2Component) -> fmi2Status {
+    with(c, |comp| comp.inst.enter_initialization())
+}
+
+#[no_mangle]
+pub extern "C" fn fmi2ExitInitializationMode(c: fmi2Component) -> fmi2Status {
+    with(c, |comp| comp.inst.exit_initialization())
+}
+
+#[no_mangle]
+pub extern "C" fn fmi2Terminate(c: fmi2Component) -> fmi2Status {
+    with(c, |comp| {
+        comp.inst.terminate();
+        Ok(())
+    })
+}
+
+#[no_mangle]
+pub extern "C" fn fmi2Reset(c: fmi2Component) -> fmi2Status {
+    with(c, |comp| {
+        comp.inst.reset();
+        Ok(())
+    })
+}
+
+/// # Safety
+/// `vr` and `value` are NULL or valid for `nvr` elements.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetReal(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut fmi2Real,
+) -> fmi2Status {
+    with(c, |comp| {
+        let (vrs, _) = unsafe { slices(vr, value as *const f64, nvr) }?;
+        let got = vrs
+            .iter()
+            .map(|&r| comp.inst.get_real(r))
+            .collect::<Result<Vec<f64>, String>>()?;
+        if nvr > 0 {
+            // SAFETY: valid for nvr doubles (checked non-NULL above).
+            unsafe { std::slice::from_raw_parts_mut(value, nvr) }.copy_from_slice(&got);
+        }
+        Ok(())
+    })
+}
+
+/// # Safety
+/// `vr` and `value` are NULL or valid for `nvr` elements.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetReal(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const fmi2Real,
+) -> fmi2Status {
+    with(c, |comp| {
+        let (vrs, values) = unsafe { slices(vr, value, nvr) }?;
+        comp.inst.set_real(vrs, values)
+    })
+}
+
+/// Refuses a call on variables of a type the FMU does not have.
+fn no_variables(c: fmi2Component, nvr: usize, what: &str) -> fmi2Status {
+    with(c, |_| {
+        if nvr == 0 {
+            Ok(())
+        } else {
+            Err(format!("the FMU has no {what} variables"))
+        }
+    })
+}
+
+#[no_mangle]
+pub extern "C" fn fmi2GetInteger(
+    c: fmi2Component,
+    _vr: *const fmi2ValueReference,
+    nvr: usize,
+    _value: *mut fmi2Integer,
+) -> fmi2Status {
+    no_variables(c, nvr, "Integer")
+}
+
+#[no_mangle]
+pub extern "C" fn fmi2SetInteger(
+    c: fmi2Component,
+    _vr: *const fmi2ValueReference,
+    nvr: usize,
+    _value: *const fmi2Integer,
+) -> fmi2Status {
+    no_variables(c, nvr, "Integer")
+}
+
+#[no_mangle]
+pub extern "C" fn fmi2GetBoolean(
+    c: fmi2Component,
+    _vr: *const fmi2ValueReference,
+    nvr: usize,
+    _value: *mut fmi2Boolean,
+) -> fmi2Status {
+    no_variables(c, nvr, "Boolean")
+}
+
+#[no_mangle]
+pub extern "C" fn fmi2SetBoolean(
+    c: fmi2Component,
+    _vr: *const fmi2ValueReference,
+    nvr: usize,
+    _value: *const fmi2Boolean,
+) -> fmi2Status {
+    no_variables(c, nvr, "Boolean")
+}
+
+#[no_mangle]
+pub extern "C" fn fmi2GetString(
+    c: fmi2Component,
+    _vr: *const fmi2ValueReference,
+    nvr: usize,
+    _value: *mut fmi2String,
+) -> fmi2Status {
+    no_variables(c, nvr, "String")
+}
+
+#[no_mangle]
+pub extern "C" fn fmi2SetString(
+    c: fmi2Component,
+    _vr: *const fmi2ValueReference,
+    nvr: usize,
+    _value: *const fmi2String,
+) -> fmi2Status {
+    no_variables(c, nvr, "String")
+}
+
+/// # Safety
+/// `state` is NULL or points to NULL or to a state from this function.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetFMUstate(c: fmi2Component, state: *mut fmi2FMUstate) -> fmi2Status {
+    with(c, |comp| {
+        // SAFETY: by the contract.
+        let slot = unsafe { state.as_mut() }.ok_or("FMUstate: NULL")?;
+        let snap = comp.inst.snapshot();
+        match unsafe { (*slot as *mut Snapshot).as_mut() } {
+            Some(old) => *old = snap,
+            None => *slot = Box::into_raw(Box::new(snap)) as fmi2FMUstate,
+        }
+        Ok(())
+    })
+}
+
+/// # Safety
+/// `state` is NULL or a state from `fmi2GetFMUstate`.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetFMUstate(c: fmi2Component, state: fmi2FMUstate) -> fmi2Status {
+    with(c, |comp| {
+        // SAFETY: by the contract.
+        let snap = unsafe { (state as *const Snapshot).as_ref() }.ok_or("FMUstate: NULL")?;
+        comp.inst.restore(snap);
+        Ok(())
+    })
+}
+
+/// # Safety
+/// `state` is NULL or points to NULL or to a state from `fmi2GetFMUstate`.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2FreeFMUstate(
+    c: fmi2Component,
+    state: *mut fmi2FMUstate,
+) -> fmi2Status {
+    with(c, |_| {
+        if let Some(slot) = unsafe { state.as_mut() } {
+            if !slot.is_null() {
+                // SAFETY: made by Box::into_raw in fmi2GetFMUstate, freed once.
+                drop(unsafe { Box::from_raw(*slot as *mut Snapshot) });
+                *slot = std::ptr::null_mut();
+            }
+        }
+        Ok(())
+    })
+}
+
+/// Refuses a call the FMU does not support.
+fn unsupported(c: fmi2Component, what: &str) -> fmi2Status {
+    with(c, |_| Err(format!("{what} is not supported by this FMU")))
+}
+
+#[no_mangle]
+pub extern "C" fn fmi2SerializedFMUstateSize(
+    c: fmi2Component,
+    _state: fmi2FMUstate,
+    _size: *mut usize,
+) -> fmi2Status {
+    unsupported(c, "serializing FMU states (canSerializeFMUstate is false)")
+}
+
+#[no_mangle]
+pub extern "C" fn fmi2SerializeFMUstate(
+    c: fmi2Component,
+    _state: fmi2FMUstate,
+    _bytes: *mut fmi2Byte,
+    _size: usize,
+) -> fmi2Status {
+    unsupported(c, "serializing FMU states (canSerializeFMUstate is false)")
+}
+
+#[no_mangle]
+pub extern "C" fn fmi2DeSerializeFMUstate(
+    c: fmi2Component,
+    _bytes: *const fmi2Byte,
+    _size: usize,
+    _state: *mut fmi2FMUstate,
+) -> fmi2Status {
+    unsupported(c, "serializing FMU states (canSerializeFMUstate is false)")
+}
+
+#[no_mangle]
+pub extern "C" fn fmi2GetDirectionalDerivative(
+    c: fmi2Component,
+    _unknown: *const fmi2ValueReference,
+    _nUnknown: usize,
+    _known: *const fmi2ValueReference,
+    _nKnown: usize,
+    _dvKnown: *const fmi2Real,
+    _dvUnknown: *mut fmi2Real,
+) -> fmi2Status {
+    unsupported(
+        c,
+        "fmi2GetDirectionalDerivative (providesDirectionalDerivative is false)",
+    )
+}
+
+#[no_mangle]
+pub extern "C" fn fmi2SetRealInputDerivatives(
+    c: fmi2Component,
+    _vr: *const fmi2ValueReference,
+    _nvr: usize,
+    _order: *const fmi2Integer,
+    _value: *const fmi2Real,
+) -> fmi2Status {
+    unsupported(c, "input derivatives (canInterpolateInputs is false)")
+}
+
+#[no_mangle]
+pub extern "C" fn fmi2GetRealOutputDerivatives(
+    c: fmi2Component,
+    _vr: *const fmi2ValueReference,
+    _nvr: usize,
+    _order: *const fmi2Integer,
+    _value: *mut fmi2Real,
+) -> fmi2Status {
+    unsupported(c, "output derivatives (maxOutputDerivativeOrder is 0)")
+}
+
+#[no_mangle]
+pub extern "C" fn fmi2DoStep(
+    c: fmi2Component,
+    currentCommunicationPoint: fmi2Real,
+    communicationStepSize: fmi2Real,
+    _noSetFMUStatePriorToCurrentPoint: fmi2Boolean,
+) -> fmi2Status {
+    with(c, |comp| {
+        comp.inst
+            .do_step(currentCommunicationPoint, communicationStepSize)
+    })
+}
+
+#[no_mangle]
+pub extern "C" fn fmi2CancelStep(c: fmi2Component) -> fmi2Status {
+    unsupported(c, "fmi2CancelStep (steps are never asynchronous)")
+}
+
+#[no_mangle]
+pub extern "C" fn fmi2GetStatus(
+    c: fmi2Component,
+    _kind: fmi2StatusKind,
+    _value: *mut fmi2Status,
+) -> fmi2Status {
+    unsupported(c, "fmi2GetStatus (steps are never asynchronous)")
+}
+
+/// # Safety
+/// `value` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetRealStatus(
+    c: fmi2Component,
+    kind: fmi2StatusKind,
+    value: *mut fmi2Real,
+) -> fmi2Status {
+    with(c, |comp| {
+        if kind != FMI2_LAST_SUCCESSFUL_TIME {
+            return Err(format!(
+                "fmi2GetRealStatus: status kind {kind} has no Real value"
+            ));
+        }
+        let slot = unsafe { value.as_mut() }.ok_or("value: NULL")?;
+        *slot = comp.inst.time();
+        Ok(())
+    })
+}
+
+#[no_mangle]
+pub extern "C" fn fmi2GetIntegerStatus(
+    c: fmi2Component,
+    _kind: fmi2StatusKind,
+    _value: *mut fmi2Integer,
+) -> fmi2Status {
+    unsupported(c, "fmi2GetIntegerStatus")
+}
+
+/// # Safety
+/// `value` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetBooleanStatus(
+    c: fmi2Component,
+    kind: fmi2StatusKind,
+    value: *mut fmi2Boolean,
+) -> fmi2Status {
+    with(c, |comp| {
+        if kind != FMI2_TERMINATED {
+            return Err(format!(
+                "fmi2GetBooleanStatus: status kind {kind} has no Boolean value"
+            ));
+        }
+        let slot = unsafe { value.as_mut() }.ok_or("value: NULL")?;
+        *slot = fmi2Boolean::from(comp.inst.mode() == Mode::Terminated);
+        Ok(())
+    })
+}
+
+#[no_mangle]
+pub extern "C" fn fmi2GetStringStatus(
+    c: fmi2Component,
+    _kind: fmi2StatusKind,
+    _value: *mut fmi2String,
+) -> fmi2Status {
+    unsupported(c, "fmi2GetStringStatus")
+}

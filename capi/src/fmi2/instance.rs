@@ -1,0 +1,413 @@
+//! One FMU instance: the model, its input and output, the samples
+//! committed since the start (for parameter changes), and its mode. Safe
+//! Rust; `exports.rs` puts the C functions around it.
+
+use super::description::{guid, VR_FIRST_PARAM, VR_X, VR_Y};
+use crate::model::Model;
+use std::path::PathBuf;
+
+/// Relative difference below which a step size is the current sample
+/// period (see [`Instance::do_step`]).
+pub const SAME_PERIOD: f64 = 1e-9;
+
+/// Where an instance is in the FMI 2.0 co-simulation state machine.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mode {
+    Instantiated,
+    Initialization,
+    Stepping,
+    Terminated,
+}
+
+/// What can be saved and restored: everything that changes while stepping.
+#[derive(Clone)]
+pub struct Snapshot {
+    model: Model,
+    x: f64,
+    y: f64,
+    time: f64,
+    period: Option<f64>,
+    history: Vec<(f64, f64)>,
+    mode: Mode,
+}
+
+/// An instance.
+pub struct Instance {
+    /// The model as instantiated (for `fmi2Reset`).
+    start: Model,
+    now: Snapshot,
+}
+
+/// The path of a `file:` URI (`file:///a/b`, `file:/a/b`,
+/// `file://localhost/a/b`), percent-decoded.
+pub fn uri_path(uri: &str) -> Result<PathBuf, String> {
+    let rest = uri
+        .strip_prefix("file://localhost/")
+        .map(|r| format!("/{r}"))
+        .or_else(|| uri.strip_prefix("file:///").map(|r| format!("/{r}")))
+        .or_else(|| uri.strip_prefix("file:/").map(|r| format!("/{r}")))
+        .ok_or_else(|| format!("fmuResourceLocation `{uri}` is not a file: URI"))?;
+    let bytes = rest.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i] == b'%' && i + 2 < bytes.len() {
+            let hex = std::str::from_utf8(&bytes[i + 1..i + 3]).unwrap_or("");
+            let v = u8::from_str_radix(hex, 16)
+                .map_err(|_| format!("fmuResourceLocation `{uri}`: bad escape %{hex}"))?;
+            out.push(v);
+            i += 3;
+        } else {
+            out.push(bytes[i]);
+            i += 1;
+        }
+    }
+    String::from_utf8(out)
+        .map(PathBuf::from)
+        .map_err(|_| format!("fmuResourceLocation `{uri}` is not UTF-8"))
+}
+
+impl Instance {
+    /// The instance of the spec in `resources/model.json` under the
+    /// resource URI, checked against the description's `guid`.
+    pub fn from_resources(resources: &str, expected_guid: &str) -> Result<Instance, String> {
+        let path = uri_path(resources)?.join("model.json");
+        let json = std::fs::read_to_string(&path)
+            .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+        let found = guid(&json);
+        if found != expected_guid {
+            return Err(format!(
+                "GUID {expected_guid} does not match the FMU's resources/model.json ({found})"
+            ));
+        }
+        let model = Model::from_json(&json).map_err(|e| format!("{}: {e}", path.display()))?;
+        Ok(Instance::new(model))
+    }
+
+    /// A fresh instance of `model`.
+    pub fn new(model: Model) -> Instance {
+        Instance {
+            now: Snapshot {
+                model: model.clone(),
+                x: 0.0,
+                y: 0.0,
+                time: 0.0,
+                period: None,
+                history: Vec::new(),
+                mode: Mode::Instantiated,
+            },
+            start: model,
+        }
+    }
+
+    pub fn mode(&self) -> Mode {
+        self.now.mode
+    }
+
+    /// The time of the last communication point.
+    pub fn time(&self) -> f64 {
+        self.now.time
+    }
+
+    pub fn setup(&mut self, start_time: f64) -> Result<(), String> {
+        if self.now.mode != Mode::Instantiated {
+            return Err("fmi2SetupExperiment: only after instantiation or reset".into());
+        }
+        if !start_time.is_finite() {
+            return Err(format!(
+                "fmi2SetupExperiment: startTime {start_time} is not finite"
+            ));
+        }
+        self.now.time = start_time;
+        Ok(())
+    }
+
+    pub fn enter_initialization(&mut self) -> Result<(), String> {
+        if self.now.mode != Mode::Instantiated {
+            return Err("fmi2EnterInitializationMode: only after instantiation or reset".into());
+        }
+        self.now.mode = Mode::Initialization;
+        Ok(())
+    }
+
+    /// Leaves initialization: `y` is the model's initial output.
+    pub fn exit_initialization(&mut self) -> Result<(), String> {
+        if self.now.mode != Mode::Initialization {
+            return Err("fmi2ExitInitializationMode: not in initialization mode".into());
+        }
+        self.now.y = self.initial_output()?;
+        self.now.mode = Mode::Stepping;
+        Ok(())
+    }
+
+    /// The output at input 0 from the initial state (nothing committed).
+    fn initial_output(&mut self) -> Result<f64, String> {
+        let op = self.now.model.operator_mut();
+        let y = op
+            .trial(0.0)
+            .map_err(|e| format!("the initial output: {e}"))?
+            .output;
+        op.reset();
+        Ok(y)
+    }
+
+    pub fn terminate(&mut self) {
+        self.now.mode = Mode::Terminated;
+    }
+
+    /// Back to the state after instantiation (start values, time 0).
+    pub fn reset(&mut self) {
+        *self = Instance::new(self.start.clone());
+    }
+
+    /// One step: the current input is the sample at `t + h`. A step size
+    /// `h` that differs from the current sample period by more than
+    /// [`SAME_PERIOD`] (relative) becomes the new period.
+    pub fn do_step(&mut self, t: f64, h: f64) -> Result<(), String> {
+        if self.now.mode != Mode::Stepping {
+            return Err("fmi2DoStep: only after fmi2ExitInitializationMode".into());
+        }
+        if !(h > 0.0 && h.is_finite() && t.is_finite()) {
+            return Err(format!(
+                "fmi2DoStep: communicationStepSize must be positive and finite (got {h} at t = {t})"
+            ));
+        }
+        let s = &mut self.now;
+        // Hosts compute a step as the difference of two rounded
+        // communication points, so a constant step wobbles in its last
+        // bits (relative 1e-12 after 10^4 steps): within SAME_PERIOD of the
+        // current period it is that period.
+        let same = s.period.is_some_and(|p| (h - p).abs() <= SAME_PERIOD * p);
+        if !same {
+            s.model
+                .operator_mut()
+                .set_sample_period(h)
+                .map_err(|e| format!("fmi2DoStep at t = {t}: step size {h}: {e}"))?;
+            s.period = Some(h);
+        }
+        s.y = s
+            .model
+            .step(s.x)
+            .map_err(|e| format!("fmi2DoStep at t = {t} (input x = {}): {e}", s.x))?;
+        s.history.push((s.x, h));
+        s.time = t + h;
+        Ok(())
+    }
+
+    pub fn get_real(&self, vr: u32) -> Result<f64, String> {
+        match vr {
+            VR_X => Ok(self.now.x),
+            VR_Y => Ok(self.now.y),
+            _ => {
+                let i = self.param_index(vr)?;
+                Ok(self.now.model.operator().params()[i])
+            }
+        }
+    }
+
+    fn param_index(&self, vr: u32) -> Result<usize, String> {
+        let n = self.now.model.names().len();
+        vr.checked_sub(VR_FIRST_PARAM)
+            .map(|i| i as usize)
+            .filter(|&i| i < n)
+            .ok_or_else(|| {
+                format!(
+                    "no Real variable with value reference {vr} (0 = x, 1 = y, 2..{} parameters)",
+                    VR_FIRST_PARAM as usize + n
+                )
+            })
+    }
+
+    /// Sets the variables `vrs` to `values` together: the input, or
+    /// parameters (one rebuild for all, so tied ones can move together).
+    /// On an error nothing changes.
+    pub fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Result<(), String> {
+        if self.now.mode == Mode::Terminated {
+            return Err("fmi2SetReal: the instance is terminated".into());
+        }
+        let mut x = self.now.x;
+        let mut params = self.now.model.operator().params();
+        let mut changed = false;
+        for (&vr, &v) in vrs.iter().zip(values) {
+            match vr {
+                VR_X => {
+                    if !v.is_finite() {
+                        return Err(format!("x: input {v} is not finite"));
+                    }
+                    x = v;
+                }
+                VR_Y => return Err("y is an output; it cannot be set".into()),
+                _ => {
+                    let i = self.param_index(vr)?;
+                    if params[i].to_bits() != v.to_bits() {
+                        params[i] = v;
+                        changed = true;
+                    }
+                }
+            }
+        }
+        if changed {
+            self.change_params(&params)?;
+        }
+        self.now.x = x;
+        Ok(())
+    }
+
+    /// Rebuilds the model with `params` and replays the committed samples.
+    fn change_params(&mut self, params: &[f64]) -> Result<(), String> {
+        let mut model = self
+            .now
+            .model
+            .with_params(params)
+            .map_err(|e| e.to_string())?;
+        let mut period = None;
+        let mut y = None;
+        for (k, &(x, h)) in self.now.history.iter().enumerate() {
+            if period != Some(h) {
+                model
+                    .operator_mut()
+                    .set_sample_period(h)
+                    .map_err(|e| format!("replaying step {k} with the new parameters: {e}"))?;
+                period = Some(h);
+            }
+            y = Some(
+                model
+                    .step(x)
+                    .map_err(|e| format!("replaying step {k} with the new parameters: {e}"))?,
+            );
+        }
+        if self.now.mode == Mode::Instantiated || self.now.mode == Mode::Initialization {
+            // Also the start values that fmi2Reset returns to.
+            self.start = model.clone();
+        }
+        self.now.model = model;
+        self.now.period = period;
+        if let Some(y) = y {
+            self.now.y = y;
+        } else if self.now.mode == Mode::Stepping {
+            self.now.y = self.initial_output()?;
+        }
+        Ok(())
+    }
+
+    pub fn snapshot(&self) -> Snapshot {
+        self.now.clone()
+    }
+
+    pub fn restore(&mut self, s: &Snapshot) {
+        self.now = s.clone();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn file_uris_of_every_common_form() {
+        for uri in [
+            "file:///a/b%20c",
+            "file:/a/b%20c",
+            "file://localhost/a/b%20c",
+        ] {
+            assert_eq!(uri_path(uri).unwrap(), PathBuf::from("/a/b c"), "{uri}");
+        }
+        assert!(uri_path("http://x/a").is_err());
+        assert!(uri_path("file:///a%zz").is_err());
+        assert!(uri_path("file:///a%2").unwrap().ends_with("a%2"));
+    }
+
+    fn stepping(json: &str) -> Instance {
+        let mut inst = Instance::new(Model::from_json(json).unwrap());
+        inst.setup(0.0).unwrap();
+        inst.enter_initialization().unwrap();
+        inst.exit_initialization().unwrap();
+        inst
+    }
+
+    fn run(inst: &mut Instance, xs: &[f64], h: f64) -> Vec<f64> {
+        xs.iter()
+            .map(|&x| {
+                let t = inst.time();
+                inst.set_real(&[VR_X], &[x]).unwrap();
+                inst.do_step(t, h).unwrap();
+                inst.get_real(VR_Y).unwrap()
+            })
+            .collect()
+    }
+
+    const PLAY: &str = r#"{"type": "play", "r": 0.5, "y0": 0.25}"#;
+
+    #[test]
+    fn steps_commit_the_input_as_a_sample() {
+        let mut inst = stepping(PLAY);
+        assert_eq!(inst.get_real(VR_Y).unwrap(), 0.25); // initial output
+        assert_eq!(run(&mut inst, &[1.0, 0.8, -1.0], 0.1), [0.5, 0.5, -0.5]);
+        assert!((inst.time() - 0.3).abs() < 1e-15);
+    }
+
+    #[test]
+    fn the_step_size_is_the_period_of_a_rate_dependent_model() {
+        let spec = r#"{"type": "mass_spring_damper", "m": 1, "c": 2, "k": 400, "dt": 1}"#;
+        let xs: Vec<f64> = (0..40).map(|i| (i as f64 * 0.2).sin()).collect();
+        let hs: Vec<f64> = (0..40)
+            .map(|i| if i % 3 == 0 { 0.01 } else { 0.004 })
+            .collect();
+        let mut inst = stepping(spec);
+        let mut want = Model::from_json(spec).unwrap();
+        for (&x, &h) in xs.iter().zip(&hs) {
+            let t = inst.time();
+            inst.set_real(&[VR_X], &[x]).unwrap();
+            inst.do_step(t, h).unwrap();
+            want.operator_mut().set_sample_period(h).unwrap();
+            assert_eq!(inst.get_real(VR_Y).unwrap(), want.step(x).unwrap());
+        }
+        // A step a few ulps off is the same period: bit for bit the same.
+        let (mut a, mut b) = (stepping(spec), stepping(spec));
+        for (k, &x) in xs.iter().enumerate() {
+            let jitter = if k % 2 == 1 {
+                1.0 + 4.0 * f64::EPSILON
+            } else {
+                1.0
+            };
+            for (inst, h) in [(&mut a, 0.004), (&mut b, 0.004 * jitter)] {
+                let t = inst.time();
+                inst.set_real(&[VR_X], &[x]).unwrap();
+                inst.do_step(t, h).unwrap();
+            }
+            assert_eq!(a.get_real(VR_Y).unwrap(), b.get_real(VR_Y).unwrap());
+        }
+    }
+
+    #[test]
+    fn a_parameter_change_replays_the_history() {
+        let xs = [1.0, 0.8, -1.0, 0.3];
+        let mut inst = stepping(PLAY);
+        run(&mut inst, &xs[..2], 0.1);
+        inst.set_real(&[VR_FIRST_PARAM], &[0.1]).unwrap(); // r
+        let after = run(&mut inst, &xs[2..], 0.1);
+        let mut want = stepping(r#"{"type": "play", "r": 0.1, "y0": 0.25}"#);
+        assert_eq!(after, run(&mut want, &xs, 0.1)[2..]);
+        // Refused: outside the domain; nothing changed.
+        assert!(inst.set_real(&[VR_FIRST_PARAM], &[-1.0]).is_err());
+        assert_eq!(inst.get_real(VR_FIRST_PARAM).unwrap(), 0.1);
+        assert!(inst.set_real(&[VR_Y], &[1.0]).is_err());
+        assert!(inst.set_real(&[99], &[1.0]).is_err());
+        assert!(inst.set_real(&[VR_X], &[f64::NAN]).is_err());
+    }
+
+    #[test]
+    fn snapshots_replay_identically_and_reset_returns_to_the_start() {
+        let xs: Vec<f64> = (0..50).map(|i| (i as f64 * 0.3).sin()).collect();
+        let mut inst = stepping(PLAY);
+        run(&mut inst, &xs[..20], 0.01);
+        let snap = inst.snapshot();
+        let first = run(&mut inst, &xs[20..], 0.01);
+        inst.restore(&snap);
+        assert_eq!(run(&mut inst, &xs[20..], 0.01), first);
+        inst.reset();
+        assert_eq!(inst.mode(), Mode::Instantiated);
+        assert!(inst.do_step(0.0, 0.1).is_err());
+        assert!(stepping(PLAY).do_step(0.0, 0.0).is_err());
+    }
+}
