@@ -40,12 +40,13 @@ typedef enum HysteronStatus {
    */
   HYSTERON_STATUS_SPEC = 3,
   /**
-   * A parameter outside its domain, or an unknown, ambiguous or tied
-   * parameter name.
+   * A parameter outside its domain (also a sample period that is not
+   * finite and positive), or an unknown, ambiguous or tied parameter
+   * name.
    */
   HYSTERON_STATUS_PARAMETER = 4,
   /**
-   * A non-finite input sample or sample period.
+   * A non-finite input sample.
    */
   HYSTERON_STATUS_INPUT = 5,
   /**
@@ -122,7 +123,8 @@ enum HysteronStatus hysteron_trial(struct HysteronModel *model,
                                    double *tangent);
 
 /**
- * Keeps the state of the last successful trial (nothing if none).
+ * Keeps the state of the last trial if it succeeded (nothing if there was
+ * none, or if it failed: a failed trial leaves no trace).
  *
  * # Safety
  * `model` is NULL or a live model.
@@ -154,7 +156,9 @@ enum HysteronStatus hysteron_process(struct HysteronModel *model,
 /**
  * Sets the sample period `dt > 0` (seconds) of every rate-dependent node
  * (those inside an `oversample` of `q` get `dt / q`); it may change from
- * sample to sample. Rate-independent models check it and ignore it.
+ * sample to sample. Rate-independent models check it and ignore it. A
+ * period that is not finite and positive is `HYSTERON_STATUS_PARAMETER`
+ * (naming `dt`).
  *
  * # Safety
  * `model` is NULL or a live model.

@@ -173,7 +173,8 @@ pub unsafe extern "C" fn hysteron_trial(
     })
 }
 
-/// Keeps the state of the last successful trial (nothing if none).
+/// Keeps the state of the last trial if it succeeded (nothing if there was
+/// none, or if it failed: a failed trial leaves no trace).
 ///
 /// # Safety
 /// `model` is NULL or a live model.
@@ -232,7 +233,9 @@ pub unsafe extern "C" fn hysteron_process(
 
 /// Sets the sample period `dt > 0` (seconds) of every rate-dependent node
 /// (those inside an `oversample` of `q` get `dt / q`); it may change from
-/// sample to sample. Rate-independent models check it and ignore it.
+/// sample to sample. Rate-independent models check it and ignore it. A
+/// period that is not finite and positive is `HYSTERON_STATUS_PARAMETER`
+/// (naming `dt`).
 ///
 /// # Safety
 /// `model` is NULL or a live model.

@@ -20,10 +20,11 @@ pub enum HysteronStatus {
     InvalidUtf8 = 2,
     /// The JSON text is not a valid model spec.
     Spec = 3,
-    /// A parameter outside its domain, or an unknown, ambiguous or tied
-    /// parameter name.
+    /// A parameter outside its domain (also a sample period that is not
+    /// finite and positive), or an unknown, ambiguous or tied parameter
+    /// name.
     Parameter = 4,
-    /// A non-finite input sample or sample period.
+    /// A non-finite input sample.
     Input = 5,
     /// The model failed at a sample (an implicit solve, a non-finite
     /// output); its state is that before the sample.

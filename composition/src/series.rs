@@ -272,11 +272,32 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
         "series"
     }
 
+    /// Solves `L[x_L] = R[x − r0 − x_L]` for the split `x_L` from the
+    /// committed one. While the left element rests at a travel limit and
+    /// the contact still pushes into it, the solver would return after its
+    /// first evaluation, at the committed split: that evaluation is made
+    /// directly (the same calls on the same arguments), which is what
+    /// makes single steps at a stop cheap; anything else goes to the
+    /// solver, which starts with that same evaluation.
     fn trial(&mut self, x: T) -> Result<Trial<T>> {
         self.pending = None;
         let x = check_input(x)?;
         let (left, right) = (&mut self.left, &mut self.right);
         let r0 = self.limits.start();
+        if let Some((lo, hi)) = self.limits.bounds() {
+            // The solver's start, clamped as it clamps it.
+            let xl = self.s.x_left.max(lo).min(hi);
+            if xl == hi || xl == lo {
+                if let (Ok(l), Ok(r)) = (left.trial(xl), right.trial(x - r0 - xl)) {
+                    let res = l.output - r.output;
+                    let holds = (xl == hi && res < T::zero()) || (xl == lo && res > T::zero());
+                    if holds && r.output.is_finite() {
+                        self.pending = Some(State { x, x_left: xl });
+                        return Ok(r);
+                    }
+                }
+            }
+        }
         let mut last = (Trial::default(), Trial::default());
         let residual = |xl: T| -> Result<(T, T)> {
             let l = left.trial(xl)?;

@@ -238,13 +238,9 @@ pub unsafe extern "C" fn fmi2GetReal(
 ) -> fmi2Status {
     with(c, |comp| {
         let (vrs, _) = unsafe { slices(vr, value as *const f64, nvr) }?;
-        let got = vrs
-            .iter()
-            .map(|&r| comp.inst.get_real(r))
-            .collect::<Result<Vec<f64>, String>>()?;
-        if nvr > 0 {
-            // SAFETY: valid for nvr doubles (checked non-NULL above).
-            unsafe { std::slice::from_raw_parts_mut(value, nvr) }.copy_from_slice(&got);
+        for (k, &r) in vrs.iter().enumerate() {
+            // SAFETY: `value` is valid for nvr doubles (checked non-NULL).
+            unsafe { *value.add(k) = comp.inst.get_real(r)? };
         }
         Ok(())
     })

@@ -225,6 +225,14 @@ impl Instance {
         if self.now.mode == Mode::Terminated {
             return Err("fmi2SetReal: the instance is terminated".into());
         }
+        if let ([VR_X], [v]) = (vrs, values) {
+            // The call a host makes before every step.
+            if !v.is_finite() {
+                return Err(format!("x: input {v} is not finite"));
+            }
+            self.now.x = *v;
+            return Ok(());
+        }
         let mut x = self.now.x;
         let mut params = self.now.model.operator().params();
         let mut changed = false;

@@ -1,0 +1,184 @@
+/*
+ * bench_fmi: the cost of one fmi2DoStep of an FMU made by
+ * `hysteron export-fmu`, called as an FMI host calls it (fmi2SetReal of
+ * the input, fmi2DoStep, fmi2GetReal of the output), against the model's
+ * own work through the C API (hysteron_step) on the same input.
+ *
+ *   hysteron export-fmu --model examples/specs/paper.json --output paper.fmu
+ *   unzip -d paper paper.fmu
+ *   cc -O2 -I capi/include examples/c/bench_fmi.c -o bench_fmi \
+ *      -L target/release -lhysteron_c -Wl,-rpath,target/release -lm
+ *   ./bench_fmi paper [N]
+ *
+ * libhysteron_c.so is the FMU's binary too, so the fmi2* functions are
+ * linked directly; the FMI 2.0 prototypes needed are declared below.
+ * Prints `fmi2DoStep: <ns> ns per step`, `hysteron_step: <ns> ns per step`
+ * and their difference, medians of 5 runs, and the sums of both outputs,
+ * which must be equal (exit code 1 otherwise).
+ */
+#define _POSIX_C_SOURCE 199309L
+#include "hysteron.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+typedef void *fmi2Component;
+typedef struct {
+    void (*logger)(void *, const char *, int, const char *, const char *, ...);
+    void *(*allocateMemory)(size_t, size_t);
+    void (*freeMemory)(void *);
+    void (*stepFinished)(void *, int);
+    void *componentEnvironment;
+} fmi2CallbackFunctions;
+
+fmi2Component fmi2Instantiate(const char *, int, const char *, const char *,
+                              const fmi2CallbackFunctions *, int, int);
+void fmi2FreeInstance(fmi2Component);
+int fmi2SetupExperiment(fmi2Component, int, double, double, int, double);
+int fmi2EnterInitializationMode(fmi2Component);
+int fmi2ExitInitializationMode(fmi2Component);
+int fmi2Reset(fmi2Component);
+int fmi2SetReal(fmi2Component, const unsigned int *, size_t, const double *);
+int fmi2GetReal(fmi2Component, const unsigned int *, size_t, double *);
+int fmi2DoStep(fmi2Component, double, double, int);
+
+static void logger(void *env, const char *name, int status, const char *category,
+                   const char *message, ...) {
+    (void)env;
+    (void)category;
+    fprintf(stderr, "%s (status %d): %s\n", name, status, message);
+}
+
+static double now(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int by_value(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The text of a whole file, or NULL. */
+static char *slurp(const char *path) {
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *text = malloc((size_t)n + 1);
+    if (text && fread(text, 1, (size_t)n, f) != (size_t)n) {
+        free(text);
+        text = NULL;
+    }
+    if (text) text[n] = '\0';
+    fclose(f);
+    return text;
+}
+
+/* The value of attribute `name` (`name="..."`) in `xml`, copied into `out`. */
+static int attribute(const char *xml, const char *name, char *out, size_t len) {
+    char key[64];
+    snprintf(key, sizeof key, " %s=\"", name);
+    const char *at = strstr(xml, key);
+    if (!at) return 0;
+    at += strlen(key);
+    const char *end = strchr(at, '"');
+    if (!end || (size_t)(end - at) >= len) return 0;
+    memcpy(out, at, (size_t)(end - at));
+    out[end - at] = '\0';
+    return 1;
+}
+
+#define RUNS 5
+#define TAU 6.283185307179586
+
+int main(int argc, char **argv) {
+    if (argc < 2) {
+        fprintf(stderr, "usage: %s UNZIPPED_FMU_DIR [N]\n", argv[0]);
+        return 2;
+    }
+    const char *dir = argv[1];
+    long n = argc > 2 ? atol(argv[2]) : 2000000;
+    if (n <= 0) {
+        fprintf(stderr, "N must be positive\n");
+        return 2;
+    }
+    char path[4096], guid[128], uri[4200];
+    snprintf(path, sizeof path, "%s/modelDescription.xml", dir);
+    char *xml = slurp(path);
+    if (!xml || !attribute(xml, "guid", guid, sizeof guid)) {
+        fprintf(stderr, "cannot read the GUID from %s\n", path);
+        return 1;
+    }
+    free(xml);
+    snprintf(uri, sizeof uri, "file://%s/resources", dir);
+    snprintf(path, sizeof path, "%s/resources/model.json", dir);
+    char *json = slurp(path);
+    if (!json) {
+        fprintf(stderr, "cannot read %s\n", path);
+        return 1;
+    }
+
+    double *x = malloc((size_t)n * sizeof *x);
+    for (long i = 0; i < n; i++)
+        x[i] = 2.5 * sin(TAU * (double)i / 2000.0) + 0.3 * sin(TAU * (double)i / 97.3);
+
+    fmi2CallbackFunctions callbacks = {logger, NULL, NULL, NULL, NULL};
+    fmi2Component c = fmi2Instantiate("bench", 1, guid, uri, &callbacks, 0, 0);
+    HysteronModel *model = NULL;
+    if (!c || hysteron_model_from_json(json, &model) != HYSTERON_STATUS_OK) {
+        fprintf(stderr, "cannot instantiate: %s\n", hysteron_last_error());
+        return 1;
+    }
+    const unsigned int vr_x = 0, vr_y = 1;
+    const double h = 1e-3;
+    double fmi[RUNS], capi[RUNS], sum_fmi = 0.0, sum_capi = 0.0;
+    for (int r = 0; r < RUNS; r++) {
+        fmi2Reset(c);
+        fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0);
+        fmi2EnterInitializationMode(c);
+        fmi2ExitInitializationMode(c);
+        double t0 = now(), t = 0.0, y;
+        for (long i = 0; i < n; i++) {
+            if (fmi2SetReal(c, &vr_x, 1, &x[i]) || fmi2DoStep(c, t, h, 1) ||
+                fmi2GetReal(c, &vr_y, 1, &y))
+                return 1;
+            t += h;
+            sum_fmi += y;
+        }
+        fmi[r] = (now() - t0) / (double)n * 1e9;
+
+        hysteron_reset(model);
+        t0 = now();
+        for (long i = 0; i < n; i++) {
+            if (hysteron_step(model, x[i], &y) != HYSTERON_STATUS_OK) {
+                fprintf(stderr, "%s\n", hysteron_last_error());
+                return 1;
+            }
+            sum_capi += y;
+        }
+        capi[r] = (now() - t0) / (double)n * 1e9;
+    }
+    qsort(fmi, RUNS, sizeof *fmi, by_value);
+    qsort(capi, RUNS, sizeof *capi, by_value);
+    printf("fmi2DoStep: %.1f ns per step (fmi2SetReal + fmi2DoStep + fmi2GetReal, %ld steps, median of %d)\n",
+           fmi[RUNS / 2], n, RUNS);
+    printf("hysteron_step: %.1f ns per step (the same model through the C API)\n", capi[RUNS / 2]);
+    printf("overhead: %.1f ns per step\n", fmi[RUNS / 2] - capi[RUNS / 2]);
+    /* The same model on the same inputs: the same outputs, bit for bit. */
+    printf("checksum: fmi %.17g, capi %.17g\n", sum_fmi, sum_capi);
+    if (sum_fmi != sum_capi) {
+        fprintf(stderr, "the FMU and the C API disagree\n");
+        return 1;
+    }
+    fmi2FreeInstance(c);
+    hysteron_model_free(model);
+    free(json);
+    free(x);
+    return 0;
+}
