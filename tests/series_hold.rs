@@ -110,13 +110,16 @@ where
     (at_lo, at_hi)
 }
 
-/// Checks that `m` rests at both limits for a good part of `xs`, then
-/// [`same_as_trial_commit`].
-fn check_series<L, R>(label: &str, m: MechanicalSeries<f64, L, R>, xs: &[f64], lo: f64, hi: f64)
+/// Checks that `left` in series with `right` within `limits` rests at
+/// both limits for a good part of `xs`, then [`same_as_trial_commit`].
+fn check_series<L, R>(label: &str, left: L, right: R, limits: TravelLimits<f64>, xs: &[f64])
 where
     L: Operator<f64> + Clone + 'static,
     R: Operator<f64> + Clone + 'static,
 {
+    // The left element's travel since the start (for a gap: [−b/2 − r0, b/2 − r0]).
+    let (lo, hi) = limits.bounds().expect("limits with bounds");
+    let m = left.series(right).with_limits(limits).unwrap();
     let (at_lo, at_hi) = samples_at_limits(&m, xs, lo, hi);
     println!("{label}: {at_lo} samples at the lower limit, {at_hi} at the upper");
     assert!(
@@ -134,57 +137,36 @@ fn spring(n: f64) -> BoucWen<f64> {
 fn series_at_limits_with_other_children() {
     let xs = kernel_input(6_000);
     let gap = TravelLimits::Gap { b: 0.3, r0: 0.1 };
-    // The left element's travel since the start: [−b/2 − r0, b/2 − r0].
-    let (lo, hi) = (-0.15 - 0.1, 0.15 - 0.1);
     // A rate-dependent left element: its trial at the held split changes
     // with every sample, so it is trialled and committed per sample.
-    check_series(
-        "mass-spring-damper in a gap",
-        MassSpringDamper::new(1e-3, 0.5, 40.0, 1e-3)
-            .unwrap()
-            .series(spring(1.0))
-            .with_limits(gap)
-            .unwrap(),
-        &xs,
-        lo,
-        hi,
-    );
+    let msd = MassSpringDamper::new(1e-3, 0.5, 40.0, 1e-3).unwrap();
+    check_series("mass-spring-damper in a gap", msd, spring(1.0), gap, &xs);
     // A spring without a batch loop for process_while (n ≠ 1: the default).
+    let mms = Mms::new(1.5, 30.0).unwrap();
     check_series(
         "mms and bouc_wen n=1.5 in a gap",
-        Mms::new(1.5, 30.0)
-            .unwrap()
-            .series(spring(1.5))
-            .with_limits(gap)
-            .unwrap(),
+        mms.clone(),
+        spring(1.5),
+        gap,
         &xs,
-        lo,
-        hi,
     );
     // Range limits.
+    let ep = ElastoPlastic::new(30.0, 1.5).unwrap();
+    let range = TravelLimits::Range { lo: -0.1, hi: 0.2 };
     check_series(
         "elastoplastic and bouc_wen in a range",
-        ElastoPlastic::new(30.0, 1.5)
-            .unwrap()
-            .series(spring(1.0))
-            .with_limits(TravelLimits::Range { lo: -0.1, hi: 0.2 })
-            .unwrap(),
+        ep,
+        spring(1.0),
+        range,
         &xs,
-        -0.1,
-        0.2,
     );
     // Boxed children.
     check_series(
         "boxed children in a gap",
-        Mms::new(1.5, 30.0)
-            .unwrap()
-            .boxed()
-            .series(spring(1.0).boxed())
-            .with_limits(gap)
-            .unwrap(),
+        mms.boxed(),
+        spring(1.0).boxed(),
+        gap,
         &xs,
-        lo,
-        hi,
     );
 }
 

@@ -68,6 +68,26 @@ unsafe fn put<T>(out: *mut T, value: T) {
     }
 }
 
+/// Stores the model `make` gives in `*out` (NULL on error), under the
+/// panic guard.
+///
+/// # Safety
+/// `out` is NULL or writable; `make` is safe to call under the caller's
+/// contract for its own pointers.
+unsafe fn store(
+    out: *mut *mut HysteronModel,
+    make: impl FnOnce() -> Result<Model, HysteronStatus>,
+) -> HysteronStatus {
+    call(|| {
+        // SAFETY: by the caller's contract.
+        let slot = unsafe { out.as_mut() }
+            .ok_or_else(|| fail(HysteronStatus::NullArgument, "out: NULL"))?;
+        *slot = std::ptr::null_mut();
+        *slot = Box::into_raw(Box::new(HysteronModel(make()?)));
+        Ok(())
+    })
+}
+
 /// Runs `body` under the panic guard, mapping `Err(status)` to `status`.
 fn call(body: impl FnOnce() -> Result<(), HysteronStatus>) -> HysteronStatus {
     guard(|| match body() {
@@ -87,16 +107,12 @@ pub unsafe extern "C" fn hysteron_model_from_json(
     json: *const c_char,
     out: *mut *mut HysteronModel,
 ) -> HysteronStatus {
-    call(|| {
-        if out.is_null() {
-            return Err(fail(HysteronStatus::NullArgument, "out: NULL"));
-        }
-        unsafe { put(out, std::ptr::null_mut()) };
-        let text = unsafe { text(json, "json") }?;
-        let model = Model::from_json(text).map_err(spec_failure)?;
-        unsafe { put(out, Box::into_raw(Box::new(HysteronModel(model)))) };
-        Ok(())
-    })
+    unsafe {
+        store(out, || {
+            let text = text(json, "json")?;
+            Model::from_json(text).map_err(spec_failure)
+        })
+    }
 }
 
 /// An independent copy of `model`, in its current state, in `*out`.
@@ -108,14 +124,7 @@ pub unsafe extern "C" fn hysteron_model_clone(
     model: *const HysteronModel,
     out: *mut *mut HysteronModel,
 ) -> HysteronStatus {
-    call(|| {
-        if out.is_null() {
-            return Err(fail(HysteronStatus::NullArgument, "out: NULL"));
-        }
-        let m = unsafe { model_ref(model) }?;
-        unsafe { put(out, Box::into_raw(Box::new(HysteronModel(m.clone())))) };
-        Ok(())
-    })
+    unsafe { store(out, || Ok(model_ref(model)?.clone())) }
 }
 
 /// Frees a model (NULL is ignored).

@@ -60,7 +60,10 @@ impl<T: Float> TravelLimits<T> {
         }
     }
 
-    fn bounds(&self) -> Option<(T, T)> {
+    /// The left element's travel bounds `(lo, hi)` relative to its start:
+    /// `(lo, hi)` for a range, `(−b/2 − r0, b/2 − r0)` for a gap (the slider
+    /// starts at `r0` in `[−b/2, b/2]`), `None` without limits.
+    pub fn bounds(&self) -> Option<(T, T)> {
         match *self {
             TravelLimits::None => None,
             TravelLimits::Range { lo, hi } => Some((lo, hi)),

@@ -17,7 +17,7 @@
  * which must be equal (exit code 1 otherwise).
  */
 #define _POSIX_C_SOURCE 199309L
-#include "hysteron.h"
+#include "common.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -63,23 +63,6 @@ static int by_value(const void *a, const void *b) {
     return (x > y) - (x < y);
 }
 
-/* The text of a whole file, or NULL. */
-static char *slurp(const char *path) {
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *text = malloc((size_t)n + 1);
-    if (text && fread(text, 1, (size_t)n, f) != (size_t)n) {
-        free(text);
-        text = NULL;
-    }
-    if (text) text[n] = '\0';
-    fclose(f);
-    return text;
-}
-
 /* The value of attribute `name` (`name="..."`) in `xml`, copied into `out`. */
 static int attribute(const char *xml, const char *name, char *out, size_t len) {
     char key[64];
@@ -110,19 +93,15 @@ int main(int argc, char **argv) {
     }
     char path[4096], guid[128], uri[4200];
     snprintf(path, sizeof path, "%s/modelDescription.xml", dir);
-    char *xml = slurp(path);
-    if (!xml || !attribute(xml, "guid", guid, sizeof guid)) {
+    char *xml = read_file(path);
+    if (!attribute(xml, "guid", guid, sizeof guid)) {
         fprintf(stderr, "cannot read the GUID from %s\n", path);
         return 1;
     }
     free(xml);
     snprintf(uri, sizeof uri, "file://%s/resources", dir);
     snprintf(path, sizeof path, "%s/resources/model.json", dir);
-    char *json = slurp(path);
-    if (!json) {
-        fprintf(stderr, "cannot read %s\n", path);
-        return 1;
-    }
+    char *json = read_file(path);
 
     double *x = malloc((size_t)n * sizeof *x);
     for (long i = 0; i < n; i++)

@@ -27,7 +27,7 @@
 
 #define _POSIX_C_SOURCE 199309L /* clock_gettime */
 
-#include "hysteron.h"
+#include "common.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -35,36 +35,6 @@
 #include <time.h>
 
 enum { RUNS = 5 };
-
-/* Exits with the library's message if a call failed. */
-static void check(HysteronStatus status, const char *what)
-{
-    if (status != HYSTERON_STATUS_OK) {
-        fprintf(stderr, "bench_step: %s failed (status %d): %s\n", what,
-                (int)status, hysteron_last_error());
-        exit(1);
-    }
-}
-
-/* The whole file as a NUL-terminated string (exits on failure). */
-static char *read_file(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (f == NULL) {
-        perror(path);
-        exit(1);
-    }
-    long size = fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
-    char *text = size >= 0 ? malloc((size_t)size + 1) : NULL;
-    if (text == NULL || fseek(f, 0, SEEK_SET) != 0
-        || fread(text, 1, (size_t)size, f) != (size_t)size) {
-        fprintf(stderr, "bench_step: cannot read %s\n", path);
-        exit(1);
-    }
-    fclose(f);
-    text[size] = '\0';
-    return text;
-}
 
 static double now_ns(void)
 {

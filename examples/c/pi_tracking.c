@@ -26,7 +26,7 @@
  * -Wl,-rpath with an absolute path).
  */
 
-#include "hysteron.h"
+#include "common.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -40,36 +40,6 @@ static const char DEFAULT_SPEC[] =
     " \"y0\": []}";
 
 enum { N_SAMPLES = 4000 };
-
-/* Exits with the library's message if a call failed. */
-static void check(HysteronStatus status, const char *what)
-{
-    if (status != HYSTERON_STATUS_OK) {
-        fprintf(stderr, "pi_tracking: %s failed (status %d): %s\n", what,
-                (int)status, hysteron_last_error());
-        exit(1);
-    }
-}
-
-/* The whole file as a NUL-terminated string (exits on failure). */
-static char *read_file(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (f == NULL) {
-        perror(path);
-        exit(1);
-    }
-    long size = fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
-    char *text = size >= 0 ? malloc((size_t)size + 1) : NULL;
-    if (text == NULL || fseek(f, 0, SEEK_SET) != 0
-        || fread(text, 1, (size_t)size, f) != (size_t)size) {
-        fprintf(stderr, "pi_tracking: cannot read %s\n", path);
-        exit(1);
-    }
-    fclose(f);
-    text[size] = '\0';
-    return text;
-}
 
 /* The spec with its `"pi_bank"` type replaced by `"pi_inverse"` (the
  * inverse takes the same fields). Caller frees. */

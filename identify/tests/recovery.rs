@@ -1,6 +1,6 @@
 //! Recovery of known parameters from synthetic records.
 
-use hysteron_identify::{fit, free_by_names, FitOptions};
+use hysteron_identify::{fit, free_by_names, FitOptions, FitReport};
 use hysteron_operators::{BoucWen, Operator};
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};
@@ -32,17 +32,23 @@ fn perturbed(start: &BoucWen<f64>, factors: &[f64]) -> Box<dyn Operator<f64>> {
     m
 }
 
+/// Fits `FREE` to `(x, y)` from the truth `t` scaled by 1.3, 0.7, 1.25
+/// and 1.2, checks that it converged, and returns the report with the true
+/// parameter vector.
+fn fit_from_perturbed_start(t: &BoucWen<f64>, x: &[f64], y: &[f64]) -> (FitReport, Vec<f64>) {
+    let start = perturbed(t, &[1.3, 0.7, 1.25, 1.2]);
+    let idx = free_by_names(start.as_ref(), &FREE).unwrap();
+    let f = fit(start.as_ref(), x, y, &idx, &FitOptions::default()).unwrap();
+    assert!(f.report.status.converged(), "{:?}", f.report.status);
+    (f.report, t.params())
+}
+
 #[test]
 fn noise_free_bouc_wen_recovers_its_parameters() {
     let x = decaying_sine(20_000);
     let t = truth(1.5);
     let y = t.clone().run(&x).unwrap();
-    let start = perturbed(&t, &[1.3, 0.7, 1.25, 1.2]);
-    let idx = free_by_names(start.as_ref(), &FREE).unwrap();
-    let f = fit(start.as_ref(), &x, &y, &idx, &FitOptions::default()).unwrap();
-    let r = &f.report;
-    assert!(r.status.converged(), "{:?}", r.status);
-    let want = t.params();
+    let (r, want) = fit_from_perturbed_start(&t, &x, &y);
     for p in &r.params {
         let rel = (p.value - want[p.index]).abs() / want[p.index].abs();
         assert!(
@@ -68,12 +74,7 @@ fn noisy_bouc_wen_truth_lies_within_three_standard_errors() {
     let mut rng = StdRng::seed_from_u64(7);
     let noise = Normal::new(0.0, sd).unwrap();
     let y: Vec<f64> = clean.iter().map(|v| v + noise.sample(&mut rng)).collect();
-    let start = perturbed(&t, &[1.3, 0.7, 1.25, 1.2]);
-    let idx = free_by_names(start.as_ref(), &FREE).unwrap();
-    let f = fit(start.as_ref(), &x, &y, &idx, &FitOptions::default()).unwrap();
-    let r = &f.report;
-    assert!(r.status.converged(), "{:?}", r.status);
-    let want = t.params();
+    let (r, want) = fit_from_perturbed_start(&t, &x, &y);
     for p in &r.params {
         let se = p.std_error.expect("standard error");
         let z = (p.value - want[p.index]).abs() / se;

@@ -50,23 +50,23 @@ fn with(c: fmi2Component, body: impl FnOnce(&mut Component) -> Result<(), String
     // SAFETY: `c` is NULL or a component from fmi2Instantiate, used by one
     // thread at a time (FMI 2.0 §2.1.3).
     let Some(comp) = (unsafe { (c as *mut Component).as_mut() }) else {
-        return fmi2Status::Error;
+        return FMI2_ERROR;
     };
     match catch_unwind(AssertUnwindSafe(|| body(comp))) {
-        Ok(Ok(())) => fmi2Status::OK,
+        Ok(Ok(())) => FMI2_OK,
         Ok(Err(message)) => {
-            comp.log(fmi2Status::Error, &message);
-            fmi2Status::Error
+            comp.log(FMI2_ERROR, &message);
+            FMI2_ERROR
         }
         Err(payload) => {
             comp.log(
-                fmi2Status::Fatal,
+                FMI2_FATAL,
                 &format!(
                     "internal error (a bug in hysteron): {}",
                     panic_text(&payload)
                 ),
             );
-            fmi2Status::Fatal
+            FMI2_FATAL
         }
     }
 }
@@ -137,7 +137,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
     let name = unsafe { text(instanceName) }.unwrap_or_else(|| "hysteron".into());
     let c_name = CString::new(name.replace('\0', " ")).unwrap_or_default();
     let made = catch_unwind(AssertUnwindSafe(|| -> Result<Instance, String> {
-        if fmuType != fmi2Type::CoSimulation as std::ffi::c_int {
+        if fmuType != FMI2_CO_SIMULATION {
             return Err(
                 "only Co-Simulation is supported (fmuType must be fmi2CoSimulation)".into(),
             );
@@ -153,16 +153,11 @@ pub unsafe extern "C" fn fmi2Instantiate(
             inst,
         })) as fmi2Component,
         Ok(Err(message)) => {
-            log_to(&callbacks, &c_name, fmi2Status::Error, &message);
+            log_to(&callbacks, &c_name, FMI2_ERROR, &message);
             std::ptr::null_mut()
         }
         Err(payload) => {
-            log_to(
-                &callbacks,
-                &c_name,
-                fmi2Status::Fatal,
-                &panic_text(&payload),
-            );
+            log_to(&callbacks, &c_name, FMI2_FATAL, &panic_text(&payload));
             std::ptr::null_mut()
         }
     }
@@ -478,6 +473,30 @@ pub extern "C" fn fmi2GetStatus(
     unsupported(c, "fmi2GetStatus (steps are never asynchronous)")
 }
 
+/// Writes `read(instance)` to `*value` for the one status `kind` that has
+/// a value of this type.
+///
+/// # Safety
+/// `value` is NULL or writable.
+unsafe fn status_value<V>(
+    c: fmi2Component,
+    kind: fmi2StatusKind,
+    (wanted, function): (fmi2StatusKind, &str),
+    value: *mut V,
+    read: impl FnOnce(&Instance) -> V,
+) -> fmi2Status {
+    with(c, |comp| {
+        if kind != wanted {
+            return Err(format!(
+                "{function}: status kind {kind} has no value of this type"
+            ));
+        }
+        let slot = unsafe { value.as_mut() }.ok_or("value: NULL")?;
+        *slot = read(&comp.inst);
+        Ok(())
+    })
+}
+
 /// # Safety
 /// `value` is NULL or writable.
 #[no_mangle]
@@ -486,16 +505,8 @@ pub unsafe extern "C" fn fmi2GetRealStatus(
     kind: fmi2StatusKind,
     value: *mut fmi2Real,
 ) -> fmi2Status {
-    with(c, |comp| {
-        if kind != FMI2_LAST_SUCCESSFUL_TIME {
-            return Err(format!(
-                "fmi2GetRealStatus: status kind {kind} has no Real value"
-            ));
-        }
-        let slot = unsafe { value.as_mut() }.ok_or("value: NULL")?;
-        *slot = comp.inst.time();
-        Ok(())
-    })
+    let wanted = (FMI2_LAST_SUCCESSFUL_TIME, "fmi2GetRealStatus");
+    unsafe { status_value(c, kind, wanted, value, |inst| inst.time()) }
 }
 
 #[no_mangle]
@@ -515,16 +526,12 @@ pub unsafe extern "C" fn fmi2GetBooleanStatus(
     kind: fmi2StatusKind,
     value: *mut fmi2Boolean,
 ) -> fmi2Status {
-    with(c, |comp| {
-        if kind != FMI2_TERMINATED {
-            return Err(format!(
-                "fmi2GetBooleanStatus: status kind {kind} has no Boolean value"
-            ));
-        }
-        let slot = unsafe { value.as_mut() }.ok_or("value: NULL")?;
-        *slot = fmi2Boolean::from(comp.inst.mode() == Mode::Terminated);
-        Ok(())
-    })
+    let wanted = (FMI2_TERMINATED, "fmi2GetBooleanStatus");
+    unsafe {
+        status_value(c, kind, wanted, value, |inst| {
+            fmi2Boolean::from(inst.mode() == Mode::Terminated)
+        })
+    }
 }
 
 #[no_mangle]

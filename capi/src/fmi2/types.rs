@@ -14,29 +14,17 @@ pub type fmi2Boolean = c_int;
 pub type fmi2String = *const c_char;
 pub type fmi2Byte = c_char;
 
-/// `fmi2Status` (every value of the standard, some unused here).
-#[allow(dead_code)]
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum fmi2Status {
-    OK = 0,
-    Warning = 1,
-    Discard = 2,
-    Error = 3,
-    Fatal = 4,
-    Pending = 5,
-}
+/// `fmi2Status`, passed as a C `int` (as `fmi2Type` and
+/// `fmi2StatusKind`: a value the FMU does not know must not be UB).
+pub type fmi2Status = c_int;
+pub const FMI2_OK: fmi2Status = 0;
+pub const FMI2_ERROR: fmi2Status = 3;
+pub const FMI2_FATAL: fmi2Status = 4;
 
-/// `fmi2Type` (passed as a C `int`).
-#[allow(dead_code)]
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum fmi2Type {
-    ModelExchange = 0,
-    CoSimulation = 1,
-}
+/// `fmi2Type`: only co-simulation is supported.
+pub const FMI2_CO_SIMULATION: c_int = 1;
 
-/// `fmi2StatusKind` (passed as an int: an unknown value must not be UB).
+/// `fmi2StatusKind`.
 pub type fmi2StatusKind = c_int;
 pub const FMI2_LAST_SUCCESSFUL_TIME: fmi2StatusKind = 2;
 pub const FMI2_TERMINATED: fmi2StatusKind = 3;
