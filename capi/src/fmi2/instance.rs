@@ -155,7 +155,8 @@ impl Instance {
         self.now.mode = Mode::Terminated;
     }
 
-    /// Back to the state after instantiation (start values, time 0).
+    /// Back to the state after instantiation: the description's start
+    /// values (parameters set since are forgotten), input 0, time 0.
     pub fn reset(&mut self) {
         *self = Instance::new(self.start.clone());
     }
@@ -284,10 +285,6 @@ impl Instance {
                     .map_err(|e| format!("replaying step {k} with the new parameters: {e}"))?,
             );
         }
-        if self.now.mode == Mode::Instantiated || self.now.mode == Mode::Initialization {
-            // Also the start values that fmi2Reset returns to.
-            self.start = model.clone();
-        }
         self.now.model = model;
         self.now.period = period;
         if let Some(y) = y {
@@ -413,8 +410,10 @@ mod tests {
         let first = run(&mut inst, &xs[20..], 0.01);
         inst.restore(&snap);
         assert_eq!(run(&mut inst, &xs[20..], 0.01), first);
+        inst.set_real(&[VR_FIRST_PARAM], &[0.1]).unwrap();
         inst.reset();
         assert_eq!(inst.mode(), Mode::Instantiated);
+        assert_eq!(inst.get_real(VR_FIRST_PARAM).unwrap(), 0.5); // the start value again
         assert!(inst.do_step(0.0, 0.1).is_err());
         assert!(stepping(PLAY).do_step(0.0, 0.0).is_err());
     }
