@@ -1,11 +1,27 @@
 #!/usr/bin/env bash
-# Every test of the project: Rust (cargo test --workspace), then the Python
+# Every check of the project, the README's one test command (CI runs it):
+# formatting, lints and docs, the Rust tests, then the Python
 # package (installed from python/ into a fresh virtual environment, its stubs
 # checked by mypy's stubtest, mypy, pytest), then the C API and the FMUs
 # (capi/checks: C programs built with cc, FMUs checked with FMPy). Needs rustup's toolchain, python3 with
 # venv, and the package registries (crates.io, PyPI).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+export CARGO_TERM_COLOR=never
+
+if command -v rustup >/dev/null 2>&1; then
+  rustup component add rustfmt clippy >/dev/null 2>&1 || true
+fi
+cargo --version
+
+echo "== cargo fmt --check"
+cargo fmt --all -- --check
+
+echo "== cargo clippy"
+cargo clippy --workspace --all-targets -- -D warnings
+
+echo "== cargo doc"
+RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
 
 echo "== cargo test --workspace"
 cargo test --workspace

@@ -226,17 +226,10 @@ impl Instance {
         if self.now.mode == Mode::Terminated {
             return Err("fmi2SetReal: the instance is terminated".into());
         }
-        if let ([VR_X], [v]) = (vrs, values) {
-            // The call a host makes before every step.
-            if !v.is_finite() {
-                return Err(format!("x: input {v} is not finite"));
-            }
-            self.now.x = *v;
-            return Ok(());
-        }
         let mut x = self.now.x;
-        let mut params = self.now.model.operator().params();
-        let mut changed = false;
+        // Read only when a parameter is set: a host sets the input alone
+        // before every step.
+        let mut params: Option<Vec<f64>> = None;
         for (&vr, &v) in vrs.iter().zip(values) {
             match vr {
                 VR_X => {
@@ -248,15 +241,18 @@ impl Instance {
                 VR_Y => return Err("y is an output; it cannot be set".into()),
                 _ => {
                     let i = self.param_index(vr)?;
-                    if params[i].to_bits() != v.to_bits() {
-                        params[i] = v;
-                        changed = true;
-                    }
+                    params.get_or_insert_with(|| self.now.model.operator().params())[i] = v;
                 }
             }
         }
-        if changed {
-            self.change_params(&params)?;
+        if let Some(p) = params {
+            let current = self.now.model.operator().params();
+            if p.iter()
+                .zip(&current)
+                .any(|(a, b)| a.to_bits() != b.to_bits())
+            {
+                self.change_params(&p)?;
+            }
         }
         self.now.x = x;
         Ok(())
