@@ -112,7 +112,12 @@ pub(crate) struct SubstepCap<T> {
 ///
 /// `g(s) = g_a + f(g_a) (1 − e^{−c_a s}) / c_a` for `s ≤ s0`, and
 /// `g(s) = α (1 − e^{−c_0 (s − s0)}) / c_0` beyond the zero crossing at
-/// travel `s0` (`g + f s` where a `c` is 0).
+/// travel `s0` (`g + f s` where a `c` is 0). Each piece is evaluated as
+/// `g∞ − (f/c) e^{−c s}` with its asymptote `g∞ = g + f/c` (`= α/c`)
+/// cached: one `exp` (shorter latency than `expm1`, which a single step
+/// through a series waits for). The absolute rounding error is a few ulps
+/// of `max(|g∞|, |f/c| e^{−c s})`, the scale of the state on the branch;
+/// at travel 0 the result is `g_a` to that error, not bit for bit.
 ///
 /// Evaluating every sample from the branch start (not step by step) makes
 /// the `n = 1` spring exactly rate-independent: the output at an input does
@@ -124,11 +129,13 @@ pub(crate) struct Branch<T> {
     c_a: T,
     /// `f_a / c_a`, cached.
     fc_a: T,
+    /// The asymptote `g_a + f_a / c_a`, cached.
+    inf_a: T,
     /// Travel to the zero crossing (`+∞` if the branch does not cross).
     s0: T,
     f_0: T,
     c_0: T,
-    /// `f_0 / c_0`, cached.
+    /// `f_0 / c_0` (also the asymptote, from `g = 0`), cached.
     fc_0: T,
 }
 
@@ -137,20 +144,28 @@ impl<T: Float> Branch<T> {
     #[inline(always)]
     pub(crate) fn at(&self, s: T) -> T {
         if self.s0 < s {
-            closed_form(T::zero(), self.f_0, self.c_0, self.fc_0, s - self.s0)
+            closed_form(
+                T::zero(),
+                self.f_0,
+                self.c_0,
+                self.fc_0,
+                self.fc_0,
+                s - self.s0,
+            )
         } else {
-            closed_form(self.g_a, self.f_a, self.c_a, self.fc_a, s)
+            closed_form(self.g_a, self.f_a, self.c_a, self.fc_a, self.inf_a, s)
         }
     }
 }
 
-/// `g + (f/c) (1 − e^{−c s})`, or `g + f s` for `c = 0`.
+/// `g + (f/c) (1 − e^{−c s})` as `g∞ − (f/c) e^{−c s}` with
+/// `g∞ = g + f/c`, or `g + f s` for `c = 0`.
 #[inline(always)]
-fn closed_form<T: Float>(g: T, f: T, c: T, f_over_c: T, s: T) -> T {
+fn closed_form<T: Float>(g: T, f: T, c: T, f_over_c: T, asymptote: T, s: T) -> T {
     if c == T::zero() {
         g + f * s
     } else {
-        g - f_over_c * (-c * s).exp_m1()
+        asymptote - f_over_c * (-c * s).exp()
     }
 }
 
@@ -394,6 +409,7 @@ impl<T: Float> StateEquation<T> {
             f_a,
             c_a,
             fc_a: f_a / c_a,
+            inf_a: g_a + f_a / c_a,
             s0,
             f_0: self.alpha,
             c_0,
@@ -707,6 +723,35 @@ mod tests {
         let before = e.advance(g0, s0 - 1e-9).unwrap();
         let after = e.advance(g0, s0 + 1e-9).unwrap();
         assert!(before < 0.0 && after > 0.0 && (after - before) < 1e-8);
+    }
+
+    /// The branch's `g∞ − (f/c) e^{−c s}` against the step's
+    /// `g − (f/c) expm1(−c s)` (each side, crossing zero, softening and
+    /// hardening sides, travel from 1e-12 to 20): they differ by at most a
+    /// few ulps of the state's scale `max(|g_a|, |g∞|, |g(s)|)`.
+    #[test]
+    fn branch_matches_expm1_form_to_ulps_of_the_state_scale() {
+        let mut worst = 0.0_f64;
+        for (alpha, beta, gamma) in [(1.0, 0.6, 0.2), (2.5, 1.5, 1.5), (1.0, 0.3, -0.5)] {
+            let e = eq(1.0, alpha, beta, gamma);
+            let bound = alpha / (beta + gamma);
+            for g_a in [-1.3, -0.4, -1e-9, 0.0, 1e-9, 0.2, 0.999, 1.7].map(|f| f * bound) {
+                let b = e.branch(g_a);
+                for s in [1e-12, 1e-6, 0.01, 0.3, 1.0, 4.0, 20.0] {
+                    let (got, want) = (b.at(s), e.advance_linear(g_a, s));
+                    if !want.is_finite() || want.abs() > 1e6 {
+                        continue; // the hardening side, blown up
+                    }
+                    let scale = g_a
+                        .abs()
+                        .max(want.abs())
+                        .max(b.inf_a.abs())
+                        .max(b.fc_0.abs());
+                    worst = worst.max((got - want).abs() / (f64::EPSILON * scale));
+                }
+            }
+        }
+        assert!(worst <= 4.0, "{worst} ulps of the state scale");
     }
 
     #[test]
