@@ -93,6 +93,19 @@ def test_spec_errors_name_the_path() -> None:
         hy.Model.from_spec(deep)
 
 
+def test_combinators_refuse_chains_deeper_than_max_depth() -> None:
+    # 120 nodes on one path build and run; the 121st is a ParameterError
+    # naming the nesting, not a stack overflow (nor a model that cannot
+    # be read back from its spec).
+    model = hy.gain(1.0)
+    for _ in range(119):
+        model = model.then(hy.gain(1.0))
+    assert list(model.run([0.25])) == [0.25]
+    assert hy.Model.from_spec(model.to_spec()).run([0.5])[0] == 0.5
+    with pytest.raises(hy.ParameterError, match=r"nesting: .*at most 120 operators"):
+        model.then(hy.gain(1.0))
+
+
 def test_solver_errors() -> None:
     # A saturation's outputs end at 1: its inverse cannot reach 2.
     inverse = hy.saturation(-1.0, 1.0).inverse()

@@ -1,7 +1,7 @@
 //! Building a [`Spec`] into a boxed operator, with every limit a spec
 //! must respect.
 
-use super::{Spec, SpecError};
+use super::{Spec, SpecError, MAX_DEPTH};
 use hysteron_composition::{OperatorExt, Oversample, SolverOptions, TravelLimits};
 use hysteron_operators::{check, BoucWen, Error, Leaf, Operator};
 use serde_json::Value;
@@ -16,6 +16,9 @@ const MAX_SOLVER_ITER: usize = 100_000;
 /// inverses).
 const MAX_IMPLICIT_DEPTH: usize = 4;
 
+// The nesting error's text names the limit.
+const _: () = assert!(MAX_DEPTH == 120);
+
 /// Largest `q` of an `oversample` spec (a bound on the work per sample).
 const MAX_OVERSAMPLE: usize = 100_000;
 
@@ -25,8 +28,9 @@ impl Spec {
     /// Errors are [`SpecError::Invalid`], naming the path through the tree
     /// (`series.right.bouc_wen.stiffness.s[3]`). Besides what the operators
     /// check, a `solver` must have `rel_tol, abs_tol ∈ [0, 1e-3]` and
-    /// `max_iter, max_expansions` in `[1, 100000]`, and at most 4 implicit
-    /// combinators may be nested on one path.
+    /// `max_iter, max_expansions` in `[1, 100000]`, at most
+    /// [`MAX_DEPTH`](super::MAX_DEPTH) nodes may lie on one path (measured
+    /// first, without recursion), and at most 4 implicit combinators.
     ///
     /// ```
     /// use hysteron_models::Spec;
@@ -39,6 +43,17 @@ impl Spec {
     /// assert_eq!(err.to_string(), "scaled.inner.play.r: must be ≥ 0 (got -1)");
     /// ```
     pub fn build(&self) -> Result<Box<dyn Operator<f64>>, SpecError> {
+        let depth = self.depth();
+        if depth > MAX_DEPTH {
+            return Err(SpecError::invalid(
+                self.kind(),
+                Error::InvalidParameter {
+                    name: "nesting".into(),
+                    value: depth as f64,
+                    reason: "at most 120 operators may be nested on one path from the root (hysteron_models::spec::MAX_DEPTH)",
+                },
+            ));
+        }
         let depth = self.implicit_depth();
         if depth > MAX_IMPLICIT_DEPTH {
             return Err(SpecError::invalid(

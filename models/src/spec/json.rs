@@ -2,7 +2,7 @@
 //! that every error names its path; written with `type` first.
 
 use super::registry::{all_kinds, leaf_kind};
-use super::{LeafSpec, Spec, SpecError};
+use super::{LeafSpec, Spec, SpecError, MAX_DEPTH};
 use crate::TransmissionParams;
 use hysteron_composition::{SolverOptions, TravelLimits};
 use serde::de::{Error as _, Unexpected};
@@ -367,6 +367,15 @@ impl Spec {
     /// Errors are [`SpecError::Json`] with the path in the document and
     /// serde's message (syntax errors also give line and column).
     pub fn from_json(text: &str) -> Result<Spec, SpecError> {
+        if let Some((line, column)) = nested_beyond(text, MAX_DEPTH + 4) {
+            return Err(SpecError::Json {
+                path: String::new(),
+                message: format!(
+                    "nested deeper than {} levels at line {line} column {column}: a spec may nest at most {MAX_DEPTH} operators on one path",
+                    MAX_DEPTH + 4
+                ),
+            });
+        }
         let mut de = serde_json::Deserializer::from_str(text);
         let value: Value =
             serde_path_to_error::deserialize(&mut de).map_err(|e| SpecError::Json {
@@ -400,4 +409,41 @@ impl<'de> Deserialize<'de> for Spec {
         let v = Value::deserialize(d)?;
         from_value(&v, "").map_err(D::Error::custom)
     }
+}
+
+/// Where the JSON text first nests its objects and arrays more than
+/// `limit` levels deep (line and column, 1-based, of the opening bracket),
+/// skipping strings; `None` if it never does. A linear scan without
+/// recursion, run before the recursive parse.
+fn nested_beyond(text: &str, limit: usize) -> Option<(usize, usize)> {
+    let (mut depth, mut line, mut column) = (0usize, 1, 0);
+    let (mut in_string, mut escaped) = (false, false);
+    for c in text.chars() {
+        column += 1;
+        if in_string {
+            match c {
+                _ if escaped => escaped = false,
+                '\\' => escaped = true,
+                '"' => in_string = false,
+                _ => {}
+            }
+            continue;
+        }
+        match c {
+            '"' => in_string = true,
+            '{' | '[' => {
+                depth += 1;
+                if depth > limit {
+                    return Some((line, column));
+                }
+            }
+            '}' | ']' => depth = depth.saturating_sub(1),
+            '\n' => {
+                line += 1;
+                column = 0;
+            }
+            _ => {}
+        }
+    }
+    None
 }

@@ -54,6 +54,18 @@ pub const COMBINATORS: &[&str] = &[
     "transmission",
 ];
 
+/// The most nodes a spec may have on one path from its root to a leaf.
+///
+/// Parsing, building, running and serializing a spec recurse once per
+/// level, so a bound keeps every one of them far from the stack's end (a
+/// 2 MiB thread stack holds a path of this length with a wide margin). JSON
+/// text nested deeper than `MAX_DEPTH + 4` levels (a leaf's own objects and
+/// arrays add at most 4) is refused before it is parsed; a spec built in
+/// code is measured without recursion by [`Spec::build`]. Longer chains
+/// fit in one node: a [`pi_bank`](registry) sums any number of plays.
+/// (Dropping a spec built deeper in code recurses once per level.)
+pub const MAX_DEPTH: usize = 120;
+
 /// A data description of a model: a registered leaf operator or a
 /// combinator of specs. Serialized with an internal `type` tag (see the
 /// [module documentation](self)).
@@ -326,6 +338,19 @@ impl Spec {
             Spec::Inverse { .. } => "inverse",
             Spec::Oversample { .. } => "oversample",
         }
+    }
+
+    /// The number of nodes on the longest path from this node to a leaf
+    /// (1 for a leaf), counted with an explicit stack (no recursion), so
+    /// that any depth is measured safely.
+    pub fn depth(&self) -> usize {
+        let mut deepest = 0;
+        let mut stack = vec![(self, 1)];
+        while let Some((spec, d)) = stack.pop() {
+            deepest = deepest.max(d);
+            stack.extend(spec.children().into_iter().map(|(_, c)| (c, d + 1)));
+        }
+        deepest
     }
 
     /// The child specs with their field names, in order (empty for leaves).

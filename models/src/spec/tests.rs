@@ -3,9 +3,9 @@
 use super::*;
 use hysteron_composition::PiBankParams;
 use hysteron_operators::{
-    BoucWenParams, DahlParams, DeadZoneParams, ElastoPlasticParams, GmsParams, LuGreParams,
-    MassSpringDamperParams, MaxwellSlipParams, MmsParams, ParamSet, PlayParams, SaturationParams,
-    StiffnessMap, StopParams,
+    BoucWenParams, DahlParams, DeadZoneParams, ElastoPlasticParams, Gain, GainParams, GmsParams,
+    LuGreParams, MassSpringDamperParams, MaxwellSlipParams, MmsParams, ParamSet, PlayParams,
+    SaturationParams, StiffnessMap, StopParams,
 };
 
 /// The example specs of the repository (`examples/specs/*.json`).
@@ -322,4 +322,82 @@ fn with_params_errors_name_the_path() {
     // and a spec that does not build is an error, not a panic
     let bad = Spec::leaf::<hysteron_operators::Play<f64>>(PlayParams { r: -1.0, y0: 0.0 });
     assert!(bad.with_params(&[1.0, 0.0]).is_err());
+}
+
+/// `n` gains cascaded into a left-deep chain: `n` nodes on the path from
+/// the root to the innermost gain (as `a.then(b).then(c)…` builds it).
+fn chain(n: usize) -> Spec {
+    let gain = || Spec::leaf::<Gain<f64>>(GainParams { k: 1.0 });
+    (1..n).fold(gain(), |first, _| Spec::Cascade {
+        first: Box::new(first),
+        second: Box::new(gain()),
+    })
+}
+
+/// The chain as JSON text, written without recursion.
+fn chain_json(n: usize) -> String {
+    let gain = r#"{"type":"gain","k":1.0}"#;
+    let open = format!(r#"{{"type":"cascade","second":{gain},"first":"#);
+    format!("{}{gain}{}", open.repeat(n - 1), "}".repeat(n - 1))
+}
+
+#[test]
+fn depth_counts_nodes_on_the_longest_path() {
+    assert_eq!(chain(1).depth(), 1);
+    assert_eq!(chain(7).depth(), 7);
+    assert_eq!(
+        every_variant().depth(),
+        every_variant().depth_by_recursion()
+    );
+}
+
+impl Spec {
+    fn depth_by_recursion(&self) -> usize {
+        1 + self
+            .children()
+            .iter()
+            .map(|(_, c)| c.depth_by_recursion())
+            .max()
+            .unwrap_or(0)
+    }
+}
+
+/// The deepest spec allowed parses, builds and runs; one level more is
+/// refused by `build` with a `nesting` error.
+#[test]
+fn specs_nest_up_to_max_depth() {
+    let spec = Spec::from_json(&chain_json(MAX_DEPTH)).unwrap();
+    assert_eq!(spec.depth(), MAX_DEPTH);
+    let mut op = spec.build().unwrap();
+    assert_eq!(op.trial(0.5).unwrap().output, 0.5);
+    let err = chain(MAX_DEPTH + 1).build().unwrap_err().to_string();
+    assert!(err.starts_with("cascade.nesting: "), "{err}");
+    assert!(err.contains("at most 120 operators"), "{err}");
+    // The JSON of that spec still parses (the leaf's objects are allowed
+    // for); it is `build` that refuses it.
+    assert!(Spec::from_json(&chain_json(MAX_DEPTH + 1)).is_ok());
+}
+
+/// A spec nested 10⁵ levels deep, as JSON text and built in code: an
+/// error, not a stack overflow (the test thread's stack is 2 MiB).
+#[test]
+fn a_spec_nested_1e5_deep_is_an_error() {
+    let err = Spec::from_json(&chain_json(100_000)).unwrap_err();
+    let text = err.to_string();
+    assert!(matches!(err, SpecError::Json { .. }), "{text}");
+    assert!(
+        text.contains("nested deeper than 124 levels at line 1 column"),
+        "{text}"
+    );
+    // Inside a string, brackets do not count.
+    let quoted = format!(r#"{{"type":"gain","k":1.0,"note":"{}"}}"#, "[".repeat(1000));
+    let err = Spec::from_json(&quoted).unwrap_err().to_string();
+    assert!(err.contains("note"), "{err}");
+
+    let deep = chain(100_000);
+    let err = deep.build().unwrap_err().to_string();
+    assert!(err.contains("nesting: "), "{err}");
+    assert!(err.contains("100000"), "{err}");
+    // Dropping it would recurse 10⁵ times (see `MAX_DEPTH`).
+    std::mem::forget(deep);
 }
