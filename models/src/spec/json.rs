@@ -362,11 +362,13 @@ impl Spec {
         }
     }
 
-    /// Reads a spec from JSON.
+    /// Reads a spec from JSON (a leading byte-order mark is skipped).
     ///
     /// Errors are [`SpecError::Json`] with the path in the document and
     /// serde's message (syntax errors also give line and column).
     pub fn from_json(text: &str) -> Result<Spec, SpecError> {
+        // A byte-order mark (as some editors write UTF-8) is not content.
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         if let Some((line, column)) = nested_beyond(text, MAX_DEPTH + 4) {
             return Err(SpecError::Json {
                 path: String::new(),

@@ -401,3 +401,11 @@ fn a_spec_nested_1e5_deep_is_an_error() {
     // Dropping it would recurse 10⁵ times (see `MAX_DEPTH`).
     std::mem::forget(deep);
 }
+
+#[test]
+fn a_leading_byte_order_mark_is_skipped() {
+    let spec = Spec::from_json("\u{feff}{\"type\": \"gain\", \"k\": 2.0}").unwrap();
+    assert_eq!(spec, Spec::leaf::<Gain<f64>>(GainParams { k: 2.0 }));
+    // Anywhere else it is not JSON.
+    assert!(Spec::from_json("{\"type\": \"gain\", \u{feff}\"k\": 2.0}").is_err());
+}
