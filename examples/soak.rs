@@ -36,6 +36,9 @@ fn rss_kb() -> Option<u64> {
     line.split_whitespace().nth(1)?.parse().ok()
 }
 
+/// A model to soak, by name, or the error building it.
+type Candidate = (&'static str, Result<Box<dyn Operator<f64>>>);
+
 /// What one soak run measured.
 struct Soak {
     seconds: f64,
@@ -113,7 +116,7 @@ fn main() {
             std::process::exit(1);
         }
     };
-    let models: Vec<(&str, Result<Box<dyn Operator<f64>>>)> = vec![
+    let models: Vec<Candidate> = vec![
         (
             "paper model",
             TransmissionParams::default().build().map(|m| m.boxed()),
