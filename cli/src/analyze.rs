@@ -6,12 +6,25 @@
 //! `samples_per_period` samples each; the last period must be steady (its
 //! first harmonic within `steady_tol · max|y|` of the period before's,
 //! otherwise an error). From it come the describing function
-//! `N(A) = (b_1 + i a_1)/A` ([`crate::models::describing`]) and the work
-//! per loop `∮ y dx` by the trapezoid rule ([`crate::models::energy`];
-//! positive for clockwise, dissipative loops, negative for a play's
-//! counterclockwise one). The table is printed; with an output path it is
-//! also written as CSV (atomically, after every amplitude succeeded;
-//! columns `amplitude, gain, phase_deg, re, im, work`).
+//! `N(A) = (b_1 + i a_1)/A` ([`crate::models::describing`]) and the loop
+//! energy by the trapezoid rule ([`crate::models::energy`]):
+//!
+//! * `dissipated`: the energy dissipated per loop, the loop's area
+//!   `|∮ y dx|` ([`LoopEnergy::area`]), positive for every hysteresis loop
+//!   whichever way it runs: the usual counterclockwise one of an output
+//!   that lags its input (play, Prandtl-Ishlinskii bank, Preisach) and the
+//!   clockwise one of a force over a displacement (stop, MMS friction,
+//!   Bouc-Wen spring);
+//! * `work`: the signed `∮ y dx` of the library
+//!   ([`LoopEnergy::work`]), which tells the orientation: negative for a
+//!   counterclockwise loop, positive for a clockwise one.
+//!
+//! The table is printed; with an output path it is also written as CSV
+//! (atomically, after every amplitude succeeded; columns `amplitude, gain,
+//! phase_deg, re, im, work, dissipated`).
+//!
+//! [`LoopEnergy::area`]: crate::models::energy::LoopEnergy::area
+//! [`LoopEnergy::work`]: crate::models::energy::LoopEnergy::work
 
 use crate::csvio::{self, CsvIoError};
 use crate::model_file::ModelFileError;
@@ -66,8 +79,12 @@ pub enum AnalyzeError {
 pub struct AnalyzeRow {
     /// The describing function at this amplitude.
     pub describing: DescribingFunction,
-    /// `∮ y dx` over the steady loop.
+    /// `∮ y dx` over the steady loop (negative for a counterclockwise
+    /// loop, positive for a clockwise one).
     pub work: f64,
+    /// The energy dissipated per loop: the loop's area `|∮ y dx|` (≥ 0
+    /// whatever the orientation).
+    pub dissipated: f64,
 }
 
 /// What the analyze job computed.
@@ -92,24 +109,26 @@ impl fmt::Display for AnalyzeReport {
         )?;
         writeln!(
             f,
-            "{:>22} {:>22} {:>22} {:>22}",
-            "A", "|N|", "phase_deg", "energy_per_loop"
+            "{:>22} {:>22} {:>22} {:>22} {:>22}",
+            "A", "|N|", "phase_deg", "dissipated_per_loop", "work"
         )?;
         for row in &self.rows {
             let d = &row.describing;
             writeln!(
                 f,
-                "{:>22.15e} {:>22.15e} {:>22.15e} {:>22.15e}",
+                "{:>22.15e} {:>22.15e} {:>22.15e} {:>22.15e} {:>22.15e}",
                 d.amplitude,
                 d.gain,
                 d.phase.to_degrees(),
+                row.dissipated,
                 row.work
             )?;
         }
         write!(
             f,
-            "|N|, phase: first-harmonic gain (negative phase = lag); energy_per_loop = ∮ y dx \
-             (> 0 dissipative, clockwise)"
+            "|N|, phase: first-harmonic gain (negative phase = lag); dissipated_per_loop = loop \
+             area |∮ y dx| (> 0 for any hysteresis loop); work = ∮ y dx (< 0 counterclockwise \
+             loop, output lagging input: play, PI; > 0 clockwise: stop, friction)"
         )?;
         if !self.files.is_empty() {
             write!(f, "\nwrote {}", csvio::join_paths(&self.files))?;
@@ -148,9 +167,11 @@ pub fn run(opts: &AnalyzeOptions) -> Result<AnalyzeReport, AnalyzeError> {
     let mut rows = Vec::with_capacity(opts.amplitudes.len());
     for &a in &opts.amplitudes {
         let cycle = SteadyCycle::compute(&model, a, &opts.sine).map_err(analysis_err)?;
+        let energy = cycle.loop_energy();
         rows.push(AnalyzeRow {
             describing: cycle.describing_function(opts.sine.harmonics),
-            work: cycle.loop_work(),
+            work: energy.work,
+            dissipated: energy.area(),
         });
     }
     let mut files = Vec::new();
@@ -162,6 +183,7 @@ pub fn run(opts: &AnalyzeOptions) -> Result<AnalyzeReport, AnalyzeError> {
         let re = col(|r| r.describing.re);
         let im = col(|r| r.describing.im);
         let work = col(|r| r.work);
+        let dissipated = col(|r| r.dissipated);
         csvio::write_columns(
             out,
             &[
@@ -171,6 +193,7 @@ pub fn run(opts: &AnalyzeOptions) -> Result<AnalyzeReport, AnalyzeError> {
                 ("re", &re),
                 ("im", &im),
                 ("work", &work),
+                ("dissipated", &dissipated),
             ],
         )
         .map_err(AnalyzeError::Write)?;

@@ -10,6 +10,7 @@ pub use hysteron::{composition, identify, models, operators};
 pub use hysteron::{Error, Float, Operator, Result, Trial};
 
 pub mod analyze;
+pub mod args;
 pub mod bench;
 pub mod csvio;
 pub mod export_fmu;

@@ -28,14 +28,20 @@
 //! * `hysteron bench [--samples N] [--runs R] [--kernel NAME]`: times the
 //!   kernel table of the performance issue (see [`hysteron_cli::bench`]).
 //!
-//! Errors are one line on stderr (`error: ...`) and exit code 1; usage
-//! errors are clap's, exit code 2; a fit that ran but did not converge
-//! exits with code 3 (its report says so and its result is written).
+//! Exit codes: 0 on success (and for `--help`, `--version`); 1 for every
+//! error, bad input of any kind: a job's errors are one line on stderr
+//! (`error: ...`), errors in the arguments themselves are clap's message
+//! (also `error: ...`, with a usage hint), and numeric options say what
+//! they need (`--dt` must be positive and finite, `--patience` at least 1;
+//! negative numbers are read as values and refused, see
+//! [`hysteron_cli::args`]); 3 for a fit that ran but did not converge (its
+//! report says so and its result is written).
 
 use clap::{Parser, Subcommand};
 use hysteron_cli::models::describing::SineOptions;
 use hysteron_cli::{
-    analyze, bench, csvio, export_fmu, fit_cmd, fitting, identify_paper, paper, period, simulate,
+    analyze, args, bench, csvio, export_fmu, fit_cmd, fitting, identify_paper, paper, period,
+    simulate,
 };
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -67,7 +73,8 @@ enum Command {
         /// The model spec (JSON, see hysteron::models::Spec).
         #[arg(long, value_name = "SPEC.json")]
         model: PathBuf,
-        /// The input CSV file, with a header row.
+        /// The input CSV file, with a header row of distinct column names
+        /// (blank lines only at the end of the file).
         #[arg(long, value_name = "IN.csv")]
         input: PathBuf,
         /// The input column.
@@ -83,9 +90,16 @@ enum Command {
         /// already has a column of that name).
         #[arg(long, value_name = "NAME", default_value = "y")]
         output_column: String,
-        /// Sample period (s) of every rate-dependent node of the model
-        /// (mass_spring_damper, viscous_damper), overriding the spec's dt.
-        #[arg(long, value_name = "SECONDS", conflicts_with = "time_column")]
+        /// Sample period (s, positive and finite) of every rate-dependent
+        /// node of the model (mass_spring_damper, viscous_damper),
+        /// overriding the spec's dt.
+        #[arg(
+            long,
+            value_name = "SECONDS",
+            conflicts_with = "time_column",
+            value_parser = args::positive_f64,
+            allow_hyphen_values = true
+        )]
         dt: Option<f64>,
         /// Take the sample period from this time column of the CSV file
         /// (uniformly spaced up to 0.1 % of a step, the rounding of written
@@ -101,7 +115,8 @@ enum Command {
         /// The model spec (JSON); its parameters are the starting values.
         #[arg(long, value_name = "SPEC.json")]
         model: PathBuf,
-        /// The record: a CSV file with a header row.
+        /// The record: a CSV file with a header row of distinct column
+        /// names (blank lines only at the end of the file).
         #[arg(long, value_name = "DATA.csv")]
         data: PathBuf,
         /// The input column of the record.
@@ -123,16 +138,23 @@ enum Command {
         #[arg(long, value_name = "FIT.svg")]
         plot: Option<PathBuf>,
         /// Evaluation budget: at most PATIENCE·(free + 1) model runs over
-        /// the record.
-        #[arg(long, value_name = "N", default_value_t = 200, value_parser = clap::value_parser!(u64).range(1..))]
+        /// the record (at least 1).
+        #[arg(long, value_name = "N", default_value_t = 200, value_parser = args::at_least_1, allow_negative_numbers = true)]
         patience: u64,
         /// Do not draw the progress line (it is only drawn when stderr is
         /// a terminal anyway).
         #[arg(long)]
         no_progress: bool,
-        /// Sample period (s) of every rate-dependent node of the model
-        /// (mass_spring_damper, viscous_damper), overriding the spec's dt.
-        #[arg(long, value_name = "SECONDS", conflicts_with = "time_column")]
+        /// Sample period (s, positive and finite) of every rate-dependent
+        /// node of the model (mass_spring_damper, viscous_damper),
+        /// overriding the spec's dt.
+        #[arg(
+            long,
+            value_name = "SECONDS",
+            conflicts_with = "time_column",
+            value_parser = args::positive_f64,
+            allow_hyphen_values = true
+        )]
         dt: Option<f64>,
         /// Take the sample period from this time column of the CSV file
         /// (uniformly spaced up to 0.1 % of a step, the rounding of written
@@ -143,8 +165,11 @@ enum Command {
     /// Drive a model spec (JSON) by sines x = A sin θ, one per amplitude,
     /// until its output is periodic, and print per amplitude the describing
     /// function (first-harmonic gain |N| and phase in degrees, negative =
-    /// lag) and the work per loop ∮ y dx (trapezoid rule; > 0 for a
-    /// dissipative, clockwise loop).
+    /// lag), the energy dissipated per loop (the loop's area |∮ y dx|,
+    /// trapezoid rule: > 0 for every hysteresis loop, the usual
+    /// counterclockwise one of a lagging output such as a PI bank's as well
+    /// as a clockwise friction loop) and the signed work ∮ y dx (< 0 for a
+    /// counterclockwise loop, > 0 for a clockwise one).
     Analyze {
         /// The model spec (JSON, see hysteron::models::Spec).
         #[arg(long, value_name = "SPEC.json")]
@@ -159,11 +184,11 @@ enum Command {
         )]
         amplitudes: Vec<f64>,
         /// Samples per period (a multiple of 4, at least 8).
-        #[arg(long, value_name = "N", default_value_t = 1024)]
+        #[arg(long, value_name = "N", default_value_t = 1024, value_parser = args::samples_per_period, allow_negative_numbers = true)]
         samples_per_period: u64,
         /// Periods run before the analysed one (at least 2: the last is
         /// compared with the one before).
-        #[arg(long, value_name = "P", default_value_t = 20)]
+        #[arg(long, value_name = "P", default_value_t = 20, value_parser = args::settle_periods, allow_negative_numbers = true)]
         settle_periods: u64,
         /// Largest accepted change of the first harmonic over the last
         /// period, relative to max|y|.
@@ -174,9 +199,15 @@ enum Command {
             allow_negative_numbers = true
         )]
         steady_tol: f64,
-        /// Sample period (s) of every rate-dependent node of the model
-        /// (mass_spring_damper, viscous_damper), overriding the spec's dt.
-        #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+        /// Sample period (s, positive and finite) of every rate-dependent
+        /// node of the model (mass_spring_damper, viscous_damper),
+        /// overriding the spec's dt.
+        #[arg(
+            long,
+            value_name = "SECONDS",
+            value_parser = args::positive_f64,
+            allow_hyphen_values = true
+        )]
         dt: Option<f64>,
         /// Also write the table as CSV (atomically; may not be the model).
         #[arg(long, value_name = "OUT.csv")]
@@ -216,12 +247,12 @@ enum Command {
         #[arg(long, value_name = "DIR")]
         plot: Option<PathBuf>,
         /// Points picked on the loop's increasing branch (the knots of the
-        /// stiffness map).
-        #[arg(long, value_name = "N", default_value_t = 12, value_parser = clap::value_parser!(u64).range(2..1000))]
+        /// stiffness map; 2 to 999).
+        #[arg(long, value_name = "N", default_value_t = 12, value_parser = args::points, allow_negative_numbers = true)]
         points: u64,
         /// Evaluation budget of each stage: at most PATIENCE·(free + 1)
-        /// model runs over its record.
-        #[arg(long, value_name = "N", default_value_t = 200, value_parser = clap::value_parser!(u64).range(1..))]
+        /// model runs over its record (at least 1).
+        #[arg(long, value_name = "N", default_value_t = 200, value_parser = args::at_least_1, allow_negative_numbers = true)]
         patience: u64,
         /// Do not draw the progress line (it is only drawn when stderr is
         /// a terminal anyway).
@@ -255,11 +286,11 @@ enum Command {
     /// per kernel: | hysteron | kernel | runs | samples/s | ns/sample | min..max |.
     /// Build with --release.
     Bench {
-        /// Samples of the kernel input per run.
-        #[arg(long, value_name = "N", default_value_t = 10_000_000, value_parser = clap::value_parser!(u64).range(1..=1_000_000_000))]
+        /// Samples of the kernel input per run (1 to 10^9).
+        #[arg(long, value_name = "N", default_value_t = 10_000_000, value_parser = args::bench_samples, allow_negative_numbers = true)]
         samples: u64,
-        /// Timed runs per kernel (after one untimed run).
-        #[arg(long, value_name = "R", default_value_t = 5, value_parser = clap::value_parser!(u64).range(1..=1000))]
+        /// Timed runs per kernel, after one untimed run (1 to 1000).
+        #[arg(long, value_name = "R", default_value_t = 5, value_parser = args::bench_runs, allow_negative_numbers = true)]
         runs: u64,
         /// Only the kernels whose name contains this.
         #[arg(long, value_name = "NAME")]
@@ -268,7 +299,21 @@ enum Command {
 }
 
 fn main() -> ExitCode {
-    let result = match Cli::parse().command {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            // clap's message (help and version on stdout, errors on stderr);
+            // any error in the arguments is bad input: exit code 1, not
+            // clap's 2.
+            let _ = e.print();
+            return if e.use_stderr() {
+                ExitCode::FAILURE
+            } else {
+                ExitCode::SUCCESS
+            };
+        }
+    };
+    let result = match cli.command {
         Command::Paper { out } => paper::run(&paper::PaperOptions { out })
             .map(|report| {
                 println!("{report}");

@@ -9,7 +9,13 @@
 //! A figure is a grid of [`Panel`]s, each with line or marker [`Series`].
 //! Lines are thinned before drawing (points closer than about a pixel to
 //! the last kept one are dropped; a few pixels for wide lines), which keeps
-//! files small and avoids pixel-rounding zig-zags.
+//! files small and avoids pixel-rounding zig-zags. A line that still has
+//! more than [`MAX_LINE_POINTS`] points (a long record whose curve keeps
+//! retracing itself: 10⁷ samples of a loop) is reduced to what the figure
+//! can show ([`decimate`]): it is drawn through the cells of a grid of
+//! about a pixel, a stretch that only revisits cells already drawn is left
+//! out, and the first and last points and the extremes in `x` and `y` are
+//! always kept, so the figure's extent is exact.
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -43,7 +49,8 @@ pub enum Style {
 pub struct Series {
     /// Legend label (empty: not in the legend).
     pub label: String,
-    /// The points `(x, y)`; non-finite points are skipped.
+    /// The points `(x, y)`; a non-finite point is not drawn, and breaks a
+    /// line in two.
     pub points: Vec<(f64, f64)>,
     /// Index into the figure palette.
     pub color: usize,
@@ -113,15 +120,7 @@ impl Panel {
 
     /// The range of the data, `(x_min, x_max, y_min, y_max)`.
     pub fn data_bounds(&self) -> Option<(f64, f64, f64, f64)> {
-        let mut it = self
-            .series
-            .iter()
-            .flat_map(|s| s.points.iter())
-            .filter(|p| p.0.is_finite() && p.1.is_finite());
-        let first = it.next()?;
-        Some(it.fold((first.0, first.0, first.1, first.1), |b, p| {
-            (b.0.min(p.0), b.1.max(p.0), b.2.min(p.1), b.3.max(p.1))
-        }))
+        bounds_of(self.series.iter().flat_map(|s| s.points.iter().copied()))
     }
 }
 
@@ -156,6 +155,320 @@ pub fn padded(lo: f64, hi: f64) -> (f64, f64) {
         let d = if lo.abs() > 0.0 { 0.1 * lo.abs() } else { 1.0 };
         (lo - d, hi + d)
     }
+}
+
+impl Style {
+    /// How close (as a fraction of the axis spans) two points of a line
+    /// drawn in this style may be before the second is dropped.
+    pub fn tolerance(self) -> f64 {
+        match self {
+            Style::Line | Style::Markers => 1.0 / 400.0,
+            Style::ThickLine => 1.0 / 300.0,
+            Style::Band => 1.0 / 150.0,
+        }
+    }
+}
+
+/// The most points a line series is drawn with (see [`decimate`]); a
+/// polyline of 20 000 points is about 200 kB of SVG.
+pub const MAX_LINE_POINTS: usize = 20_000;
+
+/// The points of a line drawn over axis ranges `x_range`, `y_range`: at
+/// most [`MAX_LINE_POINTS`] (plus a handful), with `(NaN, NaN)` where the
+/// line is broken. `points` is walked a few times (hence `Clone`; a slice
+/// iterator or [`PointStore::iter`]), so a long record need not be copied.
+///
+/// First the plain thinning of [`thin`] (points closer than `tol` of the
+/// spans to the last kept one are dropped), run by run between non-finite
+/// points; that is the result when it is small enough. Otherwise the
+/// ranges are divided into a grid of `⌈1/tol⌉²` cells and a point is kept
+/// when it enters a cell no kept point is in yet, when it jumps farther
+/// than to a neighbouring cell, or when it is one of the *extremes*: the
+/// first and last finite points and the first points of least and greatest
+/// `x` and `y`. A stretch of dropped points stays inside cells already
+/// drawn; when it leaves the cell of the last kept point the line is
+/// broken and resumes at the stretch's last point, so no chord is drawn
+/// across the figure. If that is still too many points (a curve that
+/// covers the whole figure), the grid is made coarser until it is not.
+pub fn decimate<I>(
+    points: I,
+    x_range: (f64, f64),
+    y_range: (f64, f64),
+    tol: f64,
+    max_points: usize,
+) -> Vec<(f64, f64)>
+where
+    I: Iterator<Item = (f64, f64)> + Clone,
+{
+    let spans = (x_range.1 - x_range.0, y_range.1 - y_range.0);
+    if let Some(out) = thin_runs(points.clone(), spans, tol, max_points) {
+        return out;
+    }
+    let extremes = Extremes::of(points.clone());
+    let mut cells = (1.0 / tol).ceil().clamp(1.0, 4096.0) as usize;
+    loop {
+        let grid = Grid::new(x_range, y_range, cells);
+        // Line breaks in the data are kept while the grid allows; a data
+        // set made of tiny runs falls back to skipping non-finite points.
+        for breaks in [true, false] {
+            if let Some(out) = grid.walk(points.clone(), &extremes, breaks, max_points) {
+                return out;
+            }
+            if cells > 1 {
+                break;
+            }
+        }
+        if cells == 1 {
+            // cannot happen (one cell and no breaks keeps ≤ 3 points per
+            // extreme), but never loop forever
+            return Vec::new();
+        }
+        cells = cells.div_ceil(2);
+    }
+}
+
+/// A point `(x, y)`.
+type Point = (f64, f64);
+
+/// The line break marker of [`decimate`]'s output.
+const BREAK: (f64, f64) = (f64::NAN, f64::NAN);
+
+fn finite(p: &(f64, f64)) -> bool {
+    p.0.is_finite() && p.1.is_finite()
+}
+
+/// [`thin`] run by run (non-finite points break the line), or `None` once
+/// more than `max` points are kept.
+fn thin_runs<I>(points: I, spans: (f64, f64), tol: f64, max: usize) -> Option<Vec<(f64, f64)>>
+where
+    I: Iterator<Item = (f64, f64)>,
+{
+    let (tx, ty) = (tol * spans.0.abs(), tol * spans.1.abs());
+    let mut out: Vec<(f64, f64)> = Vec::new();
+    // the last kept point of the current run, and its last point if not kept
+    let mut kept: Option<Point> = None;
+    let mut pending: Option<Point> = None;
+    for p in points {
+        if !finite(&p) {
+            if let Some(q) = pending.take() {
+                out.push(q);
+            }
+            if kept.take().is_some() {
+                out.push(BREAK);
+            }
+            continue;
+        }
+        match kept {
+            Some(q) if (p.0 - q.0).abs() <= tx && (p.1 - q.1).abs() <= ty => pending = Some(p),
+            _ => {
+                out.push(p);
+                kept = Some(p);
+                pending = None;
+            }
+        }
+        if out.len() > max {
+            return None;
+        }
+    }
+    if let Some(q) = pending {
+        out.push(q);
+    }
+    if out.last().is_some_and(|p| !finite(p)) {
+        out.pop();
+    }
+    Some(out)
+}
+
+/// Indices of the points [`decimate`] always keeps: first and last finite
+/// point, and the first of least and greatest `x` and `y`.
+#[derive(Debug, Clone, Default)]
+struct Extremes([usize; 6]);
+
+impl Extremes {
+    fn of<I: Iterator<Item = (f64, f64)>>(points: I) -> Self {
+        let mut idx = [usize::MAX; 6];
+        let mut val = [0.0_f64; 4];
+        for (i, p) in points.enumerate().filter(|(_, p)| finite(p)) {
+            if idx[0] == usize::MAX {
+                idx = [i; 6];
+                val = [p.0, p.0, p.1, p.1];
+            }
+            idx[1] = i;
+            for (k, (v, less)) in [(p.0, true), (p.0, false), (p.1, true), (p.1, false)]
+                .into_iter()
+                .enumerate()
+            {
+                if (less && v < val[k]) || (!less && v > val[k]) {
+                    val[k] = v;
+                    idx[k + 2] = i;
+                }
+            }
+        }
+        Extremes(idx)
+    }
+
+    fn contains(&self, i: usize) -> bool {
+        self.0.contains(&i)
+    }
+}
+
+/// A grid of `cells × cells` over the axis ranges, with the cells a kept
+/// point is in.
+struct Grid {
+    x0: f64,
+    y0: f64,
+    /// cells per unit of x and y
+    sx: f64,
+    sy: f64,
+    cells: usize,
+}
+
+impl Grid {
+    fn new(x_range: (f64, f64), y_range: (f64, f64), cells: usize) -> Self {
+        let scale = |r: (f64, f64)| {
+            let span = r.1 - r.0;
+            if span > 0.0 && span.is_finite() {
+                cells as f64 / span
+            } else {
+                0.0
+            }
+        };
+        Grid {
+            x0: x_range.0,
+            y0: y_range.0,
+            sx: scale(x_range),
+            sy: scale(y_range),
+            cells,
+        }
+    }
+
+    fn cell(&self, p: (f64, f64)) -> (usize, usize) {
+        let last = (self.cells - 1) as f64;
+        let c = |v: f64, v0: f64, s: f64| ((v - v0) * s).floor().clamp(0.0, last) as usize;
+        (c(p.0, self.x0, self.sx), c(p.1, self.y0, self.sy))
+    }
+
+    /// One pass of [`decimate`] on this grid, or `None` once more than
+    /// `max` points are kept.
+    fn walk<I>(
+        &self,
+        points: I,
+        extremes: &Extremes,
+        breaks: bool,
+        max: usize,
+    ) -> Option<Vec<(f64, f64)>>
+    where
+        I: Iterator<Item = (f64, f64)>,
+    {
+        let mut visited = vec![false; self.cells * self.cells];
+        let mut out: Vec<(f64, f64)> = Vec::new();
+        // the previous finite point of the run, its cell, whether it was kept
+        let mut prev: Option<(Point, (usize, usize), bool)> = None;
+        // the cell of the last kept point, and whether every point dropped
+        // since stayed in it
+        let mut last_cell = (0, 0);
+        let mut stayed = true;
+        for (i, p) in points.enumerate() {
+            if !finite(&p) {
+                if breaks {
+                    if let Some((q, _, false)) = prev {
+                        out.push(q);
+                    }
+                    if prev.take().is_some() {
+                        out.push(BREAK);
+                    }
+                }
+                continue;
+            }
+            let c = self.cell(p);
+            let jump =
+                prev.is_some_and(|(_, pc, _)| pc.0.abs_diff(c.0) > 1 || pc.1.abs_diff(c.1) > 1);
+            let fresh = !visited[c.0 * self.cells + c.1];
+            if prev.is_none() || jump || fresh || extremes.contains(i) {
+                if let Some((q, _, false)) = prev {
+                    if !stayed {
+                        out.push(BREAK);
+                        out.push(q);
+                    }
+                }
+                out.push(p);
+                visited[c.0 * self.cells + c.1] = true;
+                last_cell = c;
+                stayed = true;
+                prev = Some((p, c, true));
+                if out.len() > max {
+                    return None;
+                }
+            } else {
+                stayed &= c == last_cell;
+                prev = Some((p, c, false));
+            }
+        }
+        if let Some((q, _, false)) = prev {
+            out.push(q);
+        }
+        if out.last().is_some_and(|p| !finite(p)) {
+            out.pop();
+        }
+        Some(out)
+    }
+}
+
+/// Points `(x, y)` of a long record kept for a figure, in chunks (no
+/// reallocation of one large buffer, so 16 bytes per point at most), with
+/// their bounds.
+#[derive(Debug, Clone, Default)]
+pub struct PointStore {
+    chunks: Vec<Vec<(f64, f64)>>,
+    len: usize,
+}
+
+impl PointStore {
+    /// Points per chunk.
+    const CHUNK: usize = 1 << 16;
+
+    /// Appends points.
+    pub fn extend(&mut self, points: impl IntoIterator<Item = (f64, f64)>) {
+        for p in points {
+            match self.chunks.last_mut() {
+                Some(c) if c.len() < Self::CHUNK => c.push(p),
+                _ => {
+                    let mut c = Vec::with_capacity(Self::CHUNK);
+                    c.push(p);
+                    self.chunks.push(c);
+                }
+            }
+            self.len += 1;
+        }
+    }
+
+    /// Number of points.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// True when no point is stored.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// The points in order.
+    pub fn iter(&self) -> impl Iterator<Item = (f64, f64)> + Clone + '_ {
+        self.chunks.iter().flatten().copied()
+    }
+
+    /// `(x_min, x_max, y_min, y_max)` of the finite points.
+    pub fn bounds(&self) -> Option<(f64, f64, f64, f64)> {
+        bounds_of(self.iter())
+    }
+}
+
+fn bounds_of(points: impl Iterator<Item = (f64, f64)>) -> Option<(f64, f64, f64, f64)> {
+    let mut it = points.filter(finite);
+    let first = it.next()?;
+    Some(it.fold((first.0, first.0, first.1, first.1), |b, p| {
+        (b.0.min(p.0), b.1.max(p.0), b.2.min(p.1), b.3.max(p.1))
+    }))
 }
 
 /// Drops points closer than `tol` (as a fraction of the axis spans) in
@@ -238,14 +551,24 @@ fn draw_panel(panel: &Panel, area: &DrawingArea<SVGBackend<'_>, Shift>) -> Resul
             Style::Line | Style::ThickLine | Style::Band => {
                 // plotters rounds to whole pixels: points much closer than a
                 // pixel only add zig-zags (and miter spikes on wide lines).
-                let (stroke, tol) = match s.style {
-                    Style::Line => (c.stroke_width(1), 1.0 / 400.0),
-                    Style::ThickLine => (c.stroke_width(3), 1.0 / 300.0),
-                    _ => (c.mix(0.35).stroke_width(7), 1.0 / 150.0),
+                let stroke = match s.style {
+                    Style::Line => c.stroke_width(1),
+                    Style::ThickLine => c.stroke_width(3),
+                    _ => c.mix(0.35).stroke_width(7),
                 };
-                let pts = thin(&s.points, x1 - x0, y1 - y0, tol);
+                let pts = decimate(
+                    s.points.iter().copied(),
+                    (x0, x1),
+                    (y0, y1),
+                    s.style.tolerance(),
+                    MAX_LINE_POINTS,
+                );
                 chart
-                    .draw_series(LineSeries::new(pts, stroke))
+                    .draw_series(
+                        pts.split(|p| !finite(p))
+                            .filter(|run| !run.is_empty())
+                            .map(|run| PathElement::new(run.to_vec(), stroke)),
+                    )
                     .map_err(err)?
             }
             Style::Markers => chart
@@ -296,6 +619,32 @@ pub fn loop_panel(title: &str, x_label: &str, y_label: &str, x: &[f64], y: &[f64
         x.iter().copied().zip(y.iter().copied()).collect(),
         0,
     ));
+    p
+}
+
+/// [`loop_panel`] over points kept in a [`PointStore`] (a long record):
+/// the axis ranges are set from the points' bounds and the line is
+/// [`decimate`]d here, so the panel holds at most about
+/// [`MAX_LINE_POINTS`] points, not a copy of the record.
+pub fn loop_panel_from_store(
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    points: &PointStore,
+) -> Panel {
+    let mut p = Panel::new(title, x_label, y_label);
+    let b = points.bounds().unwrap_or((-1.0, 1.0, -1.0, 1.0));
+    let (xr, yr) = (padded(b.0, b.1), padded(b.2, b.3));
+    let kept = decimate(
+        points.iter(),
+        xr,
+        yr,
+        Style::Line.tolerance(),
+        MAX_LINE_POINTS,
+    );
+    p.series.push(Series::line("", kept, 0));
+    p.x_range = Some(xr);
+    p.y_range = Some(yr);
     p
 }
 
@@ -363,6 +712,76 @@ mod tests {
         assert_eq!(t.first(), Some(&(0.0, 0.0)));
         assert_eq!(t.last(), Some(&(1.0, 0.0)));
         assert!(t.len() < 110, "{}", t.len());
+    }
+
+    /// Points of a long record: bounded however they move, the first, last
+    /// and extreme points kept exactly, small inputs thinned as before.
+    #[test]
+    fn decimation_is_bounded_and_keeps_the_extremes() {
+        let mut seed: u64 = 0x853c_49e6_748f_ea9b;
+        let mut noise = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        // white noise (the worst case: every sample jumps), a retraced loop
+        // with one spike, and a noisy time series
+        let sets: Vec<Vec<(f64, f64)>> = vec![
+            (0..300_000).map(|_| (noise(), noise())).collect(),
+            (0..1_000_000)
+                .map(|i| {
+                    let th = i as f64 * 0.00314;
+                    let y = if i == 777_777 { 9.0 } else { th.cos() };
+                    (th.sin(), y)
+                })
+                .collect(),
+            (0..500_000).map(|i| (i as f64, noise())).collect(),
+        ];
+        for pts in &sets {
+            let b = bounds_of(pts.iter().copied()).unwrap();
+            let (xr, yr) = (padded(b.0, b.1), padded(b.2, b.3));
+            let kept = decimate(pts.iter().copied(), xr, yr, 1.0 / 400.0, MAX_LINE_POINTS);
+            assert!(kept.len() <= MAX_LINE_POINTS + 20, "{}", kept.len());
+            assert_eq!(bounds_of(kept.iter().copied()), Some(b));
+            let finite_kept: Vec<_> = kept.iter().filter(|p| finite(p)).collect();
+            assert_eq!(finite_kept.first(), Some(&&pts[0]));
+            assert_eq!(finite_kept.last(), Some(&pts.last().unwrap()));
+            // every kept point is a data point, in order
+            let mut it = pts.iter();
+            for p in &finite_kept {
+                assert!(it.any(|q| q == *p), "{p:?} out of order");
+            }
+        }
+        // a small series is thinned exactly as thin() does
+        let pts: Vec<(f64, f64)> = (0..5000)
+            .map(|i| ((i as f64 * 0.01).sin(), i as f64))
+            .collect();
+        let kept = decimate(
+            pts.iter().copied(),
+            (-1.0, 1.0),
+            (0.0, 5000.0),
+            0.01,
+            MAX_LINE_POINTS,
+        );
+        assert_eq!(kept, thin(&pts, 2.0, 5000.0, 0.01));
+        // a non-finite point breaks the line
+        let kept = decimate(
+            [
+                (0.0, 0.0),
+                (1.0, 1.0),
+                (f64::NAN, 0.0),
+                (2.0, 2.0),
+                (3.0, 3.0),
+            ]
+            .into_iter(),
+            (0.0, 3.0),
+            (0.0, 3.0),
+            0.01,
+            MAX_LINE_POINTS,
+        );
+        assert_eq!(kept.len(), 5);
+        assert!(kept[2].0.is_nan());
     }
 
     #[test]

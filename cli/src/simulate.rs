@@ -4,12 +4,19 @@
 //! `--output-column`), optionally with a loop figure of the output over the
 //! input.
 //!
-//! Nothing is written unless everything before succeeded: the model is
-//! loaded and built, the input read and checked, the whole run simulated
-//! and the figure drawn in memory first; then the output (and figure) are
-//! written atomically. The output may not be the input or the model file
-//! (compared after canonicalization, also when the output does not exist
-//! yet).
+//! The record is streamed: rows are read, run through the model and
+//! written [`CHUNK`] at a time, so the job's memory does not grow with the
+//! record (with `--plot` it keeps the plotted points, 16 bytes per row,
+//! until the figure is drawn; a time column is read in a first pass that
+//! keeps nothing). Output values are written by [`csvio::fmt_f64`]; the
+//! input's fields are written back verbatim (re-quoted where needed).
+//!
+//! Nothing is written unless everything succeeded: the output goes to a
+//! temporary file that replaces the destination only after the last row
+//! was run and the figure drawn (a bad row or an operator error half-way
+//! leaves no file behind); then the figure is written atomically. The
+//! output may not be the input or the model file (compared after
+//! canonicalization, also when the output does not exist yet).
 
 use crate::csvio::{self, CsvIoError};
 use crate::model_file::ModelFileError;
@@ -98,6 +105,9 @@ impl fmt::Display for SimulateReport {
     }
 }
 
+/// Rows read, run and written at a time.
+pub const CHUNK: usize = 8192;
+
 /// Runs the model over the input; see the module docs.
 pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
     let inputs = [
@@ -119,55 +129,121 @@ pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
         .map_err(SimulateError::Input)?;
     let mut model = spec.build().map_err(model_err)?;
 
-    let table = csvio::read_column(&opts.input, &opts.column).map_err(SimulateError::Input)?;
+    let mut reader = csvio::CsvReader::open(&opts.input).map_err(SimulateError::Input)?;
+    let index = reader.column(&opts.column).map_err(SimulateError::Input)?;
+    let name = reader.headers()[index].trim().to_string();
     let out_name = opts.output_column.trim();
-    if table.headers.iter().any(|h| h.trim() == out_name) {
+    if reader.headers().iter().any(|h| h.trim() == out_name) {
         return Err(SimulateError::OutputColumnExists(
             opts.input.clone(),
             out_name.to_string(),
         ));
     }
 
-    let y = model.run(&table.values).map_err(|e| {
-        SimulateError::Operator(Box::new(csvio::SampleFailure::locate(
-            &opts.model,
-            &opts.input,
-            "input",
-            &opts.column,
-            &table.values,
-            &table.lines,
-            e,
-        )))
-    })?;
-
-    let svg = match &opts.plot {
-        Some(p) => {
-            let title = format!("{} over {}", file_name(&opts.model), file_name(&opts.input));
-            let panel = plot::loop_panel(&title, &opts.column, out_name, &table.values, &y);
-            Some(
-                plot::render(&[panel], 1, 1, (760, 560))
-                    .map_err(|e| SimulateError::Plot(p.clone(), e))?,
-            )
-        }
-        None => None,
-    };
-
     // Both destinations must be writable before either is written.
     csvio::target_dir(&opts.output).map_err(SimulateError::Write)?;
     if let Some(p) = &opts.plot {
         csvio::target_dir(p).map_err(SimulateError::Write)?;
     }
-    csvio::write_with_column(&opts.output, &table, out_name, &y).map_err(SimulateError::Write)?;
+
+    let mut points = opts.plot.as_ref().map(|_| plot::PointStore::default());
+    let mut samples = 0;
+    let mut svg = None;
+    let write_err = |e: csv::Error| {
+        SimulateError::Write(CsvIoError::Io {
+            path: opts.output.clone(),
+            source: csv_to_io(e),
+        })
+    };
+    csvio::write_atomic_with(&opts.output, SimulateError::Write, |w| {
+        let mut out = csv::Writer::from_writer(w);
+        out.write_record(reader.headers().iter().chain([out_name]))
+            .map_err(write_err)?;
+        let mut rows = vec![csvio::Row::default(); CHUNK];
+        let (mut xs, mut ys) = (vec![0.0; CHUNK], vec![0.0; CHUNK]);
+        let mut y_text = String::new();
+        loop {
+            let mut n = 0;
+            while n < CHUNK
+                && reader
+                    .read_row(&mut rows[n])
+                    .map_err(SimulateError::Input)?
+            {
+                xs[n] = reader
+                    .number(&rows[n], index, &name)
+                    .map_err(SimulateError::Input)?;
+                n += 1;
+            }
+            if n == 0 {
+                break;
+            }
+            model.process(&xs[..n], &mut ys[..n]).map_err(|e| {
+                SimulateError::Operator(Box::new(csvio::SampleFailure::locate_in(
+                    &opts.model,
+                    &opts.input,
+                    "input",
+                    &opts.column,
+                    e,
+                    |i| {
+                        let r = rows.get(i).map_or((0, 0), |r| (r.row(), r.line()));
+                        (samples + i, r.0, r.1, xs.get(i).copied())
+                    },
+                )))
+            })?;
+            for (row, &y) in rows[..n].iter().zip(&ys[..n]) {
+                y_text.clear();
+                csvio::push_f64(&mut y_text, y);
+                out.write_record(row.fields().chain([y_text.as_str()]))
+                    .map_err(write_err)?;
+            }
+            if let Some(points) = &mut points {
+                points.extend(xs[..n].iter().copied().zip(ys[..n].iter().copied()));
+            }
+            samples += n;
+            if n < CHUNK {
+                break;
+            }
+        }
+        if samples == 0 {
+            return Err(SimulateError::Input(CsvIoError::NoRows {
+                path: opts.input.clone(),
+            }));
+        }
+        // The figure is drawn before the output is in place, so that a
+        // figure that cannot be drawn leaves no output either.
+        if let (Some(p), Some(points)) = (&opts.plot, points.take()) {
+            let title = format!("{} over {}", file_name(&opts.model), file_name(&opts.input));
+            let panel = plot::loop_panel_from_store(&title, &opts.column, out_name, &points);
+            drop(points);
+            svg = Some(
+                plot::render(&[panel], 1, 1, (760, 560))
+                    .map_err(|e| SimulateError::Plot(p.clone(), e))?,
+            );
+        }
+        out.flush().map_err(|source| {
+            SimulateError::Write(CsvIoError::Io {
+                path: opts.output.clone(),
+                source,
+            })
+        })
+    })?;
     let mut files = vec![opts.output.clone()];
     if let (Some(p), Some(svg)) = (&opts.plot, svg) {
         csvio::write_string_atomic(p, &svg).map_err(SimulateError::Write)?;
         files.push(p.clone());
     }
     Ok(SimulateReport {
-        samples: y.len(),
+        samples,
         model: model.name(),
         files,
     })
+}
+
+fn csv_to_io(e: csv::Error) -> std::io::Error {
+    match e.into_kind() {
+        csv::ErrorKind::Io(io) => io,
+        other => std::io::Error::other(format!("{other:?}")),
+    }
 }
 
 fn file_name(p: &Path) -> String {

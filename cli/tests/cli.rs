@@ -864,18 +864,28 @@ fn simulate_error_non_uniform_time_column_names_the_row() {
     s.fails(&args, &["f.csv", "no column `t`"]);
     s.write("f.csv", "t,x\n0,0\n");
     s.fails(&args, &["row 1 (line 2)", "at least 2 rows"]);
-    // --dt overrides and is checked like the spec's own dt
+    // --dt overrides; it must be positive and finite (refused as an
+    // argument, exit code 1, negative values included)
     s.write("f.csv", "t,x\n0,0\n1,1\n");
-    s.fails(
-        &[
-            "--model", "msd.json", "--input", "f.csv", "--output", "o.csv", "--dt", "0",
-        ],
-        &[
-            "model `msd.json`",
-            "mass_spring_damper.dt: must be > 0 (got 0)",
-        ],
-    );
-    // the two options exclude each other (a usage error, exit code 2)
+    for dt in ["0", "-1", "-0.5", "-inf", "inf", "NaN"] {
+        let before = snapshot(s.dir());
+        let assert = s
+            .simulate(&[
+                "--model", "msd.json", "--input", "f.csv", "--output", "o.csv", "--dt", dt,
+            ])
+            .assert()
+            .code(1);
+        let err = String::from_utf8_lossy(&assert.get_output().stderr).into_owned();
+        assert!(
+            err.starts_with("error: ")
+                && err.contains("'--dt <SECONDS>'")
+                && err.contains("must be positive and finite"),
+            "--dt {dt}: {err}"
+        );
+        assert!(!err.contains("unexpected argument"), "{err}");
+        assert_eq!(snapshot(s.dir()), before);
+    }
+    // the two options exclude each other (an argument error, exit code 1)
     s.simulate(&[
         "--model",
         "msd.json",
@@ -890,7 +900,7 @@ fn simulate_error_non_uniform_time_column_names_the_row() {
     ])
     .assert()
     .failure()
-    .code(2);
+    .code(1);
     assert!(!s.path("o.csv").exists());
 }
 

@@ -14,8 +14,9 @@ use common::*;
 
 const PLAY: &str = r#"{"type": "play", "r": 0.3}"#;
 
-/// The table rows of the report: `A, |N|, phase_deg, energy_per_loop`.
-fn rows(stdout: &str) -> Vec<[f64; 4]> {
+/// The table rows of the report: `A, |N|, phase_deg, dissipated_per_loop,
+/// work`.
+fn rows(stdout: &str) -> Vec<[f64; 5]> {
     stdout
         .lines()
         .filter_map(|line| {
@@ -24,7 +25,7 @@ fn rows(stdout: &str) -> Vec<[f64; 4]> {
                 .map(|t| t.parse::<f64>())
                 .collect::<Result<_, _>>()
                 .ok()?;
-            (v.len() == 4).then(|| [v[0], v[1], v[2], v[3]])
+            (v.len() == 5).then(|| [v[0], v[1], v[2], v[3], v[4]])
         })
         .collect()
 }
@@ -95,10 +96,12 @@ fn play_matches_the_closed_forms() {
         let dx = 2.0 * a * (PI / n as f64).sin();
         let bound = 2.0 * dx * dx / 8.0 + 1e-12 * a;
         assert!(
-            (row[3] - work).abs() <= bound,
+            (row[4] - work).abs() <= bound,
             "A={a}: work {} vs {work}",
-            row[3]
+            row[4]
         );
+        // the dissipated energy is the loop's area: positive
+        assert_eq!(row[3], row[4].abs());
     }
     assert!(stdout.contains("wrote"), "{stdout}");
 
@@ -106,7 +109,15 @@ fn play_matches_the_closed_forms() {
     let mut reader = csv::Reader::from_path(&out).unwrap();
     assert_eq!(
         reader.headers().unwrap().iter().collect::<Vec<_>>(),
-        ["amplitude", "gain", "phase_deg", "re", "im", "work"]
+        [
+            "amplitude",
+            "gain",
+            "phase_deg",
+            "re",
+            "im",
+            "work",
+            "dissipated"
+        ]
     );
     let recs: Vec<Vec<f64>> = reader
         .records()
@@ -115,7 +126,7 @@ fn play_matches_the_closed_forms() {
     assert_eq!(recs.len(), 4);
     for (rec, row) in recs.iter().zip(&table) {
         // printed with 16 significant digits
-        for (i, j) in [(0, 0), (1, 1), (2, 2), (5, 3)] {
+        for (i, j) in [(0, 0), (1, 1), (2, 2), (5, 4), (6, 3)] {
             assert!(
                 (rec[i] - row[j]).abs() <= 1e-15 * rec[i].abs().max(1e-300),
                 "{rec:?} {row:?}"
@@ -125,6 +136,87 @@ fn play_matches_the_closed_forms() {
     }
     assert_no_temp_files(tmp.path());
     assert_eq!(fs::read_to_string(&spec).unwrap(), PLAY);
+}
+
+/// A Prandtl-Ishlinskii loop (the example spec) runs counterclockwise and
+/// dissipates: `dissipated_per_loop` is positive and equals the closed form
+/// `Σ_{r_j < A} 4 w_j r_j (A − r_j)`, the signed work `∮ y dx` is its
+/// negative, and the help says which is which. A stop's clockwise loop
+/// dissipates too: positive, with positive work.
+#[test]
+fn a_prandtl_ishlinskii_loop_dissipates_a_positive_energy() {
+    let tmp = TempDir::new().unwrap();
+    let spec =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/specs/prandtl-ishlinskii.json");
+    let text = fs::read_to_string(&spec).unwrap();
+    let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let r: Vec<f64> = serde_json::from_value(json["r"].clone()).unwrap();
+    let w: Vec<f64> = serde_json::from_value(json["w"].clone()).unwrap();
+    let n = 4096;
+    let assert = hysteron(tmp.path())
+        .arg("analyze")
+        .arg("--model")
+        .arg(&spec)
+        .args([
+            "--amplitudes",
+            "0.35,1",
+            "--samples-per-period",
+            &n.to_string(),
+        ])
+        .assert()
+        .success();
+    let stdout = String::from_utf8(assert.get_output().stdout.clone()).unwrap();
+    let table = rows(&stdout);
+    assert_eq!(table.len(), 2, "{stdout}");
+    for row in &table {
+        let a = row[0];
+        let closed: f64 = r
+            .iter()
+            .zip(&w)
+            .filter(|(&r, _)| r < a)
+            .map(|(&r, &w)| 4.0 * w * r * (a - r))
+            .sum();
+        // the trapezoid rule's kink bound: 2 |w_j| Δx²/8 per play
+        let dx = 2.0 * a * (PI / n as f64).sin();
+        let bound = w.iter().map(|w| 2.0 * w.abs() * dx * dx / 8.0).sum::<f64>() + 1e-12;
+        assert!(row[3] > 0.0, "dissipated {} ≤ 0: {stdout}", row[3]);
+        assert!(
+            (row[3] - closed).abs() <= bound,
+            "A={a}: {} vs {closed}",
+            row[3]
+        );
+        assert!(row[4] < 0.0 && row[4] == -row[3], "work {}", row[4]);
+    }
+    assert!(
+        stdout.contains("dissipated_per_loop = loop area |∮ y dx| (> 0 for any hysteresis loop)")
+            && stdout.contains("work = ∮ y dx (< 0 counterclockwise"),
+        "{stdout}"
+    );
+    let help = hysteron(tmp.path())
+        .args(["analyze", "--help"])
+        .assert()
+        .success();
+    let help = String::from_utf8(help.get_output().stdout.clone()).unwrap();
+    let help = help.split_whitespace().collect::<Vec<_>>().join(" ");
+    assert!(
+        help.contains("the energy dissipated per loop (the loop's area |∮ y dx|"),
+        "{help}"
+    );
+    assert!(
+        help.contains("∮ y dx (< 0 for a counterclockwise loop, > 0 for a clockwise one)"),
+        "{help}"
+    );
+    assert!(!help.contains("> 0 dissipative"), "{help}");
+
+    write(tmp.path(), "stop.json", r#"{"type": "stop", "r": 0.25}"#);
+    let assert = hysteron(tmp.path())
+        .args(["analyze", "--model", "stop.json", "--amplitudes", "1"])
+        .assert()
+        .success();
+    let stdout = String::from_utf8(assert.get_output().stdout.clone()).unwrap();
+    let row = rows(&stdout)[0];
+    assert!((row[3] - 4.0 * 0.25 * 0.75).abs() < 1e-5, "{stdout}");
+    assert!(row[4] > 0.0 && row[4] == row[3], "{stdout}");
 }
 
 /// Bad inputs: exit code 1 and one line on stderr naming the problem;
@@ -204,17 +296,6 @@ fn bad_inputs_are_one_line_errors() {
                 "play.json",
                 "--amplitudes",
                 "1",
-                "--settle-periods",
-                "1",
-            ],
-            "settle_periods",
-        ),
-        (
-            vec![
-                "--model",
-                "play.json",
-                "--amplitudes",
-                "1",
                 "--steady-tol",
                 "-1",
             ],
@@ -270,6 +351,45 @@ fn bad_inputs_are_one_line_errors() {
         let err = one_line_error(&assert.get_output().stderr);
         assert!(err.contains(expected), "{args:?}: {err}");
         assert!(assert.get_output().stdout.is_empty(), "{args:?}");
+        assert_eq!(snapshot(tmp.path()), before, "{args:?} wrote something");
+    }
+    // Options refused as arguments (clap's message naming the option and
+    // what it needs; negative numbers are values, not unknown options):
+    // exit code 1 too.
+    let cases: Vec<([&str; 2], &str)> = vec![
+        (
+            ["--dt", "-0.5"],
+            "'--dt <SECONDS>': must be positive and finite (got -0.5)",
+        ),
+        (
+            ["--dt", "0"],
+            "'--dt <SECONDS>': must be positive and finite (got 0)",
+        ),
+        (
+            ["--settle-periods", "1"],
+            "'--settle-periods <P>': must be at least 2 (got 1)",
+        ),
+        (
+            ["--settle-periods", "-2"],
+            "'--settle-periods <P>': must be at least 2 (got -2)",
+        ),
+        (
+            ["--samples-per-period", "-8"],
+            "'--samples-per-period <N>': must be at least 8 (got -8)",
+        ),
+    ];
+    for (args, expected) in cases {
+        let assert = hysteron(tmp.path())
+            .args(["analyze", "--model", "play.json", "--amplitudes", "1"])
+            .args(args)
+            .assert()
+            .code(1);
+        let err = String::from_utf8_lossy(&assert.get_output().stderr).into_owned();
+        assert!(
+            err.starts_with("error: ") && err.contains(expected),
+            "{args:?}: {err}"
+        );
+        assert!(!err.contains("unexpected argument"), "{err}");
         assert_eq!(snapshot(tmp.path()), before, "{args:?} wrote something");
     }
 }

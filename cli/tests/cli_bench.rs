@@ -115,13 +115,30 @@ fn bad_options_are_errors_not_panics() {
         .unwrap();
     assert_eq!(out.status.code(), Some(1));
     assert!(one_line_error(&out.stderr).contains("no kernel matches"));
-    for args in [["--samples", "0"], ["--runs", "0"], ["--samples", "-5"]] {
+    // argument errors exit with 1 like all bad input, saying the range
+    for (args, expected) in [
+        (
+            ["--samples", "0"],
+            "'--samples <N>': must be at least 1 (got 0)",
+        ),
+        (["--runs", "0"], "'--runs <R>': must be at least 1 (got 0)"),
+        (
+            ["--runs", "1001"],
+            "'--runs <R>': must be at most 1000 (got 1001)",
+        ),
+        (
+            ["--samples", "-5"],
+            "'--samples <N>': must be at least 1 (got -5)",
+        ),
+    ] {
         let out = hysteron(dir.path())
             .arg("bench")
             .args(args)
             .output()
             .unwrap();
-        assert_eq!(out.status.code(), Some(2), "{args:?}");
-        assert!(!String::from_utf8_lossy(&out.stderr).contains("panicked"));
+        assert_eq!(out.status.code(), Some(1), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!err.contains("panicked"));
+        assert!(err.contains(expected), "{args:?}: {err}");
     }
 }

@@ -633,8 +633,9 @@ fn fit_error_output_directory_missing_and_keeps_old_output() {
 #[test]
 fn fit_usage_errors_are_clap_errors() {
     let s = Setup::new();
-    // --free is required; --patience must be ≥ 1.
-    hysteron(s.dir())
+    // Argument errors are bad input like any other: exit code 1 (not
+    // clap's 2), clap's message naming the option. --free is required.
+    let assert = hysteron(s.dir())
         .args([
             "fit",
             "--model",
@@ -646,24 +647,59 @@ fn fit_usage_errors_are_clap_errors() {
         ])
         .assert()
         .failure()
-        .code(2);
-    hysteron(s.dir())
-        .args([
-            "fit",
-            "--model",
-            "start.json",
-            "--data",
-            "data.csv",
-            "--output",
-            "o.json",
-            "--free",
-            "k",
-            "--patience",
-            "0",
-        ])
-        .assert()
-        .failure()
-        .code(2);
+        .code(1);
+    let err = String::from_utf8_lossy(&assert.get_output().stderr).into_owned();
+    assert!(
+        err.starts_with("error: ") && err.contains("--free"),
+        "{err}"
+    );
+    // --patience must be ≥ 1, said so (not `0 is not in 1..18446744073709551615`),
+    // negative values and non-integers included; --dt must be positive
+    for (args, expected) in [
+        (
+            ["--patience", "0"],
+            "'--patience <N>': must be at least 1 (got 0)",
+        ),
+        (
+            ["--patience", "-3"],
+            "'--patience <N>': must be at least 1 (got -3)",
+        ),
+        (
+            ["--patience", "2.5"],
+            "'--patience <N>': `2.5` is not a whole number",
+        ),
+        (
+            ["--dt", "-1"],
+            "'--dt <SECONDS>': must be positive and finite (got -1)",
+        ),
+        (
+            ["--dt", "1e999"],
+            "'--dt <SECONDS>': must be positive and finite (got 1e999)",
+        ),
+    ] {
+        let assert = hysteron(s.dir())
+            .args([
+                "fit",
+                "--model",
+                "start.json",
+                "--data",
+                "data.csv",
+                "--output",
+                "o.json",
+                "--free",
+                "k",
+            ])
+            .args(args)
+            .assert()
+            .failure()
+            .code(1);
+        let err = String::from_utf8_lossy(&assert.get_output().stderr).into_owned();
+        assert!(
+            err.starts_with("error: ") && err.contains(expected),
+            "{args:?}: {err}"
+        );
+        assert!(!err.contains("18446744073709551615"), "{err}");
+    }
     assert!(!s.path("o.json").exists());
 }
 

@@ -175,12 +175,15 @@ fn simulate_lugre_takes_dt_from_the_data() {
     let own = simulate(tmp.path(), &spec_path, &[], &x);
     assert_eq!(own, spec.build().unwrap().run(&x).unwrap());
     assert_ne!(own, expected);
-    // --dt is checked like the spec's own dt
-    let model = spec_path.to_str().unwrap();
+    // a spec's own dt is checked when it is built
+    let bad = tmp.path().join("bad-dt.json");
+    let text = fs::read_to_string(&spec_path).unwrap();
+    assert!(text.contains(r#""dt": 0.01"#), "{text}");
+    fs::write(&bad, text.replace(r#""dt": 0.01"#, r#""dt": 0"#)).unwrap();
     fails(
         tmp.path(),
-        model,
-        &["--dt", "0"],
+        bad.to_str().unwrap(),
+        &[],
         &["lugre.dt: must be > 0 (got 0)"],
     );
 }
