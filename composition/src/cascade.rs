@@ -54,9 +54,17 @@ impl<T: Float, A: Child<T>, B: Child<T>> Operator<T> for Cascade<A, B> {
         let a = self.first.trial(x)?;
         let b = self.second.trial(a.output)?;
         self.pending = true;
+        // Chain rule; where `first` is flat its output does not move, so
+        // neither does the cascade's, even where `second` is vertical (an
+        // inverse of a flat operator: 0 · ∞ would be NaN).
+        let tangent = if a.tangent == T::zero() {
+            T::zero()
+        } else {
+            b.tangent * a.tangent
+        };
         Ok(Trial {
             output: b.output,
-            tangent: b.tangent * a.tangent,
+            tangent,
         })
     }
 

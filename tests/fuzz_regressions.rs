@@ -1,0 +1,26 @@
+//! Inputs the cargo-fuzz targets (`fuzz/`) found failing, one test each,
+//! named after what went wrong.
+
+use hysteron::models::spec::registry::leaf_kind;
+use hysteron::prelude::*;
+
+/// A registered leaf built from its declared example, as the fuzz targets
+/// build them.
+fn example(kind: &str) -> Box<dyn Operator<f64>> {
+    let leaf = leaf_kind(kind).unwrap();
+    leaf.build(&leaf.example()).unwrap()
+}
+
+/// `operator_contract`: a cascade whose first stage is flat (a play inside
+/// its gap, tangent 0) and whose second stage is vertical there (the
+/// inverse of a play inside its gap, tangent +∞) reported the chain rule's 0 · ∞ =
+/// NaN as its tangent. The first stage's output does not move, so neither
+/// does the cascade's: the tangent is 0.
+#[test]
+fn cascade_of_flat_into_vertical_has_tangent_zero_not_nan() {
+    let mut op = example("play").then(example("play").inverse());
+    let t = op.trial(0.0).unwrap();
+    assert_eq!(t.output, op.clone().run(&[0.0]).unwrap()[0]);
+    assert!(t.output.is_finite());
+    assert_eq!(t.tangent, 0.0, "tangent {}", t.tangent);
+}
