@@ -170,8 +170,8 @@ impl Style {
 }
 
 /// The most points a line series is drawn with (see [`decimate`]); a
-/// polyline of 20 000 points is about 200 kB of SVG.
-pub const MAX_LINE_POINTS: usize = 20_000;
+/// polyline of 50 000 points is about 500 kB of SVG.
+pub const MAX_LINE_POINTS: usize = 50_000;
 
 /// The points of a line drawn over axis ranges `x_range`, `y_range`: at
 /// most [`MAX_LINE_POINTS`] (plus a handful), with `(NaN, NaN)` where the
@@ -183,7 +183,8 @@ pub const MAX_LINE_POINTS: usize = 20_000;
 /// points; that is the result when it is small enough. Otherwise the
 /// ranges are divided into a grid of `⌈1/tol⌉²` cells and a point is kept
 /// when it enters a cell no kept point is in yet, when it jumps farther
-/// than to a neighbouring cell, or when it is one of the *extremes*: the
+/// than to a neighbouring cell (the first time between those two cells),
+/// or when it is one of the *extremes*: the
 /// first and last finite points and the first points of least and greatest
 /// `x` and `y`. A stretch of dropped points stays inside cells already
 /// drawn; when it leaves the cell of the last kept point the line is
@@ -361,6 +362,7 @@ impl Grid {
         I: Iterator<Item = (f64, f64)>,
     {
         let mut visited = vec![false; self.cells * self.cells];
+        let mut jumps = std::collections::HashSet::new();
         let mut out: Vec<(f64, f64)> = Vec::new();
         // the previous finite point of the run, its cell, whether it was kept
         let mut prev: Option<(Point, (usize, usize), bool)> = None;
@@ -381,10 +383,16 @@ impl Grid {
                 continue;
             }
             let c = self.cell(p);
-            let jump =
-                prev.is_some_and(|(_, pc, _)| pc.0.abs_diff(c.0) > 1 || pc.1.abs_diff(c.1) > 1);
             let fresh = !visited[c.0 * self.cells + c.1];
-            if prev.is_none() || jump || fresh || extremes.contains(i) {
+            // a jump past the neighbouring cells is drawn once (a periodic
+            // record repeats its jumps every period)
+            let new_jump = match prev {
+                Some((_, pc, _)) if pc.0.abs_diff(c.0) > 1 || pc.1.abs_diff(c.1) > 1 => {
+                    jumps.insert((pc, c))
+                }
+                _ => false,
+            };
+            if prev.is_none() || new_jump || fresh || extremes.contains(i) {
                 if let Some((q, _, false)) = prev {
                     if !stayed {
                         out.push(BREAK);
