@@ -48,3 +48,25 @@ echo "== Python: pytest"
 echo "== C and FMI: FMPy (an independent FMI 2.0 host) and the system's cc"
 "$venv/python" -m pip install -q "fmpy>=0.3.20,<0.4"
 "$venv/python" -m pytest -q capi/checks
+
+echo "== fuzz smoke: each cargo-fuzz target (fuzz/) for up to 30 s on its committed corpus"
+if cargo +nightly --version >/dev/null 2>&1; then
+  if ! cargo +nightly fuzz --version >/dev/null 2>&1; then
+    cargo install cargo-fuzz --locked
+  fi
+  for target in spec_json csv_read operator_contract fit_small; do
+    # a scratch copy, so that what the run adds stays out of the committed seeds
+    scratch=$(mktemp -d)
+    cp fuzz/corpus/"$target"/* "$scratch"/ 2>/dev/null || true
+    echo "-- $target"
+    (cd fuzz && cargo +nightly fuzz run "$target" "$scratch" -- \
+      -max_total_time=30 -rss_limit_mb=2048 -timeout=10 -print_final_stats=1)
+    rm -rf "$scratch"
+  done
+else
+  echo "WARNING: ************************************************************"
+  echo "WARNING: no nightly toolchain (cargo +nightly --version fails):"
+  echo "WARNING: the fuzz smoke (cargo-fuzz targets in fuzz/) was SKIPPED."
+  echo "WARNING: install it with: rustup toolchain install nightly"
+  echo "WARNING: ************************************************************"
+fi
