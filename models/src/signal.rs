@@ -24,8 +24,8 @@ fn check_record(x: &[f64]) -> Result<()> {
     if x.is_empty() {
         return Err(invalid("x", 0.0, "must hold at least one sample"));
     }
-    match x.iter().position(|v| !v.is_finite()) {
-        Some(i) => Err(Error::NonFiniteInput { value: x[i] }.at_sample(i)),
+    match x.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        Some((i, &value)) => Err(Error::NonFiniteInput { value }.at_sample(i)),
         None => Ok(()),
     }
 }
@@ -54,6 +54,10 @@ fn check_record(x: &[f64]) -> Result<()> {
 /// let t = 2.0 * std::f64::consts::PI * 5.0 / 32.0;
 /// assert!((y[5] - t.sin()).abs() < 1e-14);
 /// ```
+// `half = ⌈n/2⌉ ≤ n ≤ fine` and `n ≥ 1` (`check_record`), `q ≥ 2`: the
+// indices `n − j`, `n/2` are `< n = spectrum.len()` and `fine − j`,
+// `fine − n/2` are in `(0, fine)`.
+#[allow(clippy::indexing_slicing)]
 pub fn fft_upsample(x: &[f64], q: usize) -> Result<Vec<f64>> {
     check_record(x)?;
     if q == 0 {
@@ -63,7 +67,9 @@ pub fn fft_upsample(x: &[f64], q: usize) -> Result<Vec<f64>> {
         return Ok(x.to_vec());
     }
     let n = x.len();
-    let fine = n * q;
+    let fine = n
+        .checked_mul(q)
+        .ok_or_else(|| invalid("q", q as f64, "x.len() · q overflows"))?;
     let mut planner = FftPlanner::<f64>::new();
     let mut spectrum: Vec<Complex<f64>> = x.iter().map(|&v| Complex::new(v, 0.0)).collect();
     planner.plan_fft_forward(n).process(&mut spectrum);
@@ -142,12 +148,15 @@ pub fn decimate_fir_periodic(x: &[f64], r: usize) -> Result<Vec<f64>> {
         let taps = fir1_lowpass(30, 1.0 / p as f64)?;
         let n = y.len();
         let delay = (taps.len() - 1) / 2;
+        // y[(at + delay − k) mod n], without going below 0 when the period
+        // is shorter than the filter (always `< n = y.len()`).
+        let circ = |i: usize, k: usize| (i % n + n - k % n) % n;
         y = (0..n / p)
             .map(|j| {
                 let at = j * p;
                 taps.iter()
                     .enumerate()
-                    .map(|(k, b)| b * y[(at + n + delay - k) % n])
+                    .map(|(k, b)| b * y.get(circ(at + delay, k)).copied().unwrap_or(0.0))
                     .sum()
             })
             .collect();
@@ -312,5 +321,31 @@ mod tests {
         let x = multisine(&[(1, 1.0, 0.0)], 2000);
         assert!(decimate_fir_periodic(&x[..1999], 20).is_err());
         assert_eq!(decimate_fir_periodic(&x, 1).unwrap(), x);
+    }
+    /// A period shorter than the filter's delay (15 samples) wraps the
+    /// circular index several times: `at + n + delay − k` underflowed (a
+    /// panic in debug builds, a wrong sample in release ones).
+    #[test]
+    fn decimate_short_period() {
+        let x = [1.0, -0.5, 0.25, 2.0];
+        let y = decimate_fir_periodic(&x, 2).unwrap();
+        let taps = fir1_lowpass(30, 0.5).unwrap();
+        // y[j] = Σ_k b_k x[(2j + 15 − k) mod 4]
+        for (j, &v) in y.iter().enumerate() {
+            let want: f64 = taps
+                .iter()
+                .enumerate()
+                .map(|(k, b)| b * x[(2 * j + 15 + 4 * 8 - k) % 4])
+                .sum();
+            assert!((v - want).abs() < 1e-15, "{v} {want}");
+        }
+        assert_eq!(decimate_fir_periodic(&[3.0], 1).unwrap(), vec![3.0]);
+    }
+
+    /// `x.len() · q` overflowing is an error, not a panic (or a wrapped,
+    /// too short buffer).
+    #[test]
+    fn upsample_overflow() {
+        assert!(fft_upsample(&[1.0, 2.0, 3.0], usize::MAX / 2).is_err());
     }
 }

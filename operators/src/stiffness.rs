@@ -45,16 +45,18 @@ impl<T: Float> StiffnessMap<T> {
                 reason: "need at least one knot, with as many stiffness values as positions",
             });
         }
+        let mut prev: Option<T> = None;
         for (i, (&z, &s)) in self.z.iter().zip(&self.s).enumerate() {
             check::non_negative(&format!("z[{i}]"), z)?;
             check::non_negative(&format!("s[{i}]"), s)?;
-            if i > 0 && z <= self.z[i - 1] {
+            if prev.is_some_and(|p| z <= p) {
                 return Err(Error::InvalidParameter {
                     name: format!("z[{i}]"),
                     value: z.as_f64(),
                     reason: "knot positions must be strictly increasing",
                 });
             }
+            prev = Some(z);
         }
         Ok(())
     }
@@ -103,9 +105,16 @@ impl<T: Float> StiffnessMap<T> {
         })
     }
 
+    // The map is public and `Deserialize` (unvalidated: `z` and `s` may
+    // differ in length), so `slope` and `eval_by` look knots up with `get`
+    // (the same one compare as an index) and give NaN for a missing one,
+    // which the operators report as a non-finite output.
     #[inline(always)]
     fn slope(&self, i: usize) -> T {
-        (self.s[i + 1] - self.s[i]) / (self.z[i + 1] - self.z[i])
+        match (self.z.get(i..i + 2), self.s.get(i..i + 2)) {
+            (Some(&[z0, z1]), Some(&[s0, s1])) => (s1 - s0) / (z1 - z0),
+            _ => T::nan(),
+        }
     }
 
     #[inline(always)]
@@ -115,14 +124,17 @@ impl<T: Float> StiffnessMap<T> {
         }
         let a = z.abs();
         let i = self.z.partition_point(|&zi| zi <= a);
-        if i == 0 {
-            return (self.s[0], T::zero());
-        }
+        let Some(k) = i.checked_sub(1) else {
+            let s0 = self.s.first().copied().unwrap_or_else(T::nan);
+            return (s0, T::zero());
+        };
+        let (Some(&z0), Some(&s0)) = (self.z.get(k), self.s.get(k)) else {
+            return (T::nan(), T::nan());
+        };
         if i == self.z.len() {
-            return (self.s[i - 1], T::zero());
+            return (s0, T::zero());
         }
-        let (z0, s0) = (self.z[i - 1], self.s[i - 1]);
-        let slope = slope_of(i - 1);
+        let slope = slope_of(k);
         let sign = if z < T::zero() { -T::one() } else { T::one() };
         (s0 + slope * (a - z0), slope * sign)
     }
@@ -130,6 +142,8 @@ impl<T: Float> StiffnessMap<T> {
 
 impl<T: Float> StiffnessMap<T> {
     /// The two declared vectors with their declarations.
+    // `FIELDS` is the two-entry literal below.
+    #[allow(clippy::indexing_slicing)]
     fn fields(&self) -> [(&Vec<T>, &'static FieldInfo); 2] {
         let f = <Self as ParamSet<T>>::FIELDS;
         [(&self.z, &f[0]), (&self.s, &f[1])]
@@ -195,3 +209,36 @@ impl<T: Float> ParamSet<T> for StiffnessMap<T> {
 }
 
 crate::nested_param_field!(StiffnessMap);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A map as `Deserialize` builds it, without validation: `eval` used to
+    /// index past the end of `s` (a panic); now the value is NaN, which the
+    /// operators report as an error.
+    #[test]
+    fn unvalidated_map_does_not_panic() {
+        for (z, s) in [
+            (vec![0.0, 1.0], vec![1.0]),
+            (vec![0.0, 1.0, 2.0], vec![1.0, 2.0]),
+            (vec![], vec![]),
+            (vec![0.5], vec![]),
+        ] {
+            let map = StiffnessMap::<f64> { z, s };
+            assert!(map.validate().is_err());
+            for x in [-3.0, 0.0, 0.25, 0.5, 1.5, 3.0] {
+                let _ = map.eval(x);
+                let _ = map.eval_with(&map.slopes(), x);
+            }
+        }
+        let map = StiffnessMap::<f64> {
+            z: vec![0.0, 1.0, 2.0],
+            s: vec![1.0, 2.0],
+        };
+        assert_eq!(map.eval(0.5), (1.5, 1.0));
+        assert!(map.eval(1.5).0.is_nan());
+        assert!(map.eval(2.5).0.is_nan());
+        assert!(map.slopes()[1].is_nan());
+    }
+}
