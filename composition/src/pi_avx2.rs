@@ -112,6 +112,9 @@ fn output(a0: f64, x: f64, bank_sum: f64) -> Result<f64, Error> {
     }
 }
 
+// Hot loop, kept free of checks: `n` is the least of the four lengths and
+// `m = n / 8 * 8 ≤ n`, so `[..n]` and `[m..]` are in range.
+#[allow(clippy::indexing_slicing)]
 #[target_feature(enable = "avx2")]
 unsafe fn process_avx2(bank: &mut Bank<'_>, xs: &[f64], ys: &mut [f64]) -> (usize, Option<Error>) {
     let n = bank
@@ -168,6 +171,9 @@ unsafe fn process_avx2(bank: &mut Bank<'_>, xs: &[f64], ys: &mut [f64]) -> (usiz
     (xs.len().min(ys.len()), None)
 }
 
+// Hot loop, kept free of checks: `n` is the least of the four lengths and
+// `m = n / 8 * 8 ≤ n`, so `[..n]` and `[m..]` are in range.
+#[allow(clippy::indexing_slicing)]
 #[target_feature(enable = "avx512f")]
 unsafe fn process_avx512(
     bank: &mut Bank<'_>,

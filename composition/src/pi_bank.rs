@@ -118,6 +118,10 @@ const LANES: usize = 8;
 /// Advances every play from `prev` to `next` for input `x` and returns
 /// `Σ w_j next_j`, summed in `LANES` interleaved partial sums (a fixed
 /// order, so `trial` and `process` agree bit for bit).
+// Hot loop, kept free of checks: `n` is the least of the four lengths and
+// `m ≤ n`, so every `[..n]`, `[..m]`, `[m..]` is in range, and `l < LANES`
+// indexes the `[T; LANES]` arrays.
+#[allow(clippy::indexing_slicing)]
 #[inline(always)]
 fn bank_step<T: Float>(r: &[T], w: &[T], prev: &[T], next: &mut [T], x: T) -> T {
     let n = r.len().min(w.len()).min(prev.len()).min(next.len());

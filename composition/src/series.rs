@@ -106,6 +106,9 @@ impl<T: Float> TravelLimits<T> {
         }
     }
 
+    // `p.len() == self.values().len()` (2 for `Range` and `Gap`) by
+    // `check::count`.
+    #[allow(clippy::indexing_slicing)]
     fn with_values(&self, p: &[T]) -> Result<Self> {
         check::count(self.values().len(), p)?;
         let next = match self {
@@ -239,6 +242,9 @@ impl<T: Float, L: Operator<T>, R: Operator<T>> MechanicalSeries<T, L, R> {
     /// commit whether the contact holds, which trials and commits the left
     /// element; the first sample where it does not (or any error) is left
     /// uncommitted for `trial` to take over.
+    // `xs.len() ≤ HOLD_CHUNK`: the only caller, `process`, passes at most
+    // `HOLD_CHUNK` samples.
+    #[allow(clippy::indexing_slicing)]
     #[inline]
     fn hold_run(&mut self, xs: &[T], ys: &mut [T], xl: T, lo: T, hi: T, r0: T) -> usize {
         let mut zs = [T::zero(); HOLD_CHUNK];
@@ -259,12 +265,11 @@ impl<T: Float, L: Operator<T>, R: Operator<T>> MechanicalSeries<T, L, R> {
             }
             holds && force.is_finite()
         };
-        let n = right.process_while(zs, ys, &mut keep);
-        if n > 0 {
-            self.s = State {
-                x: xs[n - 1],
-                x_left: xl,
-            };
+        // (`min`: `n ≤ xs.len()` is the contract of `process_while`, which a
+        // foreign operator may break)
+        let n = right.process_while(zs, ys, &mut keep).min(xs.len());
+        if let Some(&x) = n.checked_sub(1).and_then(|k| xs.get(k)) {
+            self.s = State { x, x_left: xl };
         }
         n
     }
@@ -372,6 +377,10 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
     /// residual is exactly zero, or an error occurs) is left to `trial`,
     /// which starts from the same committed state, so the results are
     /// bit-identical to the trial + commit loop.
+    // `ys.len() == xs.len()` (`check_lengths`); `i < xs.len()` by the loop
+    // condition, `i + m ≤ xs.len()` by the choice of `m`, and `hold_run`
+    // returns `n ≤ m`, so `i` stays `< xs.len()` unless `n == m` (continue).
+    #[allow(clippy::indexing_slicing)]
     fn process(&mut self, xs: &[T], ys: &mut [T]) -> Result<()> {
         check_lengths(xs, ys)?;
         self.pending = None;
@@ -444,6 +453,9 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
         names
     }
 
+    // `p.len() == self.n_params() ≥ k` (`check::count`; the limits' values
+    // are the first `k` parameters).
+    #[allow(clippy::indexing_slicing)]
     fn set_params(&mut self, p: &[T]) -> Result<()> {
         check::count(self.n_params(), p)?;
         let k = self.limits.values().len();

@@ -193,11 +193,13 @@ pub fn free_by_names(
                 return Ok(i);
             }
             let suffix = format!(".{name}");
-            let hits: Vec<usize> = (0..all.len())
-                .filter(|&i| all[i].ends_with(&suffix))
+            let hits: Vec<(usize, &String)> = all
+                .iter()
+                .enumerate()
+                .filter(|(_, n)| n.ends_with(&suffix))
                 .collect();
             match hits.as_slice() {
-                [i] => Ok(*i),
+                [(i, _)] => Ok(*i),
                 [] => Err(FitError::UnknownParameter {
                     name: name.to_string(),
                     available: all.join(", "),
@@ -206,7 +208,7 @@ pub fn free_by_names(
                     name: name.to_string(),
                     matches: hits
                         .iter()
-                        .map(|&i| all[i].clone())
+                        .map(|(_, n)| n.as_str())
                         .collect::<Vec<_>>()
                         .join(", "),
                 }),
@@ -270,6 +272,8 @@ struct Problem<'a> {
 }
 
 impl Problem<'_> {
+    // Every `free` index is `< base.len()` (checked in `fit_with_progress`).
+    #[allow(clippy::indexing_slicing)]
     fn full_params(&self, theta: &[f64]) -> Vec<f64> {
         let mut p = self.base.clone();
         for ((&i, map), &t) in self.free.iter().zip(&self.maps).zip(theta) {
@@ -296,6 +300,8 @@ impl Problem<'_> {
 
     /// Central difference of the residuals along `θ_j` (one-sided where
     /// one side is outside the model's valid set, zero where both are).
+    // `j < self.theta.len()`: the callers iterate `0..self.theta.len()`.
+    #[allow(clippy::indexing_slicing)]
     fn column(&self, j: usize) -> DVector<f64> {
         let t = self.theta.as_slice();
         let h = self.step * t[j].abs().max(1.0);
@@ -325,6 +331,9 @@ impl Problem<'_> {
 }
 
 impl<'a> Problem<'a> {
+    // Every `free` index is `< base.len()` and `< domains.len()` (checked in
+    // `fit_with_progress`; the test passes indices from `free_by_names`).
+    #[allow(clippy::indexing_slicing)]
     fn new(
         model: &(dyn Operator<f64> + 'static),
         x: &'a [f64],
@@ -440,11 +449,13 @@ pub fn fit_with_progress(
         return Err(FitError::NoFreeParameters);
     }
     let base = model.params();
-    if let Some(&index) = free.iter().find(|&&i| i >= base.len()) {
-        return Err(FitError::BadIndex {
-            index,
-            len: base.len(),
-        });
+    // (names and domains too: a foreign `Operator` may list fewer of them)
+    let len = base
+        .len()
+        .min(model.param_names().len())
+        .min(model.param_domains().len());
+    if let Some(&index) = free.iter().find(|&&i| i >= len) {
+        return Err(FitError::BadIndex { index, len });
     }
     if !(opts.step > 0.0 && opts.step < 0.1) {
         return Err(FitError::Option {
@@ -485,6 +496,11 @@ pub fn fit_with_progress(
         .map(|inv| inv * (ssr / dof));
 
     let all_params = problem.full_params(theta.as_slice());
+    let names = model.param_names();
+    // `j < free.len() = theta.len() = maps.len()`, and every `free` index
+    // `i` is `< len` (checked above) `≤ names.len(), base.len()`,
+    // `all_params.len() = base.len()`.
+    #[allow(clippy::indexing_slicing)]
     let params = free
         .iter()
         .enumerate()
@@ -501,7 +517,7 @@ pub fn fit_with_progress(
                 None => (f64::NAN, f64::NAN),
             };
             FittedParam {
-                name: model.param_names()[i].clone(),
+                name: names[i].clone(),
                 index: i,
                 start: base[i],
                 value: all_params[i],
@@ -511,6 +527,8 @@ pub fn fit_with_progress(
         })
         .collect();
 
+    // `i, j < k`: `sd` has `k` entries.
+    #[allow(clippy::indexing_slicing)]
     let correlation = cov.as_ref().and_then(|c| {
         let sd: Vec<f64> = (0..k).map(|j| c[(j, j)].sqrt()).collect();
         let rows: Vec<Vec<f64>> = (0..k)

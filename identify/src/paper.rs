@@ -175,6 +175,9 @@ fn check_record(record: &'static str, x: &[f64], f: &[f64]) -> Result<(), PaperE
 
 /// Reversal points of `x` as `(index, is_maximum)`: an extremum counts once
 /// the input has moved back from it by more than `threshold`.
+// `lo`, `hi` and `ext` are 0 or an index `i` yielded by `enumerate`, and the
+// loop body (the only indexing) runs only when `x.len() ≥ 2`.
+#[allow(clippy::indexing_slicing)]
 fn reversals(x: &[f64], threshold: f64) -> Vec<(usize, bool)> {
     let mut turns = Vec::new();
     let (mut lo, mut hi) = (0usize, 0usize);
@@ -227,6 +230,8 @@ fn reversals(x: &[f64], threshold: f64) -> Vec<(usize, bool)> {
 /// moved back by more than [`REVERSAL_THRESHOLD`] of its range; the
 /// start of the record is not a reversal, and neither is an extremum at
 /// its end.
+// `a` and `b` come from `reversals(x, ..)`, which returns indices into `x`.
+#[allow(clippy::indexing_slicing)]
 pub fn last_increasing_branch(x: &[f64]) -> Result<Branch, PaperError> {
     check_input("record", x)?;
     let (min, max) = x
@@ -243,8 +248,8 @@ pub fn last_increasing_branch(x: &[f64]) -> Result<Branch, PaperError> {
     turns
         .windows(2)
         .rev()
-        .find_map(|w| match (w[0], w[1]) {
-            ((a, false), (b, true)) if x[b] - x[a] >= MIN_BRANCH_SPAN * range => {
+        .find_map(|w| match *w {
+            [(a, false), (b, true)] if x[b] - x[a] >= MIN_BRANCH_SPAN * range => {
                 Some(Branch { start: a, end: b })
             }
             _ => None,
@@ -284,6 +289,11 @@ pub fn pick_branch_points(
 /// divides its standard deviation by about `√(2m + 1)`, at the price of a
 /// bias of about `F''·var(x)/2` over the window where the branch is curved.
 /// `m = 0` takes the samples as they are (exact for noise-free records).
+// `branch.start ≤ branch.end < x.len() = f.len()` (`last_increasing_branch`
+// of this `x`, `check_record`), so every index in `loaded`/`picked` and the
+// window `lo..=hi` is in range; `loaded[0]` exists since
+// `loaded.len() ≥ count ≥ 2`.
+#[allow(clippy::indexing_slicing)]
 pub fn pick_branch_points_smoothed(
     x: &[f64],
     f: &[f64],
@@ -485,6 +495,9 @@ type Points = Arc<[(f64, f64)]>;
 /// Validates the points against the record's last complete increasing
 /// branch; returns the record prefix up to the branch start and the points
 /// sorted by `x`.
+// `branch.start ≤ branch.end < x.len()` (`last_increasing_branch` of this
+// `x`); `k ∈ 1..sorted.len()`.
+#[allow(clippy::indexing_slicing)]
 fn prepare(x: &[f64], points: &[(f64, f64)]) -> Result<(Prefix, Points), PaperError> {
     if points.is_empty() {
         return Err(PaperError::TooFewPoints { needed: 1, got: 0 });
@@ -650,6 +663,8 @@ impl Operator<f64> for SpringFromPoints {
         ]
     }
 
+    // `p.len() == SPRING_NAMES.len() == 5` by `check::count`.
+    #[allow(clippy::indexing_slicing)]
     fn set_params(&mut self, p: &[f64]) -> hysteron_operators::Result<()> {
         check::count(SPRING_NAMES.len(), p)?;
         let shape = SpringShape {

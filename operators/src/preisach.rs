@@ -124,15 +124,17 @@ fn check_axis<T: Float>(name: &str, v: &[T], min: usize, reason: &'static str) -
     if v.len() < min {
         return Err(invalid(name.to_string(), T::lit(v.len() as f64), reason));
     }
+    let mut prev: Option<T> = None;
     for (k, &x) in v.iter().enumerate() {
         check::finite(&format!("{name}[{k}]"), x)?;
-        if k > 0 && x <= v[k - 1] {
+        if prev.is_some_and(|p| x <= p) {
             return Err(invalid(
                 format!("{name}[{k}]"),
                 x,
                 "must be strictly increasing",
             ));
         }
+        prev = Some(x);
     }
     Ok(())
 }
@@ -175,7 +177,10 @@ impl<T: Float> PreisachMeasure<T> {
                 check_axis("x", x, 2, "need at least two nodes")?;
                 let m = x.len() - 1;
                 check_triangle("e", e, m)?;
-                // E at node pairs (p ≥ q); E(p, p) = 0.
+                // E at node pairs (p ≥ q); E(p, p) = 0. Called below with
+                // 1 ≤ p ≤ m, q < p: row p − 1 of `e` has p entries by
+                // `check_triangle` (m rows, row k has k + 1 entries).
+                #[allow(clippy::indexing_slicing)]
                 let at = |p: usize, q: usize| if p == q { T::zero() } else { e[p - 1][q] };
                 // Row i of `e` is E(x[i+1], ·): the cells (i, j), j < i.
                 for (i, row) in e.iter().enumerate().skip(1) {
@@ -288,6 +293,9 @@ impl<T: Float> PreisachMeasure<T> {
 
     /// The same representation and shape with the values `p` (in the order
     /// of [`Operator::params`] of the model), unvalidated.
+    // `p.len() == self.n_params()` by `check::count` (3 for `Uniform`, 5 for
+    // `Tanh`), so `p[0..3]` / `p[0..5]` exist.
+    #[allow(clippy::indexing_slicing)]
     pub fn from_flat(&self, p: &[T]) -> Result<Self> {
         check::count(self.n_params(), p)?;
         let refill = |a: &[T], rows: &[Vec<T>]| -> (Vec<T>, Vec<Vec<T>>) {
@@ -340,11 +348,15 @@ impl<T: Float> PreisachParams<T> {
         let t: Vec<T> = (0..n)
             .map(|k| x_min + (T::lit(k as f64) + half) * h)
             .collect();
-        let mu = (0..n)
-            .map(|i| {
-                (0..=i)
-                    .map(|j| {
-                        let m = density(t[i], t[j]) * h * h;
+        let mu = t
+            .iter()
+            .enumerate()
+            .map(|(i, &ti)| {
+                t.iter()
+                    .take(i + 1)
+                    .enumerate()
+                    .map(|(j, &tj)| {
+                        let m = density(ti, tj) * h * h;
                         if i == j {
                             m * half
                         } else {
@@ -362,6 +374,12 @@ impl<T: Float> PreisachParams<T> {
 }
 
 /// The measure prepared for evaluation.
+///
+/// Index invariant (what the `#[allow(clippy::indexing_slicing)]` below rely
+/// on): `Kernel::new` runs only on a validated measure, so `t.len() = n ≥ 1`
+/// and `c.len() = n(n+1)/2` (Grid), `x.len() = n ≥ 2` and
+/// `e.len() = n(n+1)/2` (Table); `tri(p, q) ≤ tri(n−1, n−1) = n(n+1)/2 − 1`
+/// for any `p, q ≤ n − 1`, in range.
 #[derive(Debug, Clone, PartialEq)]
 enum Kernel<T> {
     /// Thresholds and the cumulative masses `c[a][b] = Σ_{b ≤ j ≤ i ≤ a}
@@ -382,6 +400,11 @@ fn tri(a: usize, b: usize) -> usize {
 }
 
 impl<T: Float> Kernel<T> {
+    // Only called on a validated measure (`from_params` validates first):
+    // `mu` has `n` rows, row `a` has `a + 1` entries (`b ≤ a`); `e` has
+    // `n − 1` rows, row `p − 1` has `p` entries (`q < p`); `tri(a, b)` with
+    // `b ≤ a < n` is `< n(n+1)/2 = c.len() = flat.len()`.
+    #[allow(clippy::indexing_slicing)]
     fn new(m: &PreisachMeasure<T>) -> Self {
         match m {
             PreisachMeasure::Grid { t, mu } => {
@@ -451,6 +474,10 @@ impl<T: Float> Kernel<T> {
     }
 
     /// `E(α, β)` for coordinates `α ≥ β`.
+    // Grid: `a ≤ 2n` (a level count, see `coord`), so `up − 1 ≤ n − 1` and
+    // `down ≤ up − 1` is checked; Table: `cell` returns `i, j ≤ n − 2`. See
+    // the index invariant on `Kernel`.
+    #[allow(clippy::indexing_slicing)]
     #[inline]
     fn everett(&self, a: T, b: T) -> T {
         match self {
@@ -480,6 +507,9 @@ impl<T: Float> Kernel<T> {
         }
     }
 
+    // `i, j ≤ n − 2` (from `cell`), so `x[i + 1]`, `x[j + 1]` exist and
+    // every `tri(p, q)` here has `p, q ≤ n − 1` (see `Kernel`).
+    #[allow(clippy::indexing_slicing)]
     #[inline]
     fn table_value(x: &[T], e: &[T], i: usize, j: usize, a: T, b: T) -> T {
         let (hi, hj) = (x[i + 1] - x[i], x[j + 1] - x[j]);
@@ -499,6 +529,8 @@ impl<T: Float> Kernel<T> {
     }
 
     /// `∂E/∂α (α, β)` (right derivative in `α`).
+    // `i, j ≤ n − 2` (from `cell`): see `table_value`.
+    #[allow(clippy::indexing_slicing)]
     fn d_alpha(&self, a: T, b: T) -> T {
         match self {
             Kernel::Grid { .. } => T::zero(),
@@ -527,6 +559,8 @@ impl<T: Float> Kernel<T> {
 
     /// `−∂E/∂β (α, β) ≥ 0` (left derivative in `β`: the slope of a
     /// descending branch).
+    // `i, j ≤ n − 2` (from `cell`): see `table_value`.
+    #[allow(clippy::indexing_slicing)]
     fn neg_d_beta(&self, a: T, b: T) -> T {
         match self {
             Kernel::Grid { .. } => T::zero(),
@@ -647,6 +681,9 @@ pub struct Preisach<T> {
 
 impl<T: Float> Preisach<T> {
     /// A Preisach model from validated parameters.
+    // A validated table has at least two nodes, so `x[0]` and `x[len − 1]`
+    // exist.
+    #[allow(clippy::indexing_slicing)]
     pub fn from_params(p: PreisachParams<T>) -> Result<Self> {
         p.validate()?;
         let kernel = Kernel::new(&p.measure);
@@ -710,6 +747,9 @@ impl<T: Float> Preisach<T> {
     }
 
     /// The committed output.
+    // The stack is never empty: `reset` (run by `from_params`) pushes an
+    // entry, and `commit` pushes one after every truncation.
+    #[allow(clippy::indexing_slicing)]
     pub fn output(&self) -> T {
         self.out(self.stack[self.stack.len() - 1].p)
     }
@@ -730,6 +770,10 @@ impl<T: Float> Preisach<T> {
     }
 
     /// Where the staircase goes for coordinate `v` from the committed one.
+    // The stack is never empty (see `output`), so `n = len − 1` is an index;
+    // `n − 1` is used only when `n ≥ 1`; `keep ≤ n + 1 = len`, and
+    // `keep − 2`, `keep − 1` only when `keep ≥ 2`, `keep ≥ 1`.
+    #[allow(clippy::indexing_slicing)]
     #[inline]
     fn advance(&self, v: T) -> Pending<T> {
         let s = &self.stack;
@@ -764,6 +808,10 @@ impl<T: Float> Preisach<T> {
     }
 
     /// The tangent of the branch through `pend` (raw input `x`).
+    // The stack is never empty and `pend` came from `advance` on it, so
+    // `1 ≤ pend.keep ≤ len` in the last branch; in the standstill branch
+    // `keep = n ≥ 1` (the first branch took `keep = 0`).
+    #[allow(clippy::indexing_slicing)]
     fn tangent(&self, x: T, pend: &Pending<T>) -> T {
         if matches!(self.kernel, Kernel::Grid { .. }) {
             return T::zero();
