@@ -1,6 +1,6 @@
 //! Modified Maxwell-slip (MMS) pre-sliding friction.
 
-use crate::{declare_params, Error, Float, Result, StepLaw, Stepped, Trial};
+use crate::{check_lengths, declare_params, Error, Float, Result, StepLaw, Stepped, Trial};
 
 declare_params! {
     /// Parameters of the [`Mms`] friction operator.
@@ -175,7 +175,11 @@ impl<T: Float> StepLaw<T> for MmsParams<T> {
 
     /// Monotone runs with the branch constants hoisted, in blocks of three
     /// loops (see the comments); bit for bit the loop of `step`.
+    // Hot loop, kept free of checks: `i < xs.len() = ys.len()` (checked once
+    // on entry: `run` is public) and `i ≤ end ≤ end_max ≤ xs.len()`.
+    #[allow(clippy::indexing_slicing)]
     fn run(&self, state: &mut MmsState<T>, xs: &[T], ys: &mut [T]) -> Result<()> {
+        check_lengths(xs, ys)?;
         let non_finite = |x: T, i: usize| {
             Error::NonFiniteOutput {
                 operator: "mms",
@@ -264,5 +268,25 @@ impl<T: Float> StepLaw<T> for MmsParams<T> {
         Ok(())
     }
 
-    const EQUATION: &'static str = "y = y_r + (sgn(ẋ) F_c − y_r)(1 − exp(−K |x − x_r|)), (x_r, y_r) the last reversal";
+    const EQUATION: &'static str =
+        "y = y_r + (sgn(ẋ) F_c − y_r)(1 − exp(−K |x − x_r|)), (x_r, y_r) the last reversal";
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ParamSet;
+
+    /// `StepLaw::run` is public: an output slice shorter than the input was
+    /// indexed past its end (a panic); now it is a length error.
+    #[test]
+    fn run_with_unequal_lengths_is_an_error() {
+        let law = MmsParams::<f64>::example();
+        let mut s = law.initial();
+        let mut ys = [0.0; 1];
+        assert!(matches!(
+            law.run(&mut s, &[0.1, 0.2, 0.3], &mut ys),
+            Err(Error::LengthMismatch { .. })
+        ));
+    }
 }
