@@ -58,12 +58,13 @@ impl LoopEnergy {
 impl SteadyCycle {
     /// `∮ y dx` over the cycle by the trapezoid rule on its closed polygon.
     pub fn loop_work(&self) -> f64 {
-        let n = self.x.len();
-        (0..n)
-            .map(|i| {
-                let j = (i + 1) % n;
-                0.5 * (self.y[i] + self.y[j]) * (self.x[j] - self.x[i])
-            })
+        // (the fields are public: a `y` of another length than `x` closes
+        // the polygon of the common part)
+        let points = self.x.iter().zip(&self.y);
+        points
+            .clone()
+            .zip(points.cycle().skip(1))
+            .map(|((xi, yi), (xj, yj))| 0.5 * (yi + yj) * (xj - xi))
             .sum()
     }
 
@@ -258,4 +259,26 @@ pub fn bouc_wen_n1_loop(
         h_area,
         work: (1.0 - w) * k * h_area,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `SteadyCycle`'s fields are public: a `y` shorter than `x` was
+    /// indexed past its end (a panic).
+    #[test]
+    fn loop_work_of_unequal_lengths() {
+        let square = |y: Vec<f64>| SteadyCycle {
+            amplitude: 1.0,
+            x: vec![0.0, 1.0, 1.0, 0.0],
+            y,
+            change: 0.0,
+            periods: 1,
+        };
+        // the unit square, counterclockwise in (x, y): ∮ y dx = −1
+        assert_eq!(square(vec![0.0, 0.0, 1.0, 1.0]).loop_work(), -1.0);
+        let _ = square(vec![0.0, 0.0]).loop_work();
+        assert_eq!(square(vec![]).loop_work(), 0.0);
+    }
 }
