@@ -2,7 +2,7 @@
 
 use crate::pair::prefixed;
 use crate::Child;
-use hysteron_operators::{check, check_output, Float, Operator, Result, Trial};
+use hysteron_operators::{check, check_output, Error, Float, Operator, Result, Trial};
 
 /// Weighted operator `y = w · A[x]` (`a.scaled(w)`), `w` finite. Its
 /// parameters are `[w, params of A]`.
@@ -97,12 +97,17 @@ impl<T: Float, A: Child<T>> Operator<T> for Scaled<T, A> {
 
     fn set_params(&mut self, p: &[T]) -> Result<()> {
         check::count(self.n_params(), p)?;
-        check::finite("w", p[0])?;
+        // (`n_params() ≥ 1`: `p` is not empty here)
+        let (&w, rest) = p.split_first().ok_or(Error::ParamCount {
+            expected: self.n_params(),
+            got: 0,
+        })?;
+        check::finite("w", w)?;
         let mut inner = self.inner.clone();
         inner
-            .set_params(&p[1..])
+            .set_params(rest)
             .map_err(|e| e.in_path(&format!("inner.{}", self.inner.name())))?;
-        self.w = p[0];
+        self.w = w;
         self.inner = inner;
         self.pending = false;
         Ok(())

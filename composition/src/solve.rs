@@ -263,13 +263,14 @@ where
     // searched too from the third widening on, for residuals that decrease.
     let mut blocked = [false, false];
     for i in 0..opts.max_expansions {
-        for (k, side) in [preferred, -preferred].into_iter().enumerate() {
-            if blocked[k] || (k == 1 && i < 2) {
+        let sides = [preferred, -preferred].into_iter().zip(&mut blocked);
+        for (k, (side, blocked)) in sides.enumerate() {
+            if *blocked || (k == 1 && i < 2) {
                 continue;
             }
             let x = clamp(x0 + side * h);
             if x == x0 {
-                blocked[k] = true;
+                *blocked = true;
                 continue;
             }
             let (r, d) = f.eval(x)?;
@@ -284,7 +285,7 @@ where
             }
             if let Some((lo, hi)) = bounds {
                 if x == lo || x == hi {
-                    blocked[k] = true;
+                    *blocked = true;
                     // Increasing residual: still negative at hi, or still
                     // positive at lo, means the root lies beyond the bound.
                     if (x == hi && r < T::zero()) || (x == lo && r > T::zero()) {

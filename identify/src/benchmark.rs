@@ -59,6 +59,8 @@ pub fn identify_boucwen(
     let first = fit(model.as_ref(), &fine, y, &six, &opts)?;
     let all = free_by_names(first.model.as_ref(), &FREE)?;
     let f = fit(first.model.as_ref(), &fine, y, &all, &opts)?;
+    // `i < 7`: the report has one entry per name of `FREE` (7).
+    #[allow(clippy::indexing_slicing)]
     let v = |i: usize| f.report.params[i].value;
     let params = BoucWenBenchmarkParams {
         m: v(0),

@@ -82,6 +82,9 @@ pub struct TransmissionParams {
 }
 
 impl Default for TransmissionParams {
+    // The knots are constants that satisfy the map's rules (non-negative,
+    // increasing); every test that builds the default model runs it.
+    #[allow(clippy::expect_used)]
     fn default() -> Self {
         Self {
             backlash: 0.3,
@@ -130,12 +133,13 @@ impl TransmissionParams {
     /// entry must satisfy the tie, or the error names `spring.z0`. Not
     /// validated otherwise ([`build`](Self::build) does that).
     pub fn with_values(&self, p: &mut &[f64]) -> Result<Self> {
-        let gap = p.get(..2).ok_or(hysteron_operators::Error::ParamCount {
-            expected: 2,
-            got: p.len(),
-        })?;
-        let (backlash, slider0) = (gap[0], gap[1]);
-        *p = &p[2..];
+        let Some((&[backlash, slider0], tail)) = p.split_first_chunk::<2>() else {
+            return Err(hysteron_operators::Error::ParamCount {
+                expected: 2,
+                got: p.len(),
+            });
+        };
+        *p = tail;
         let friction = self.friction.read(p)?;
         let mut spring = self.spring_params().read(p)?;
         if spring.z0 != 0.0 - slider0 {

@@ -349,6 +349,9 @@ impl<T: Float> BoucWen<T> {
     /// keeps its direction (or stands still) and `at(travel)` gives the
     /// state in the direction frame, and `keep(i, y_i)` accepts each output;
     /// stops before the first other sample.
+    // Hot loop, kept free of checks: `i < zs.len() ≤ ys.len()` (the only
+    // caller, `run_batch`, passes its slices on).
+    #[allow(clippy::indexing_slicing)]
     #[inline(always)]
     fn run_branch(
         &self,
@@ -405,6 +408,9 @@ impl<T: Float> BoucWen<T> {
     /// is offered to `keep` before it is committed; the first it refuses, or
     /// an error, ends the loop there uncommitted. Returns the number of
     /// samples committed and the error (`at_sample`) if one ended it.
+    // Hot loop, kept free of checks: `i < zs.len() ≤ ys.len()` (`process`
+    // checks equal lengths, `process_while` cuts both to the shorter).
+    #[allow(clippy::indexing_slicing)]
     #[inline(always)]
     fn run_batch(
         &mut self,
@@ -559,6 +565,8 @@ impl<T: Float> Operator<T> for BoucWen<T> {
     /// The batch loop of [`process`](Operator::process) (`n = 1`, or the
     /// tabulated flow) with `keep` consulted on each output before it is
     /// committed; otherwise the default trial, `keep`, commit loop.
+    // `n` is the shorter of the two lengths.
+    #[allow(clippy::indexing_slicing)]
     fn process_while(
         &mut self,
         zs: &[T],

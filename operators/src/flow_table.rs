@@ -139,6 +139,9 @@ struct Side<T> {
 impl<T: Float> Side<T> {
     /// The piece holding `τ ≥ 0` (`None` beyond the last piece), searched
     /// from `hint` forwards and backwards one piece, then by bisection.
+    // Hot path, kept free of extra checks: `holds(j)` is called only for
+    // `j < p.len()`, and looks at `p[j + 1]` only when `j + 1 < p.len()`.
+    #[allow(clippy::indexing_slicing)]
     #[inline(always)]
     fn locate(&self, tau: T, hint: &mut usize) -> Option<usize> {
         let p = &self.pieces;
@@ -162,12 +165,17 @@ impl<T: Float> Side<T> {
             return None;
         }
         let j = p.partition_point(|q| q.start <= tau).max(1) - 1;
+        if j >= p.len() {
+            return None; // no pieces
+        }
         *hint = j;
         Some(j)
     }
 
     /// `u(τ)` for `τ ≥ 0` (`None` beyond the tabulated range of a side
     /// without a tail).
+    // `locate` returns only indices `< self.pieces.len()`.
+    #[allow(clippy::indexing_slicing)]
     #[inline(always)]
     fn at(&self, tau: T, hint: &mut usize) -> Option<T> {
         match self.locate(tau, hint) {
@@ -221,13 +229,9 @@ impl<T: Float> Side<T> {
             .partition_point(|q| q.b[0] <= u)
             .max(1)
             .min(self.pieces.len())
-            - 1;
-        let piece = &self.pieces[k];
-        let hi = if k + 1 < self.pieces.len() {
-            self.pieces[k + 1].start
-        } else {
-            self.end
-        };
+            .checked_sub(1)?;
+        let piece = self.pieces.get(k)?;
+        let hi = self.pieces.get(k + 1).map_or(self.end, |q| q.start);
         // Newton on the piece, kept inside it, from the secant guess.
         let (lo, u_lo, u_hi) = (piece.start, piece.b[0], piece.eval(hi));
         let mut tau = if u_hi > u_lo {

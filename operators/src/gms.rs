@@ -170,6 +170,10 @@ impl<T: Float> Gms<T> {
 
     /// One sample from the committed state to input `x`, written into the
     /// pending buffers: returns `(F, dF/dx)`.
+    // `i < n = p.k.len()`, and `alpha`, `f`, `slip`, `pending_f`,
+    // `pending_slip` all have `n` entries (`GmsParams::shape`, `from_params`;
+    // `commit` only swaps equal-length buffers).
+    #[allow(clippy::indexing_slicing)]
     #[inline(always)]
     fn step(&mut self, x: T) -> (T, T) {
         let p = &self.p;

@@ -250,8 +250,8 @@ impl<T: Float> NearZero<T> {
     fn phi(&self, pow: impl Fn(T) -> T, u: T, c: T) -> T {
         let q = c * pow(u) / self.alpha;
         let (mut sum, mut qk) = (T::zero(), T::one());
-        for k in 0..MAX_TERMS {
-            let term = qk * self.inv[k];
+        for &inv in &self.inv {
+            let term = qk * inv;
             sum = sum + term;
             if term.abs() <= self.tol * sum.abs() {
                 break;

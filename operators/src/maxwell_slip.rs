@@ -2,8 +2,8 @@
 //! elastoplastic elements.
 
 use crate::{
-    check_input, check_lengths, check_output, declare_params, stop_step, Error, Float,
-    Operator, Result, Trial,
+    check_input, check_lengths, check_output, declare_params, stop_step, Error, Float, Operator,
+    Result, Trial,
 };
 
 declare_params! {
@@ -43,8 +43,8 @@ impl<T: Float> MaxwellSlipParams<T> {
                 reason: "k, f_b (and f0 if given) must have the same length",
             });
         }
-        for (i, &f) in self.f_b.iter().enumerate() {
-            let r = f / self.k[i];
+        for (i, (&f, &k)) in self.f_b.iter().zip(&self.k).enumerate() {
+            let r = f / k;
             if !r.is_finite() || r == T::zero() {
                 return Err(Error::InvalidParameter {
                     name: format!("f_b[{i}]"),
@@ -53,8 +53,8 @@ impl<T: Float> MaxwellSlipParams<T> {
                 });
             }
         }
-        for (i, &f) in self.f0.iter().enumerate() {
-            if !(f / self.k[i]).is_finite() {
+        for (i, (&f, &k)) in self.f0.iter().zip(&self.k).enumerate() {
+            if !(f / k).is_finite() {
                 return Err(Error::InvalidParameter {
                     name: format!("f0[{i}]"),
                     value: f.as_f64(),

@@ -25,7 +25,7 @@ pub(crate) fn check_finite_outputs<T: Float>(
         None => Ok(()),
         Some(i) => Err(Error::NonFiniteOutput {
             operator,
-            input: xs[i].as_f64(),
+            input: xs.get(i).map_or(f64::NAN, |x| x.as_f64()),
         }
         .at_sample(i)),
     }

@@ -188,7 +188,14 @@ impl<T: Float> ParamField<T> for T {
     }
     fn read(&self, kind: FieldKind, p: &mut &[T]) -> Result<Self> {
         Ok(match kind {
-            FieldKind::Param(_) => take(p, 1)?[0],
+            FieldKind::Param(_) => {
+                let (&v, tail) = p.split_first().ok_or(Error::ParamCount {
+                    expected: 1,
+                    got: 0,
+                })?;
+                *p = tail;
+                v
+            }
             _ => *self,
         })
     }

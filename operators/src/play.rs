@@ -99,6 +99,9 @@ fn clamp_lo_first<T: Float>(y: T, lo: T, hi: T) -> T {
 /// The first sample's output and the interval are computed with the other
 /// clamp order (the same values for `a < b`), which keeps the compiler from
 /// packing them with the chain into one vector clamp plus shuffles.
+// Hot loop, kept free of checks: `chunks_exact(2)` yields chunks of exactly
+// two samples, so `[0]` and `[1]` exist.
+#[allow(clippy::indexing_slicing)]
 #[inline(always)]
 fn play_pairs<T: Float>(r: T, mut y: T, xs: &[T], ys: &mut [T]) -> T {
     let mut xp = xs.chunks_exact(2);
@@ -177,9 +180,13 @@ impl<T: Float> StepLaw<T> for PlayParams<T> {
             };
             if !all_finite(yb) {
                 let j = yb.iter().position(|v| !v.is_finite()).unwrap_or(0);
-                *state = if j == 0 { start } else { yb[j - 1] };
+                *state = j
+                    .checked_sub(1)
+                    .and_then(|k| yb.get(k))
+                    .copied()
+                    .unwrap_or(start);
                 return Err(Error::NonFiniteInput {
-                    value: xb[j].as_f64(),
+                    value: xb.get(j).map_or(f64::NAN, |v| v.as_f64()),
                 }
                 .at_sample(b * BLOCK + j));
             }

@@ -167,17 +167,20 @@ impl Spec {
     /// of the operator it builds).
     fn fill(&self, path: &str, rest: &mut &[f64]) -> Result<Spec, SpecError> {
         let invalid = |e: Error| SpecError::invalid(path, e);
-        let take = |rest: &mut &[f64], n: usize| -> Result<Vec<f64>, SpecError> {
-            if rest.len() < n {
-                return Err(invalid(Error::ParamCount {
-                    expected: n,
-                    got: rest.len(),
-                }));
-            }
-            let (head, tail) = rest.split_at(n);
+        // The next `N` values of `rest` (a count error if fewer).
+        fn take<const N: usize>(path: &str, rest: &mut &[f64]) -> Result<[f64; N], SpecError> {
+            let Some((head, tail)) = rest.split_first_chunk::<N>() else {
+                return Err(SpecError::invalid(
+                    path,
+                    Error::ParamCount {
+                        expected: N,
+                        got: rest.len(),
+                    },
+                ));
+            };
             *rest = tail;
-            Ok(head.to_vec())
-        };
+            Ok(*head)
+        }
         let child = |field: &str, spec: &Spec, rest: &mut &[f64]| -> Result<Box<Spec>, SpecError> {
             Ok(Box::new(
                 spec.fill(&format!("{path}.{field}.{}", spec.kind()), rest)?,
@@ -204,7 +207,7 @@ impl Spec {
                 right: child("right", right, rest)?,
             },
             Spec::Scaled { inner, .. } => Spec::Scaled {
-                w: take(rest, 1)?[0],
+                w: take::<1>(path, rest)?[0],
                 inner: child("inner", inner, rest)?,
             },
             Spec::Feedback {
@@ -225,12 +228,12 @@ impl Spec {
                 let limits = match limits {
                     TravelLimits::None => TravelLimits::None,
                     TravelLimits::Range { .. } => {
-                        let v = take(rest, 2)?;
-                        TravelLimits::Range { lo: v[0], hi: v[1] }
+                        let [lo, hi] = take(path, rest)?;
+                        TravelLimits::Range { lo, hi }
                     }
                     TravelLimits::Gap { .. } => {
-                        let v = take(rest, 2)?;
-                        TravelLimits::Gap { b: v[0], r0: v[1] }
+                        let [b, r0] = take(path, rest)?;
+                        TravelLimits::Gap { b, r0 }
                     }
                 };
                 let left = child("left", left, rest)?;
@@ -260,7 +263,10 @@ impl Spec {
                         }
                         let mut leaf = leaf.clone();
                         if let (Value::Object(m), Spec::Leaf(old)) = (&mut leaf.params, &**right) {
-                            m.insert("z0".into(), old.params["z0"].clone());
+                            m.insert(
+                                "z0".into(),
+                                old.params.get("z0").cloned().unwrap_or_default(),
+                            );
                         }
                         Box::new(Spec::Leaf(leaf))
                     }
