@@ -21,6 +21,19 @@
 //! then a safeguarded Newton iteration with bisection fallback.
 
 #![warn(missing_docs)]
+// The library promises never to panic on user input: no unwrap/expect/panic
+// and no unchecked indexing outside tests (each exception is an `allow` with
+// the invariant that makes it safe).
+#![cfg_attr(
+    not(test),
+    warn(
+        clippy::unwrap_used,
+        clippy::expect_used,
+        clippy::indexing_slicing,
+        clippy::panic,
+        clippy::unreachable
+    )
+)]
 
 mod cascade;
 mod child;

@@ -12,6 +12,19 @@
 //! Kept in its own crate so that nalgebra stays out of the core.
 
 #![warn(missing_docs)]
+// The library promises never to panic on user input: no unwrap/expect/panic
+// and no unchecked indexing outside tests (each exception is an `allow` with
+// the invariant that makes it safe).
+#![cfg_attr(
+    not(test),
+    warn(
+        clippy::unwrap_used,
+        clippy::expect_used,
+        clippy::indexing_slicing,
+        clippy::panic,
+        clippy::unreachable
+    )
+)]
 
 pub mod batch;
 pub mod benchmark;

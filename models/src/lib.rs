@@ -19,6 +19,19 @@
 //!   records.
 
 #![warn(missing_docs)]
+// The library promises never to panic on user input: no unwrap/expect/panic
+// and no unchecked indexing outside tests (each exception is an `allow` with
+// the invariant that makes it safe).
+#![cfg_attr(
+    not(test),
+    warn(
+        clippy::unwrap_used,
+        clippy::expect_used,
+        clippy::indexing_slicing,
+        clippy::panic,
+        clippy::unreachable
+    )
+)]
 
 pub mod benchmark;
 pub mod describing;
