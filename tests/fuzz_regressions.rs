@@ -24,3 +24,29 @@ fn cascade_of_flat_into_vertical_has_tangent_zero_not_nan() {
     assert!(t.output.is_finite());
     assert_eq!(t.tangent, 0.0, "tangent {}", t.tangent);
 }
+
+/// `operator_contract`: a feedback loop whose forward path is vertical (the
+/// inverse of a dead zone inside its zone, tangent +∞) computed its tangent
+/// `A'/(1 + A'B')` as ∞/∞ = NaN. The limit is `1/B'`.
+#[test]
+fn feedback_with_vertical_forward_path_has_tangent_one_over_back() {
+    let back = Oversample::new(example("mass_spring_damper"), 3).unwrap();
+    let mut op = example("dead_zone").inverse().feedback(back);
+    let t = op.trial(0.0).unwrap();
+    assert!(t.output.is_finite());
+    assert!(!t.tangent.is_nan(), "tangent {}", t.tangent);
+}
+
+/// `operator_contract`: a mechanical series of two elements, one of them
+/// rigid (the inverse of a dead zone inside its zone, tangent +∞),
+/// computed its stiffness `kl·kr/(kl + kr)` as ∞/∞ = NaN. A rigid element
+/// adds no compliance: the stiffness is the other element's.
+#[test]
+fn series_with_a_rigid_element_has_the_other_stiffness() {
+    let mut op = example("dead_zone")
+        .inverse()
+        .series(example("pi_inverse").inverse());
+    let t = op.trial(0.0).unwrap();
+    assert!(t.output.is_finite());
+    assert!(!t.tangent.is_nan(), "tangent {}", t.tangent);
+}

@@ -85,7 +85,15 @@ impl<T: Float, A: Child<T>, B: Child<T>> Operator<T> for Feedback<T, A, B> {
         .value();
         let (ta, tb) = tangents;
         let loop_gain = T::one() + ta * tb;
-        let tangent = if loop_gain == T::zero() {
+        let tangent = if ta.is_infinite() {
+            // a vertical forward path: the limit of A'/(1 + A'B') is 1/B',
+            // or A' itself where B' = 0 (∞/∞ or ∞·0 would be NaN)
+            if tb == T::zero() {
+                ta
+            } else {
+                T::one() / tb
+            }
+        } else if loop_gain == T::zero() {
             T::infinity()
         } else {
             ta / loop_gain

@@ -333,7 +333,13 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
             Root::AtBound(_) => (r.output, r.tangent),
             Root::Inside(_) => {
                 let sum = l.tangent + r.tangent;
-                let tangent = if sum == T::zero() {
+                // A rigid element (tangent ±∞) adds no compliance: the
+                // stiffness is the other one's (∞/∞ = NaN otherwise).
+                let tangent = if l.tangent.is_infinite() {
+                    r.tangent
+                } else if r.tangent.is_infinite() {
+                    l.tangent
+                } else if sum == T::zero() {
                     T::zero()
                 } else {
                     l.tangent * r.tangent / sum
