@@ -29,7 +29,7 @@ impl Spec {
     /// (`series.right.bouc_wen.stiffness.s[3]`). Besides what the operators
     /// check, a `solver` must have `rel_tol, abs_tol ∈ [0, 1e-3]` and
     /// `max_iter, max_expansions` in `[1, 100000]`, at most
-    /// [`MAX_DEPTH`](super::MAX_DEPTH) nodes may lie on one path (measured
+    /// [`MAX_DEPTH`] nodes may lie on one path (measured
     /// first, without recursion), and at most 4 implicit combinators.
     ///
     /// ```
