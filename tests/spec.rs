@@ -7,6 +7,7 @@
 //! example files from the generators below.
 
 use hysteron::composition::{Oversample, PiBankParams, SolverOptions, TravelLimits};
+use hysteron::models::spec::MAX_DEPTH;
 use hysteron::models::{Spec, SpecError, TransmissionParams};
 use hysteron::operators::{
     BoucWenParams, DahlParams, DeadZoneParams, ElastoPlasticParams, GmsParams, LuGreParams,
@@ -730,13 +731,15 @@ fn malformed_json_names_the_path() {
     );
 }
 
-/// Nesting as deep as JSON allows reads, builds and runs; deeper is an
-/// error (serde_json's recursion limit), not a stack overflow.
+/// Nesting up to `MAX_DEPTH` operators on one path reads, builds, runs and
+/// round-trips; one more is refused by `build` naming `nesting`, and text
+/// nested far deeper is refused before it is parsed, not a stack overflow.
 #[test]
 fn deep_nesting_is_an_error_not_a_crash() {
-    let nested = |levels: usize| {
+    // `wrappers` combinators around one play: `wrappers + 1` operators.
+    let nested = |wrappers: usize| {
         let mut text = r#"{"type": "play", "r": 0.01}"#.to_string();
-        for i in 0..levels {
+        for i in 0..wrappers {
             text = if i % 2 == 0 {
                 format!(r#"{{"type": "scaled", "w": 1.0, "inner": {text}}}"#)
             } else {
@@ -747,16 +750,22 @@ fn deep_nesting_is_an_error_not_a_crash() {
         }
         text
     };
-    let spec = Spec::from_json(&nested(120)).unwrap();
+    let spec = Spec::from_json(&nested(MAX_DEPTH - 1)).unwrap();
     let y = spec.build().unwrap().run(&[0.5, 1.0]).unwrap();
     assert_eq!(y, vec![0.49, 0.99]);
     assert_eq!(
         spec.to_json_pretty().map(|t| Spec::from_json(&t)),
         Ok(Ok(spec))
     );
-    for levels in [130, 5_000] {
-        let e = Spec::from_json(&nested(levels)).unwrap_err();
-        assert!(e.to_string().contains("recursion limit exceeded"), "{e}");
+    let e = Spec::from_json(&nested(MAX_DEPTH))
+        .unwrap()
+        .build()
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("nesting: at most 120 operators"), "{e}");
+    for wrappers in [130, 5_000] {
+        let e = Spec::from_json(&nested(wrappers)).unwrap_err();
+        assert!(e.to_string().contains("nested deeper than 124 levels"), "{e}");
     }
 }
 
