@@ -765,7 +765,10 @@ fn deep_nesting_is_an_error_not_a_crash() {
     assert!(e.contains("nesting: at most 120 operators"), "{e}");
     for wrappers in [130, 5_000] {
         let e = Spec::from_json(&nested(wrappers)).unwrap_err();
-        assert!(e.to_string().contains("nested deeper than 124 levels"), "{e}");
+        assert!(
+            e.to_string().contains("nested deeper than 124 levels"),
+            "{e}"
+        );
     }
 }
 
