@@ -479,7 +479,7 @@ impl Lines {
 pub struct CsvReader {
     path: PathBuf,
     core: csv_core::Reader,
-    input: io::BufReader<fs::File>,
+    input: io::BufReader<Box<dyn io::Read>>,
     lines: Lines,
     headers: csv::StringRecord,
     rows: usize,
@@ -506,7 +506,9 @@ struct RawPos {
 }
 
 impl CsvReader {
-    /// Opens `path` and reads its header row.
+    /// Opens `path` and reads its header row. A file whose name ends in
+    /// `.gz` is read through gzip decompression (flate2), so records may be
+    /// kept compressed.
     ///
     /// Errors: the file cannot be read; no header (empty file); a blank
     /// line before the header; two columns of the same name; invalid
@@ -516,6 +518,14 @@ impl CsvReader {
             path: path.to_path_buf(),
             source,
         })?;
+        let gz = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("gz"));
+        let file: Box<dyn io::Read> = if gz {
+            Box::new(flate2::read::MultiGzDecoder::new(io::BufReader::new(file)))
+        } else {
+            Box::new(file)
+        };
         let mut reader = CsvReader {
             path: path.to_path_buf(),
             core: csv_core::Reader::new(),

@@ -1,6 +1,6 @@
 //! The `fit` job: fits chosen parameters of a model spec (JSON, see
-//! [`Spec`]) to a record (two columns of a CSV file, input and measured
-//! output) with Levenberg-Marquardt ([`fit_with_progress`]), prints a
+//! [`Spec`]) to one record or several (two columns of CSV files, input and measured
+//! output) with Levenberg-Marquardt ([`fit_records`]), prints a
 //! report and writes the fitted spec, optionally with a figure of measured
 //! and fitted output.
 //!
@@ -33,7 +33,7 @@
 
 use crate::csvio::{self, CsvIoError};
 use crate::fitting::{not_converged_note, Display};
-use crate::identify::{fit_with_progress, free_by_names, FitError, FitOptions, FitReport};
+use crate::identify::{fit_records, free_by_names, FitError, FitOptions, FitReport, Record};
 use crate::model_file::ModelFileError;
 use crate::models::Spec;
 use crate::period::DtSource;
@@ -47,14 +47,26 @@ use std::path::{Path, PathBuf};
 pub struct FitCmdOptions {
     /// The model spec (JSON); its parameters are the starting values.
     pub model: PathBuf,
-    /// The record: a CSV file with a header row.
-    pub data: PathBuf,
+    /// The records: CSV files with a header row (`.csv.gz` read through
+    /// gzip), each simulated from the model's initial state; one parameter
+    /// set is fitted to all of them.
+    pub data: Vec<PathBuf>,
     /// The input column of `data`.
     pub input_column: String,
     /// The measured output column of `data`.
     pub output_column: String,
     /// Names of the parameters to fit (full names or unique suffixes).
     pub free: Vec<String>,
+    /// Names of parameters fitted separately for each record (an initial
+    /// state or preload); the fitted spec keeps their starting values.
+    pub own: Vec<String>,
+    /// Seconds at the start of each record that are simulated but not
+    /// compared (needs the sample period: `dt` or a time column).
+    pub skip: Option<f64>,
+    /// Hard bound on the model simulations of the search.
+    pub max_evaluations: Option<usize>,
+    /// Wall-time limit of the search (seconds).
+    pub max_seconds: Option<f64>,
     /// Where to write the fitted spec (JSON).
     pub output: PathBuf,
     /// Optional SVG figure of measured and fitted output.
@@ -85,6 +97,40 @@ pub enum FitCmdError {
     /// The data could not be read or is invalid.
     #[error("data {0}")]
     Data(CsvIoError),
+    /// `--skip` is given without a sample period (`--dt` or
+    /// `--time-column`).
+    #[error("--skip needs the sample period: give --dt or --time-column")]
+    SkipWithoutPeriod,
+    /// `--skip` is negative or not finite.
+    #[error("--skip must be a finite number of seconds ≥ 0 (got {0})")]
+    BadSkip(f64),
+    /// A record is not longer than its warm-up.
+    #[error("data `{}`: --skip {skip} s is {samples} samples, but the record has only {rows}", path.display())]
+    ShortRecord {
+        /// The record.
+        path: PathBuf,
+        /// The warm-up in seconds.
+        skip: f64,
+        /// The warm-up in samples.
+        samples: usize,
+        /// The record's rows.
+        rows: usize,
+    },
+    /// The records' time columns give different sample periods.
+    #[error("data `{}`: its time column steps {dt} s, but `{}` steps {first} s (every record must have the model's period)", path.display(), first_path.display())]
+    PeriodMismatch {
+        /// The record that differs.
+        path: PathBuf,
+        /// Its period.
+        dt: f64,
+        /// The first record.
+        first_path: PathBuf,
+        /// The first record's period.
+        first: f64,
+    },
+    /// The same data file is given twice.
+    #[error("--data `{}` is given twice", .0.display())]
+    DuplicateData(PathBuf),
     /// `--free` names no parameter.
     #[error("--free names no parameter of model `{}` (the model has: {available})", model.display())]
     NoFree {
@@ -93,9 +139,9 @@ pub enum FitCmdError {
         /// The model's parameter names.
         available: String,
     },
-    /// A `--free` name is unknown or ambiguous.
-    #[error("--free: model `{}`: {}", .0.display(), .1)]
-    Free(PathBuf, FitError),
+    /// A `--free` or `--own` name is unknown or ambiguous.
+    #[error("{}: model `{}`: {}", .0, .1.display(), .2)]
+    Free(&'static str, PathBuf, FitError),
     /// A `--free` parameter that the spec cannot hold on its own (the
     /// slider's `limits.r0` or the spring's `z0` of a `transmission`
     /// spec, tied by `z0 = −slider0`).
@@ -111,8 +157,8 @@ pub enum FitCmdError {
         /// The parameter's full name.
         name: String,
     },
-    /// Two `--free` names give the same parameter.
-    #[error("--free: parameter `{name}` of model `{}` is named twice", model.display())]
+    /// Two `--free`/`--own` names give the same parameter.
+    #[error("--free/--own: parameter `{name}` of model `{}` is named twice", model.display())]
     DuplicateFree {
         /// The model spec.
         model: PathBuf,
@@ -147,12 +193,12 @@ pub struct FitCmdReport {
     pub kind: &'static str,
     /// Number of model parameters.
     pub n_params: usize,
-    /// The data file.
-    pub data: PathBuf,
+    /// The data files, in the order of the report's records.
+    pub data: Vec<PathBuf>,
     /// Input and output column.
     pub columns: (String, String),
-    /// Samples in the record.
-    pub samples: usize,
+    /// Samples in each record.
+    pub samples: Vec<usize>,
     /// The fit.
     pub report: FitReport,
     /// Files written.
@@ -169,18 +215,26 @@ impl FitCmdReport {
 
 impl fmt::Display for FitCmdReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let data = match self.data.as_slice() {
+            [one] => format!("`{}`", one.display()),
+            many => format!("{} records", many.len()),
+        };
         writeln!(
             f,
-            "fit of `{}` ({}, {} parameters, {} free) to `{}`: {} samples, {} -> {}",
+            "fit of `{}` ({}, {} parameters, {} free) to {data}: {} samples, {} -> {}",
             self.model.display(),
             self.kind,
             self.n_params,
             self.report.params.len(),
-            self.data.display(),
-            self.samples,
+            self.samples.iter().sum::<usize>(),
             self.columns.0,
             self.columns.1
         )?;
+        if self.data.len() > 1 {
+            for (i, (d, n)) in self.data.iter().zip(&self.samples).enumerate() {
+                writeln!(f, "record {i}: `{}` ({n} samples)", d.display())?;
+            }
+        }
         write!(f, "{}", self.report)?;
         not_converged_note(f, &self.report)?;
         write!(f, "wrote {}", csvio::join_paths(&self.files))
@@ -207,108 +261,230 @@ fn refuse_tied(
     }
 }
 
+/// Resolves the `--free` or `--own` names (`flag`) to parameter indices.
+fn indices(
+    opts: &FitCmdOptions,
+    model: &(dyn Operator<f64> + 'static),
+    flag: &'static str,
+    names: &[String],
+) -> Result<Vec<usize>, FitCmdError> {
+    let names: Vec<&str> = names
+        .iter()
+        .map(|s| s.trim())
+        .filter(|s| !s.is_empty())
+        .collect();
+    free_by_names(model, &names).map_err(|e| FitCmdError::Free(flag, opts.model.clone(), e))
+}
+
+/// One record as read: input and output columns and their file lines.
+struct Loaded {
+    x: Vec<f64>,
+    y: Vec<f64>,
+    lines: Vec<u64>,
+    input_name: String,
+    output_name: String,
+}
+
+fn load(opts: &FitCmdOptions, path: &Path) -> Result<Loaded, FitCmdError> {
+    let mut columns = csvio::read_columns(path, &[&opts.input_column, &opts.output_column])
+        .map_err(FitCmdError::Data)?;
+    let input_name = columns.headers[columns.indices[0]].trim().to_string();
+    let output_name = columns.headers[columns.indices[1]].trim().to_string();
+    if columns.indices[0] == columns.indices[1] {
+        return Err(FitCmdError::SameColumn(input_name));
+    }
+    let y = columns.values.pop().unwrap_or_default();
+    let x = columns.values.pop().unwrap_or_default();
+    Ok(Loaded {
+        x,
+        y,
+        lines: columns.lines,
+        input_name,
+        output_name,
+    })
+}
+
+/// The spec with the sample period of `opts.dt` applied, and that period
+/// when one is given (every record's time column must give the same).
+fn with_period(opts: &FitCmdOptions, spec: Spec) -> Result<(Spec, Option<f64>), FitCmdError> {
+    let Some(first) = opts.data.first() else {
+        return Ok((spec, None));
+    };
+    let period = match &opts.dt {
+        DtSource::Spec => None,
+        DtSource::Value(dt) => Some(*dt),
+        DtSource::TimeColumn(c) => {
+            let dt = csvio::read_time_step(first, c).map_err(FitCmdError::Data)?;
+            for path in opts.data.iter().skip(1) {
+                let other = csvio::read_time_step(path, c).map_err(FitCmdError::Data)?;
+                if (other - dt).abs() > 1e-3 * dt {
+                    return Err(FitCmdError::PeriodMismatch {
+                        path: path.clone(),
+                        dt: other,
+                        first_path: first.clone(),
+                        first: dt,
+                    });
+                }
+            }
+            Some(dt)
+        }
+    };
+    let spec = opts.dt.apply(spec, first).map_err(FitCmdError::Data)?;
+    Ok((spec, period))
+}
+
 /// Runs the fit; see the module docs.
 pub fn run(opts: &FitCmdOptions) -> Result<FitCmdReport, FitCmdError> {
-    let inputs = [
-        ("data", opts.data.as_path()),
-        ("model", opts.model.as_path()),
-    ];
+    let mut inputs: Vec<(&'static str, &Path)> =
+        opts.data.iter().map(|d| ("data", d.as_path())).collect();
+    inputs.push(("model", opts.model.as_path()));
     csvio::refuse_same("output", &opts.output, &inputs).map_err(FitCmdError::SameFile)?;
     if let Some(p) = &opts.plot {
         csvio::refuse_same("plot", p, &inputs).map_err(FitCmdError::SameFile)?;
         csvio::refuse_same("plot", p, &[("output", opts.output.as_path())])
             .map_err(FitCmdError::SameFile)?;
     }
+    for (j, d) in opts.data.iter().enumerate() {
+        let same = |e: &PathBuf| csvio::same_file(e, d);
+        if opts.data[..j].iter().any(same) {
+            return Err(FitCmdError::DuplicateData(d.clone()));
+        }
+    }
     if opts.input_column.trim() == opts.output_column.trim() {
         return Err(FitCmdError::SameColumn(opts.input_column.clone()));
     }
+    let skip_seconds = match opts.skip {
+        Some(s) if !(s >= 0.0 && s.is_finite()) => return Err(FitCmdError::BadSkip(s)),
+        other => other,
+    };
 
     let model_err = |e| ModelFileError::new(&opts.model, e);
     let spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
-    let spec = opts.dt.apply(spec, &opts.data).map_err(FitCmdError::Data)?;
+    let (spec, period) = with_period(opts, spec)?;
     let model = spec.build().map_err(model_err)?;
 
-    let names: Vec<&str> = opts
-        .free
-        .iter()
-        .map(|s| s.trim())
-        .filter(|s| !s.is_empty())
-        .collect();
-    if names.is_empty() {
+    let free = indices(opts, model.as_ref(), "--free", &opts.free)?;
+    let own = indices(opts, model.as_ref(), "--own", &opts.own)?;
+    if free.is_empty() && own.is_empty() {
         return Err(FitCmdError::NoFree {
             model: opts.model.clone(),
             available: model.param_names().join(", "),
         });
     }
-    let free = free_by_names(model.as_ref(), &names)
-        .map_err(|e| FitCmdError::Free(opts.model.clone(), e))?;
-    for (j, &i) in free.iter().enumerate() {
-        if free[..j].contains(&i) {
+    let all: Vec<usize> = free.iter().chain(&own).copied().collect();
+    for (j, &i) in all.iter().enumerate() {
+        if all[..j].contains(&i) {
             return Err(FitCmdError::DuplicateFree {
                 model: opts.model.clone(),
                 name: model.param_names()[i].clone(),
             });
         }
     }
+    refuse_tied(opts, &spec, model.as_ref(), &all)?;
 
-    refuse_tied(opts, &spec, model.as_ref(), &free)?;
-
-    let columns = csvio::read_columns(&opts.data, &[&opts.input_column, &opts.output_column])
-        .map_err(FitCmdError::Data)?;
-    let (x, y) = (&columns.values[0], &columns.values[1]);
-    let input_name = columns.headers[columns.indices[0]].trim().to_string();
-    let output_name = columns.headers[columns.indices[1]].trim().to_string();
-    if columns.indices[0] == columns.indices[1] {
-        return Err(FitCmdError::SameColumn(input_name));
+    let loaded = opts
+        .data
+        .iter()
+        .map(|d| load(opts, d))
+        .collect::<Result<Vec<Loaded>, _>>()?;
+    let skip = match (skip_seconds, period) {
+        (None, _) => 0,
+        (Some(_), None) => return Err(FitCmdError::SkipWithoutPeriod),
+        (Some(s), Some(dt)) => (s / dt).round() as usize,
+    };
+    for (l, path) in loaded.iter().zip(&opts.data) {
+        if skip >= l.y.len() {
+            return Err(FitCmdError::ShortRecord {
+                path: path.clone(),
+                skip: skip_seconds.unwrap_or(0.0),
+                samples: skip,
+                rows: l.y.len(),
+            });
+        }
     }
+    let (input_name, output_name) = match loaded.first() {
+        Some(l) => (l.input_name.clone(), l.output_name.clone()),
+        None => (opts.input_column.clone(), opts.output_column.clone()),
+    };
+    let records: Vec<Record<'_>> = loaded
+        .iter()
+        .map(|l| Record {
+            x: &l.x,
+            y: &l.y,
+            skip,
+        })
+        .collect();
 
     let fit_opts = FitOptions {
         patience: opts.patience,
+        max_evaluations: opts.max_evaluations,
+        max_seconds: opts.max_seconds,
         ..FitOptions::default()
     };
     let fit = {
         let display = Display::new(opts.progress);
-        fit_with_progress(model.as_ref(), x, y, &free, &fit_opts, &|p| {
+        fit_records(model.as_ref(), &records, &free, &own, &fit_opts, &|p| {
             display.update(p)
         })
     }
-    .map_err(|e| match e {
-        FitError::Start(error) => FitCmdError::Start(Box::new(csvio::SampleFailure::locate(
+    .map_err(|e| {
+        let (r, error) = match e {
+            FitError::Start(error) => (0, error),
+            FitError::RecordStart { record, source } => (record, source),
+            other => return FitCmdError::Fit(other),
+        };
+        let (Some(l), Some(path)) = (loaded.get(r), opts.data.get(r)) else {
+            return FitCmdError::Fit(FitError::Start(error));
+        };
+        FitCmdError::Start(Box::new(csvio::SampleFailure::locate(
             &opts.model,
-            &opts.data,
+            path,
             "data",
-            &input_name,
-            x,
-            &columns.lines,
+            &l.input_name,
+            &l.x,
+            &l.lines,
             error,
-        ))),
-        other => FitCmdError::Fit(other),
+        )))
     })?;
     let report = fit.report;
 
     // The fitted spec, checked to build to exactly the fitted parameters
-    // and simulated over the record (what `simulate` will do with it).
+    // and simulated over every record (what `simulate` will do with it;
+    // per-record parameters at each record's own values).
     let fitted_err = |e: String| FitCmdError::Fitted(opts.model.clone(), e);
     let fitted = spec
         .with_params(&report.all_params)
         .map_err(|e| fitted_err(e.to_string()))?;
-    let mut fitted_model = fitted.build().map_err(|e| fitted_err(e.to_string()))?;
+    let fitted_model = fitted.build().map_err(|e| fitted_err(e.to_string()))?;
     let bits = |p: &[f64]| p.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
     if bits(&fitted_model.params()) != bits(&report.all_params) {
         return Err(fitted_err(
             "the fitted spec does not hold the fitted parameters".into(),
         ));
     }
-    let y_fit = fitted_model
-        .run(x)
-        .map_err(|e| fitted_err(format!("simulating the record: {e}")))?;
+    let mut y_fit = Vec::with_capacity(loaded.len());
+    for (r, l) in loaded.iter().enumerate() {
+        let mut p = report.all_params.clone();
+        for fp in report.params.iter().filter(|fp| fp.record == Some(r)) {
+            if let Some(v) = p.get_mut(fp.index) {
+                *v = fp.value;
+            }
+        }
+        let mut m = fitted_model.clone();
+        m.set_params(&p)
+            .map_err(|e| fitted_err(format!("record {r}: {e}")))?;
+        y_fit.push(
+            m.run(&l.x)
+                .map_err(|e| fitted_err(format!("simulating record {r}: {e}")))?,
+        );
+    }
     let json = fitted
         .to_json_pretty()
         .map_err(|e| fitted_err(e.to_string()))?;
 
     let svg = match &opts.plot {
         Some(p) => Some(
-            figure(opts, &input_name, &output_name, x, y, &y_fit)
+            figure(opts, &input_name, &output_name, &loaded, &y_fit)
                 .map_err(|e| FitCmdError::Plot(p.clone(), e))?,
         ),
         None => None,
@@ -331,62 +507,65 @@ pub fn run(opts: &FitCmdOptions) -> Result<FitCmdReport, FitCmdError> {
         n_params: model.n_params(),
         data: opts.data.clone(),
         columns: (input_name, output_name),
-        samples: x.len(),
+        samples: loaded.iter().map(|l| l.y.len()).collect(),
         report,
         files,
     })
 }
 
-/// Measured and fitted output over the input (the loop), over the sample
-/// index, and the residual over the sample index.
+/// Per record, one row: measured and fitted output over the input (the
+/// loop), over the sample index, and the residual over the sample index.
+/// The measured trace is a thin line under the fitted one, so neither
+/// hides the other.
 fn figure(
     opts: &FitCmdOptions,
     input: &str,
     output: &str,
-    x: &[f64],
-    y: &[f64],
-    y_fit: &[f64],
+    records: &[Loaded],
+    fits: &[Vec<f64>],
 ) -> Result<String, PlotError> {
-    let title = format!(
-        "{} fitted to {}",
-        file_name(&opts.model),
-        file_name(&opts.data)
-    );
     let pairs = |a: &[f64], b: &[f64]| -> Vec<(f64, f64)> {
         a.iter().copied().zip(b.iter().copied()).collect()
     };
-    // plotters labels ticks with a fixed format: keep the numbers on the
-    // axes short by scaling the sample index and the residual by a power
-    // of ten named in the axis label.
-    let (index_scale, index_label) = plot::power_of_ten(x.len().saturating_sub(1) as f64, "sample");
-    let index: Vec<f64> = (0..x.len()).map(|i| i as f64 / index_scale).collect();
-    let residual: Vec<f64> = y_fit.iter().zip(y).map(|(f, m)| f - m).collect();
-    let largest = residual.iter().fold(0.0_f64, |a, r| a.max(r.abs()));
-    let (res_scale, res_label) = plot::power_of_ten(largest, &format!("{output} residual"));
-    let residual: Vec<f64> = residual.iter().map(|r| r / res_scale).collect();
+    let mut panels = Vec::new();
+    for ((l, y_fit), path) in records.iter().zip(fits).zip(&opts.data) {
+        let (x, y) = (&l.x, &l.y);
+        let title = format!("{} fitted to {}", file_name(&opts.model), file_name(path));
+        // plotters labels ticks with a fixed format: keep the numbers on
+        // the axes short by scaling the sample index and the residual by a
+        // power of ten named in the axis label.
+        let (index_scale, index_label) =
+            plot::power_of_ten(x.len().saturating_sub(1) as f64, "sample");
+        let index: Vec<f64> = (0..x.len()).map(|i| i as f64 / index_scale).collect();
+        let residual: Vec<f64> = y_fit.iter().zip(y).map(|(f, m)| f - m).collect();
+        let largest = residual.iter().fold(0.0_f64, |a, r| a.max(r.abs()));
+        let (res_scale, res_label) = plot::power_of_ten(largest, &format!("{output} residual"));
+        let residual: Vec<f64> = residual.iter().map(|r| r / res_scale).collect();
 
-    let mut loop_panel = Panel::new(&title, input, output);
-    loop_panel
-        .series
-        .push(Series::line("measured", pairs(x, y), 7).with_style(Style::Band));
-    loop_panel
-        .series
-        .push(Series::line("fitted", pairs(x, y_fit), 1));
+        let mut loop_panel = Panel::new(&title, input, output);
+        loop_panel
+            .series
+            .push(Series::line("measured", pairs(x, y), 7));
+        loop_panel
+            .series
+            .push(Series::line("fitted", pairs(x, y_fit), 1).with_style(Style::ThickLine));
 
-    let mut time_panel = Panel::new(&format!("{output} over sample"), &index_label, output);
-    time_panel
-        .series
-        .push(Series::line("measured", pairs(&index, y), 7).with_style(Style::Band));
-    time_panel
-        .series
-        .push(Series::line("fitted", pairs(&index, y_fit), 1));
+        let mut time_panel = Panel::new(&format!("{output} over sample"), &index_label, output);
+        time_panel
+            .series
+            .push(Series::line("measured", pairs(&index, y), 7));
+        time_panel
+            .series
+            .push(Series::line("fitted", pairs(&index, y_fit), 1).with_style(Style::ThickLine));
 
-    let mut res_panel = Panel::new("residual (fitted - measured)", &index_label, &res_label);
-    res_panel
-        .series
-        .push(Series::line("", pairs(&index, &residual), 0));
-
-    plot::render(&[loop_panel, time_panel, res_panel], 1, 3, (1500, 480))
+        let mut res_panel = Panel::new("residual (fitted - measured)", &index_label, &res_label);
+        res_panel
+            .series
+            .push(Series::line("", pairs(&index, &residual), 0));
+        panels.extend([loop_panel, time_panel, res_panel]);
+    }
+    let rows = records.len().max(1);
+    plot::render(&panels, rows, 3, (1500, 480 * rows as u32))
 }
 
 fn file_name(p: &Path) -> String {

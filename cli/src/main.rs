@@ -107,18 +107,21 @@ enum Command {
         #[arg(long, value_name = "NAME")]
         time_column: Option<String>,
     },
-    /// Fit parameters of a model spec (JSON) to a record (input and
-    /// measured output columns of a CSV file) with Levenberg-Marquardt,
-    /// starting from the spec's values; prints a report and writes the
-    /// fitted spec. Exit code 3 when the fit ran but did not converge.
+    /// Fit parameters of a model spec (JSON) to one record or several
+    /// (input and measured output columns of CSV files) with
+    /// Levenberg-Marquardt, starting from the spec's values; prints a
+    /// report (per record too) and writes the fitted spec. Exit code 3 when
+    /// the fit ran but did not converge.
     Fit {
         /// The model spec (JSON); its parameters are the starting values.
         #[arg(long, value_name = "SPEC.json")]
         model: PathBuf,
-        /// The record: a CSV file with a header row of distinct column
-        /// names (blank lines only at the end of the file).
-        #[arg(long, value_name = "DATA.csv")]
-        data: PathBuf,
+        /// A record: a CSV file (or .csv.gz) with a header row of distinct
+        /// column names (blank lines only at the end of the file). Repeat
+        /// for several records: one parameter set is fitted to all, each
+        /// record simulated from the model's initial state.
+        #[arg(long, value_name = "DATA.csv", required = true)]
+        data: Vec<PathBuf>,
         /// The input column of the record.
         #[arg(long, value_name = "NAME", default_value = "x")]
         input_column: String,
@@ -127,8 +130,29 @@ enum Command {
         output_column: String,
         /// Parameters to fit, comma-separated: full names as the model
         /// lists them (left.mms.f_c) or unique suffixes (f_c).
-        #[arg(long, value_name = "NAMES", value_delimiter = ',', required = true)]
+        #[arg(long, value_name = "NAMES", value_delimiter = ',')]
         free: Vec<String>,
+        /// Parameters fitted separately for each record, comma-separated
+        /// (an initial state or preload, e.g. f0): reported per record; the
+        /// fitted spec keeps their starting values.
+        #[arg(long, value_name = "NAMES", value_delimiter = ',')]
+        own: Vec<String>,
+        /// Seconds at the start of each record that the model runs but the
+        /// residual does not count (warm-up from the initial state); needs
+        /// --dt or --time-column.
+        #[arg(long, value_name = "SECONDS", allow_hyphen_values = true)]
+        skip: Option<f64>,
+        /// Hard bound on the work: at most N model runs over the records in
+        /// the search (trial steps and Jacobian columns alike; the report
+        /// at the end adds 2·free + 1). The fit then ends at its best point,
+        /// not converged (exit code 3).
+        #[arg(long, value_name = "N", value_parser = args::at_least_1, allow_negative_numbers = true)]
+        max_evaluations: Option<u64>,
+        /// Wall-time limit of the search in seconds: no new model run starts
+        /// after it (the Jacobian under way finishes). The fit then ends at
+        /// its best point, not converged (exit code 3).
+        #[arg(long, value_name = "SECONDS", value_parser = args::positive_f64, allow_hyphen_values = true)]
+        max_seconds: Option<f64>,
         /// Where to write the fitted spec (JSON, written atomically; may
         /// not be the model or data file).
         #[arg(long, value_name = "FITTED.json")]
@@ -137,8 +161,11 @@ enum Command {
         /// the sample index) and the residual as an SVG figure.
         #[arg(long, value_name = "FIT.svg")]
         plot: Option<PathBuf>,
-        /// Evaluation budget: at most PATIENCE·(free + 1) model runs over
-        /// the record (at least 1).
+        /// Levenberg-Marquardt's patience: at most PATIENCE·(free + 1) trial
+        /// steps; each accepted step also runs 2·free simulations for its
+        /// Jacobian, so at most PATIENCE·(free + 1)·(2·free + 1) model runs
+        /// (at least 1; for a hard bound use --max-evaluations or
+        /// --max-seconds).
         #[arg(long, value_name = "N", default_value_t = 200, value_parser = args::at_least_1, allow_negative_numbers = true)]
         patience: u64,
         /// Do not draw the progress line (it is only drawn when stderr is
@@ -250,8 +277,9 @@ enum Command {
         /// stiffness map; 2 to 999).
         #[arg(long, value_name = "N", default_value_t = 12, value_parser = args::points, allow_negative_numbers = true)]
         points: u64,
-        /// Evaluation budget of each stage: at most PATIENCE·(free + 1)
-        /// model runs over its record (at least 1).
+        /// Levenberg-Marquardt's patience in each stage: at most
+        /// PATIENCE·(free + 1) trial steps, each accepted one followed by a
+        /// Jacobian of 2·free runs (at least 1).
         #[arg(long, value_name = "N", default_value_t = 200, value_parser = args::at_least_1, allow_negative_numbers = true)]
         patience: u64,
         /// Do not draw the progress line (it is only drawn when stderr is
@@ -326,6 +354,10 @@ fn main() -> ExitCode {
             input_column,
             output_column,
             free,
+            own,
+            skip,
+            max_evaluations,
+            max_seconds,
             output,
             plot,
             patience,
@@ -338,6 +370,10 @@ fn main() -> ExitCode {
             input_column,
             output_column,
             free,
+            own,
+            skip,
+            max_evaluations: max_evaluations.map(|n| usize::try_from(n).unwrap_or(usize::MAX)),
+            max_seconds,
             output,
             plot,
             patience: usize::try_from(patience).unwrap_or(usize::MAX),

@@ -1,12 +1,11 @@
-//! Fitting any model's parameters to a record with Levenberg-Marquardt.
+//! Fitting any model's parameters to one record or several with
+//! Levenberg-Marquardt.
 
-use crate::transform::Reparam;
+use crate::problem::{Layout, Problem};
 use hysteron_operators::{Error, Operator};
-use levenberg_marquardt::{LeastSquaresProblem, LevenbergMarquardt, TerminationReason};
-use nalgebra::{DMatrix, DVector, Dyn, Owned};
-use rayon::prelude::*;
+use levenberg_marquardt::{LevenbergMarquardt, TerminationReason};
 use serde::Serialize;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
 /// Why a fit could not start.
@@ -46,6 +45,22 @@ pub enum FitError {
     /// The model cannot be simulated with the starting parameters.
     #[error("the model fails at the starting parameters: {0}")]
     Start(#[source] Error),
+    /// The model cannot be simulated with the starting parameters on one
+    /// of several records.
+    #[error("the model fails at the starting parameters on record {record}: {source}")]
+    RecordStart {
+        /// The record (its index in the order given).
+        record: usize,
+        /// The model's error.
+        #[source]
+        source: Error,
+    },
+    /// A parameter is listed twice (in `free`, in `own`, or in both).
+    #[error("parameter index {index} is listed twice")]
+    Repeated {
+        /// The index.
+        index: usize,
+    },
     /// An option is out of range.
     #[error("option `{name}`: {reason}")]
     Option {
@@ -67,9 +82,23 @@ pub struct FitOptions {
     pub xtol: f64,
     /// Orthogonality of residuals and Jacobian columns (`gtol`).
     pub gtol: f64,
-    /// Budget of model evaluations per free parameter and iteration
-    /// (MINPACK's `patience`: at most `patience·(k + 1)` residual evaluations).
+    /// MINPACK's `patience`: at most `patience·(k + 1)` trial steps
+    /// (residual evaluations at a proposed point). Each accepted step also
+    /// costs a Jacobian, `2k` simulations, so the simulations are bounded by
+    /// `patience·(k + 1)·(2k + 1)`; for a hard bound on the work use
+    /// [`max_evaluations`](FitOptions::max_evaluations) or
+    /// [`max_seconds`](FitOptions::max_seconds).
     pub patience: usize,
+    /// At most this many simulations of the model over all records (trial
+    /// steps and Jacobian columns alike); `None`: no bound beyond
+    /// `patience`. When it is reached the fit ends
+    /// [`NotConverged`](FitStatus::NotConverged) at the best accepted point.
+    pub max_evaluations: Option<usize>,
+    /// Wall time after which no new simulation starts (seconds, positive);
+    /// the fit ends [`NotConverged`](FitStatus::NotConverged) at the best
+    /// accepted point. A simulation under way finishes, so the fit may
+    /// overrun by the time of one Jacobian.
+    pub max_seconds: Option<f64>,
     /// Relative step of the central finite differences in the internal
     /// parameters, `h = step · max(1, |θ|)`.
     pub step: f64,
@@ -91,6 +120,8 @@ impl Default for FitOptions {
             xtol: 1e-12,
             gtol: 0.0,
             patience: 200,
+            max_evaluations: None,
+            max_seconds: None,
             step: f64::EPSILON.cbrt(),
             parallel: true,
             stride: 1,
@@ -133,24 +164,46 @@ pub struct FittedParam {
     /// 95 % confidence interval: `θ ± 1.96 σ_θ` mapped through the
     /// reparametrization (so it respects the parameter's bounds).
     pub ci95: Option<(f64, f64)>,
+    /// The record whose own value this is (a per-record parameter of
+    /// [`fit_records`], such as an initial state); `None` for a parameter
+    /// shared by all records.
+    pub record: Option<usize>,
+}
+
+/// The fit's figures on one record (over its scored samples, after the
+/// warm-up).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RecordFit {
+    /// Output samples compared (the record's length minus its skip).
+    pub samples: usize,
+    /// Root-mean-square residual.
+    pub rms: f64,
+    /// `rms / std(y)` over the scored samples; `None` for a constant output.
+    pub nrmse: Option<f64>,
 }
 
 /// The outcome of a fit.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct FitReport {
-    /// The free parameters.
+    /// The free parameters: the shared ones, then each record's own
+    /// ([`FittedParam::record`]).
     pub params: Vec<FittedParam>,
-    /// The model's full parameter vector after the fit.
+    /// The model's full parameter vector after the fit: the shared
+    /// parameters fitted, a per-record parameter at its starting value (it
+    /// belongs to its record, see `params`).
     pub all_params: Vec<f64>,
     /// Final cost `½ Σ r_i²`.
     pub cost: f64,
-    /// Root-mean-square residual.
+    /// Root-mean-square residual over every scored sample.
     pub rms: f64,
-    /// `rms / std(y)`; `None` for a constant record.
+    /// `rms / std(y)` over every scored sample; `None` for a constant
+    /// output.
     pub nrmse: Option<f64>,
+    /// The same figures per record, in the order given.
+    pub records: Vec<RecordFit>,
     /// Levenberg-Marquardt iterations (Jacobian evaluations).
     pub iterations: usize,
-    /// Model simulations over the whole record (residuals and Jacobian).
+    /// Model simulations over all records (residuals and Jacobian).
     pub evaluations: usize,
     /// Wall time of the fit.
     #[serde(serialize_with = "seconds")]
@@ -217,24 +270,69 @@ pub fn free_by_names(
         .collect()
 }
 
-fn check_record(x: &[f64], y: &[f64], stride: usize) -> Result<(), FitError> {
-    if x.is_empty() || y.is_empty() {
-        return Err(FitError::Data("the record is empty".into()));
+/// One record of a fit: the model's input, the measured output, and a
+/// warm-up.
+///
+/// Each record is simulated from the model's initial state (a fresh copy
+/// of the model, with the record's own values of any per-record
+/// parameters), so records need not start or end at rest.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Record<'a> {
+    /// The input, `stride · y.len()` samples (see [`FitOptions::stride`]).
+    pub x: &'a [f64],
+    /// The measured output.
+    pub y: &'a [f64],
+    /// Leading output samples that are simulated but not compared (the
+    /// model settles from its initial state); `skip < y.len()`.
+    pub skip: usize,
+}
+
+impl<'a> Record<'a> {
+    /// The whole record `(x, y)`, nothing skipped.
+    pub fn new(x: &'a [f64], y: &'a [f64]) -> Self {
+        Self { x, y, skip: 0 }
     }
-    if stride == 0 || x.len() != y.len().saturating_mul(stride) {
-        return Err(FitError::Data(format!(
-            "input has {} samples, output {} (stride {stride})",
-            x.len(),
-            y.len()
-        )));
+}
+
+fn check_records(records: &[Record<'_>], stride: usize) -> Result<(), FitError> {
+    if records.is_empty() {
+        return Err(FitError::Data("no records".into()));
     }
-    if let Some(i) = x.iter().chain(y).position(|v| !v.is_finite()) {
-        let (col, row) = if i < x.len() {
-            ("input", i)
+    let several = records.len() > 1;
+    for (r, record) in records.iter().enumerate() {
+        let which = if several {
+            format!("record {r}: ")
         } else {
-            ("output", i - x.len())
+            String::new()
         };
-        return Err(FitError::Data(format!("{col} sample {row} is not finite")));
+        let (x, y) = (record.x, record.y);
+        if x.is_empty() || y.is_empty() {
+            return Err(FitError::Data(format!("{which}the record is empty")));
+        }
+        if stride == 0 || x.len() != y.len().saturating_mul(stride) {
+            return Err(FitError::Data(format!(
+                "{which}input has {} samples, output {} (stride {stride})",
+                x.len(),
+                y.len()
+            )));
+        }
+        if record.skip >= y.len() {
+            return Err(FitError::Data(format!(
+                "{which}the warm-up skips {} of its {} samples: nothing is left to compare",
+                record.skip,
+                y.len()
+            )));
+        }
+        if let Some(i) = x.iter().chain(y).position(|v| !v.is_finite()) {
+            let (col, row) = if i < x.len() {
+                ("input", i)
+            } else {
+                ("output", i - x.len())
+            };
+            return Err(FitError::Data(format!(
+                "{which}{col} sample {row} is not finite"
+            )));
+        }
     }
     Ok(())
 }
@@ -251,178 +349,16 @@ pub struct Progress {
     pub cost: f64,
 }
 
-/// The least-squares problem handed to the solver: residuals
-/// `model(x; φ(θ)) − y` over the whole record.
-struct Problem<'a> {
-    on_iteration: &'a (dyn Fn(Progress) + Sync),
-    template: Box<dyn Operator<f64>>,
-    base: Vec<f64>,
-    free: Vec<usize>,
-    maps: Vec<Reparam>,
-    theta: DVector<f64>,
-    x: &'a [f64],
-    y: &'a [f64],
-    current: Option<DVector<f64>>,
-    penalty: f64,
-    step: f64,
-    parallel: bool,
-    stride: usize,
-    evaluations: AtomicUsize,
-    jacobians: AtomicUsize,
-}
-
-impl Problem<'_> {
-    // Every `free` index is `< base.len()` (checked in `fit_with_progress`).
-    #[allow(clippy::indexing_slicing)]
-    fn full_params(&self, theta: &[f64]) -> Vec<f64> {
-        let mut p = self.base.clone();
-        for ((&i, map), &t) in self.free.iter().zip(&self.maps).zip(theta) {
-            p[i] = map.to_external(t);
-        }
-        p
-    }
-
-    /// Residuals at `theta`, or the model's error there.
-    fn simulate(&self, theta: &[f64]) -> Result<DVector<f64>, Error> {
-        self.evaluations.fetch_add(1, Ordering::Relaxed);
-        let mut model = self.template.clone();
-        model.set_params(&self.full_params(theta))?;
-        let mut out = vec![0.0; self.x.len()];
-        model.process(self.x, &mut out)?;
-        Ok(DVector::from_iterator(
-            self.y.len(),
-            out.iter()
-                .step_by(self.stride)
-                .zip(self.y)
-                .map(|(m, d)| m - d),
-        ))
-    }
-
-    /// Central difference of the residuals along `θ_j` (one-sided where
-    /// one side is outside the model's valid set, zero where both are).
-    // `j < self.theta.len()`: the callers iterate `0..self.theta.len()`.
-    #[allow(clippy::indexing_slicing)]
-    fn column(&self, j: usize) -> DVector<f64> {
-        let t = self.theta.as_slice();
-        let h = self.step * t[j].abs().max(1.0);
-        let shifted = |d: f64| {
-            let mut v = t.to_vec();
-            v[j] += d;
-            self.simulate(&v).ok()
-        };
-        match (shifted(h), shifted(-h), &self.current) {
-            (Some(p), Some(m), _) => (p - m) / (2.0 * h),
-            (Some(p), None, Some(c)) => (p - c) / h,
-            (None, Some(m), Some(c)) => (c - m) / h,
-            _ => DVector::zeros(self.y.len()),
-        }
-    }
-
-    fn jacobian_matrix(&self) -> DMatrix<f64> {
-        self.jacobians.fetch_add(1, Ordering::Relaxed);
-        let k = self.theta.len();
-        let cols: Vec<DVector<f64>> = if self.parallel {
-            (0..k).into_par_iter().map(|j| self.column(j)).collect()
-        } else {
-            (0..k).map(|j| self.column(j)).collect()
-        };
-        DMatrix::from_columns(&cols)
-    }
-}
-
-impl<'a> Problem<'a> {
-    // Every `free` index is `< base.len()` and `< domains.len()` (checked in
-    // `fit_with_progress`; the test passes indices from `free_by_names`).
-    #[allow(clippy::indexing_slicing)]
-    fn new(
-        model: &(dyn Operator<f64> + 'static),
-        x: &'a [f64],
-        y: &'a [f64],
-        free: &[usize],
-        opts: &FitOptions,
-        on_iteration: &'a (dyn Fn(Progress) + Sync),
-    ) -> Result<Self, FitError> {
-        let base = model.params();
-        let domains = model.param_domains();
-        let maps: Vec<Reparam> = free.iter().map(|&i| Reparam(domains[i])).collect();
-        let theta0 = DVector::from_iterator(
-            free.len(),
-            free.iter().zip(&maps).map(|(&i, m)| m.to_internal(base[i])),
-        );
-        let scale = y.iter().fold(1.0_f64, |a, v| a.max(v.abs()));
-        let mut problem = Problem {
-            on_iteration,
-            template: dyn_clone::clone_box(model),
-            base: base.clone(),
-            free: free.to_vec(),
-            maps,
-            theta: theta0.clone(),
-            x,
-            y,
-            current: None,
-            penalty: 1e3 * scale,
-            step: opts.step,
-            parallel: opts.parallel,
-            stride: opts.stride.max(1),
-            evaluations: AtomicUsize::new(0),
-            jacobians: AtomicUsize::new(0),
-        };
-        problem.current = Some(
-            problem
-                .simulate(theta0.as_slice())
-                .map_err(FitError::Start)?,
-        );
-        Ok(problem)
-    }
-}
-
-impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
-    type ResidualStorage = Owned<f64, Dyn>;
-    type JacobianStorage = Owned<f64, Dyn, Dyn>;
-    type ParameterStorage = Owned<f64, Dyn>;
-
-    fn set_params(&mut self, theta: &DVector<f64>) {
-        self.theta.copy_from(theta);
-        self.current = self.simulate(theta.as_slice()).ok();
-    }
-
-    fn params(&self) -> DVector<f64> {
-        self.theta.clone()
-    }
-
-    /// Outside the model's valid set (a rejected parameter combination, a
-    /// loop without solution) the residuals are a large constant, so the
-    /// solver rejects the step and shrinks its trust region.
-    fn residuals(&self) -> Option<DVector<f64>> {
-        Some(
-            self.current
-                .clone()
-                .unwrap_or_else(|| DVector::from_element(self.y.len(), self.penalty)),
-        )
-    }
-
-    fn jacobian(&self) -> Option<DMatrix<f64>> {
-        (self.on_iteration)(Progress {
-            iteration: self.jacobians.load(Ordering::Relaxed),
-            evaluations: self.evaluations.load(Ordering::Relaxed),
-            cost: self
-                .current
-                .as_ref()
-                .map_or(f64::INFINITY, |r| 0.5 * r.norm_squared()),
-        });
-        Some(self.jacobian_matrix())
-    }
-}
-
 /// Fits the parameters at `free` (indices into `model.params()`) of `model`
 /// to the record `(x, y)`, starting from the model's current parameters;
 /// the others stay fixed. Bounded parameters are fitted through the
-/// reparametrization of [`Reparam`] (from [`Operator::param_domains`]).
+/// reparametrization of [`Reparam`](crate::Reparam) (from [`Operator::param_domains`]).
 ///
 /// Residuals are `model(x) − y` over the whole record, simulated from the
 /// model's initial state; the Jacobian is central finite differences in the
 /// internal parameters (columns in parallel). Standard errors come from
-/// `σ² (JᵀJ)⁻¹` with `σ² = Σ r² / (m − k)`.
+/// `σ² (JᵀJ)⁻¹` with `σ² = Σ r² / (m − k)`. One record of
+/// [`fit_records`].
 pub fn fit(
     model: &(dyn Operator<f64> + 'static),
     x: &[f64],
@@ -443,9 +379,46 @@ pub fn fit_with_progress(
     opts: &FitOptions,
     on_iteration: &(dyn Fn(Progress) + Sync),
 ) -> Result<Fit, FitError> {
+    fit_records(model, &[Record::new(x, y)], free, &[], opts, on_iteration)
+}
+
+/// Fits one parameter set to several records at once.
+///
+/// The parameters at `free` are shared by all records; those at `own` are
+/// fitted separately for each record (an initial state, a preload): record
+/// `r` runs with its own value of each. Every record is simulated from the
+/// model's initial state; its first `skip` outputs are simulated but not
+/// compared. The least-squares problem stacks the residuals
+///
+/// `r = [ model_r(x_r; φ(θ_shared, θ_r))[skip_r..] − y_r[skip_r..] ]_r`
+///
+/// and is solved as in [`fit`] (Levenberg-Marquardt, central
+/// finite-difference Jacobian, bounded parameters reparametrized). The
+/// report gives the shared parameters, then each record's own
+/// ([`FittedParam::record`]), and the figures per record
+/// ([`FitReport::records`]).
+///
+/// # Requirements
+/// * at least one record; in each, `x.len() = stride · y.len()`, finite
+///   samples, and `skip < y.len()`;
+/// * `free ∪ own` non-empty, without repeats, no index in both.
+///
+/// # Budget
+/// [`FitOptions::max_evaluations`] and [`FitOptions::max_seconds`] end the
+/// search at the last accepted point, [`FitStatus::NotConverged`] with the
+/// reason; the standard errors at the end cost one more simulation and one
+/// Jacobian (`2k` simulations) beyond the budget.
+pub fn fit_records(
+    model: &(dyn Operator<f64> + 'static),
+    records: &[Record<'_>],
+    free: &[usize],
+    own: &[usize],
+    opts: &FitOptions,
+    on_iteration: &(dyn Fn(Progress) + Sync),
+) -> Result<Fit, FitError> {
     let started = Instant::now();
-    check_record(x, y, opts.stride)?;
-    if free.is_empty() {
+    check_records(records, opts.stride)?;
+    if free.is_empty() && own.is_empty() {
         return Err(FitError::NoFreeParameters);
     }
     let base = model.params();
@@ -454,8 +427,16 @@ pub fn fit_with_progress(
         .len()
         .min(model.param_names().len())
         .min(model.param_domains().len());
-    if let Some(&index) = free.iter().find(|&&i| i >= len) {
+    if let Some(&index) = free.iter().chain(own).find(|&&i| i >= len) {
         return Err(FitError::BadIndex { index, len });
+    }
+    let all: Vec<usize> = free.iter().chain(own).copied().collect();
+    if let Some((_, &index)) = all
+        .iter()
+        .enumerate()
+        .find(|&(j, i)| all.get(..j).is_some_and(|seen| seen.contains(i)))
+    {
+        return Err(FitError::Repeated { index });
     }
     if !(opts.step > 0.0 && opts.step < 0.1) {
         return Err(FitError::Option {
@@ -469,7 +450,36 @@ pub fn fit_with_progress(
             reason: "must be ≥ 1",
         });
     }
-    let problem = Problem::new(model, x, y, free, opts, on_iteration)?;
+    if opts.max_evaluations == Some(0) {
+        return Err(FitError::Option {
+            name: "max_evaluations",
+            reason: "must be ≥ 1",
+        });
+    }
+    if let Some(s) = opts.max_seconds {
+        if !(s > 0.0 && s.is_finite() && s <= 1e9) {
+            return Err(FitError::Option {
+                name: "max_seconds",
+                reason: "must be positive and finite (at most 1e9)",
+            });
+        }
+    }
+    let layout = Layout {
+        shared: free.to_vec(),
+        own: own.to_vec(),
+        records: records.len(),
+    };
+    let entries = layout.entries();
+    let problem = Problem::new(model, records, layout, opts, on_iteration).map_err(|(r, e)| {
+        if records.len() > 1 {
+            FitError::RecordStart {
+                record: r,
+                source: e,
+            }
+        } else {
+            FitError::Start(e)
+        }
+    })?;
 
     let lm = LevenbergMarquardt::new()
         .with_ftol(opts.ftol)
@@ -477,34 +487,37 @@ pub fn fit_with_progress(
         .with_gtol(opts.gtol)
         .with_patience(opts.patience);
     let (mut problem, lm_report) = lm.minimize(problem);
-    let status = status_of(&lm_report.termination);
+    // The budget ends the search at the last accepted point.
+    let (theta, status) = match problem.stopped() {
+        Some(why) => (problem.accepted(), FitStatus::NotConverged(why)),
+        None => (problem.theta.clone(), status_of(&lm_report.termination)),
+    };
 
     // Make sure the state is at the returned parameters, then evaluate the
     // covariance there.
-    let theta = problem.theta.clone();
-    problem.set_params(&theta);
-    let residuals = problem
-        .residuals()
-        .unwrap_or_else(|| DVector::zeros(y.len()));
+    problem.evaluate_at(&theta);
+    let residuals = problem.current_residuals();
     let jac = problem.jacobian_matrix();
-    let m = y.len();
-    let k = free.len();
+    let m = problem.len();
+    let k = entries.len();
     let ssr = residuals.norm_squared();
     let dof = m.saturating_sub(k).max(1) as f64;
     let cov = (jac.transpose() * &jac)
         .try_inverse()
         .map(|inv| inv * (ssr / dof));
 
-    let all_params = problem.full_params(theta.as_slice());
     let names = model.param_names();
-    // `j < free.len() = theta.len() = maps.len()`, and every `free` index
-    // `i` is `< len` (checked above) `≤ names.len(), base.len()`,
-    // `all_params.len() = base.len()`.
+    let shared_params = problem.full_params(theta.as_slice(), 0);
+    // The shared parameters fitted, the per-record ones at their start.
+    let mut all_params = shared_params.clone();
+    // `j < k = theta.len() = maps.len()`, and every index `i` is `< len`
+    // (checked above) `≤ names.len(), base.len()`; `full_params` has
+    // `base.len()` entries.
     #[allow(clippy::indexing_slicing)]
-    let params = free
+    let params = entries
         .iter()
         .enumerate()
-        .map(|(j, &i)| {
+        .map(|(j, &(i, record))| {
             let map = problem.maps[j];
             let t = theta[j];
             let var = cov
@@ -516,13 +529,17 @@ pub fn fit_with_progress(
                 Some(s) => (map.to_external(t - 1.96 * s), map.to_external(t + 1.96 * s)),
                 None => (f64::NAN, f64::NAN),
             };
+            if record.is_some() {
+                all_params[i] = base[i];
+            }
             FittedParam {
                 name: names[i].clone(),
                 index: i,
                 start: base[i],
-                value: all_params[i],
+                value: map.to_external(t),
                 std_error: sd_t.map(|s| s * map.derivative(t).abs()),
                 ci95: sd_t.map(|_| (a.min(b), a.max(b))),
+                record,
             }
         })
         .collect();
@@ -536,9 +553,29 @@ pub fn fit_with_progress(
             .collect();
         rows.iter().flatten().all(|v| v.is_finite()).then_some(rows)
     });
-    let rms = (ssr / m as f64).sqrt();
-    let mean = y.iter().sum::<f64>() / m as f64;
-    let sd_y = (y.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / m as f64).sqrt();
+    fn scored<'a>(r: &Record<'a>) -> &'a [f64] {
+        r.y.get(r.skip..).unwrap_or_default()
+    }
+    let all_y: Vec<f64> = records.iter().flat_map(|r| scored(r).to_vec()).collect();
+    let (rms, nrmse) = figures(residuals.as_slice(), &all_y);
+    let mut at = 0;
+    let per_record = records
+        .iter()
+        .map(|r| {
+            let y = scored(r);
+            let res = residuals
+                .as_slice()
+                .get(at..at + y.len())
+                .unwrap_or_default();
+            at += y.len();
+            let (rms, nrmse) = figures(res, y);
+            RecordFit {
+                samples: y.len(),
+                rms,
+                nrmse,
+            }
+        })
+        .collect();
     let mut fitted = dyn_clone::clone_box(model);
     fitted.set_params(&all_params).map_err(FitError::Start)?;
     let report = FitReport {
@@ -546,7 +583,8 @@ pub fn fit_with_progress(
         all_params,
         cost: 0.5 * ssr,
         rms,
-        nrmse: (sd_y > 0.0).then(|| rms / sd_y),
+        nrmse,
+        records: per_record,
         iterations: problem.jacobians.load(Ordering::Relaxed).saturating_sub(1),
         evaluations: problem.evaluations.load(Ordering::Relaxed),
         wall_time: started.elapsed(),
@@ -557,6 +595,17 @@ pub fn fit_with_progress(
         model: fitted,
         report,
     })
+}
+
+/// `(rms, rms / std(y))` of residuals `res` against the data `y` (the
+/// second `None` for a constant `y`).
+fn figures(res: &[f64], y: &[f64]) -> (f64, Option<f64>) {
+    let m = res.len().max(1) as f64;
+    let rms = (res.iter().map(|r| r * r).sum::<f64>() / m).sqrt();
+    let n = y.len().max(1) as f64;
+    let mean = y.iter().sum::<f64>() / n;
+    let sd_y = (y.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n).sqrt();
+    (rms, (sd_y > 0.0).then(|| rms / sd_y))
 }
 
 fn status_of(t: &TerminationReason) -> FitStatus {
@@ -587,7 +636,8 @@ fn status_of(t: &TerminationReason) -> FitStatus {
 mod tests {
     use super::*;
     use hysteron_composition::{OperatorExt, TravelLimits};
-    use hysteron_operators::{BoucWen, Mms};
+    use hysteron_operators::{BoucWen, ElastoPlastic, Mms};
+    use levenberg_marquardt::LeastSquaresProblem;
 
     /// The parallel central-difference Jacobian agrees with the
     /// levenberg-marquardt crate's own numerical differentiation.
@@ -612,11 +662,16 @@ mod tests {
             &["f_c", "k", "w", "beta", "gamma", "limits.b"],
         )
         .unwrap();
+        let records = [Record::new(&x, &y)];
+        let layout = Layout {
+            shared: free,
+            own: vec![],
+            records: 1,
+        };
         let mut problem = Problem::new(
             model.as_ref(),
-            &x,
-            &y,
-            &free,
+            &records,
+            layout,
             &FitOptions::default(),
             &|_| {},
         )
@@ -689,5 +744,214 @@ mod tests {
             fit(model.as_ref(), &x, &x, &[0], &bad),
             Err(FitError::Option { .. })
         ));
+    }
+
+    /// A displacement sweep `A sin(2π f t)` around a centre `c`, `n` samples.
+    fn sweep(n: usize, a: f64, f: f64, c: f64) -> Vec<f64> {
+        (0..n)
+            .map(|i| c + a * (2.0 * std::f64::consts::PI * f * i as f64 / n as f64).sin())
+            .collect()
+    }
+
+    /// Three synthetic records of one elastoplastic element, each starting
+    /// from its own preload `f0`: one shared `k, F_b` and the three `f0`
+    /// are recovered to 1e-8 relative (noise-free), and each record's
+    /// figures are reported.
+    #[test]
+    fn several_records_with_their_own_initial_states_recover_the_parameters() {
+        let truth = [(4.0, 1.5)];
+        let f0s = [0.3, -0.4, 0.0];
+        let xs = [
+            sweep(300, 1.0, 2.0, 0.1),
+            sweep(200, 0.4, 3.0, -0.2),
+            sweep(250, 2.0, 1.0, 0.0),
+        ];
+        let ys: Vec<Vec<f64>> = xs
+            .iter()
+            .zip(f0s)
+            .map(|(x, f0)| {
+                let mut op = ElastoPlastic::from_params(hysteron_operators::ElastoPlasticParams {
+                    k: truth[0].0,
+                    f_b: truth[0].1,
+                    f0,
+                })
+                .unwrap();
+                op.run(x).unwrap()
+            })
+            .collect();
+        let records: Vec<Record<'_>> = xs.iter().zip(&ys).map(|(x, y)| Record::new(x, y)).collect();
+        let start: Box<dyn Operator<f64>> = ElastoPlastic::new(2.0, 0.8).unwrap().boxed();
+        let free = free_by_names(start.as_ref(), &["k", "f_b"]).unwrap();
+        let own = free_by_names(start.as_ref(), &["f0"]).unwrap();
+        let f = fit_records(
+            start.as_ref(),
+            &records,
+            &free,
+            &own,
+            &FitOptions::default(),
+            &|_| {},
+        )
+        .unwrap();
+        let r = &f.report;
+        assert!(r.status.converged(), "{:?}", r.status);
+        assert_eq!(r.params.len(), 2 + 3);
+        let rel = |a: f64, b: f64| (a - b).abs() / b.abs().max(1.0);
+        assert!(rel(r.params[0].value, 4.0) < 1e-8, "{:?}", r.params[0]);
+        assert!(rel(r.params[1].value, 1.5) < 1e-8, "{:?}", r.params[1]);
+        for (j, f0) in f0s.iter().enumerate() {
+            let p = &r.params[2 + j];
+            assert_eq!(p.record, Some(j));
+            assert_eq!(p.name, "f0");
+            assert!(rel(p.value, *f0) < 1e-8, "{p:?}");
+        }
+        // the shared model keeps the starting f0; the fitted k, F_b
+        assert_eq!(r.all_params[2], 0.0);
+        assert_eq!(r.records.len(), 3);
+        assert_eq!(r.records[1].samples, 200);
+        assert!(r.records.iter().all(|rf| rf.rms < 1e-8), "{:?}", r.records);
+        // one shared f0 cannot fit all three: the records disagree
+        let all = free_by_names(start.as_ref(), &["k", "f_b", "f0"]).unwrap();
+        let one = fit_records(
+            start.as_ref(),
+            &records,
+            &all,
+            &[],
+            &FitOptions::default(),
+            &|_| {},
+        )
+        .unwrap();
+        assert!(one.report.rms > 1e-2, "{}", one.report.rms);
+    }
+
+    /// The warm-up is simulated but not compared: a record whose first
+    /// samples disagree with the model fits exactly once they are skipped.
+    #[test]
+    fn skip_leaves_the_warm_up_out_of_the_residuals() {
+        let x = sweep(400, 1.0, 2.0, 0.0);
+        let mut y = ElastoPlastic::new(4.0, 1.5).unwrap().run(&x).unwrap();
+        for v in &mut y[..50] {
+            *v += 0.7;
+        }
+        let start: Box<dyn Operator<f64>> = ElastoPlastic::new(3.0, 1.0).unwrap().boxed();
+        let free = free_by_names(start.as_ref(), &["k", "f_b"]).unwrap();
+        let opts = FitOptions::default();
+        let run = |skip| {
+            let rec = [Record { x: &x, y: &y, skip }];
+            fit_records(start.as_ref(), &rec, &free, &[], &opts, &|_| {}).unwrap()
+        };
+        let skipped = run(50);
+        assert_eq!(skipped.report.records[0].samples, 350);
+        assert!(skipped.report.rms < 1e-9, "{}", skipped.report.rms);
+        assert!((skipped.report.params[0].value - 4.0).abs() < 1e-8);
+        assert!(run(0).report.rms > 0.05);
+    }
+
+    /// `max_evaluations` bounds the simulations of the search (the report
+    /// at the end adds one simulation and one Jacobian, `2k`), ending at
+    /// the last accepted point, not converged; `max_seconds` ends it too.
+    #[test]
+    fn the_budget_really_bounds_the_work() {
+        let x = sweep(2000, 1.2, 3.0, 0.0);
+        let truth = BoucWen::constant(10.0, 0.6, 1.0, 2.5, 1.5, 1.0).unwrap();
+        let y = truth.clone().run(&x).unwrap();
+        let start: Box<dyn Operator<f64>> = BoucWen::constant(5.0, 0.3, 2.0, 1.0, 1.2, 1.0)
+            .unwrap()
+            .boxed();
+        let free = free_by_names(start.as_ref(), &["w", "alpha", "beta", "gamma"]).unwrap();
+        let k = free.len();
+        let unbounded = fit(start.as_ref(), &x, &y, &free, &FitOptions::default()).unwrap();
+        assert!(
+            unbounded.report.evaluations > 60,
+            "{}",
+            unbounded.report.evaluations
+        );
+        for max in [1, 10, 30, 60] {
+            let opts = FitOptions {
+                max_evaluations: Some(max),
+                ..FitOptions::default()
+            };
+            let f = fit(start.as_ref(), &x, &y, &free, &opts).unwrap();
+            let r = &f.report;
+            assert!(
+                r.evaluations <= max.max(1) + 2 * k + 1,
+                "max {max}: {} evaluations",
+                r.evaluations
+            );
+            assert!(
+                matches!(&r.status, FitStatus::NotConverged(why) if why.contains("max_evaluations")),
+                "{:?}",
+                r.status
+            );
+            // never worse than the start
+            let start_rms = {
+                let y0 = start.clone().run(&x).unwrap();
+                (y0.iter().zip(&y).map(|(a, b)| (a - b).powi(2)).sum::<f64>() / y.len() as f64)
+                    .sqrt()
+            };
+            assert!(r.rms <= start_rms, "{} > {start_rms}", r.rms);
+        }
+        let opts = FitOptions {
+            max_seconds: Some(1e-9),
+            ..FitOptions::default()
+        };
+        let f = fit(start.as_ref(), &x, &y, &free, &opts).unwrap();
+        assert!(
+            matches!(&f.report.status, FitStatus::NotConverged(why) if why.contains("max_seconds")),
+            "{:?}",
+            f.report.status
+        );
+        assert!(f.report.evaluations <= 1 + 2 * k + 1);
+    }
+
+    #[test]
+    fn bad_records_and_lists_are_errors() {
+        let model: Box<dyn Operator<f64>> = Mms::new(1.0, 5.0).unwrap().boxed();
+        let x = [0.1, 0.2, 0.3];
+        let opts = FitOptions::default();
+        let go = |recs: &[Record<'_>], free: &[usize], own: &[usize], opts: &FitOptions| {
+            fit_records(model.as_ref(), recs, free, own, opts, &|_| {})
+        };
+        let e = go(&[], &[0], &[], &opts).unwrap_err();
+        assert_eq!(e.to_string(), "data: no records");
+        let two = [Record::new(&x, &x), Record::new(&x, &x[..2])];
+        let e = go(&two, &[0], &[], &opts).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "data: record 1: input has 3 samples, output 2 (stride 1)"
+        );
+        let skip = [Record {
+            x: &x,
+            y: &x,
+            skip: 3,
+        }];
+        let e = go(&skip, &[0], &[], &opts).unwrap_err();
+        assert!(e.to_string().contains("skips 3 of its 3 samples"), "{e}");
+        assert!(matches!(
+            go(&[Record::new(&x, &x)], &[0], &[0], &opts),
+            Err(FitError::Repeated { index: 0 })
+        ));
+        assert!(matches!(
+            go(&[Record::new(&x, &x)], &[], &[], &opts),
+            Err(FitError::NoFreeParameters)
+        ));
+        for bad in [
+            FitOptions {
+                max_evaluations: Some(0),
+                ..FitOptions::default()
+            },
+            FitOptions {
+                max_seconds: Some(f64::NAN),
+                ..FitOptions::default()
+            },
+            FitOptions {
+                max_seconds: Some(-1.0),
+                ..FitOptions::default()
+            },
+        ] {
+            assert!(matches!(
+                go(&[Record::new(&x, &x)], &[0], &[], &bad),
+                Err(FitError::Option { .. })
+            ));
+        }
     }
 }

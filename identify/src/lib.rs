@@ -30,11 +30,12 @@ pub mod batch;
 pub mod benchmark;
 mod fit;
 pub mod paper;
+mod problem;
 pub mod report;
 mod transform;
 
 pub use fit::{
-    fit, fit_with_progress, free_by_names, Fit, FitError, FitOptions, FitReport, FitStatus,
-    FittedParam, Progress,
+    fit, fit_records, fit_with_progress, free_by_names, Fit, FitError, FitOptions, FitReport,
+    FitStatus, FittedParam, Progress, Record, RecordFit,
 };
 pub use transform::{Reparam, BOUNDARY_NUDGE};

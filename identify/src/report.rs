@@ -38,10 +38,14 @@ pub fn fmt_g(v: f64, sig: usize) -> String {
 impl fmt::Display for FitReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let r = self;
+        let label = |p: &crate::FittedParam| match p.record {
+            Some(i) => format!("{} [record {i}]", p.name),
+            None => p.name.clone(),
+        };
         let w = r
             .params
             .iter()
-            .map(|p| p.name.len())
+            .map(|p| label(p).len())
             .max()
             .unwrap_or(0)
             .max("parameter".len());
@@ -58,7 +62,7 @@ impl fmt::Display for FitReport {
             writeln!(
                 f,
                 "{:<w$}  {:>13}  {:>13}  {:>10}  {ci}",
-                p.name,
+                label(p),
                 fmt_g(p.start, 7),
                 fmt_g(p.value, 7),
                 se
@@ -69,6 +73,13 @@ impl fmt::Display for FitReport {
         match r.nrmse {
             Some(v) => writeln!(f, "NRMSE        {v:.6e}")?,
             None => writeln!(f, "NRMSE        - (constant output)")?,
+        }
+        if r.records.len() > 1 {
+            writeln!(f, "record  samples  RMS           NRMSE")?;
+            for (i, rf) in r.records.iter().enumerate() {
+                let nrmse = rf.nrmse.map_or("-".to_string(), |v| format!("{v:.6e}"));
+                writeln!(f, "{i:>6}  {:>7}  {:.6e}  {nrmse}", rf.samples, rf.rms)?;
+            }
         }
         writeln!(f, "iterations   {}", r.iterations)?;
         writeln!(f, "evaluations  {}", r.evaluations)?;

@@ -1,0 +1,320 @@
+//! The least-squares problem a fit hands to Levenberg-Marquardt: residuals
+//! `model(x_r; φ(θ)) − y_r` over the scored samples of every record, a
+//! central finite-difference Jacobian, and the evaluation budget.
+
+use crate::fit::{FitOptions, Progress, Record};
+use crate::transform::Reparam;
+use hysteron_operators::{Error, Operator};
+use levenberg_marquardt::LeastSquaresProblem;
+use nalgebra::{DMatrix, DVector, Dyn, Owned};
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+/// Where the fit's parameters sit in the vector `θ` the solver moves: the
+/// shared free parameters first, then, record after record, each record's
+/// own copy of the per-record parameters.
+#[derive(Debug, Clone)]
+pub(crate) struct Layout {
+    /// Model indices of the shared free parameters.
+    pub shared: Vec<usize>,
+    /// Model indices of the per-record parameters.
+    pub own: Vec<usize>,
+    /// Number of records.
+    pub records: usize,
+}
+
+impl Layout {
+    /// `(model index, record)` of each entry of `θ`.
+    pub fn entries(&self) -> Vec<(usize, Option<usize>)> {
+        let shared = self.shared.iter().map(|&i| (i, None));
+        let own = (0..self.records).flat_map(|r| self.own.iter().map(move |&i| (i, Some(r))));
+        shared.chain(own).collect()
+    }
+}
+
+/// The work a fit may still do: simulations and wall time.
+#[derive(Debug, Clone, Copy)]
+struct Budget {
+    max_evaluations: Option<usize>,
+    deadline: Option<(Instant, Duration)>,
+}
+
+impl Budget {
+    /// Why `more` further simulations would exceed the budget after `done`.
+    fn refuses(&self, done: usize, more: usize) -> Option<String> {
+        if let Some(max) = self.max_evaluations {
+            if done.saturating_add(more) > max {
+                return Some(format!(
+                    "evaluation budget of {max} simulations reached (max_evaluations)"
+                ));
+            }
+        }
+        match self.deadline {
+            Some((end, limit)) if Instant::now() >= end => Some(format!(
+                "time limit of {} s reached (max_seconds)",
+                limit.as_secs_f64()
+            )),
+            _ => None,
+        }
+    }
+}
+
+/// The least-squares problem: residuals over every record's scored samples.
+pub(crate) struct Problem<'a> {
+    on_iteration: &'a (dyn Fn(Progress) + Sync),
+    template: Box<dyn Operator<f64>>,
+    base: Vec<f64>,
+    layout: Layout,
+    pub maps: Vec<Reparam>,
+    pub theta: DVector<f64>,
+    records: &'a [Record<'a>],
+    /// Residuals in all (the scored samples of every record).
+    m: usize,
+    current: Option<DVector<f64>>,
+    penalty: f64,
+    step: f64,
+    pub parallel: bool,
+    stride: usize,
+    budget: Budget,
+    /// Why the budget stopped the search (then `residuals` and `jacobian`
+    /// answer `None`, which ends it).
+    stopped: Mutex<Option<String>>,
+    /// The last point the solver accepted (where it asked for a Jacobian).
+    accepted: Mutex<DVector<f64>>,
+    pub evaluations: AtomicUsize,
+    pub jacobians: AtomicUsize,
+}
+
+impl Problem<'_> {
+    /// The model's parameter vector for record `r` at `theta`.
+    // Every layout index is `< base.len()` (checked by the caller), and
+    // `theta.len() = layout.len()`.
+    #[allow(clippy::indexing_slicing)]
+    pub fn full_params(&self, theta: &[f64], r: usize) -> Vec<f64> {
+        let mut p = self.base.clone();
+        let k = self.layout.shared.len();
+        let n_own = self.layout.own.len();
+        for ((&i, map), &t) in self.layout.shared.iter().zip(&self.maps).zip(theta) {
+            p[i] = map.to_external(t);
+        }
+        let at = k + r * n_own;
+        for (j, &i) in self.layout.own.iter().enumerate() {
+            p[i] = self.maps[at + j].to_external(theta[at + j]);
+        }
+        p
+    }
+
+    /// Residuals at `theta`, or the model's error there with its record.
+    pub fn simulate(&self, theta: &[f64]) -> Result<DVector<f64>, (usize, Error)> {
+        self.evaluations.fetch_add(1, Ordering::Relaxed);
+        let mut residuals = Vec::with_capacity(self.m);
+        for (r, record) in self.records.iter().enumerate() {
+            let mut model = self.template.clone();
+            model
+                .set_params(&self.full_params(theta, r))
+                .map_err(|e| (r, e))?;
+            let mut out = vec![0.0; record.x.len()];
+            model.process(record.x, &mut out).map_err(|e| (r, e))?;
+            residuals.extend(
+                out.iter()
+                    .step_by(self.stride)
+                    .zip(record.y)
+                    .skip(record.skip)
+                    .map(|(m, d)| m - d),
+            );
+        }
+        Ok(DVector::from_vec(residuals))
+    }
+
+    /// Central difference of the residuals along `θ_j` (one-sided where
+    /// one side is outside the model's valid set, zero where both are).
+    // `j < self.theta.len()`: the callers iterate `0..self.theta.len()`.
+    #[allow(clippy::indexing_slicing)]
+    fn column(&self, j: usize) -> DVector<f64> {
+        let t = self.theta.as_slice();
+        let h = self.step * t[j].abs().max(1.0);
+        let shifted = |d: f64| {
+            let mut v = t.to_vec();
+            v[j] += d;
+            self.simulate(&v).ok()
+        };
+        match (shifted(h), shifted(-h), &self.current) {
+            (Some(p), Some(m), _) => (p - m) / (2.0 * h),
+            (Some(p), None, Some(c)) => (p - c) / h,
+            (None, Some(m), Some(c)) => (c - m) / h,
+            _ => DVector::zeros(self.m),
+        }
+    }
+
+    /// The Jacobian at the current `θ` (`2k` simulations).
+    pub fn jacobian_matrix(&self) -> DMatrix<f64> {
+        self.jacobians.fetch_add(1, Ordering::Relaxed);
+        let k = self.theta.len();
+        let cols: Vec<DVector<f64>> = if self.parallel {
+            (0..k).into_par_iter().map(|j| self.column(j)).collect()
+        } else {
+            (0..k).map(|j| self.column(j)).collect()
+        };
+        DMatrix::from_columns(&cols)
+    }
+
+    /// Whether `more` simulations may start; records why not.
+    fn allows(&self, more: usize) -> bool {
+        let done = self.evaluations.load(Ordering::Relaxed);
+        let Ok(mut stopped) = self.stopped.lock() else {
+            return false;
+        };
+        if stopped.is_none() {
+            *stopped = self.budget.refuses(done, more);
+        }
+        stopped.is_none()
+    }
+
+    /// Why the budget ended the search, if it did.
+    pub fn stopped(&self) -> Option<String> {
+        self.stopped.lock().ok().and_then(|s| s.clone())
+    }
+
+    /// The last point the solver accepted.
+    pub fn accepted(&self) -> DVector<f64> {
+        match self.accepted.lock() {
+            Ok(a) => a.clone(),
+            Err(_) => self.theta.clone(),
+        }
+    }
+
+    /// The current residuals (the penalty outside the valid set).
+    pub fn current_residuals(&self) -> DVector<f64> {
+        self.current
+            .clone()
+            .unwrap_or_else(|| DVector::from_element(self.m, self.penalty))
+    }
+
+    /// Residuals in all.
+    pub fn len(&self) -> usize {
+        self.m
+    }
+
+    /// Moves to `theta` and simulates there, whatever the budget (for the
+    /// report at the end).
+    pub fn evaluate_at(&mut self, theta: &DVector<f64>) {
+        self.theta.copy_from(theta);
+        self.current = self.simulate(theta.as_slice()).ok();
+    }
+}
+
+impl<'a> Problem<'a> {
+    /// The problem at the model's current parameters; fails with the
+    /// record and the model's error if the model cannot be simulated there.
+    // Every layout index is `< base.len()` and `< domains.len()` (checked
+    // by the caller).
+    #[allow(clippy::indexing_slicing)]
+    pub fn new(
+        model: &(dyn Operator<f64> + 'static),
+        records: &'a [Record<'a>],
+        layout: Layout,
+        opts: &FitOptions,
+        on_iteration: &'a (dyn Fn(Progress) + Sync),
+    ) -> Result<Self, (usize, Error)> {
+        let base = model.params();
+        let domains = model.param_domains();
+        let entries = layout.entries();
+        let maps: Vec<Reparam> = entries.iter().map(|&(i, _)| Reparam(domains[i])).collect();
+        let theta0 = DVector::from_iterator(
+            entries.len(),
+            entries
+                .iter()
+                .zip(&maps)
+                .map(|(&(i, _), m)| m.to_internal(base[i])),
+        );
+        let scale = records
+            .iter()
+            .flat_map(|r| r.y)
+            .fold(1.0_f64, |a, v| a.max(v.abs()));
+        let m = records
+            .iter()
+            .map(|r| r.y.len().saturating_sub(r.skip))
+            .sum();
+        let started = Instant::now();
+        let deadline = opts
+            .max_seconds
+            .map(Duration::from_secs_f64)
+            .map(|d| (started + d, d));
+        let mut problem = Problem {
+            on_iteration,
+            template: dyn_clone::clone_box(model),
+            base,
+            layout,
+            maps,
+            theta: theta0.clone(),
+            records,
+            m,
+            current: None,
+            penalty: 1e3 * scale,
+            step: opts.step,
+            parallel: opts.parallel,
+            stride: opts.stride.max(1),
+            budget: Budget {
+                max_evaluations: opts.max_evaluations,
+                deadline,
+            },
+            stopped: Mutex::new(None),
+            accepted: Mutex::new(theta0.clone()),
+            evaluations: AtomicUsize::new(0),
+            jacobians: AtomicUsize::new(0),
+        };
+        problem.current = Some(problem.simulate(theta0.as_slice())?);
+        Ok(problem)
+    }
+}
+
+impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
+    type ResidualStorage = Owned<f64, Dyn>;
+    type JacobianStorage = Owned<f64, Dyn, Dyn>;
+    type ParameterStorage = Owned<f64, Dyn>;
+
+    fn set_params(&mut self, theta: &DVector<f64>) {
+        self.theta.copy_from(theta);
+        self.current = if self.allows(1) {
+            self.simulate(theta.as_slice()).ok()
+        } else {
+            None
+        };
+    }
+
+    fn params(&self) -> DVector<f64> {
+        self.theta.clone()
+    }
+
+    /// Outside the model's valid set (a rejected parameter combination, a
+    /// loop without solution) the residuals are a large constant, so the
+    /// solver rejects the step and shrinks its trust region. Once the
+    /// budget is spent: `None`, which ends the search.
+    fn residuals(&self) -> Option<DVector<f64>> {
+        if self.stopped().is_some() {
+            return None;
+        }
+        Some(self.current_residuals())
+    }
+
+    fn jacobian(&self) -> Option<DMatrix<f64>> {
+        // The solver asks for a Jacobian only at an accepted point.
+        if let Ok(mut a) = self.accepted.lock() {
+            a.copy_from(&self.theta);
+        }
+        (self.on_iteration)(Progress {
+            iteration: self.jacobians.load(Ordering::Relaxed),
+            evaluations: self.evaluations.load(Ordering::Relaxed),
+            cost: self
+                .current
+                .as_ref()
+                .map_or(f64::INFINITY, |r| 0.5 * r.norm_squared()),
+        });
+        if !self.allows(2 * self.theta.len()) {
+            return None;
+        }
+        Some(self.jacobian_matrix())
+    }
+}
