@@ -118,9 +118,9 @@ fn one_parameter_set_to_three_records_with_their_own_preloads() {
     };
     close("k ", 4.0);
     close("f_b ", 1.5);
-    close("f0 [record 0]", 0.3);
-    close("f0 [record 1]", -0.4);
-    close("f0 [record 2]", 0.0);
+    close("f0[record 0]", 0.3);
+    close("f0[record 1]", -0.4);
+    close("f0[record 2]", 0.0);
     // a per-record table follows
     assert!(stdout.contains("record  samples  RMS"), "{stdout}");
     // the fitted spec holds the shared values and the starting f0

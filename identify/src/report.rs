@@ -39,7 +39,7 @@ impl fmt::Display for FitReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let r = self;
         let label = |p: &crate::FittedParam| match p.record {
-            Some(i) => format!("{} [record {i}]", p.name),
+            Some(i) => format!("{}[record {i}]", p.name),
             None => p.name.clone(),
         };
         let w = r

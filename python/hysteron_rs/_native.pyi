@@ -22,6 +22,7 @@ __all__ = [
     "__version__",
     "describing_function",
     "fit",
+    "fit_records",
     "leaf",
     "leaf_kinds",
     "loop_energy",
@@ -123,6 +124,8 @@ class FitResult:
     def wall_time(self) -> float: ...
     @property
     def history(self) -> List[Dict[str, float]]: ...
+    @property
+    def records(self) -> List[Dict[str, Any]]: ...
 
 @final
 class DescribingFunction:
@@ -187,6 +190,23 @@ def fit(
     ftol: float = 1e-12,
     xtol: float = 1e-12,
     gtol: float = 0.0,
+    max_evaluations: Optional[int] = None,
+    max_seconds: Optional[float] = None,
+) -> FitResult: ...
+def fit_records(
+    model: Model,
+    records: Sequence[Tuple[_ArrayLike, _ArrayLike]],
+    free: Sequence[str],
+    *,
+    own: Sequence[str] = ...,
+    skip: int = 0,
+    patience: int = 200,
+    stride: int = 1,
+    ftol: float = 1e-12,
+    xtol: float = 1e-12,
+    gtol: float = 0.0,
+    max_evaluations: Optional[int] = None,
+    max_seconds: Optional[float] = None,
 ) -> FitResult: ...
 def run_batch(
     model: Model, records: Sequence[_ArrayLike], *, threads: Optional[int] = None

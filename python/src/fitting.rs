@@ -4,7 +4,7 @@ use crate::array::samples;
 use crate::errors::{fit_error, spec_error, ParameterError};
 use crate::model::Model;
 use hysteron::identify::{
-    fit_with_progress, FitOptions, FitReport, FitStatus, FittedParam, Progress,
+    fit_records as fit_records_rs, FitOptions, FitReport, FitStatus, FittedParam, Progress, Record,
 };
 use numpy::PyArray2;
 use pyo3::prelude::*;
@@ -51,6 +51,15 @@ pub struct FitResult {
     wall_time: f64,
 }
 
+/// A free parameter's key: its path, with `[record i]` for a per-record
+/// one (as the report prints it).
+fn key(p: &FittedParam) -> String {
+    match p.record {
+        Some(i) => format!("{}[record {i}]", p.name),
+        None => p.name.clone(),
+    }
+}
+
 fn status_text(s: &FitStatus) -> (&'static str, &str) {
     match s {
         FitStatus::Converged(why) => ("converged", why),
@@ -68,7 +77,7 @@ impl FitResult {
     ) -> PyResult<Bound<'py, PyDict>> {
         let d = PyDict::new(py);
         for p in &self.report.params {
-            d.set_item(&p.name, value(p))?;
+            d.set_item(key(p), value(p))?;
         }
         Ok(d)
     }
@@ -86,7 +95,24 @@ impl FitResult {
     /// field.
     #[getter]
     fn free(&self) -> Vec<String> {
-        self.report.params.iter().map(|p| p.name.clone()).collect()
+        self.report.params.iter().map(key).collect()
+    }
+
+    /// Per record (in the order given): a dict of `samples` (compared),
+    /// `rms` and `nrmse` (`rms / std(y)`, `None` for a constant output).
+    #[getter]
+    fn records<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        self.report
+            .records
+            .iter()
+            .map(|r| {
+                let d = PyDict::new(py);
+                d.set_item("samples", r.samples)?;
+                d.set_item("rms", r.rms)?;
+                d.set_item("nrmse", r.nrmse)?;
+                Ok(d)
+            })
+            .collect()
     }
 
     /// Fitted values, keyed by parameter path.
@@ -157,58 +183,40 @@ impl FitResult {
     }
 }
 
-/// Fits the parameters `free` (full paths or unique suffixes) of `model`
-/// to the record `(x, y)`: residuals `model(x) − y` from the model's
-/// initial state, Levenberg-Marquardt with central finite differences,
-/// bounded parameters through a reparametrization that keeps them inside
-/// their domains. The other parameters stay at the model's values. The
-/// GIL is released while it runs.
-///
-/// `patience` bounds the evaluations (`patience · (k + 1)`); `stride`
-/// compares every `stride`-th output with `y` (`len(x) = stride ·
-/// len(y)`).
-#[pyfunction]
-#[pyo3(signature = (model, x, y, free, *, patience=200, stride=1, ftol=1e-12, xtol=1e-12, gtol=0.0))]
-#[allow(clippy::too_many_arguments)] // the Python keyword arguments
-pub fn fit(
+/// What both fit functions take besides the model and the records.
+struct Request {
+    free: Vec<String>,
+    own: Vec<String>,
+    opts: FitOptions,
+}
+
+/// Resolves the names, checks ties and repeats, runs [`fit_records`] with
+/// the GIL released, and wraps the outcome.
+fn run_fit(
     py: Python<'_>,
     model: &Model,
-    x: &Bound<'_, PyAny>,
-    y: &Bound<'_, PyAny>,
-    free: Vec<String>,
-    patience: usize,
-    stride: usize,
-    ftol: f64,
-    xtol: f64,
-    gtol: f64,
+    data: &[(Vec<f64>, Vec<f64>, usize)],
+    request: Request,
 ) -> PyResult<FitResult> {
-    let xs = samples(x, "x")?;
-    let ys = samples(y, "y")?;
-    let idx = model.indices(&free)?;
+    let shared = model.indices(&request.free)?;
+    let own = model.indices(&request.own)?;
     let names = model.operator().param_names();
     let tied = model.spec().tied_params();
-    if let Some(name) = idx.iter().map(|&i| &names[i]).find(|n| tied.contains(n)) {
+    let all: Vec<usize> = shared.iter().chain(&own).copied().collect();
+    if let Some(name) = all.iter().map(|&i| &names[i]).find(|n| tied.contains(n)) {
         return Err(ParameterError::new_err(format!(
             "parameter `{name}` cannot be fitted on its own: it is tied to another (a gap's r0 \
              and its spring's z0 = -r0); keep both fixed"
         )));
     }
-    for (i, a) in idx.iter().enumerate() {
-        if idx[..i].contains(a) {
+    for (i, a) in all.iter().enumerate() {
+        if all[..i].contains(a) {
             return Err(ParameterError::new_err(format!(
-                "parameter `{}` is named twice in `free`",
+                "parameter `{}` is named twice in `free`/`own`",
                 names[*a]
             )));
         }
     }
-    let opts = FitOptions {
-        ftol,
-        xtol,
-        gtol,
-        patience,
-        stride,
-        ..FitOptions::default()
-    };
     let start = dyn_clone::clone_box(model.operator());
     let history = Mutex::new(Vec::new());
     let record = |p: Progress| {
@@ -216,11 +224,15 @@ pub fn fit(
             h.push(p);
         }
     };
+    let records: Vec<Record<'_>> = data
+        .iter()
+        .map(|(x, y, skip)| Record { x, y, skip: *skip })
+        .collect();
     let fitted = py
         .detach(|| {
             let mut m = start;
             m.reset();
-            fit_with_progress(m.as_ref(), &xs, &ys, &idx, &opts, &record)
+            fit_records_rs(m.as_ref(), &records, &shared, &own, &request.opts, &record)
         })
         .map_err(|e| fit_error(py, e))?;
     let spec = model
@@ -243,4 +255,100 @@ pub fn fit(
         report,
         history: history.into_inner().unwrap_or_default(),
     })
+}
+
+/// Fits the parameters `free` (full paths or unique suffixes) of `model`
+/// to the record `(x, y)`: residuals `model(x) − y` from the model's
+/// initial state, Levenberg-Marquardt with central finite differences,
+/// bounded parameters through a reparametrization that keeps them inside
+/// their domains. The other parameters stay at the model's values. The
+/// GIL is released while it runs.
+///
+/// `patience` bounds the trial steps (`patience · (k + 1)`, each accepted
+/// one followed by a Jacobian of `2k` simulations); `max_evaluations` and
+/// `max_seconds` bound the work for real (the fit then ends not converged
+/// at its best point); `stride` compares every `stride`-th output with `y`
+/// (`len(x) = stride · len(y)`).
+#[pyfunction]
+#[pyo3(signature = (model, x, y, free, *, patience=200, stride=1, ftol=1e-12, xtol=1e-12, gtol=0.0, max_evaluations=None, max_seconds=None))]
+#[allow(clippy::too_many_arguments)] // the Python keyword arguments
+pub fn fit(
+    py: Python<'_>,
+    model: &Model,
+    x: &Bound<'_, PyAny>,
+    y: &Bound<'_, PyAny>,
+    free: Vec<String>,
+    patience: usize,
+    stride: usize,
+    ftol: f64,
+    xtol: f64,
+    gtol: f64,
+    max_evaluations: Option<usize>,
+    max_seconds: Option<f64>,
+) -> PyResult<FitResult> {
+    let data = [(samples(x, "x")?, samples(y, "y")?, 0)];
+    let opts = FitOptions {
+        ftol,
+        xtol,
+        gtol,
+        patience,
+        stride,
+        max_evaluations,
+        max_seconds,
+        ..FitOptions::default()
+    };
+    let request = Request {
+        free,
+        own: vec![],
+        opts,
+    };
+    run_fit(py, model, &data, request)
+}
+
+/// Fits one parameter set to several records `[(x, y), …]`, each simulated
+/// from the model's initial state; `own` names parameters fitted
+/// separately for each record (an initial state, a preload: keyed
+/// `"path[record i]"` in the result), `skip` leading output samples of
+/// each record are simulated but not compared (a warm-up). Otherwise as
+/// `fit`.
+#[pyfunction]
+#[pyo3(signature = (model, records, free, *, own=Vec::new(), skip=0, patience=200, stride=1, ftol=1e-12, xtol=1e-12, gtol=0.0, max_evaluations=None, max_seconds=None))]
+#[allow(clippy::too_many_arguments)] // the Python keyword arguments
+pub fn fit_records(
+    py: Python<'_>,
+    model: &Model,
+    records: Vec<(Bound<'_, PyAny>, Bound<'_, PyAny>)>,
+    free: Vec<String>,
+    own: Vec<String>,
+    skip: usize,
+    patience: usize,
+    stride: usize,
+    ftol: f64,
+    xtol: f64,
+    gtol: f64,
+    max_evaluations: Option<usize>,
+    max_seconds: Option<f64>,
+) -> PyResult<FitResult> {
+    let data = records
+        .iter()
+        .enumerate()
+        .map(|(i, (x, y))| {
+            Ok((
+                samples(x, &format!("records[{i}].x"))?,
+                samples(y, &format!("records[{i}].y"))?,
+                skip,
+            ))
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    let opts = FitOptions {
+        ftol,
+        xtol,
+        gtol,
+        patience,
+        stride,
+        max_evaluations,
+        max_seconds,
+        ..FitOptions::default()
+    };
+    run_fit(py, model, &data, Request { free, own, opts })
 }

@@ -28,6 +28,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(analysis::describing_function, m)?)?;
     m.add_function(wrap_pyfunction!(analysis::loop_energy, m)?)?;
     m.add_function(wrap_pyfunction!(fitting::fit, m)?)?;
+    m.add_function(wrap_pyfunction!(fitting::fit_records, m)?)?;
     m.add_function(wrap_pyfunction!(batch::run_batch, m)?)?;
     m.add_function(wrap_pyfunction!(batch::run_parameter_sets, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

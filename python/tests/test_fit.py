@@ -71,3 +71,47 @@ def test_fit_errors() -> None:
         hy.fit(hy.paper_model(), x, x, ["right.bouc_wen.z0"])
     with pytest.raises(hy.FitError, match="patience"):
         hy.fit(m, x, y, ["k"], patience=0)
+
+
+def test_several_records_with_their_own_preloads() -> None:
+    """One k, F_b shared by three records, each with its own preload f0."""
+    f0s = [0.3, -0.4, 0.0]
+    xs = [
+        0.1 + np.sin(np.linspace(0.0, 2 * np.pi * 2, 300)),
+        -0.2 + 0.4 * np.sin(np.linspace(0.0, 2 * np.pi * 3, 200)),
+        2.0 * np.sin(np.linspace(0.0, 2 * np.pi, 250)),
+    ]
+    records = []
+    for x, f0 in zip(xs, f0s):
+        truth = hy.elastoplastic(4.0, 1.5, f0=f0)
+        records.append((x, truth.run(x)))
+    result = hy.fit_records(hy.elastoplastic(2.0, 0.8), records, ["k", "f_b"], own=["f0"])
+    assert result.converged, result.message
+    assert result.values["k"] == pytest.approx(4.0, rel=1e-8)
+    assert result.values["f_b"] == pytest.approx(1.5, rel=1e-8)
+    for i, f0 in enumerate(f0s):
+        assert result.values[f"f0[record {i}]"] == pytest.approx(f0, abs=1e-8)
+    assert [r["samples"] for r in result.records] == [300, 200, 250]
+    assert all(r["rms"] < 1e-8 for r in result.records)
+    # the fitted model keeps the starting preload
+    assert result.model.params["f0"] == 0.0
+    with pytest.raises(hy.FitError, match="record 1: input has 200 samples, output 199"):
+        hy.fit_records(hy.elastoplastic(2.0, 0.8), [records[0], (xs[1], records[1][1][:-1])], ["k"])
+    with pytest.raises(hy.FitError, match="skips 300 of its 300 samples"):
+        hy.fit_records(hy.elastoplastic(2.0, 0.8), records[:1], ["k"], skip=300)
+    with pytest.raises(hy.FitError, match="output sample 5 is not finite"):
+        bad = records[1][1].copy()
+        bad[5] = np.nan
+        hy.fit_records(hy.elastoplastic(2.0, 0.8), [(xs[1], bad)], ["k"])
+
+
+def test_the_budget_bounds_the_work() -> None:
+    truth = hy.bouc_wen(0.3, 1.0, 0.8, 0.4, 1.5, stiffness={"z": [0.0], "s": [3.0]})
+    x = _record()
+    y = truth.run(x)
+    start = truth.with_params(w=0.4, beta=0.6, gamma=0.5)
+    result = hy.fit(start, x, y, ["w", "beta", "gamma"], max_evaluations=10)
+    assert result.status == "not_converged" and "max_evaluations" in result.message
+    assert result.evaluations <= 10 + 2 * 3 + 1
+    with pytest.raises(hy.FitError, match="max_seconds"):
+        hy.fit(start, x, y, ["w"], max_seconds=-1.0)
