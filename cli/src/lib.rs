@@ -22,3 +22,4 @@ pub mod paper;
 pub mod period;
 pub mod plot;
 pub mod simulate;
+pub mod validate;

@@ -12,6 +12,11 @@
 //!   [--dt SECONDS | --time-column t]`:
 //!   fits parameters of a model spec to a record (see
 //!   [`hysteron_cli::fit_cmd`]);
+//! * `hysteron validate --model SPEC.json --data A.csv [--data B.csv ...]
+//!   [--input-column x] [--output-column F] [--lowpass HZ] [--time-column t
+//!   | --dt SECONDS] [--skip SECONDS] [--plot DIR] [--csv OUT.csv]`: scores
+//!   a model spec against measured records (RMS, max |error|, NRMSE; see
+//!   [`hysteron_cli::validate`]);
 //! * `hysteron analyze --model SPEC.json --amplitudes A1,A2,...
 //!   [--samples-per-period N] [--settle-periods P] [--steady-tol TOL]
 //!   [--dt SECONDS] [--output OUT.csv]`: the describing function and the
@@ -41,7 +46,7 @@ use clap::{Parser, Subcommand};
 use hysteron_cli::models::describing::SineOptions;
 use hysteron_cli::{
     analyze, args, bench, csvio, export_fmu, fit_cmd, fitting, identify_paper, paper, period,
-    simulate,
+    simulate, validate,
 };
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -188,6 +193,71 @@ enum Command {
         /// stamps), overriding the spec's dt.
         #[arg(long, value_name = "NAME")]
         time_column: Option<String>,
+    },
+    /// Score a model spec (JSON) against measured records: simulate it over
+    /// each record's input column (a fresh model per record, from its
+    /// initial state) and print one table row per record plus a mean row:
+    /// | record | samples | RMS | max |err| | NRMSE | low-passed NRMSE |.
+    /// RMS and max are of F_model − F_meas over the scored samples;
+    /// NRMSE = RMS(F_model − F_meas) / RMS(F_meas), where RMS is about
+    /// zero (√(Σ F²/n)), not the standard deviation. The mean row averages
+    /// each figure over the records (unweighted) and sums the samples.
+    Validate {
+        /// The model spec (JSON, see hysteron::models::Spec).
+        #[arg(long, value_name = "SPEC.json")]
+        model: PathBuf,
+        /// A record: a CSV file with a header row of distinct column names
+        /// (repeat for several records; every record needs the input,
+        /// output and time columns, matched by name).
+        #[arg(long, value_name = "DATA.csv", required = true)]
+        data: Vec<PathBuf>,
+        /// The input column of every record.
+        #[arg(long, value_name = "NAME", default_value = "x")]
+        input_column: String,
+        /// The measured output column of every record.
+        #[arg(long, value_name = "NAME", default_value = "F")]
+        output_column: String,
+        /// Also score both signals after a 4th-order Butterworth low-pass
+        /// at HZ run forward and backward (zero phase; the whole record is
+        /// filtered, then scored): the "low-passed NRMSE" column. Needs
+        /// --time-column or --dt; HZ must be below Nyquist (half the
+        /// sample rate).
+        #[arg(long, value_name = "HZ", value_parser = args::positive_f64, allow_hyphen_values = true)]
+        lowpass: Option<f64>,
+        /// Sample period (s, positive and finite): sets the low-pass's
+        /// sample rate, the length of --skip and every rate-dependent node
+        /// of the model (mass_spring_damper, viscous_damper), overriding
+        /// the spec's dt.
+        #[arg(
+            long,
+            value_name = "SECONDS",
+            conflicts_with = "time_column",
+            value_parser = args::positive_f64,
+            allow_hyphen_values = true
+        )]
+        dt: Option<f64>,
+        /// Take the sample period (as for --dt) from this time column of
+        /// each record (uniformly spaced up to 0.1 % of a step, the
+        /// rounding of written stamps).
+        #[arg(long, value_name = "NAME")]
+        time_column: Option<String>,
+        /// Simulate but do not score the first SECONDS of each record
+        /// (the samples i with i·dt < SECONDS; a warm-up). Needs
+        /// --time-column or --dt; a record not longer is an error.
+        #[arg(long, value_name = "SECONDS", value_parser = args::non_negative_f64, allow_hyphen_values = true)]
+        skip: Option<f64>,
+        /// Also write DIR/STEM.svg per record, STEM its file stem (DIR created if
+        /// missing): the loop (output over input) and the output over
+        /// time, the measurement as a thin sky-blue line (low-passed when
+        /// --lowpass is given) under the model as a thick vermillion line.
+        #[arg(long, value_name = "DIR")]
+        plot: Option<PathBuf>,
+        /// Also write the table as CSV (one row per record, no mean row;
+        /// columns record,samples,rms,max_abs_err,nrmse and
+        /// lowpassed_nrmse with --lowpass; written atomically, may not be
+        /// an input).
+        #[arg(long, value_name = "OUT.csv")]
+        csv: Option<PathBuf>,
     },
     /// Drive a model spec (JSON) by sines x = A sin θ, one per amplitude,
     /// until its output is periodic, and print per amplitude the describing
@@ -438,6 +508,33 @@ fn main() -> ExitCode {
             },
             dt,
             output,
+        })
+        .map(|report| {
+            println!("{report}");
+            None
+        })
+        .map_err(|e| e.to_string()),
+        Command::Validate {
+            model,
+            data,
+            input_column,
+            output_column,
+            lowpass,
+            dt,
+            time_column,
+            skip,
+            plot,
+            csv,
+        } => validate::run(&validate::ValidateOptions {
+            model,
+            data,
+            input_column,
+            output_column,
+            lowpass,
+            dt: period::DtSource::from_options(dt, time_column),
+            skip,
+            plot,
+            csv,
         })
         .map(|report| {
             println!("{report}");

@@ -7,7 +7,9 @@
 //!   parameters fitted through a reparametrization ([`Reparam`]), central
 //!   finite-difference Jacobian with columns in parallel, and a
 //!   [`FitReport`] with standard errors and confidence intervals;
-//! * [`batch`]: many parameter sets or many records simulated in parallel.
+//! * [`batch`]: many parameter sets or many records simulated in parallel;
+//! * [`metrics`]: error figures of a model against a measured record (RMS,
+//!   largest error, NRMSE) and a zero-phase Butterworth low-pass.
 //!
 //! Kept in its own crate so that nalgebra stays out of the core.
 
@@ -29,6 +31,7 @@
 pub mod batch;
 pub mod benchmark;
 mod fit;
+pub mod metrics;
 pub mod paper;
 mod problem;
 pub mod report;
