@@ -9,6 +9,8 @@
 //! | [`Play`] | `y = max(x − r, min(x + r, y_prev))` |
 //! | [`Stop`] | `s = x − play_r[x]`, in `[−r, r]` |
 //! | [`ElastoPlastic`] | `F = k · stop_{F_b/k}[x]` (Maxwell-slip element) |
+//! | [`AsymmetricFriction`] | `F = k (x − x_p)`, `x_p` moving only to keep `−f_neg ≤ F ≤ f_pos` |
+//! | [`BacklashContact`] | `F = sgn(u)(k1 d + k2 d² + k3 d³)`, `u = x − c`, `d = max(\|u\| − b/2, 0)` |
 //! | [`DeadZone`] | `x − b_r` above `b_r`, `x − b_l` below `b_l`, 0 between |
 //! | [`Saturation`] | `clamp(x, lo, hi)` |
 //! | [`Gain`] | `k x` |
@@ -111,4 +113,6 @@ leaves! { $;
     lugre => LuGre,
     gms => Gms,
     offset => Offset,
+    asymmetric_friction => AsymmetricFriction,
+    backlash_contact => BacklashContact,
 }

@@ -45,6 +45,8 @@ from ._native import (
     run_parameter_sets,
 )
 from ._operators import (
+    asymmetric_friction,
+    backlash_contact,
     bouc_wen,
     dahl,
     dead_zone,
@@ -78,6 +80,8 @@ __all__ = [
     "SolverError",
     "SpecError",
     "__version__",
+    "asymmetric_friction",
+    "backlash_contact",
     "bouc_wen",
     "dahl",
     "dead_zone",
