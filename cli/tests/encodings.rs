@@ -63,3 +63,28 @@ fn bytes_that_are_not_utf8_are_an_error_naming_the_place() {
     assert_eq!(code, 1, "{err}");
     assert!(err.contains("m.json") && err.contains("UTF-8"), "{err}");
 }
+
+/// A delimiter between the two bytes of one character (`\xd4,\xab` is `ԫ`
+/// once the comma is gone): each field is invalid UTF-8 although the
+/// concatenation is valid. In the header and in a row it is an error naming
+/// the place, not a slicing panic (the `csv_read` fuzz target's finds, kept
+/// in `fuzz/regressions/csv_read/`).
+#[test]
+fn a_delimiter_inside_a_character_is_an_error_not_a_panic() {
+    let (code, text, err) = simulate(GAIN, b"x,\xd4,\xab\n1,2,3\n");
+    assert_eq!((code, text.as_str()), (1, ""), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(
+        err.contains("in.csv") && err.contains("ends inside a multi-byte character"),
+        "{err}"
+    );
+    assert!(err.contains("header"), "{err}");
+
+    let (code, text, err) = simulate(GAIN, b"x,q\n1,2\n\xcd,\xbf\n");
+    assert_eq!((code, text.as_str()), (1, ""), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(
+        err.contains("row 2") && err.contains("ends inside a multi-byte character"),
+        "{err}"
+    );
+}
