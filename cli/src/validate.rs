@@ -51,7 +51,8 @@ pub struct ValidateOptions {
     pub dt: DtSource,
     /// Seconds at the start of each record simulated but not scored.
     pub skip: Option<f64>,
-    /// Directory for one SVG figure per record (`<stem>.svg`).
+    /// Directory for one SVG figure per record (`<stem>.svg`; `A.csv.gz`
+    /// gives `A.svg`).
     pub plot: Option<PathBuf>,
     /// Where to write the table as CSV.
     pub csv: Option<PathBuf>,
@@ -408,8 +409,18 @@ pub fn run(opts: &ValidateOptions) -> Result<ValidateReport, ValidateError> {
     if let Some(dir) = &opts.plot {
         for (i, d) in opts.data.iter().enumerate() {
             // `<stem>.svg`, appended (with_extension would cut a stem with
-            // dots, `sine_0.5Hz`, at its last dot).
-            let mut name = d.file_stem().unwrap_or(d.as_os_str()).to_os_string();
+            // dots, `sine_0.5Hz`, at its last dot); a compressed record
+            // `A.csv.gz` gives `A.svg`, like `A.csv`.
+            let mut stem = Path::new(d.file_stem().unwrap_or(d.as_os_str()));
+            let csv = stem
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("csv"));
+            if csv && d.extension().is_some_and(|e| e.eq_ignore_ascii_case("gz")) {
+                if let Some(inner) = stem.file_stem() {
+                    stem = Path::new(inner);
+                }
+            }
+            let mut name = stem.as_os_str().to_os_string();
             name.push(".svg");
             let svg = dir.join(name);
             if let Some(j) = svgs.iter().position(|s| s == &svg) {

@@ -243,15 +243,23 @@ fn plot_writes_one_figure_per_record() {
     let d = tmp.path();
     // a stem with dots keeps them all
     fs::copy(d.join("offset.csv"), d.join("sine_0.5Hz.csv")).unwrap();
+    // a compressed record A.csv.gz is drawn as A.svg
+    let mut gz = flate2::write::GzEncoder::new(
+        fs::File::create(d.join("rec_1.5in.csv.gz")).unwrap(),
+        flate2::Compression::fast(),
+    );
+    std::io::Write::write_all(&mut gz, &fs::read(d.join("offset.csv")).unwrap()).unwrap();
+    gz.finish().unwrap();
     let out = hysteron(d)
         .args(["validate", "--model", "gain.json"])
         .args(["--data", "exact.csv", "--data", "sine_0.5Hz.csv"])
+        .args(["--data", "rec_1.5in.csv.gz"])
         .args(["--plot", "figs"])
         .assert()
         .success();
     let stdout = String::from_utf8(out.get_output().stdout.clone()).unwrap();
     assert!(
-        stdout.contains("wrote figs/exact.svg, figs/sine_0.5Hz.svg"),
+        stdout.contains("wrote figs/exact.svg, figs/sine_0.5Hz.svg, figs/rec_1.5in.svg"),
         "{stdout}"
     );
     let mut names: Vec<String> = fs::read_dir(d.join("figs"))
@@ -259,7 +267,7 @@ fn plot_writes_one_figure_per_record() {
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .collect();
     names.sort();
-    assert_eq!(names, ["exact.svg", "sine_0.5Hz.svg"]);
+    assert_eq!(names, ["exact.svg", "rec_1.5in.svg", "sine_0.5Hz.svg"]);
     for n in &names {
         let p = d.join("figs").join(n);
         assert_svg(&p);
