@@ -50,3 +50,20 @@ fn series_with_a_rigid_element_has_the_other_stiffness() {
     assert!(t.output.is_finite());
     assert!(!t.tangent.is_nan(), "tangent {}", t.tangent);
 }
+
+/// `operator_contract`: a feedback loop whose back path is vertical (the
+/// inverse of a dead zone inside its zone, tangent +∞) and whose forward
+/// path is flat there (an elastoplastic element sliding at x = 4.2e255)
+/// computed `A'/(1 + A'B')` as 0/(1 + 0·∞) = NaN. The limit is 0 (and 0 for
+/// any finite `A'`).
+#[test]
+fn feedback_with_vertical_back_path_has_tangent_zero() {
+    let mut op = example("elastoplastic").feedback(example("dead_zone").inverse());
+    match op.trial(4.2183963570748966e255) {
+        Ok(t) => {
+            assert!(t.output.is_finite());
+            assert_eq!(t.tangent, 0.0, "tangent {}", t.tangent);
+        }
+        Err(e) => panic!("the fuzzer's case ran without an error: {e}"),
+    }
+}

@@ -93,6 +93,10 @@ impl<T: Float, A: Child<T>, B: Child<T>> Operator<T> for Feedback<T, A, B> {
             } else {
                 T::one() / tb
             }
+        } else if tb.is_infinite() {
+            // a vertical back path: A'/(1 + A'B') → 0 as B' → ∞, and it is
+            // 0 for a flat forward path too (where 0·∞ would be NaN)
+            T::zero()
         } else if loop_gain == T::zero() {
             T::infinity()
         } else {
