@@ -1,4 +1,6 @@
 //! The paper's two identification stages on synthetic records.
+// The no-panic lints of the workspace Cargo.toml are for the library code.
+#![allow(clippy::unwrap_used, clippy::indexing_slicing)]
 
 use hysteron_identify::paper::{
     fit_bedstop, fit_spring, identify_paper, knots_from_points, last_increasing_branch,
