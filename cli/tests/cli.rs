@@ -14,21 +14,6 @@ use tempfile::TempDir;
 mod common;
 use common::*;
 
-fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
-    let mut r = csv::Reader::from_path(path).expect("readable CSV");
-    let headers = r.headers().unwrap().iter().map(String::from).collect();
-    let rows = r
-        .records()
-        .map(|rec| rec.unwrap().iter().map(String::from).collect())
-        .collect();
-    (headers, rows)
-}
-
-fn column(headers: &[String], rows: &[Vec<String>], name: &str) -> Vec<f64> {
-    let i = headers.iter().position(|h| h == name).expect("column");
-    rows.iter().map(|r| r[i].parse().unwrap()).collect()
-}
-
 // ---------------------------------------------------------------- paper
 
 #[test]
@@ -168,20 +153,7 @@ impl Setup {
     /// nothing on stdout, all files in the directory unchanged and no new
     /// file (in particular no output and no temporary file).
     fn fails(&self, args: &[&str], expect: &[&str]) -> String {
-        let before = snapshot(self.dir());
-        let assert = self.simulate(args).assert().failure().code(1);
-        let out = assert.get_output();
-        let stderr = one_line_error(&out.stderr);
-        assert!(out.stdout.is_empty(), "stdout: {:?}", out.stdout);
-        for e in expect {
-            assert!(stderr.contains(e), "`{e}` not in: {stderr}");
-        }
-        assert_eq!(
-            snapshot(self.dir()),
-            before,
-            "files changed by a failed run"
-        );
-        stderr
+        fails_leaving_dir_unchanged(self.dir(), &mut self.simulate(args), expect)
     }
 }
 

@@ -132,20 +132,7 @@ impl Setup {
     /// stderr containing every `expect`ed fragment, nothing on stdout, no
     /// file changed or created.
     fn fails_cmd(&self, args: &[&str], expect: &[&str]) -> String {
-        let before = snapshot(self.dir());
-        let assert = hysteron(self.dir()).args(args).assert().failure().code(1);
-        let out = assert.get_output();
-        let stderr = one_line_error(&out.stderr);
-        assert!(out.stdout.is_empty(), "stdout: {:?}", out.stdout);
-        for e in expect {
-            assert!(stderr.contains(e), "`{e}` not in: {stderr}");
-        }
-        assert_eq!(
-            snapshot(self.dir()),
-            before,
-            "files changed by a failed run"
-        );
-        stderr
+        fails_leaving_dir_unchanged(self.dir(), hysteron(self.dir()).args(args), expect)
     }
 
     /// `fit` with the standard arguments, `overrides` replacing or adding

@@ -62,3 +62,57 @@ pub fn one_line_error(stderr: &[u8]) -> String {
     );
     s.trim_end().to_string()
 }
+
+/// The header and the records of a CSV file, as text.
+pub fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let mut r = csv::Reader::from_path(path).expect("readable CSV");
+    let headers = r.headers().unwrap().iter().map(String::from).collect();
+    let rows = r
+        .records()
+        .map(|rec| rec.unwrap().iter().map(String::from).collect())
+        .collect();
+    (headers, rows)
+}
+
+/// The column `name` of a table read by [`read_csv`], as numbers.
+pub fn column(headers: &[String], rows: &[Vec<String>], name: &str) -> Vec<f64> {
+    let i = headers.iter().position(|h| h == name).expect("column");
+    rows.iter().map(|r| r[i].parse().unwrap()).collect()
+}
+
+/// Runs `cmd` in `dir` expecting failure: exit code 1, one line on stderr
+/// starting with `error:` and containing every `expect`ed fragment, nothing
+/// on stdout, all files in `dir` unchanged and no new file (in particular no
+/// output and no temporary file). Returns the error line.
+pub fn fails_leaving_dir_unchanged(dir: &Path, cmd: &mut Command, expect: &[&str]) -> String {
+    let before = snapshot(dir);
+    let assert = cmd.assert().failure().code(1);
+    let out = assert.get_output();
+    let stderr = one_line_error(&out.stderr);
+    assert!(out.stdout.is_empty(), "stdout: {:?}", out.stdout);
+    for e in expect {
+        assert!(stderr.contains(e), "`{e}` not in: {stderr}");
+    }
+    assert_eq!(snapshot(dir), before, "files changed by a failed run");
+    stderr
+}
+
+/// Runs `hysteron simulate --model MODEL --input INPUT --output OUTPUT`
+/// (anywhere: the paths say where): its exit code and stderr.
+pub fn simulate_files(model: &Path, input: &Path, output: &Path) -> (i32, String) {
+    let out = Command::cargo_bin("hysteron")
+        .expect("the hysteron binary")
+        .arg("simulate")
+        .arg("--model")
+        .arg(model)
+        .arg("--input")
+        .arg(input)
+        .arg("--output")
+        .arg(output)
+        .output()
+        .expect("run");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
