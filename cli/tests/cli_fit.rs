@@ -622,8 +622,8 @@ fn fit_usage_errors_are_clap_errors() {
     let s = Setup::new();
     // Argument errors are bad input like any other: exit code 1 (not
     // clap's 2), clap's message naming the option. --free is required.
-    let assert = hysteron(s.dir())
-        .args([
+    usage_error(
+        hysteron(s.dir()).args([
             "fit",
             "--model",
             "start.json",
@@ -631,14 +631,8 @@ fn fit_usage_errors_are_clap_errors() {
             "data.csv",
             "--output",
             "o.json",
-        ])
-        .assert()
-        .failure()
-        .code(1);
-    let err = String::from_utf8_lossy(&assert.get_output().stderr).into_owned();
-    assert!(
-        err.starts_with("error: ") && err.contains("--free"),
-        "{err}"
+        ]),
+        "--free",
     );
     // --patience must be ≥ 1, said so (not `0 is not in 1..18446744073709551615`),
     // negative values and non-integers included; --dt must be positive
@@ -664,26 +658,21 @@ fn fit_usage_errors_are_clap_errors() {
             "'--dt <SECONDS>': must be positive and finite (got 1e999)",
         ),
     ] {
-        let assert = hysteron(s.dir())
-            .args([
-                "fit",
-                "--model",
-                "start.json",
-                "--data",
-                "data.csv",
-                "--output",
-                "o.json",
-                "--free",
-                "k",
-            ])
-            .args(args)
-            .assert()
-            .failure()
-            .code(1);
-        let err = String::from_utf8_lossy(&assert.get_output().stderr).into_owned();
-        assert!(
-            err.starts_with("error: ") && err.contains(expected),
-            "{args:?}: {err}"
+        let err = usage_error(
+            hysteron(s.dir())
+                .args([
+                    "fit",
+                    "--model",
+                    "start.json",
+                    "--data",
+                    "data.csv",
+                    "--output",
+                    "o.json",
+                    "--free",
+                    "k",
+                ])
+                .args(args),
+            expected,
         );
         assert!(!err.contains("18446744073709551615"), "{err}");
     }

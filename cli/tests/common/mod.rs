@@ -116,3 +116,15 @@ pub fn simulate_files(model: &Path, input: &Path, output: &Path) -> (i32, String
         String::from_utf8_lossy(&out.stderr).into_owned(),
     )
 }
+
+/// Runs `cmd` expecting an argument error: exit code 1 and stderr starting
+/// with `error: ` and containing `expected`. Returns stderr.
+pub fn usage_error(cmd: &mut Command, expected: &str) -> String {
+    let assert = cmd.assert().failure().code(1);
+    let err = String::from_utf8_lossy(&assert.get_output().stderr).into_owned();
+    assert!(
+        err.starts_with("error: ") && err.contains(expected),
+        "{cmd:?}: {err}"
+    );
+    err
+}
