@@ -116,6 +116,12 @@ struct Setup {
 
 const INPUT: &str = "t,x,label\n0,0,start\n0.1,0.4,\"a, b\"\n0.2,1.2,c\n0.3,-0.3,d\n0.4,0.9,e\n";
 
+impl InTempDir for Setup {
+    fn tmp(&self) -> &TempDir {
+        &self.tmp
+    }
+}
+
 impl Setup {
     fn new() -> Self {
         let tmp = TempDir::new().unwrap();
@@ -128,18 +134,6 @@ impl Setup {
         )
         .unwrap();
         Setup { tmp }
-    }
-
-    fn dir(&self) -> &Path {
-        self.tmp.path()
-    }
-
-    fn path(&self, name: &str) -> PathBuf {
-        self.tmp.path().join(name)
-    }
-
-    fn write(&self, name: &str, contents: &str) {
-        fs::write(self.path(name), contents).unwrap();
     }
 
     fn simulate(&self, args: &[&str]) -> Command {

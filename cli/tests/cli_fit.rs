@@ -10,7 +10,7 @@ use hysteron::models::experiments::{chirp, sine, DRIVE};
 use hysteron::models::{Spec, TransmissionParams};
 use hysteron::Operator;
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use tempfile::TempDir;
 
 mod common;
@@ -73,6 +73,12 @@ struct Setup {
     y: Vec<f64>,
 }
 
+impl InTempDir for Setup {
+    fn tmp(&self) -> &TempDir {
+        &self.tmp
+    }
+}
+
 impl Setup {
     /// `data.csv` (t,x,y: the true model's noise-free response), `in.csv`
     /// (t,x), `truth.json` and `start.json` (the free parameters off by
@@ -108,18 +114,6 @@ impl Setup {
         )
         .unwrap();
         Setup { tmp, x, y }
-    }
-
-    fn dir(&self) -> &Path {
-        self.tmp.path()
-    }
-
-    fn path(&self, name: &str) -> PathBuf {
-        self.tmp.path().join(name)
-    }
-
-    fn write(&self, name: &str, contents: &str) {
-        fs::write(self.path(name), contents).unwrap();
     }
 
     fn fit(&self, args: &[&str]) -> Command {

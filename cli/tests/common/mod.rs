@@ -4,6 +4,7 @@
 use assert_cmd::Command;
 use std::fs;
 use std::path::{Path, PathBuf};
+use tempfile::TempDir;
 
 /// The `hysteron` binary, run in `dir`.
 pub fn hysteron(dir: &Path) -> Command {
@@ -127,4 +128,25 @@ pub fn usage_error(cmd: &mut Command, expected: &str) -> String {
         "{cmd:?}: {err}"
     );
     err
+}
+
+/// A test setup that owns a temporary directory: shortcuts to its files.
+pub trait InTempDir {
+    /// The directory.
+    fn tmp(&self) -> &TempDir;
+
+    /// Its path (where the commands run).
+    fn dir(&self) -> &Path {
+        self.tmp().path()
+    }
+
+    /// The path of the file `name` in it.
+    fn path(&self, name: &str) -> PathBuf {
+        self.dir().join(name)
+    }
+
+    /// Writes `contents` to the file `name` in it.
+    fn write(&self, name: &str, contents: &str) {
+        fs::write(self.path(name), contents).unwrap();
+    }
 }
