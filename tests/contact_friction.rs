@@ -98,17 +98,6 @@ fn friction() -> impl Strategy<Value = AsymmetricFrictionParams<f64>> {
         })
 }
 
-/// Trials and commits `xs`: the outputs with their tangents.
-fn trials(op: &mut impl Operator<f64>, xs: &[f64]) -> Result<Vec<Trial<f64>>, TestCaseError> {
-    xs.iter()
-        .map(|&x| {
-            let t = ok(op.trial(x))?;
-            op.commit();
-            Ok(t)
-        })
-        .collect()
-}
-
 // ---------------------------------------------------------------------------
 // Asymmetric friction
 // ---------------------------------------------------------------------------

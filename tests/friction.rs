@@ -58,16 +58,6 @@ fn signal(amp: f64, max_legs: usize) -> impl Strategy<Value = Vec<f64>> {
     })
 }
 
-fn run_trials(op: &mut impl Operator<f64>, xs: &[f64]) -> Result<Vec<Trial<f64>>, TestCaseError> {
-    xs.iter()
-        .map(|&x| {
-            let t = ok(op.trial(x))?;
-            op.commit();
-            Ok(t)
-        })
-        .collect()
-}
-
 // ---------------------------------------------------------------------------
 // Maxwell-slip
 // ---------------------------------------------------------------------------
@@ -136,8 +126,8 @@ fn maxwell_slip_equals_a_parallel_of_elastoplastic_elements_bit_for_bit() {
                 parallel = parallel.plus(e.clone()).boxed();
             }
             let mut bank = ok(MaxwellSlip::from_params(p.clone()))?;
-            let a = run_trials(&mut bank, &xs)?;
-            let b = run_trials(&mut parallel, &xs)?;
+            let a = trials(&mut bank, &xs)?;
+            let b = trials(&mut parallel, &xs)?;
             for (i, (a, b)) in a.iter().zip(&b).enumerate() {
                 prop_assert_eq!(a.output.to_bits(), b.output.to_bits(), "output {}", i);
                 prop_assert_eq!(a.tangent.to_bits(), b.tangent.to_bits(), "tangent {}", i);

@@ -133,13 +133,21 @@ fn unit(fwd: &PiBankParams<f64>, inv: &PiBankParams<f64>, x: f64, y: f64) -> f64
 /// Tolerance in the units of [`unit`]: "a few ulps" times the condition.
 const ULPS: f64 = 4.0;
 
+/// The parameters of the bank that inverts `fwd` (its analytic inverse).
+fn analytic_inverse_params(fwd: &PiBank<f64>) -> PiBankParams<f64> {
+    fwd.analytic_inverse()
+        .unwrap()
+        .inverse_bank()
+        .parameters()
+        .clone()
+}
+
 #[test]
 fn inverse_parameters_match_the_closed_form() {
     // a0 = 1, r = (1, 2), w = (1, 2): W = (1, 2, 4);
     // r' = (1·1, 1·1 + 2·1) = (1, 3); w' = (−1/(2·1), −2/(4·2)).
     let fwd = PiBank::new(1.0, vec![2.0, 1.0], vec![2.0, 1.0]).unwrap();
-    let inv = fwd.analytic_inverse().unwrap();
-    let p = inv.inverse_bank().parameters().clone();
+    let p = analytic_inverse_params(&fwd);
     assert_eq!(p.a0, 1.0);
     assert_eq!(p.r, vec![1.0, 3.0]);
     assert_eq!(p.w, vec![-0.5, -0.25]);
@@ -150,12 +158,7 @@ fn inverse_parameters_match_the_closed_form() {
 
     // a0 merges with a zero threshold play, equal thresholds merge.
     let fwd = PiBank::new(-0.5, vec![0.0, 1.0, 1.0], vec![1.0, 0.5, 1.5]).unwrap();
-    let p = fwd
-        .analytic_inverse()
-        .unwrap()
-        .inverse_bank()
-        .parameters()
-        .clone();
+    let p = analytic_inverse_params(&fwd);
     // w_0 = 0.5, one play r = 1 with w = 2: W = (0.5, 2.5).
     assert_eq!(
         (p.a0, p.r.clone(), p.w.clone()),
@@ -174,12 +177,7 @@ fn inverse_parameters_match_the_closed_form() {
         y0: vec![0.5, 1.5],
     })
     .unwrap();
-    let p = fwd
-        .analytic_inverse()
-        .unwrap()
-        .inverse_bank()
-        .parameters()
-        .clone();
+    let p = analytic_inverse_params(&fwd);
     assert_eq!(p.y0, vec![4.0, 6.0]);
     // The first sample is inverted exactly.
     let mut f = fwd.clone();
@@ -310,42 +308,23 @@ fn non_invertible_banks_and_unreachable_states_are_typed_errors() {
         Err(Error::InvalidParameter { name, value, .. }) => (name, value),
         other => panic!("expected InvalidParameter, got {other:?}"),
     };
+    // the analytic inverse of `PiBank::new(a0, r, w)`
+    let bank_error =
+        |a0: f64, r: Vec<f64>, w: Vec<f64>| name(PiBank::new(a0, r, w).unwrap().analytic_inverse());
     // a0 ≤ 0 and no zero threshold play
-    assert_eq!(
-        name(
-            PiBank::new(0.0, vec![1.0], vec![1.0])
-                .unwrap()
-                .analytic_inverse()
-        ),
-        ("a0".into(), 0.0)
-    );
+    assert_eq!(bank_error(0.0, vec![1.0], vec![1.0]), ("a0".into(), 0.0));
     // a0 + w of the zero threshold play ≤ 0
     assert_eq!(
-        name(
-            PiBank::new(0.5, vec![0.0, 1.0], vec![-1.0, 1.0])
-                .unwrap()
-                .analytic_inverse()
-        ),
+        bank_error(0.5, vec![0.0, 1.0], vec![-1.0, 1.0]),
         ("a0".into(), -0.5)
     );
     // cumulative sum 1 + 1 − 3 = −1 at the third threshold (w[0], sorted last)
     assert_eq!(
-        name(
-            PiBank::new(1.0, vec![2.0, 1.0], vec![-3.0, 1.0])
-                .unwrap()
-                .analytic_inverse()
-        ),
+        bank_error(1.0, vec![2.0, 1.0], vec![-3.0, 1.0]),
         ("w[0]".into(), -1.0)
     );
     // exactly zero is not invertible either (a flat branch)
-    assert_eq!(
-        name(
-            PiBank::new(1.0, vec![1.0], vec![-1.0])
-                .unwrap()
-                .analytic_inverse()
-        ),
-        ("w[0]".into(), 0.0)
-    );
+    assert_eq!(bank_error(1.0, vec![1.0], vec![-1.0]), ("w[0]".into(), 0.0));
     let with_y0 = |r: Vec<f64>, y0: Vec<f64>| {
         let w = vec![1.0; r.len()];
         PiBank::from_params(PiBankParams { a0: 1.0, r, w, y0 })

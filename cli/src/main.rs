@@ -62,6 +62,34 @@ struct Cli {
     command: Command,
 }
 
+/// `--dt` or `--time-column`, the sample period of the rate-dependent nodes,
+/// as `simulate` and `fit` take it.
+#[derive(Debug, clap::Args)]
+struct SamplePeriodArgs {
+    /// Sample period (s, positive and finite) of every rate-dependent
+    /// node of the model (mass_spring_damper, viscous_damper),
+    /// overriding the spec's dt.
+    #[arg(
+        long,
+        value_name = "SECONDS",
+        conflicts_with = "time_column",
+        value_parser = args::positive_f64,
+        allow_hyphen_values = true
+    )]
+    dt: Option<f64>,
+    /// Take the sample period from this time column of the CSV file
+    /// (uniformly spaced up to 0.1 % of a step, the rounding of written
+    /// stamps), overriding the spec's dt.
+    #[arg(long, value_name = "NAME")]
+    time_column: Option<String>,
+}
+
+impl SamplePeriodArgs {
+    fn source(self) -> period::DtSource {
+        period::DtSource::from_options(self.dt, self.time_column)
+    }
+}
+
 #[derive(Debug, Subcommand)]
 enum Command {
     /// Run the experiments of Ruderman & Bertram (2015): one CSV per
@@ -95,22 +123,8 @@ enum Command {
         /// already has a column of that name).
         #[arg(long, value_name = "NAME", default_value = "y")]
         output_column: String,
-        /// Sample period (s, positive and finite) of every rate-dependent
-        /// node of the model (mass_spring_damper, viscous_damper),
-        /// overriding the spec's dt.
-        #[arg(
-            long,
-            value_name = "SECONDS",
-            conflicts_with = "time_column",
-            value_parser = args::positive_f64,
-            allow_hyphen_values = true
-        )]
-        dt: Option<f64>,
-        /// Take the sample period from this time column of the CSV file
-        /// (uniformly spaced up to 0.1 % of a step, the rounding of written
-        /// stamps), overriding the spec's dt.
-        #[arg(long, value_name = "NAME")]
-        time_column: Option<String>,
+        #[command(flatten)]
+        period: SamplePeriodArgs,
     },
     /// Fit parameters of a model spec (JSON) to one record or several
     /// (input and measured output columns of CSV files) with
@@ -177,22 +191,8 @@ enum Command {
         /// a terminal anyway).
         #[arg(long)]
         no_progress: bool,
-        /// Sample period (s, positive and finite) of every rate-dependent
-        /// node of the model (mass_spring_damper, viscous_damper),
-        /// overriding the spec's dt.
-        #[arg(
-            long,
-            value_name = "SECONDS",
-            conflicts_with = "time_column",
-            value_parser = args::positive_f64,
-            allow_hyphen_values = true
-        )]
-        dt: Option<f64>,
-        /// Take the sample period from this time column of the CSV file
-        /// (uniformly spaced up to 0.1 % of a step, the rounding of written
-        /// stamps), overriding the spec's dt.
-        #[arg(long, value_name = "NAME")]
-        time_column: Option<String>,
+        #[command(flatten)]
+        period: SamplePeriodArgs,
     },
     /// Score a model spec (JSON) against measured records: simulate it over
     /// each record's input column (a fresh model per record, from its
@@ -432,8 +432,7 @@ fn main() -> ExitCode {
             plot,
             patience,
             no_progress,
-            dt,
-            time_column,
+            period,
         } => fit_cmd::run(&fit_cmd::FitCmdOptions {
             model,
             data,
@@ -448,7 +447,7 @@ fn main() -> ExitCode {
             plot,
             patience: usize::try_from(patience).unwrap_or(usize::MAX),
             progress: !no_progress,
-            dt: period::DtSource::from_options(dt, time_column),
+            dt: period.source(),
         })
         .map(|report| {
             println!("{report}");
@@ -548,8 +547,7 @@ fn main() -> ExitCode {
             output,
             plot,
             output_column,
-            dt,
-            time_column,
+            period,
         } => simulate::run(&simulate::SimulateOptions {
             model,
             input,
@@ -557,7 +555,7 @@ fn main() -> ExitCode {
             output,
             plot,
             output_column,
-            dt: period::DtSource::from_options(dt, time_column),
+            dt: period.source(),
         })
         .map(|report| {
             println!("{report}");

@@ -379,15 +379,11 @@ fn bad_inputs_are_one_line_errors() {
         ),
     ];
     for (args, expected) in cases {
-        let assert = hysteron(tmp.path())
-            .args(["analyze", "--model", "play.json", "--amplitudes", "1"])
-            .args(args)
-            .assert()
-            .code(1);
-        let err = String::from_utf8_lossy(&assert.get_output().stderr).into_owned();
-        assert!(
-            err.starts_with("error: ") && err.contains(expected),
-            "{args:?}: {err}"
+        let err = usage_error(
+            hysteron(tmp.path())
+                .args(["analyze", "--model", "play.json", "--amplitudes", "1"])
+                .args(args),
+            expected,
         );
         assert!(!err.contains("unexpected argument"), "{err}");
         assert_eq!(snapshot(tmp.path()), before, "{args:?} wrote something");

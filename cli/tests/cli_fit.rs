@@ -10,7 +10,7 @@ use hysteron::models::experiments::{chirp, sine, DRIVE};
 use hysteron::models::{Spec, TransmissionParams};
 use hysteron::Operator;
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use tempfile::TempDir;
 
 mod common;
@@ -73,6 +73,12 @@ struct Setup {
     y: Vec<f64>,
 }
 
+impl InTempDir for Setup {
+    fn tmp(&self) -> &TempDir {
+        &self.tmp
+    }
+}
+
 impl Setup {
     /// `data.csv` (t,x,y: the true model's noise-free response), `in.csv`
     /// (t,x), `truth.json` and `start.json` (the free parameters off by
@@ -110,18 +116,6 @@ impl Setup {
         Setup { tmp, x, y }
     }
 
-    fn dir(&self) -> &Path {
-        self.tmp.path()
-    }
-
-    fn path(&self, name: &str) -> PathBuf {
-        self.tmp.path().join(name)
-    }
-
-    fn write(&self, name: &str, contents: &str) {
-        fs::write(self.path(name), contents).unwrap();
-    }
-
     fn fit(&self, args: &[&str]) -> Command {
         let mut cmd = hysteron(self.dir());
         cmd.arg("fit").args(args);
@@ -132,20 +126,7 @@ impl Setup {
     /// stderr containing every `expect`ed fragment, nothing on stdout, no
     /// file changed or created.
     fn fails_cmd(&self, args: &[&str], expect: &[&str]) -> String {
-        let before = snapshot(self.dir());
-        let assert = hysteron(self.dir()).args(args).assert().failure().code(1);
-        let out = assert.get_output();
-        let stderr = one_line_error(&out.stderr);
-        assert!(out.stdout.is_empty(), "stdout: {:?}", out.stdout);
-        for e in expect {
-            assert!(stderr.contains(e), "`{e}` not in: {stderr}");
-        }
-        assert_eq!(
-            snapshot(self.dir()),
-            before,
-            "files changed by a failed run"
-        );
-        stderr
+        fails_leaving_dir_unchanged(self.dir(), hysteron(self.dir()).args(args), expect)
     }
 
     /// `fit` with the standard arguments, `overrides` replacing or adding
@@ -635,8 +616,8 @@ fn fit_usage_errors_are_clap_errors() {
     let s = Setup::new();
     // Argument errors are bad input like any other: exit code 1 (not
     // clap's 2), clap's message naming the option. --free is required.
-    let assert = hysteron(s.dir())
-        .args([
+    usage_error(
+        hysteron(s.dir()).args([
             "fit",
             "--model",
             "start.json",
@@ -644,14 +625,8 @@ fn fit_usage_errors_are_clap_errors() {
             "data.csv",
             "--output",
             "o.json",
-        ])
-        .assert()
-        .failure()
-        .code(1);
-    let err = String::from_utf8_lossy(&assert.get_output().stderr).into_owned();
-    assert!(
-        err.starts_with("error: ") && err.contains("--free"),
-        "{err}"
+        ]),
+        "--free",
     );
     // --patience must be ≥ 1, said so (not `0 is not in 1..18446744073709551615`),
     // negative values and non-integers included; --dt must be positive
@@ -677,26 +652,21 @@ fn fit_usage_errors_are_clap_errors() {
             "'--dt <SECONDS>': must be positive and finite (got 1e999)",
         ),
     ] {
-        let assert = hysteron(s.dir())
-            .args([
-                "fit",
-                "--model",
-                "start.json",
-                "--data",
-                "data.csv",
-                "--output",
-                "o.json",
-                "--free",
-                "k",
-            ])
-            .args(args)
-            .assert()
-            .failure()
-            .code(1);
-        let err = String::from_utf8_lossy(&assert.get_output().stderr).into_owned();
-        assert!(
-            err.starts_with("error: ") && err.contains(expected),
-            "{args:?}: {err}"
+        let err = usage_error(
+            hysteron(s.dir())
+                .args([
+                    "fit",
+                    "--model",
+                    "start.json",
+                    "--data",
+                    "data.csv",
+                    "--output",
+                    "o.json",
+                    "--free",
+                    "k",
+                ])
+                .args(args),
+            expected,
         );
         assert!(!err.contains("18446744073709551615"), "{err}");
     }

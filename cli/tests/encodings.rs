@@ -2,13 +2,11 @@
 //! exports, some editors) is accepted in CSV and JSON files; bytes that are
 //! not UTF-8 are an error naming the file and the row, exit code 1.
 
-use assert_cmd::Command;
 use std::fs;
 use tempfile::TempDir;
 
-fn hysteron() -> Command {
-    Command::cargo_bin("hysteron").expect("the hysteron binary")
-}
+mod common;
+use common::simulate_files;
 
 /// Runs `simulate` on `spec` and `csv` (raw bytes); the exit code, the
 /// output file's text (empty if none) and stderr.
@@ -21,20 +19,11 @@ fn simulate(spec: &[u8], csv: &[u8]) -> (i32, String, String) {
     );
     fs::write(&model, spec).expect("write spec");
     fs::write(&input, csv).expect("write csv");
-    let out = hysteron()
-        .arg("simulate")
-        .arg("--model")
-        .arg(&model)
-        .arg("--input")
-        .arg(&input)
-        .arg("--output")
-        .arg(&output)
-        .output()
-        .expect("run");
+    let (code, stderr) = simulate_files(&model, &input, &output);
     (
-        out.status.code().unwrap_or(-1),
+        code,
         fs::read_to_string(&output).unwrap_or_default(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
+        stderr,
     )
 }
 

@@ -1,9 +1,11 @@
 //! An output that cannot be written (a directory, a read-only file
 //! system) is an error naming it, exit code 1, with nothing left behind.
 
-use assert_cmd::Command;
 use std::fs;
 use tempfile::TempDir;
+
+mod common;
+use common::simulate_files;
 
 /// `simulate` of a gain on a two-row CSV into `output`: exit code and
 /// stderr.
@@ -11,21 +13,7 @@ fn simulate_into(dir: &TempDir, output: &std::path::Path) -> (i32, String) {
     let (model, input) = (dir.path().join("m.json"), dir.path().join("in.csv"));
     fs::write(&model, r#"{"type": "gain", "k": 2.0}"#).expect("spec");
     fs::write(&input, "x\n1\n2\n").expect("csv");
-    let out = Command::cargo_bin("hysteron")
-        .expect("the hysteron binary")
-        .arg("simulate")
-        .arg("--model")
-        .arg(&model)
-        .arg("--input")
-        .arg(&input)
-        .arg("--output")
-        .arg(output)
-        .output()
-        .expect("run");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    simulate_files(&model, &input, output)
 }
 
 #[test]

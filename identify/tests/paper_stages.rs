@@ -1,9 +1,11 @@
 //! The paper's two identification stages on synthetic records.
+// The no-panic lints of the workspace Cargo.toml are for the library code.
+#![allow(clippy::unwrap_used, clippy::indexing_slicing)]
 
 use hysteron_identify::paper::{
     fit_bedstop, fit_spring, identify_paper, knots_from_points, last_increasing_branch,
-    pick_branch_points, pick_branch_points_smoothed, PaperError, PaperOptions, SpringFromPoints,
-    SpringShape,
+    pick_branch_points, pick_branch_points_smoothed, BedstopStage, PaperError, PaperOptions,
+    SpringFromPoints, SpringShape, SpringStage,
 };
 use hysteron_identify::FitOptions;
 use hysteron_models::experiments::{chirp, sine, DRIVE, FS};
@@ -65,6 +67,58 @@ fn perturbed_shape(p: &TransmissionParams) -> SpringShape {
 
 const SPRING_FREE: [&str; 5] = ["w", "beta", "gamma", "n", "h0"];
 
+/// Stage 1 on the record `(x, f)` through `points`, from the
+/// [`perturbed_shape`] with every shape parameter free.
+fn fit_spring_from_perturbed(
+    t: &TransmissionParams,
+    x: &[f64],
+    f: &[f64],
+    points: &[(f64, f64)],
+) -> SpringStage {
+    fit_spring(
+        x,
+        f,
+        points,
+        &perturbed_shape(t),
+        &SPRING_FREE,
+        &FitOptions::default(),
+    )
+    .unwrap()
+}
+
+/// The relative errors of the fitted spring shape's parameters.
+fn shape_errors(got: &SpringShape, want: &SpringShape) -> [(&'static str, f64); 5] {
+    [
+        ("w", rel(got.w, want.w)),
+        ("beta", rel(got.beta, want.beta)),
+        ("gamma", rel(got.gamma, want.gamma)),
+        ("n", rel(got.n, want.n)),
+        ("h0", rel(got.h0, want.h0)),
+    ]
+}
+
+/// Stage 2 on the record `(x, f)` from the truth with `f_c`, `k` and the
+/// backlash scaled by `scale` (in that order), those three free.
+fn fit_bedstop_scaled(
+    t: &TransmissionParams,
+    x: &[f64],
+    f: &[f64],
+    scale: [f64; 3],
+) -> BedstopStage {
+    let mut start = t.clone();
+    start.friction.f_c *= scale[0];
+    start.friction.k *= scale[1];
+    start.backlash *= scale[2];
+    fit_bedstop(
+        x,
+        f,
+        &start,
+        &["limits.b", "f_c", "k"],
+        &FitOptions::default(),
+    )
+    .unwrap()
+}
+
 fn noisy(clean: &[f64], fraction: f64, seed: u64) -> (Vec<f64>, f64) {
     let sd = fraction * (clean.iter().map(|v| v * v).sum::<f64>() / clean.len() as f64).sqrt();
     let mut rng = StdRng::seed_from_u64(seed);
@@ -119,26 +173,10 @@ fn stage1_on_the_spring_alone_recovers_the_shape() {
     let (x, f) = spring_record(&t);
     let points = points_at_true_knots(&t, &x);
     let started = Instant::now();
-    let s = fit_spring(
-        &x,
-        &f,
-        &points,
-        &perturbed_shape(&t),
-        &SPRING_FREE,
-        &FitOptions::default(),
-    )
-    .unwrap();
+    let s = fit_spring_from_perturbed(&t, &x, &f, &points);
     let r = &s.report;
     assert!(r.status.converged(), "{:?}", r.status);
-    let want = SpringShape::of(&t.spring);
-    let got = SpringShape::of(&s.spring);
-    let errs = [
-        ("w", rel(got.w, want.w)),
-        ("beta", rel(got.beta, want.beta)),
-        ("gamma", rel(got.gamma, want.gamma)),
-        ("n", rel(got.n, want.n)),
-        ("h0", rel(got.h0, want.h0)),
-    ];
+    let errs = shape_errors(&SpringShape::of(&s.spring), &SpringShape::of(&t.spring));
     let knots = s
         .spring
         .stiffness
@@ -167,25 +205,9 @@ fn stage1_with_evenly_picked_points_is_close() {
     let (x, f) = spring_record(&t);
     let points = pick_branch_points(&x, &f, 12).unwrap();
     let started = Instant::now();
-    let s = fit_spring(
-        &x,
-        &f,
-        &points,
-        &perturbed_shape(&t),
-        &SPRING_FREE,
-        &FitOptions::default(),
-    )
-    .unwrap();
+    let s = fit_spring_from_perturbed(&t, &x, &f, &points);
     let r = &s.report;
-    let want = SpringShape::of(&t.spring);
-    let got = SpringShape::of(&s.spring);
-    let errs = [
-        ("w", rel(got.w, want.w)),
-        ("beta", rel(got.beta, want.beta)),
-        ("gamma", rel(got.gamma, want.gamma)),
-        ("n", rel(got.n, want.n)),
-        ("h0", rel(got.h0, want.h0)),
-    ];
+    let errs = shape_errors(&SpringShape::of(&s.spring), &SpringShape::of(&t.spring));
     let map = &s.spring.stiffness;
     let s_err = (0..=150)
         .map(|i| {
@@ -210,19 +232,8 @@ fn stage2_on_the_chirp_recovers_the_bedstop() {
     let started = Instant::now();
     let f = t.build().unwrap().run(&x).unwrap();
     println!("chirp simulation: {:?}", started.elapsed());
-    let mut start = t.clone();
-    start.friction.f_c *= 1.3;
-    start.friction.k *= 0.7;
-    start.backlash *= 1.3;
     let started = Instant::now();
-    let s = fit_bedstop(
-        &x,
-        &f,
-        &start,
-        &["limits.b", "f_c", "k"],
-        &FitOptions::default(),
-    )
-    .unwrap();
+    let s = fit_bedstop_scaled(&t, &x, &f, [1.3, 0.7, 1.3]);
     let r = &s.report;
     let errs = [
         ("b", rel(s.params.backlash, t.backlash)),
@@ -248,19 +259,8 @@ fn stage2_noisy_truth_within_three_standard_errors() {
     let x = chirp(5.0, 0.1, 20.0, FS, |f| DRIVE.amplitude(f)).unwrap().x;
     let clean = t.build().unwrap().run(&x).unwrap();
     let (f, sd) = noisy(&clean, 0.01, 11);
-    let mut start = t.clone();
-    start.friction.f_c *= 0.7;
-    start.friction.k *= 1.3;
-    start.backlash *= 0.7;
     let started = Instant::now();
-    let s = fit_bedstop(
-        &x,
-        &f,
-        &start,
-        &["limits.b", "f_c", "k"],
-        &FitOptions::default(),
-    )
-    .unwrap();
+    let s = fit_bedstop_scaled(&t, &x, &f, [0.7, 1.3, 0.7]);
     let r = &s.report;
     assert!(r.status.converged(), "{:?}", r.status);
     let want = t.build().unwrap().params();
@@ -300,15 +300,7 @@ fn stage1_noisy_spring_alone_with_smoothed_points() {
     let (f, sd) = noisy(&clean, 0.01, 5);
     let started = Instant::now();
     let points = pick_branch_points_smoothed(&x, &f, 12, 25).unwrap();
-    let s = fit_spring(
-        &x,
-        &f,
-        &points,
-        &perturbed_shape(&t),
-        &SPRING_FREE,
-        &FitOptions::default(),
-    )
-    .unwrap();
+    let s = fit_spring_from_perturbed(&t, &x, &f, &points);
     let r = &s.report;
     assert!(r.status.converged(), "{:?}", r.status);
     let want = SpringShape::of(&t.spring);

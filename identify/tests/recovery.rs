@@ -1,4 +1,6 @@
 //! Recovery of known parameters from synthetic records.
+// The no-panic lints of the workspace Cargo.toml are for the library code.
+#![allow(clippy::unwrap_used, clippy::indexing_slicing)]
 
 use hysteron_identify::{fit, free_by_names, FitOptions, FitReport};
 use hysteron_operators::{BoucWen, Operator};

@@ -20,18 +20,8 @@
 
 #![warn(missing_docs)]
 // The library promises never to panic on user input: no unwrap/expect/panic
-// and no unchecked indexing outside tests (each exception is an `allow` with
-// the invariant that makes it safe).
-#![cfg_attr(
-    not(test),
-    warn(
-        clippy::unwrap_used,
-        clippy::expect_used,
-        clippy::indexing_slicing,
-        clippy::panic,
-        clippy::unreachable
-    )
-)]
+// and no unchecked indexing outside tests (the lints are in the workspace
+// Cargo.toml; each exception is an `allow` with the invariant that makes it safe).
 
 pub mod benchmark;
 pub mod describing;

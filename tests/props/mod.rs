@@ -33,6 +33,20 @@ pub fn ok<T>(r: hysteron::Result<T>) -> Result<T, TestCaseError> {
     r.map_err(|e| TestCaseError::fail(format!("library error: {e}")))
 }
 
+/// Trials and commits `xs`: the outputs with their tangents.
+pub fn trials(
+    op: &mut impl hysteron::Operator<f64>,
+    xs: &[f64],
+) -> Result<Vec<hysteron::Trial<f64>>, TestCaseError> {
+    xs.iter()
+        .map(|&x| {
+            let t = ok(op.trial(x))?;
+            op.commit();
+            Ok(t)
+        })
+        .collect()
+}
+
 /// Runs `property` on [`cases`]`(n)` random values; the property returns a
 /// measured error (in the unit named by `label`), the largest one is
 /// printed at the end and returned.

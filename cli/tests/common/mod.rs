@@ -4,6 +4,7 @@
 use assert_cmd::Command;
 use std::fs;
 use std::path::{Path, PathBuf};
+use tempfile::TempDir;
 
 /// The `hysteron` binary, run in `dir`.
 pub fn hysteron(dir: &Path) -> Command {
@@ -61,4 +62,91 @@ pub fn one_line_error(stderr: &[u8]) -> String {
         "not one line: {s:?}"
     );
     s.trim_end().to_string()
+}
+
+/// The header and the records of a CSV file, as text.
+pub fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let mut r = csv::Reader::from_path(path).expect("readable CSV");
+    let headers = r.headers().unwrap().iter().map(String::from).collect();
+    let rows = r
+        .records()
+        .map(|rec| rec.unwrap().iter().map(String::from).collect())
+        .collect();
+    (headers, rows)
+}
+
+/// The column `name` of a table read by [`read_csv`], as numbers.
+pub fn column(headers: &[String], rows: &[Vec<String>], name: &str) -> Vec<f64> {
+    let i = headers.iter().position(|h| h == name).expect("column");
+    rows.iter().map(|r| r[i].parse().unwrap()).collect()
+}
+
+/// Runs `cmd` in `dir` expecting failure: exit code 1, one line on stderr
+/// starting with `error:` and containing every `expect`ed fragment, nothing
+/// on stdout, all files in `dir` unchanged and no new file (in particular no
+/// output and no temporary file). Returns the error line.
+pub fn fails_leaving_dir_unchanged(dir: &Path, cmd: &mut Command, expect: &[&str]) -> String {
+    let before = snapshot(dir);
+    let assert = cmd.assert().failure().code(1);
+    let out = assert.get_output();
+    let stderr = one_line_error(&out.stderr);
+    assert!(out.stdout.is_empty(), "stdout: {:?}", out.stdout);
+    for e in expect {
+        assert!(stderr.contains(e), "`{e}` not in: {stderr}");
+    }
+    assert_eq!(snapshot(dir), before, "files changed by a failed run");
+    stderr
+}
+
+/// Runs `hysteron simulate --model MODEL --input INPUT --output OUTPUT`
+/// (anywhere: the paths say where): its exit code and stderr.
+pub fn simulate_files(model: &Path, input: &Path, output: &Path) -> (i32, String) {
+    let out = Command::cargo_bin("hysteron")
+        .expect("the hysteron binary")
+        .arg("simulate")
+        .arg("--model")
+        .arg(model)
+        .arg("--input")
+        .arg(input)
+        .arg("--output")
+        .arg(output)
+        .output()
+        .expect("run");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// Runs `cmd` expecting an argument error: exit code 1 and stderr starting
+/// with `error: ` and containing `expected`. Returns stderr.
+pub fn usage_error(cmd: &mut Command, expected: &str) -> String {
+    let assert = cmd.assert().failure().code(1);
+    let err = String::from_utf8_lossy(&assert.get_output().stderr).into_owned();
+    assert!(
+        err.starts_with("error: ") && err.contains(expected),
+        "{cmd:?}: {err}"
+    );
+    err
+}
+
+/// A test setup that owns a temporary directory: shortcuts to its files.
+pub trait InTempDir {
+    /// The directory.
+    fn tmp(&self) -> &TempDir;
+
+    /// Its path (where the commands run).
+    fn dir(&self) -> &Path {
+        self.tmp().path()
+    }
+
+    /// The path of the file `name` in it.
+    fn path(&self, name: &str) -> PathBuf {
+        self.dir().join(name)
+    }
+
+    /// Writes `contents` to the file `name` in it.
+    fn write(&self, name: &str, contents: &str) {
+        fs::write(self.path(name), contents).unwrap();
+    }
 }
