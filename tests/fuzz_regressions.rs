@@ -67,3 +67,16 @@ fn feedback_with_vertical_back_path_has_tangent_zero() {
         Err(e) => panic!("the fuzzer's case ran without an error: {e}"),
     }
 }
+
+/// `operator_contract`: a cascade whose first stage is vertical (the
+/// inverse of a backlash contact inside its gap, tangent +∞) and whose
+/// second stage is flat (a play inside its gap) reported ∞ · 0 = NaN as its
+/// tangent. The slope is not defined by the two tangents there; the flat
+/// stage's 0 is reported.
+#[test]
+fn cascade_of_vertical_into_flat_has_tangent_zero_not_nan() {
+    let mut op = example("backlash_contact").inverse().then(example("play"));
+    let t = op.trial(0.0).unwrap();
+    assert!(t.output.is_finite());
+    assert_eq!(t.tangent, 0.0, "tangent {}", t.tangent);
+}

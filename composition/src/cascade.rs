@@ -56,8 +56,11 @@ impl<T: Float, A: Child<T>, B: Child<T>> Operator<T> for Cascade<A, B> {
         self.pending = true;
         // Chain rule; where `first` is flat its output does not move, so
         // neither does the cascade's, even where `second` is vertical (an
-        // inverse of a flat operator: 0 · ∞ would be NaN).
-        let tangent = if a.tangent == T::zero() {
+        // inverse of a flat operator: 0 · ∞ would be NaN). Where `first` is
+        // vertical (its output jumps) and `second` is flat, the slope is
+        // not defined by the two tangents; the flat stage's 0 is reported
+        // (a hint for solvers, never NaN).
+        let tangent = if a.tangent == T::zero() || b.tangent == T::zero() {
             T::zero()
         } else {
             b.tangent * a.tangent
