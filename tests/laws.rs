@@ -1493,6 +1493,22 @@ fn law10_bouc_wen_inverse_near_zero_reproduction() {
     assert!(e1 <= 1e-12 && e2 <= 1e-12, "{e1:e} {e2:e}");
 }
 
+/// CI's case of `law10_inverse_of_bouc_wen` (n = 1, k = 0.5, w = 0.05):
+/// an input of 3e-4 back to 0, where the spring's output is 0 to rounding.
+/// It failed (a reported jump of 1.7e-15 at u = 2.6e-9) with a series
+/// solver that forced bisections after non-halving Newton steps; see
+/// `series_solver_cycles_at_the_stick_slip_kink` in `contact_friction.rs`.
+#[test]
+fn law10_bouc_wen_inverse_near_zero_ci_case() {
+    let bw = BoucWen::constant(0.5, 0.05, 2.85768174744632, 0.05, 0.05, 1.0).unwrap();
+    let xs: Vec<f64> = [0.00010584419514600915, 0.0, 0.0]
+        .iter()
+        .map(|x| 3.0 * x)
+        .collect();
+    let (e1, e2) = inverse_errors(bw, &xs).unwrap();
+    assert!(e1 <= 1e-12 && e2 <= 1e-12, "{e1:e} {e2:e}");
+}
+
 #[test]
 fn law10_inverse_of_bouc_wen() {
     let spring = (
