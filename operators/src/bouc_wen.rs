@@ -4,7 +4,7 @@ use crate::flow_table::{FlowTable, Hint};
 use crate::hysteretic_state::{Branch, Power, StateEquation};
 use crate::{
     check, check_input, check_lengths, check_output, declare_params, process_by_trials,
-    process_while_by_trials, Float, Leaf, Operator, Result, StiffnessMap, Trial,
+    process_while_by_trials, Float, Keep, Leaf, Operator, Result, StiffnessMap, Trial,
 };
 
 declare_params! {
@@ -567,12 +567,7 @@ impl<T: Float> Operator<T> for BoucWen<T> {
     /// committed; otherwise the default trial, `keep`, commit loop.
     // `n` is the shorter of the two lengths.
     #[allow(clippy::indexing_slicing)]
-    fn process_while(
-        &mut self,
-        zs: &[T],
-        ys: &mut [T],
-        keep: &mut dyn FnMut(usize, T) -> bool,
-    ) -> usize {
+    fn process_while(&mut self, zs: &[T], ys: &mut [T], keep: &mut Keep<'_, T>) -> usize {
         self.pending = None;
         if !self.closed_form && self.table.is_none() {
             return process_while_by_trials(self, zs, ys, keep);

@@ -2,7 +2,9 @@
 //! from, and the generic driver [`Stepped`] that gives a leaf defined by a
 //! pure step function ([`StepLaw`]) the whole [`Operator`] protocol.
 
-use crate::{check_input, check_lengths, check_output, Float, Operator, ParamSet, Result, Trial};
+use crate::{
+    check_input, check_lengths, check_output, Float, Keep, Operator, ParamSet, Result, Trial,
+};
 use core::fmt::Debug;
 
 /// An elementary operator built from one declared parameter set.
@@ -251,12 +253,7 @@ impl<T: Float, L: StepLaw<T>> Operator<T> for Stepped<L, T> {
         self.law.run(&mut self.s, xs, ys)
     }
 
-    fn process_while(
-        &mut self,
-        xs: &[T],
-        ys: &mut [T],
-        keep: &mut dyn FnMut(usize, T) -> bool,
-    ) -> usize {
+    fn process_while(&mut self, xs: &[T], ys: &mut [T], keep: &mut Keep<'_, T>) -> usize {
         self.pending = None;
         for (i, (&x, y)) in xs.iter().zip(ys.iter_mut()).enumerate() {
             match checked_step(&self.law, &self.s, x) {

@@ -56,8 +56,8 @@ pub use error::{Error, Result};
 pub use float::Float;
 pub use leaf::{checked_step, Leaf, StepLaw, Stepped};
 pub use operator::{
-    check_input, check_lengths, check_output, process_by_trials, process_while_by_trials, Operator,
-    Trial,
+    check_input, check_lengths, check_output, process_by_trials, process_while_by_trials, Keep,
+    Operator, Trial,
 };
 pub use params::{FieldInfo, FieldKind, ParamField, ParamSet};
 pub use stiffness::StiffnessMap;

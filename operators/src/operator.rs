@@ -113,12 +113,7 @@ pub trait Operator<T: Float>: DynClone + Debug + Send + Sync {
     /// assert_eq!((n, ys[0], ys[1]), (2, 0.5, 0.75));
     /// assert_eq!(play.trial(1.0).unwrap().output, 0.75); // the state after sample 1
     /// ```
-    fn process_while(
-        &mut self,
-        xs: &[T],
-        ys: &mut [T],
-        keep: &mut dyn FnMut(usize, T) -> bool,
-    ) -> usize {
+    fn process_while(&mut self, xs: &[T], ys: &mut [T], keep: &mut Keep<'_, T>) -> usize {
         process_while_by_trials(self, xs, ys, keep)
     }
 
@@ -197,13 +192,17 @@ pub fn process_by_trials<T: Float, O: Operator<T> + ?Sized>(
     Ok(())
 }
 
+/// The condition of [`Operator::process_while`]: called with the sample
+/// index and the trial output, it says whether to commit the sample.
+pub type Keep<'a, T> = dyn FnMut(usize, T) -> bool + 'a;
+
 /// The default [`Operator::process_while`]: `trial`, `keep`, `commit` per
 /// sample (for overrides that fall back to it).
 pub fn process_while_by_trials<T: Float, O: Operator<T> + ?Sized>(
     op: &mut O,
     xs: &[T],
     ys: &mut [T],
-    keep: &mut dyn FnMut(usize, T) -> bool,
+    keep: &mut Keep<'_, T>,
 ) -> usize {
     for (i, (x, y)) in xs.iter().zip(ys.iter_mut()).enumerate() {
         match op.trial(*x) {
@@ -235,12 +234,7 @@ impl<T: Float> Operator<T> for Box<dyn Operator<T>> {
     fn process(&mut self, xs: &[T], ys: &mut [T]) -> Result<()> {
         (**self).process(xs, ys)
     }
-    fn process_while(
-        &mut self,
-        xs: &[T],
-        ys: &mut [T],
-        keep: &mut dyn FnMut(usize, T) -> bool,
-    ) -> usize {
+    fn process_while(&mut self, xs: &[T], ys: &mut [T], keep: &mut Keep<'_, T>) -> usize {
         (**self).process_while(xs, ys, keep)
     }
     fn run(&mut self, xs: &[T]) -> Result<Vec<T>> {
