@@ -1182,7 +1182,7 @@ fn friction_specs_build_round_trip_and_report_errors() {
         ),
         (
             r#"{"type": "maxwell_slip", "k": [1, 2], "f_b": [1]}"#,
-            "maxwell_slip.f_b: k, f_b (and f0 if given) must have the same length (got 1)",
+            "maxwell_slip.f_b: must have one entry per element of k, as must f0 if given (got 1)",
         ),
         (
             r#"{"type": "dahl", "sigma": 3, "f_c": 1, "alpha": -1}"#,

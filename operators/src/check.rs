@@ -12,74 +12,60 @@ fn invalid<T: Float>(name: &str, value: T, reason: &'static str) -> Error {
     }
 }
 
-/// `value` must be finite.
-pub fn finite<T: Float>(name: &str, value: T) -> Result<()> {
-    if value.is_finite() {
+/// `Ok` where `holds`, else the error naming `name`, `value` and `reason`.
+fn require<T: Float>(holds: bool, name: &str, value: T, reason: &'static str) -> Result<()> {
+    if holds {
         Ok(())
     } else {
-        Err(invalid(name, value, "must be finite"))
+        Err(invalid(name, value, reason))
     }
+}
+
+/// `value` must be finite.
+pub fn finite<T: Float>(name: &str, value: T) -> Result<()> {
+    require(value.is_finite(), name, value, "must be finite")
 }
 
 /// `value` must be finite and `≥ 0`.
 pub fn non_negative<T: Float>(name: &str, value: T) -> Result<()> {
     finite(name, value)?;
-    if value >= T::zero() {
-        Ok(())
-    } else {
-        Err(invalid(name, value, "must be ≥ 0"))
-    }
+    require(value >= T::zero(), name, value, "must be ≥ 0")
 }
 
 /// `value` must be finite and `> 0`.
 pub fn positive<T: Float>(name: &str, value: T) -> Result<()> {
     finite(name, value)?;
-    if value > T::zero() {
-        Ok(())
-    } else {
-        Err(invalid(name, value, "must be > 0"))
-    }
+    require(value > T::zero(), name, value, "must be > 0")
 }
 
 /// `value` must be finite and `≤ 0`.
 pub fn non_positive<T: Float>(name: &str, value: T) -> Result<()> {
     finite(name, value)?;
-    if value <= T::zero() {
-        Ok(())
-    } else {
-        Err(invalid(name, value, "must be ≤ 0"))
-    }
+    require(value <= T::zero(), name, value, "must be ≤ 0")
 }
 
 /// `value` must be finite and `≥ 1`.
 pub fn at_least_one<T: Float>(name: &str, value: T) -> Result<()> {
     finite(name, value)?;
-    if value >= T::one() {
-        Ok(())
-    } else {
-        Err(invalid(name, value, "must be ≥ 1"))
-    }
+    require(value >= T::one(), name, value, "must be ≥ 1")
 }
 
 /// `value` must be finite and in `[0, 1]`.
 pub fn unit_interval<T: Float>(name: &str, value: T) -> Result<()> {
     finite(name, value)?;
-    if value >= T::zero() && value <= T::one() {
-        Ok(())
-    } else {
-        Err(invalid(name, value, "must lie in [0, 1]"))
-    }
+    require(
+        value >= T::zero() && value <= T::one(),
+        name,
+        value,
+        "must lie in [0, 1]",
+    )
 }
 
 /// `hi` must be strictly greater than `lo` (both finite).
 pub fn ordered<T: Float>(lo_name: &str, lo: T, hi_name: &str, hi: T) -> Result<()> {
     finite(lo_name, lo)?;
     finite(hi_name, hi)?;
-    if hi > lo {
-        Ok(())
-    } else {
-        Err(invalid(hi_name, hi, "must be greater than the lower limit"))
-    }
+    require(hi > lo, hi_name, hi, "must be greater than the lower limit")
 }
 
 /// A parameter slice must have exactly `expected` entries.
@@ -92,4 +78,18 @@ pub fn count<T>(expected: usize, p: &[T]) -> Result<()> {
             got: p.len(),
         })
     }
+}
+
+/// The lengths of a bank of elements: `k` has at least one entry, the
+/// other per-element parameter `(name, len)` as many, and `f0` none or as
+/// many (the error names `k` or `name`).
+pub fn element_lengths(k: usize, (name, len): (&str, usize), f0: usize) -> Result<()> {
+    require(k > 0, "k", 0.0, "needs at least one element")?;
+    let same = len == k && (f0 == 0 || f0 == k);
+    require(
+        same,
+        name,
+        len as f64,
+        "must have one entry per element of k, as must f0 if given",
+    )
 }

@@ -2,7 +2,7 @@
 //! solved exactly per sample.
 
 use crate::{
-    check, check_input, check_lengths, check_output, declare_params, Error, Float, Operator,
+    check, check_input, check_lengths, check_output, declare_params, Float, Operator,
     Result, Trial,
 };
 
@@ -48,21 +48,7 @@ impl<T: Float> GmsParams<T> {
     /// At least one element; `k`, `alpha` (and `f0` if given) of one
     /// length; `dt > 0`.
     fn shape(&self) -> Result<()> {
-        let n = self.k.len();
-        if n == 0 {
-            return Err(Error::InvalidParameter {
-                name: "k".into(),
-                value: 0.0,
-                reason: "a GMS model needs at least one element",
-            });
-        }
-        if self.alpha.len() != n || !(self.f0.is_empty() || self.f0.len() == n) {
-            return Err(Error::InvalidParameter {
-                name: "alpha".into(),
-                value: self.alpha.len() as f64,
-                reason: "k, alpha (and f0 if given) must have the same length",
-            });
-        }
+        check::element_lengths(self.k.len(), ("alpha", self.alpha.len()), self.f0.len())?;
         check::positive("dt", self.dt)
     }
 }
@@ -300,6 +286,7 @@ crate::impl_leaf!(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Error;
 
     fn params() -> GmsParams<f64> {
         GmsParams {

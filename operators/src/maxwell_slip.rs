@@ -2,7 +2,7 @@
 //! elastoplastic elements.
 
 use crate::{
-    check_input, check_lengths, check_output, declare_params, stop_step, Error, Float, Operator,
+    check, check_input, check_lengths, check_output, declare_params, stop_step, Error, Float, Operator,
     Result, Trial,
 };
 
@@ -28,21 +28,7 @@ impl<T: Float> MaxwellSlipParams<T> {
     /// length; the element thresholds `F_i/k_i` finite and non-zero and
     /// `f0_i/k_i` finite.
     fn shape(&self) -> Result<()> {
-        let n = self.k.len();
-        if n == 0 {
-            return Err(Error::InvalidParameter {
-                name: "k".into(),
-                value: 0.0,
-                reason: "a Maxwell-slip model needs at least one element",
-            });
-        }
-        if self.f_b.len() != n || !(self.f0.is_empty() || self.f0.len() == n) {
-            return Err(Error::InvalidParameter {
-                name: "f_b".into(),
-                value: self.f_b.len() as f64,
-                reason: "k, f_b (and f0 if given) must have the same length",
-            });
-        }
+        check::element_lengths(self.k.len(), ("f_b", self.f_b.len()), self.f0.len())?;
         for (i, (&f, &k)) in self.f_b.iter().zip(&self.k).enumerate() {
             let r = f / k;
             if !r.is_finite() || r == T::zero() {
