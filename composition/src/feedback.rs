@@ -68,21 +68,8 @@ impl<T: Float, A: Child<T>, B: Child<T>> Operator<T> for Feedback<T, A, B> {
             tangents = (a.tangent, b.tangent);
             Ok((y - a.output, T::one() + a.tangent * b.tangent))
         };
-        let scale = x.abs().max(self.y.abs());
-        let step = (x - self.x).abs();
-        let y = solve(
-            "feedback",
-            residual,
-            Start {
-                x0: self.y,
-                step,
-                hint: None,
-                bounds: None,
-                scale,
-            },
-            &self.opts,
-        )?
-        .value();
+        let start = Start::at_committed(self.y, self.x, x);
+        let y = solve("feedback", residual, start, &self.opts)?.value();
         let (ta, tb) = tangents;
         let loop_gain = T::one() + ta * tb;
         let tangent = if ta.is_infinite() {

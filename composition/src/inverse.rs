@@ -1,6 +1,6 @@
 //! Numerical inverse of a monotone operator.
 
-use crate::pair::prefixed;
+use crate::pair::inner_methods;
 use crate::solve::{solve, SolverOptions, Start};
 use crate::Child;
 use hysteron_operators::{check_input, Error, Float, Operator, Result, Trial};
@@ -133,22 +133,9 @@ impl<T: Float, A: Child<T>> Operator<T> for Inverse<T, A> {
             out = a.output;
             Ok((a.output - x, a.tangent))
         };
-        let scale = x.abs().max(self.u.abs());
-        let step = (x - self.x).abs();
-        let u = solve(
-            "inverse",
-            residual,
-            Start {
-                x0: self.u,
-                step,
-                hint: None,
-                bounds: None,
-                scale,
-            },
-            &self.opts,
-        )?
-        .value();
-        self.check_jump(x, u, out, slope, scale)?;
+        let start = Start::at_committed(self.u, self.x, x);
+        let u = solve("inverse", residual, start, &self.opts)?.value();
+        self.check_jump(x, u, out, slope, start.scale)?;
         self.pending = Some((x, u));
         Ok(Trial {
             output: u,
@@ -175,29 +162,5 @@ impl<T: Float, A: Child<T>> Operator<T> for Inverse<T, A> {
         self.inner.set_sample_period(dt)
     }
 
-    fn n_params(&self) -> usize {
-        self.inner.n_params()
-    }
-
-    fn params_into(&self, out: &mut Vec<T>) {
-        self.inner.params_into(out);
-    }
-
-    fn param_domains(&self) -> Vec<hysteron_operators::Domain> {
-        self.inner.param_domains()
-    }
-
-    fn param_names(&self) -> Vec<String> {
-        prefixed("inner", &self.inner).collect()
-    }
-
-    fn set_params(&mut self, p: &[T]) -> Result<()> {
-        let mut inner = self.inner.clone();
-        inner
-            .set_params(p)
-            .map_err(|e| e.in_path(&format!("inner.{}", self.inner.name())))?;
-        self.inner = inner;
-        self.reset();
-        Ok(())
-    }
+    inner_methods!();
 }

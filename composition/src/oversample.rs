@@ -1,8 +1,8 @@
 //! Oversampling: an operator run at an integer multiple of the data rate.
 
-use crate::pair::prefixed;
+use crate::pair::inner_methods;
 use crate::Child;
-use hysteron_operators::{check_input, Domain, Error, Float, Operator, Result, Trial};
+use hysteron_operators::{check_input, Error, Float, Operator, Result, Trial};
 
 /// Runs `inner` at `q` times the data rate (`Oversample::new(inner, q)`):
 /// every data sample is `q` sub-steps of `inner`, the input interpolated
@@ -153,31 +153,7 @@ impl<T: Float, A: Child<T>> Operator<T> for Oversample<T, A> {
         self.inner.set_sample_period(dt / T::lit(self.q as f64))
     }
 
-    fn n_params(&self) -> usize {
-        self.inner.n_params()
-    }
-
-    fn params_into(&self, out: &mut Vec<T>) {
-        self.inner.params_into(out);
-    }
-
-    fn param_domains(&self) -> Vec<Domain> {
-        self.inner.param_domains()
-    }
-
-    fn param_names(&self) -> Vec<String> {
-        prefixed("inner", &self.inner).collect()
-    }
-
-    fn set_params(&mut self, p: &[T]) -> Result<()> {
-        let mut inner = self.inner.clone();
-        inner
-            .set_params(p)
-            .map_err(|e| e.in_path(&format!("inner.{}", self.inner.name())))?;
-        self.inner = inner;
-        self.reset();
-        Ok(())
-    }
+    inner_methods!();
 }
 
 #[cfg(test)]

@@ -1,4 +1,5 @@
-//! Parameter plumbing shared by the two-child combinators.
+//! Parameter plumbing shared by the combinators: those over two children
+//! and those wrapping one `inner` child.
 
 use hysteron_operators::{check, Domain, Float, Operator, Result};
 
@@ -22,6 +23,16 @@ where
         .map_err(|e| e.in_path(&format!("{}.{}", names[1], b.name())))?;
     *a = next_a;
     *b = next_b;
+    Ok(())
+}
+
+/// Sets the parameters of a wrapped child atomically (validated on a copy
+/// first); errors are named `inner.kind.…`.
+pub(crate) fn set_inner<T: Float, O: Operator<T> + Clone>(inner: &mut O, p: &[T]) -> Result<()> {
+    let mut next = inner.clone();
+    next.set_params(p)
+        .map_err(|e| e.in_path(&format!("inner.{}", inner.name())))?;
+    *inner = next;
     Ok(())
 }
 
@@ -101,3 +112,34 @@ macro_rules! pair_methods {
     };
 }
 pub(crate) use pair_methods;
+
+/// The parameter methods of a combinator that wraps one child in the field
+/// `inner` and has no parameters of its own: they are the child's, named
+/// `inner.kind.…`, set atomically, and `set_params` ends with
+/// `self.reset()`. Use inside `impl Operator<T> for …`.
+macro_rules! inner_methods {
+    () => {
+        fn n_params(&self) -> usize {
+            self.inner.n_params()
+        }
+
+        fn params_into(&self, out: &mut Vec<T>) {
+            self.inner.params_into(out);
+        }
+
+        fn param_domains(&self) -> Vec<hysteron_operators::Domain> {
+            self.inner.param_domains()
+        }
+
+        fn param_names(&self) -> Vec<String> {
+            $crate::pair::prefixed("inner", &self.inner).collect()
+        }
+
+        fn set_params(&mut self, p: &[T]) -> Result<()> {
+            $crate::pair::set_inner(&mut self.inner, p)?;
+            self.reset();
+            Ok(())
+        }
+    };
+}
+pub(crate) use inner_methods;

@@ -112,11 +112,21 @@ fn output(a0: f64, x: f64, bank_sum: f64) -> Result<f64, Error> {
     }
 }
 
+/// The batch loop around a vector kernel: per sample it checks the input,
+/// lets `chunks(x, r, w, prev, next)` update the plays of the full chunks
+/// of eight (slices of a length that is a multiple of 8) and return the
+/// eight partial sums, adds the scalar tail, checks the output and swaps
+/// the two play buffers.
 // Hot loop, kept free of checks: `n` is the least of the four lengths and
-// `m = n / 8 * 8 ≤ n`, so `[..n]` and `[m..]` are in range.
+// `m = n / 8 * 8 ≤ n`, so `[..n]`, `[..m]` and `[m..]` are in range.
 #[allow(clippy::indexing_slicing)]
-#[target_feature(enable = "avx2")]
-unsafe fn process_avx2(bank: &mut Bank<'_>, xs: &[f64], ys: &mut [f64]) -> (usize, Option<Error>) {
+#[inline(always)]
+fn drive(
+    bank: &mut Bank<'_>,
+    xs: &[f64],
+    ys: &mut [f64],
+    mut chunks: impl FnMut(f64, &[f64], &[f64], &[f64], &mut [f64]) -> [f64; 8],
+) -> (usize, Option<Error>) {
     let n = bank
         .r
         .len()
@@ -130,12 +140,28 @@ unsafe fn process_avx2(bank: &mut Bank<'_>, xs: &[f64], ys: &mut [f64]) -> (usiz
         if !x.is_finite() {
             return (i, Some(Error::NonFiniteInput { value: x }));
         }
+        let acc = chunks(x, &r[..m], &w[..m], &prev[..m], &mut next[..m]);
+        let t = tail(&r[m..], &w[m..], &prev[m..], &mut next[m..], x);
+        match output(bank.a0, x, total(&acc, t)) {
+            Ok(y) => *out = y,
+            Err(e) => return (i, Some(e)),
+        }
+        core::mem::swap(&mut prev, &mut next);
+    }
+    (xs.len().min(ys.len()), None)
+}
+
+/// Four plays per instruction, two registers per chunk of eight.
+#[target_feature(enable = "avx2")]
+unsafe fn process_avx2(bank: &mut Bank<'_>, xs: &[f64], ys: &mut [f64]) -> (usize, Option<Error>) {
+    drive(bank, xs, ys, |x, r, w, prev, next| {
+        let m = r.len().min(w.len()).min(prev.len()).min(next.len()) / 8 * 8;
         let mut acc = [0.0; 8];
         let xv = _mm256_set1_pd(x);
         let (mut acc0, mut acc1) = (_mm256_setzero_pd(), _mm256_setzero_pd());
         let mut j = 0;
         while j < m {
-            // SAFETY: j + 8 ≤ m ≤ n, the length of every slice.
+            // SAFETY: j + 8 ≤ m, the least length of the four slices.
             unsafe {
                 let (rp, wp) = (r.as_ptr().add(j), w.as_ptr().add(j));
                 let (yp, np) = (prev.as_ptr().add(j), next.as_mut_ptr().add(j));
@@ -161,44 +187,25 @@ unsafe fn process_avx2(bank: &mut Bank<'_>, xs: &[f64], ys: &mut [f64]) -> (usiz
             _mm256_storeu_pd(acc.as_mut_ptr(), acc0);
             _mm256_storeu_pd(acc.as_mut_ptr().add(4), acc1);
         }
-        let t = tail(&r[m..], &w[m..], &prev[m..], &mut next[m..], x);
-        match output(bank.a0, x, total(&acc, t)) {
-            Ok(y) => *out = y,
-            Err(e) => return (i, Some(e)),
-        }
-        core::mem::swap(&mut prev, &mut next);
-    }
-    (xs.len().min(ys.len()), None)
+        acc
+    })
 }
 
-// Hot loop, kept free of checks: `n` is the least of the four lengths and
-// `m = n / 8 * 8 ≤ n`, so `[..n]` and `[m..]` are in range.
-#[allow(clippy::indexing_slicing)]
+/// Eight plays per instruction, one register per chunk of eight.
 #[target_feature(enable = "avx512f")]
 unsafe fn process_avx512(
     bank: &mut Bank<'_>,
     xs: &[f64],
     ys: &mut [f64],
 ) -> (usize, Option<Error>) {
-    let n = bank
-        .r
-        .len()
-        .min(bank.w.len())
-        .min(bank.y.len())
-        .min(bank.pending.len());
-    let m = n / 8 * 8;
-    let (r, w) = (&bank.r[..n], &bank.w[..n]);
-    let (mut prev, mut next) = (&mut bank.y[..n], &mut bank.pending[..n]);
-    for (i, (&x, out)) in xs.iter().zip(ys.iter_mut()).enumerate() {
-        if !x.is_finite() {
-            return (i, Some(Error::NonFiniteInput { value: x }));
-        }
+    drive(bank, xs, ys, |x, r, w, prev, next| {
+        let m = r.len().min(w.len()).min(prev.len()).min(next.len()) / 8 * 8;
         let mut acc = [0.0; 8];
         let xv = _mm512_set1_pd(x);
         let mut acc0 = _mm512_setzero_pd();
         let mut j = 0;
         while j < m {
-            // SAFETY: j + 8 ≤ m ≤ n, the length of every slice.
+            // SAFETY: j + 8 ≤ m, the least length of the four slices.
             unsafe {
                 let (rp, wp) = (r.as_ptr().add(j), w.as_ptr().add(j));
                 let (yp, np) = (prev.as_ptr().add(j), next.as_mut_ptr().add(j));
@@ -215,12 +222,6 @@ unsafe fn process_avx512(
         }
         // SAFETY: `acc` holds 8 values.
         unsafe { _mm512_storeu_pd(acc.as_mut_ptr(), acc0) };
-        let t = tail(&r[m..], &w[m..], &prev[m..], &mut next[m..], x);
-        match output(bank.a0, x, total(&acc, t)) {
-            Ok(y) => *out = y,
-            Err(e) => return (i, Some(e)),
-        }
-        core::mem::swap(&mut prev, &mut next);
-    }
-    (xs.len().min(ys.len()), None)
+        acc
+    })
 }

@@ -1,6 +1,6 @@
 //! Scaling an operator's output by a weight.
 
-use crate::pair::prefixed;
+use crate::pair::{prefixed, set_inner};
 use crate::Child;
 use hysteron_operators::{check, check_output, Error, Float, Operator, Result, Trial};
 
@@ -103,12 +103,8 @@ impl<T: Float, A: Child<T>> Operator<T> for Scaled<T, A> {
             got: 0,
         })?;
         check::finite("w", w)?;
-        let mut inner = self.inner.clone();
-        inner
-            .set_params(rest)
-            .map_err(|e| e.in_path(&format!("inner.{}", self.inner.name())))?;
+        set_inner(&mut self.inner, rest)?;
         self.w = w;
-        self.inner = inner;
         self.pending = false;
         Ok(())
     }

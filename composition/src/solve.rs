@@ -119,6 +119,21 @@ pub(crate) struct Start<T> {
     pub scale: T,
 }
 
+impl<T: Float> Start<T> {
+    /// A start at the committed solution `x0` of a loop whose input moved
+    /// from `x_prev` to `x`: the step is the input increment `|x − x_prev|`,
+    /// the scale `max(|x|, |x0|)`; no hint and no bounds.
+    pub(crate) fn at_committed(x0: T, x_prev: T, x: T) -> Self {
+        Start {
+            x0,
+            step: (x - x_prev).abs(),
+            hint: None,
+            bounds: None,
+            scale: x.abs().max(x0.abs()),
+        }
+    }
+}
+
 /// Solves `f(x) = 0` from `start`.
 ///
 /// On success the last evaluation of `f` was at the returned point.
