@@ -26,10 +26,11 @@
 //! [`LoopEnergy::area`]: crate::models::energy::LoopEnergy::area
 //! [`LoopEnergy::work`]: crate::models::energy::LoopEnergy::work
 
-use crate::csvio::{self, CsvIoError};
+use crate::csvio;
 use crate::model_file::ModelFileError;
 use crate::models::describing::{AnalysisError, DescribingFunction, SineOptions, SteadyCycle};
 use crate::models::Spec;
+use crate::output::OutputError;
 use std::fmt;
 use std::path::PathBuf;
 
@@ -69,9 +70,9 @@ pub enum AnalyzeError {
     /// no steady state).
     #[error("model `{}`: {}", .0.display(), .1)]
     Analysis(PathBuf, AnalysisError),
-    /// Writing the output failed.
-    #[error("output {0}")]
-    Write(CsvIoError),
+    /// Writing an output or drawing a figure failed.
+    #[error(transparent)]
+    Output(#[from] OutputError),
 }
 
 /// One row of the table.
@@ -196,7 +197,7 @@ pub fn run(opts: &AnalyzeOptions) -> Result<AnalyzeReport, AnalyzeError> {
                 ("dissipated", &dissipated),
             ],
         )
-        .map_err(AnalyzeError::Write)?;
+        .map_err(OutputError::Write)?;
         files.push(out.clone());
     }
     Ok(AnalyzeReport {

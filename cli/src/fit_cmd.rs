@@ -36,6 +36,7 @@ use crate::fitting::{not_converged_note, Display};
 use crate::identify::{fit_records, free_by_names, FitError, FitOptions, FitReport, Record};
 use crate::model_file::ModelFileError;
 use crate::models::Spec;
+use crate::output::OutputError;
 use crate::period::DtSource;
 use crate::plot::{self, Panel, PlotError, Series, Style};
 use crate::Operator;
@@ -176,12 +177,9 @@ pub enum FitCmdError {
     /// fitted spec cannot be simulated over the record.
     #[error("fitted parameters of model `{}`: {}", .0.display(), .1)]
     Fitted(PathBuf, String),
-    /// Writing an output failed.
-    #[error("output {0}")]
-    Write(CsvIoError),
-    /// Drawing the figure failed.
-    #[error("plot `{}`: {}", .0.display(), .1)]
-    Plot(PathBuf, PlotError),
+    /// Writing an output or drawing a figure failed.
+    #[error(transparent)]
+    Output(#[from] OutputError),
 }
 
 /// What the fit job did: the library's report plus where.
@@ -485,20 +483,20 @@ pub fn run(opts: &FitCmdOptions) -> Result<FitCmdReport, FitCmdError> {
     let svg = match &opts.plot {
         Some(p) => Some(
             figure(opts, &input_name, &output_name, &loaded, &y_fit)
-                .map_err(|e| FitCmdError::Plot(p.clone(), e))?,
+                .map_err(|e| OutputError::Plot(p.clone(), e))?,
         ),
         None => None,
     };
 
     // Both destinations must be writable before either is written.
-    csvio::target_dir(&opts.output).map_err(FitCmdError::Write)?;
+    csvio::target_dir(&opts.output).map_err(OutputError::Write)?;
     if let Some(p) = &opts.plot {
-        csvio::target_dir(p).map_err(FitCmdError::Write)?;
+        csvio::target_dir(p).map_err(OutputError::Write)?;
     }
-    csvio::write_string_atomic(&opts.output, &(json + "\n")).map_err(FitCmdError::Write)?;
+    csvio::write_string_atomic(&opts.output, &(json + "\n")).map_err(OutputError::Write)?;
     let mut files = vec![opts.output.clone()];
     if let (Some(p), Some(svg)) = (&opts.plot, svg) {
-        csvio::write_string_atomic(p, &svg).map_err(FitCmdError::Write)?;
+        csvio::write_string_atomic(p, &svg).map_err(OutputError::Write)?;
         files.push(p.clone());
     }
     Ok(FitCmdReport {

@@ -32,6 +32,7 @@ use crate::identify::paper::{identify_paper, PaperError, PaperIdentification, Pa
 use crate::identify::report::fmt_g;
 use crate::models::{Spec, SpecError, TransmissionParams};
 use crate::operators::BoucWen;
+use crate::output::OutputError;
 use crate::plot::{self, Panel, PlotError, Series, Style};
 use crate::Operator;
 use std::fmt;
@@ -92,15 +93,9 @@ pub enum IdentifyPaperError {
     /// The identified parameters do not give a usable model.
     #[error("identified model: {0}")]
     Identified(String),
-    /// The figure directory could not be created.
-    #[error("cannot create figure directory `{}`: {}", .0.display(), csvio::one_line(&.1.to_string()))]
-    PlotDir(PathBuf, std::io::Error),
-    /// Writing an output failed.
-    #[error("output {0}")]
-    Write(CsvIoError),
-    /// Drawing a figure failed.
-    #[error("plot `{}`: {}", .0.display(), .1)]
-    Plot(PathBuf, PlotError),
+    /// Writing an output or drawing a figure failed.
+    #[error(transparent)]
+    Output(#[from] OutputError),
 }
 
 /// ` (loop `FILE`)` or ` (chirp `FILE`)` when `error` belongs to one
@@ -296,7 +291,7 @@ pub fn run(opts: &IdentifyPaperOptions) -> Result<IdentifyPaperReport, IdentifyP
 
     let mut svgs = Vec::new();
     for (which, path) in &figures {
-        let plot_err = |e| IdentifyPaperError::Plot(path.clone(), e);
+        let plot_err = |e| OutputError::Plot(path.clone(), e);
         let svg = if *which == "loop" {
             let spring_only = BoucWen::from_params(result.spring.spring.clone())
                 .and_then(|mut s| s.run(loop_x))
@@ -308,14 +303,14 @@ pub fn run(opts: &IdentifyPaperOptions) -> Result<IdentifyPaperReport, IdentifyP
         svgs.push((path.clone(), svg));
     }
 
-    csvio::target_dir(&opts.output).map_err(IdentifyPaperError::Write)?;
+    csvio::target_dir(&opts.output).map_err(OutputError::Write)?;
     if let Some(dir) = &opts.plot {
-        std::fs::create_dir_all(dir).map_err(|e| IdentifyPaperError::PlotDir(dir.clone(), e))?;
+        std::fs::create_dir_all(dir).map_err(|e| OutputError::PlotDir(dir.clone(), e))?;
     }
-    csvio::write_string_atomic(&opts.output, &(json + "\n")).map_err(IdentifyPaperError::Write)?;
+    csvio::write_string_atomic(&opts.output, &(json + "\n")).map_err(OutputError::Write)?;
     let mut files = vec![opts.output.clone()];
     for (path, svg) in svgs {
-        csvio::write_string_atomic(&path, &svg).map_err(IdentifyPaperError::Write)?;
+        csvio::write_string_atomic(&path, &svg).map_err(OutputError::Write)?;
         files.push(path);
     }
     Ok(IdentifyPaperReport {

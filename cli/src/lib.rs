@@ -2,8 +2,8 @@
 //!
 //! The `hysteron` program's commands as a library (the binary is
 //! `src/main.rs`): each command is a module with its options, its run
-//! function and its report; `csvio`, `plot`, `period` and `fitting` are
-//! what they share. The library facade `hysteron` depends on none of this
+//! function and its report; `csvio`, `plot`, `output`, `period` and
+//! `fitting` are what they share. The library facade `hysteron` depends on none of this
 //! (no clap, plotters, indicatif or csv).
 
 pub use hysteron::{composition, identify, models, operators};
@@ -18,6 +18,7 @@ pub mod fit_cmd;
 pub mod fitting;
 pub mod identify_paper;
 pub mod model_file;
+pub mod output;
 pub mod paper;
 pub mod period;
 pub mod plot;

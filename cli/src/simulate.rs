@@ -21,7 +21,8 @@
 use crate::csvio::{self, CsvIoError};
 use crate::model_file::ModelFileError;
 use crate::models::Spec;
-use crate::plot::{self, PlotError};
+use crate::output::OutputError;
+use crate::plot;
 use crate::Operator;
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -74,12 +75,9 @@ pub enum SimulateError {
     /// The operator failed at a sample.
     #[error("model `{}` failed{}", .0.model.display(), .0.location())]
     Operator(Box<csvio::SampleFailure>),
-    /// Writing the output failed.
-    #[error("output {0}")]
-    Write(CsvIoError),
-    /// Drawing the figure failed.
-    #[error("plot `{}`: {}", .0.display(), .1)]
-    Plot(PathBuf, PlotError),
+    /// Writing an output or drawing a figure failed.
+    #[error(transparent)]
+    Output(#[from] OutputError),
 }
 
 /// What the simulate job did.
@@ -141,21 +139,22 @@ pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
     }
 
     // Both destinations must be writable before either is written.
-    csvio::target_dir(&opts.output).map_err(SimulateError::Write)?;
+    csvio::target_dir(&opts.output).map_err(OutputError::Write)?;
     if let Some(p) = &opts.plot {
-        csvio::target_dir(p).map_err(SimulateError::Write)?;
+        csvio::target_dir(p).map_err(OutputError::Write)?;
     }
 
     let mut points = opts.plot.as_ref().map(|_| plot::PointStore::default());
     let mut samples = 0;
     let mut svg = None;
     let write_err = |e: csv::Error| {
-        SimulateError::Write(CsvIoError::Io {
+        SimulateError::from(OutputError::Write(CsvIoError::Io {
             path: opts.output.clone(),
             source: csv_to_io(e),
-        })
+        }))
     };
-    csvio::write_atomic_with(&opts.output, SimulateError::Write, |w| {
+    let output_err = |e| SimulateError::from(OutputError::Write(e));
+    csvio::write_atomic_with(&opts.output, output_err, |w| {
         let mut out = csv::Writer::from_writer(w);
         out.write_record(reader.headers().iter().chain([out_name]))
             .map_err(write_err)?;
@@ -217,11 +216,11 @@ pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
             drop(points);
             svg = Some(
                 plot::render(&[panel], 1, 1, (760, 560))
-                    .map_err(|e| SimulateError::Plot(p.clone(), e))?,
+                    .map_err(|e| OutputError::Plot(p.clone(), e))?,
             );
         }
         out.flush().map_err(|source| {
-            SimulateError::Write(CsvIoError::Io {
+            output_err(CsvIoError::Io {
                 path: opts.output.clone(),
                 source,
             })
@@ -229,7 +228,7 @@ pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
     })?;
     let mut files = vec![opts.output.clone()];
     if let (Some(p), Some(svg)) = (&opts.plot, svg) {
-        csvio::write_string_atomic(p, &svg).map_err(SimulateError::Write)?;
+        csvio::write_string_atomic(p, &svg).map_err(OutputError::Write)?;
         files.push(p.clone());
     }
     Ok(SimulateReport {

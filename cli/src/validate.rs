@@ -26,6 +26,7 @@ use crate::csvio::{self, CsvIoError};
 use crate::identify::metrics::{self, ErrorFigures, Lowpass, MetricsError};
 use crate::model_file::ModelFileError;
 use crate::models::Spec;
+use crate::output::OutputError;
 use crate::period::DtSource;
 use crate::plot::{self, Panel, PlotError, Series, Style};
 use crate::Operator;
@@ -183,15 +184,9 @@ pub enum ValidateError {
         /// The figure both would write.
         svg: PathBuf,
     },
-    /// The figure directory could not be created.
-    #[error("cannot create figure directory `{}`: {}", .0.display(), csvio::one_line(&.1.to_string()))]
-    PlotDir(PathBuf, std::io::Error),
-    /// Writing an output failed.
-    #[error("output {0}")]
-    Write(CsvIoError),
-    /// Drawing a figure failed.
-    #[error("plot `{}`: {}", .0.display(), .1)]
-    Plot(PathBuf, PlotError),
+    /// Writing an output or drawing a figure failed.
+    #[error(transparent)]
+    Output(#[from] OutputError),
 }
 
 /// One record's row of the table.
@@ -468,7 +463,7 @@ pub fn run(opts: &ValidateOptions) -> Result<ValidateReport, ValidateError> {
     // Figures are drawn in memory before anything is written.
     let mut figures = Vec::new();
     for (s, svg) in scored.iter().zip(&svgs) {
-        let text = figure(opts, s, &columns).map_err(|e| ValidateError::Plot(svg.clone(), e))?;
+        let text = figure(opts, s, &columns).map_err(|e| OutputError::Plot(svg.clone(), e))?;
         figures.push((svg.clone(), text));
     }
 
@@ -484,19 +479,19 @@ pub fn run(opts: &ValidateOptions) -> Result<ValidateReport, ValidateError> {
 
     let csv_text = report
         .to_csv()
-        .map_err(|e| ValidateError::Write(csv_error(opts.csv.as_deref(), e)))?;
+        .map_err(|e| OutputError::Write(csv_error(opts.csv.as_deref(), e)))?;
     if let Some(c) = &opts.csv {
-        csvio::target_dir(c).map_err(ValidateError::Write)?;
+        csvio::target_dir(c).map_err(OutputError::Write)?;
     }
     if let Some(dir) = &opts.plot {
-        std::fs::create_dir_all(dir).map_err(|e| ValidateError::PlotDir(dir.clone(), e))?;
+        std::fs::create_dir_all(dir).map_err(|e| OutputError::PlotDir(dir.clone(), e))?;
     }
     if let Some(c) = &opts.csv {
-        csvio::write_string_atomic(c, &csv_text).map_err(ValidateError::Write)?;
+        csvio::write_string_atomic(c, &csv_text).map_err(OutputError::Write)?;
         report.files.push(c.clone());
     }
     for (svg, text) in figures {
-        csvio::write_string_atomic(&svg, &text).map_err(ValidateError::Write)?;
+        csvio::write_string_atomic(&svg, &text).map_err(OutputError::Write)?;
         report.files.push(svg);
     }
     Ok(report)
