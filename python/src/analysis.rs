@@ -2,8 +2,9 @@
 
 use crate::errors::analysis_error;
 use crate::model::Model;
-use hysteron::models::describing::{self, SineOptions};
+use hysteron::models::describing::{self, AnalysisError, SineOptions};
 use hysteron::models::energy;
+use hysteron::Operator;
 use pyo3::prelude::*;
 
 /// The first-harmonic gain of a model driven by `x = A sin θ` in its
@@ -81,6 +82,16 @@ fn options(
     }
 }
 
+/// Runs `analysis` on a copy of `model`'s operator with the GIL released.
+fn analyse<R: Send>(
+    py: Python<'_>,
+    model: &Model,
+    analysis: impl FnOnce(&Box<dyn Operator<f64>>) -> Result<R, AnalysisError> + Send,
+) -> PyResult<R> {
+    let op = dyn_clone::clone_box(model.operator());
+    py.detach(move || analysis(&op)).map_err(analysis_error)
+}
+
 /// The describing function of `model` (from its initial state) at
 /// amplitude `amplitude`: the sine is run until its cycle is periodic to
 /// `steady_tol`, at most `settle_periods` periods.
@@ -96,10 +107,9 @@ pub fn describing_function(
     harmonics: usize,
 ) -> PyResult<DescribingFunction> {
     let opts = options(samples_per_period, settle_periods, steady_tol, harmonics);
-    let op = dyn_clone::clone_box(model.operator());
-    let n = py
-        .detach(move || describing::describing_function(&op, amplitude, &opts))
-        .map_err(analysis_error)?;
+    let n = analyse(py, model, |op| {
+        describing::describing_function(op, amplitude, &opts)
+    })?;
     Ok(DescribingFunction {
         amplitude: n.amplitude,
         re: n.re,
@@ -125,10 +135,7 @@ pub fn loop_energy(
     steady_tol: f64,
 ) -> PyResult<LoopEnergy> {
     let opts = options(samples_per_period, settle_periods, steady_tol, 1);
-    let op = dyn_clone::clone_box(model.operator());
-    let e = py
-        .detach(move || energy::loop_energy(&op, amplitude, &opts))
-        .map_err(analysis_error)?;
+    let e = analyse(py, model, |op| energy::loop_energy(op, amplitude, &opts))?;
     Ok(LoopEnergy {
         amplitude: e.amplitude,
         work: e.work,
