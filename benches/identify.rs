@@ -20,7 +20,8 @@
 //! Small sample sizes and short measurement times keep the whole run
 //! within a few minutes. Run with `cargo bench --bench identify`.
 
-use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use criterion::measurement::WallTime;
+use criterion::{criterion_group, criterion_main, BenchmarkGroup, Criterion, Throughput};
 use hysteron::identify::paper::{identify_paper, PaperOptions};
 use hysteron::identify::{fit, free_by_names, FitOptions};
 use hysteron::models::experiments::{chirp, sine, DRIVE};
@@ -46,6 +47,39 @@ fn decaying_sine(a: f64) -> Vec<f64> {
         .collect()
 }
 
+/// The `identify` group: 10 samples of `measure` seconds after a warm-up
+/// of `warm_up` seconds, throughput in `samples` per run.
+fn group(
+    c: &mut Criterion,
+    warm_up: f64,
+    measure: u64,
+    samples: usize,
+) -> BenchmarkGroup<'_, WallTime> {
+    let mut g = c.benchmark_group("identify");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_secs_f64(warm_up))
+        .measurement_time(Duration::from_secs(measure))
+        .throughput(Throughput::Elements(samples as u64));
+    g
+}
+
+/// Times `op` over the record `x` from its initial state.
+fn bench_eval(
+    g: &mut BenchmarkGroup<'_, WallTime>,
+    name: &str,
+    op: &mut impl Operator<f64>,
+    x: &[f64],
+) {
+    let mut y = vec![0.0; x.len()];
+    g.bench_function(name, |b| {
+        b.iter(|| {
+            op.reset();
+            op.process(black_box(x), &mut y).expect("process");
+            black_box(&mut y);
+        })
+    });
+}
+
 fn paper_model_eval(c: &mut Criterion) {
     let mut model = TransmissionParams::default()
         .build()
@@ -53,18 +87,8 @@ fn paper_model_eval(c: &mut Criterion) {
     let x = decaying_sine(1.5);
     let mut y = vec![0.0; N];
     model.process(&x, &mut y).expect("paper model runs");
-    let mut g = c.benchmark_group("identify");
-    g.sample_size(10)
-        .warm_up_time(Duration::from_millis(500))
-        .measurement_time(Duration::from_secs(3))
-        .throughput(Throughput::Elements(N as u64));
-    g.bench_function("paper_model_eval", |b| {
-        b.iter(|| {
-            model.reset();
-            model.process(black_box(&x), &mut y).expect("process");
-            black_box(&mut y);
-        })
-    });
+    let mut g = group(c, 0.5, 3, N);
+    bench_eval(&mut g, "paper_model_eval", &mut model, &x);
     g.finish();
 }
 
@@ -99,23 +123,8 @@ fn bouc_wen_fit(c: &mut Criterion) {
     // One untimed fit: check it recovers the truth and show its report.
     let f = fit(start.as_ref(), &x, &y, &free, &opts).expect("fit runs");
     let r = &f.report;
-    eprintln!(
-        "bouc_wen_fit_5: {} iterations, {} evaluations, {:.3} s, NRMSE {:.3e}, {:?}",
-        r.iterations,
-        r.evaluations,
-        r.wall_time.as_secs_f64(),
-        r.nrmse.unwrap_or(f64::NAN),
-        r.status
-    );
+    eprintln!("bouc_wen_fit_5 (true values {TRUE:?}):\n{r}");
     for (fp, t) in r.params.iter().zip(TRUE) {
-        eprintln!(
-            "  {:<16} start {:>8.4}  fitted {:>9.5}  true {:>6.3}  se {:.1e}",
-            fp.name,
-            fp.start,
-            fp.value,
-            t,
-            fp.std_error.unwrap_or(f64::NAN)
-        );
         assert!(
             (fp.value - t).abs() <= 0.05 * t.abs(),
             "{} not recovered",
@@ -123,11 +132,7 @@ fn bouc_wen_fit(c: &mut Criterion) {
         );
     }
 
-    let mut g = c.benchmark_group("identify");
-    g.sample_size(10)
-        .warm_up_time(Duration::from_millis(500))
-        .measurement_time(Duration::from_secs(10))
-        .throughput(Throughput::Elements(N as u64));
+    let mut g = group(c, 0.5, 10, N);
     g.bench_function("bouc_wen_fit_5", |b| {
         b.iter(|| {
             let f = fit(start.as_ref(), black_box(&x), black_box(&y), &free, &opts).expect("fit");
@@ -135,15 +140,7 @@ fn bouc_wen_fit(c: &mut Criterion) {
         })
     });
     g.measurement_time(Duration::from_secs(3));
-    let mut spring = truth.clone();
-    let mut out = vec![0.0; N];
-    g.bench_function("bouc_wen_eval", |b| {
-        b.iter(|| {
-            spring.reset();
-            spring.process(black_box(&x), &mut out).expect("process");
-            black_box(&mut out);
-        })
-    });
+    bench_eval(&mut g, "bouc_wen_eval", &mut truth.clone(), &x);
     g.finish();
 }
 
@@ -185,11 +182,7 @@ fn paper_two_stages(c: &mut Criterion) {
         r.bedstop.status,
     );
 
-    let mut g = c.benchmark_group("identify");
-    g.sample_size(10)
-        .warm_up_time(Duration::from_millis(100))
-        .measurement_time(Duration::from_secs(20))
-        .throughput(Throughput::Elements((loop_x.len() + chirp_x.len()) as u64));
+    let mut g = group(c, 0.1, 20, loop_x.len() + chirp_x.len());
     g.bench_function("paper_two_stages", |b| {
         b.iter(|| black_box(run().params.backlash))
     });

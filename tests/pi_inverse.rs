@@ -72,6 +72,14 @@ fn bank() -> impl Strategy<Value = PiBankParams<f64>> {
         })
 }
 
+/// A [`bank`] and a [`signal`] scaled by an amplitude from `amplitude`.
+fn bank_and_input(
+    amplitude: impl Strategy<Value = f64>,
+) -> impl Strategy<Value = (PiBankParams<f64>, Vec<f64>)> {
+    (bank(), signal(1.0), amplitude)
+        .prop_map(|(p, xs, amp)| (p, xs.iter().map(|x| x * amp).collect()))
+}
+
 /// The slopes `W_i = a0 + Σ_{r_j ≤ r_i} w_j` of the forward operator's
 /// branches, one per distinct threshold (plays with equal thresholds act as
 /// one, as the inverse merges them).
@@ -197,9 +205,8 @@ fn inverse_then_forward_and_forward_then_inverse_are_the_identity() {
     let max = measure(
         "pi_inverse: both compositions [units of ε (m+1) (S_y/W_min + S_x)]",
         512,
-        (bank(), signal(1.0), prop_oneof![Just(3.0), 0.01_f64..100.0]),
-        |(p, xs, amp)| {
-            let xs: Vec<f64> = xs.iter().map(|x| x * amp).collect();
+        bank_and_input(prop_oneof![Just(3.0), 0.01_f64..100.0]),
+        |(p, xs)| {
             let fwd = ok(PiBank::from_params(p.clone()))?;
             let inv = ok(fwd.analytic_inverse())?;
             let ip = inv.inverse_bank().parameters().clone();
@@ -264,9 +271,8 @@ fn agrees_with_the_numerical_inverse() {
     measure(
         "pi_inverse vs numerical Inverse [relative to max|u|]",
         256,
-        (bank(), signal(1.0), prop_oneof![Just(2.0), 0.1_f64..10.0]),
-        |(p, xs, amp)| {
-            let xs: Vec<f64> = xs.iter().map(|x| x * amp).collect();
+        bank_and_input(prop_oneof![Just(2.0), 0.1_f64..10.0]),
+        |(p, xs)| {
             let fwd = ok(PiBank::from_params(p.clone()))?;
             let analytic = ok(ok(fwd.analytic_inverse())?.run(&xs))?;
             let numeric = ok(fwd.clone().inverse().run(&xs))?;

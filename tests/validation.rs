@@ -79,20 +79,11 @@ fn invalid_parameters_name_the_field() {
         "w[0]",
     );
     names(Play::new(0.1).unwrap().scaled(f64::INFINITY), "w");
-    names(
-        Gain::new(1.0)
-            .unwrap()
-            .series(Gain::new(1.0).unwrap())
-            .with_limits(TravelLimits::Range { lo: 0.1, hi: 1.0 }),
-        "limits.lo",
-    );
-    names(
-        Gain::new(1.0)
-            .unwrap()
-            .series(Gain::new(1.0).unwrap())
-            .with_limits(TravelLimits::Gap { b: 0.0, r0: 0.0 }),
-        "limits.b",
-    );
+    let unit_series = || Gain::new(1.0).unwrap().series(Gain::new(1.0).unwrap());
+    let range = TravelLimits::Range { lo: 0.1, hi: 1.0 };
+    names(unit_series().with_limits(range), "limits.lo");
+    let gap = TravelLimits::Gap { b: 0.0, r0: 0.0 };
+    names(unit_series().with_limits(gap), "limits.b");
 }
 
 #[test]

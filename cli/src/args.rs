@@ -132,34 +132,25 @@ mod tests {
             let e = positive_f64(bad).unwrap_err().to_string();
             assert!(e.starts_with("must be positive and finite"), "{e}");
         }
-        assert_eq!(
-            positive_f64("abc").unwrap_err().to_string(),
-            "`abc` is not a number"
-        );
         assert_eq!(non_negative_f64("0"), Ok(0.0));
         assert!(non_negative_f64("-1e-9").is_err());
         assert_eq!(at_least_1("3"), Ok(3));
+        let message = |r: Result<u64, ArgError>| r.unwrap_err().to_string();
+        for (got, expected) in [
+            (message(at_least_1("0")), "must be at least 1 (got 0)"),
+            (message(at_least_1("-5")), "must be at least 1 (got -5)"),
+            (message(at_least_1("2.5")), "`2.5` is not a whole number"),
+            (message(points("1000")), "must be at most 999 (got 1000)"),
+            (
+                message(at_least_1("99999999999999999999999")),
+                "must be at most 18446744073709551615 (got 99999999999999999999999)",
+            ),
+        ] {
+            assert_eq!(got, expected);
+        }
         assert_eq!(
-            at_least_1("0").unwrap_err().to_string(),
-            "must be at least 1 (got 0)"
-        );
-        assert_eq!(
-            at_least_1("-5").unwrap_err().to_string(),
-            "must be at least 1 (got -5)"
-        );
-        assert_eq!(
-            at_least_1("2.5").unwrap_err().to_string(),
-            "`2.5` is not a whole number"
-        );
-        assert_eq!(
-            points("1000").unwrap_err().to_string(),
-            "must be at most 999 (got 1000)"
-        );
-        assert_eq!(
-            at_least_1("99999999999999999999999")
-                .unwrap_err()
-                .to_string(),
-            "must be at most 18446744073709551615 (got 99999999999999999999999)"
+            positive_f64("abc").unwrap_err().to_string(),
+            "`abc` is not a number"
         );
     }
 }

@@ -943,12 +943,20 @@ pub fn same_file(a: &Path, b: &Path) -> bool {
 mod tests {
     use super::*;
 
-    /// Reads every row of `text` (written to a file) with [`CsvReader`]:
-    /// the fields and lines, or the error message.
-    fn rows_of(text: &str) -> Result<Vec<(Vec<String>, usize, u64)>, String> {
+    /// A temporary directory holding `in.csv` with `text`, and its path.
+    fn in_csv(text: &str) -> (tempfile::TempDir, PathBuf) {
         let dir = tempfile::tempdir().unwrap();
         let input = dir.path().join("in.csv");
         fs::write(&input, text).unwrap();
+        (dir, input)
+    }
+    use rand::rngs::StdRng;
+    use rand::{Rng, SeedableRng};
+
+    /// Reads every row of `text` (written to a file) with [`CsvReader`]:
+    /// the fields and lines, or the error message.
+    fn rows_of(text: &str) -> Result<Vec<(Vec<String>, usize, u64)>, String> {
+        let (_dir, input) = in_csv(text);
         let mut reader = CsvReader::open(&input).map_err(|e| e.to_string())?;
         let mut row = Row::default();
         let mut out = Vec::new();
@@ -1040,9 +1048,7 @@ mod tests {
             let e = rows_of(text).unwrap_err();
             assert!(e.contains(expected), "{e}");
         }
-        let dir = tempfile::tempdir().unwrap();
-        let input = dir.path().join("in.csv");
-        fs::write(&input, "x,y,x\n1,2,3\n").unwrap();
+        let (_dir, input) = in_csv("x,y,x\n1,2,3\n");
         let e = read_columns(&input, &["y"]).unwrap_err().to_string();
         assert!(e.contains("column `x` appears twice"), "{e}");
     }
@@ -1070,17 +1076,10 @@ mod tests {
         }
         // a few thousand values over the whole range, through a file
         let mut values: Vec<f64> = cases.iter().map(|c| c.0).collect();
-        let mut bits: u64 = 0x9E37_79B9_7F4A_7C15;
-        while values.len() < 5000 {
-            bits ^= bits << 13;
-            bits ^= bits >> 7;
-            bits ^= bits << 17;
-            let v = f64::from_bits(bits);
-            if v.is_finite() {
-                values.push(v);
-                values.push(v.fract() * 1e3);
-            }
-        }
+        let mut rng = StdRng::seed_from_u64(0x9E37_79B9_7F4A_7C15);
+        let random_bits = std::iter::repeat_with(|| f64::from_bits(rng.random()));
+        let finite = random_bits.filter(|v| v.is_finite()).take(2500);
+        values.extend(finite.flat_map(|v| [v, v.fract() * 1e3]));
         for v in &values {
             let text = fmt_f64(*v);
             assert!(text.len() <= 24, "{text}");
@@ -1102,9 +1101,7 @@ mod tests {
 
     #[test]
     fn time_steps_are_checked_while_streaming() {
-        let dir = tempfile::tempdir().unwrap();
-        let input = dir.path().join("in.csv");
-        fs::write(&input, "t,x\n0,1\n0.5,1\n1,1\n1.5,1\n").unwrap();
+        let (_dir, input) = in_csv("t,x\n0,1\n0.5,1\n1,1\n1.5,1\n");
         assert_eq!(read_time_step(&input, "t").unwrap(), 0.5);
         fs::write(&input, "t,x\n0,1\n0.5,1\n1.2,1\n").unwrap();
         let e = read_time_step(&input, "t").unwrap_err().to_string();
@@ -1125,9 +1122,7 @@ mod tests {
 
     #[test]
     fn bad_cells_name_row_line_and_column() {
-        let dir = tempfile::tempdir().unwrap();
-        let input = dir.path().join("in.csv");
-        fs::write(&input, "t,x\n0,1\n1,abc\n").unwrap();
+        let (_dir, input) = in_csv("t,x\n0,1\n1,abc\n");
         let e = read_columns(&input, &["x"]).unwrap_err().to_string();
         assert!(e.contains("row 2 (line 3), column `x`"), "{e}");
         fs::write(&input, "t,x\n0,1\n1,NaN\n").unwrap();
@@ -1137,9 +1132,7 @@ mod tests {
 
     #[test]
     fn reads_two_columns_checking_cells_in_order() {
-        let dir = tempfile::tempdir().unwrap();
-        let input = dir.path().join("in.csv");
-        fs::write(&input, "t, x ,F\n0,0.5,1\n1,-1.25,2\n").unwrap();
+        let (_dir, input) = in_csv("t, x ,F\n0,0.5,1\n1,-1.25,2\n");
         let c = read_columns(&input, &["x", "F"]).unwrap();
         assert_eq!(c.indices, vec![1, 2]);
         assert_eq!(c.values, vec![vec![0.5, -1.25], vec![1.0, 2.0]]);

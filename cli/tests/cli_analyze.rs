@@ -3,7 +3,10 @@
 //! output, and bad inputs (one-line error, exit code 1, no panic, nothing
 //! written).
 
+use hysteron::composition::PiBank;
 use hysteron::models::describing::play_describing_function;
+use hysteron::models::energy::pi_bank_loop_work;
+use hysteron::models::Spec;
 use std::f64::consts::PI;
 use std::fs;
 use std::path::Path;
@@ -140,7 +143,8 @@ fn play_matches_the_closed_forms() {
 
 /// A Prandtl-Ishlinskii loop (the example spec) runs counterclockwise and
 /// dissipates: `dissipated_per_loop` is positive and equals the closed form
-/// `Σ_{r_j < A} 4 w_j r_j (A − r_j)`, the signed work `∮ y dx` is its
+/// `Σ_{r_j < A} 4 w_j r_j (A − r_j)` (the library's `pi_bank_loop_work`,
+/// checked against it in `tests/energy.rs`), the signed work `∮ y dx` is its
 /// negative, and the help says which is which. A stop's clockwise loop
 /// dissipates too: positive, with positive work.
 #[test]
@@ -148,10 +152,10 @@ fn a_prandtl_ishlinskii_loop_dissipates_a_positive_energy() {
     let tmp = TempDir::new().unwrap();
     let spec =
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/specs/prandtl-ishlinskii.json");
-    let text = fs::read_to_string(&spec).unwrap();
-    let json: serde_json::Value = serde_json::from_str(&text).unwrap();
-    let r: Vec<f64> = serde_json::from_value(json["r"].clone()).unwrap();
-    let w: Vec<f64> = serde_json::from_value(json["w"].clone()).unwrap();
+    let bank = Spec::from_json_file(&spec)
+        .unwrap()
+        .leaf_params::<PiBank<f64>>()
+        .unwrap();
     let n = 4096;
     let assert = hysteron(tmp.path())
         .arg("analyze")
@@ -170,15 +174,15 @@ fn a_prandtl_ishlinskii_loop_dissipates_a_positive_energy() {
     assert_eq!(table.len(), 2, "{stdout}");
     for row in &table {
         let a = row[0];
-        let closed: f64 = r
-            .iter()
-            .zip(&w)
-            .filter(|(&r, _)| r < a)
-            .map(|(&r, &w)| 4.0 * w * r * (a - r))
-            .sum();
+        let closed = -pi_bank_loop_work(&bank, a);
         // the trapezoid rule's kink bound: 2 |w_j| Δx²/8 per play
         let dx = 2.0 * a * (PI / n as f64).sin();
-        let bound = w.iter().map(|w| 2.0 * w.abs() * dx * dx / 8.0).sum::<f64>() + 1e-12;
+        let bound = bank
+            .w
+            .iter()
+            .map(|w| 2.0 * w.abs() * dx * dx / 8.0)
+            .sum::<f64>()
+            + 1e-12;
         assert!(row[3] > 0.0, "dissipated {} ≤ 0: {stdout}", row[3]);
         assert!(
             (row[3] - closed).abs() <= bound,
@@ -198,14 +202,12 @@ fn a_prandtl_ishlinskii_loop_dissipates_a_positive_energy() {
         .success();
     let help = String::from_utf8(help.get_output().stdout.clone()).unwrap();
     let help = help.split_whitespace().collect::<Vec<_>>().join(" ");
-    assert!(
-        help.contains("the energy dissipated per loop (the loop's area |∮ y dx|"),
-        "{help}"
-    );
-    assert!(
-        help.contains("∮ y dx (< 0 for a counterclockwise loop, > 0 for a clockwise one)"),
-        "{help}"
-    );
+    for words in [
+        "the energy dissipated per loop (the loop's area |∮ y dx|",
+        "∮ y dx (< 0 for a counterclockwise loop, > 0 for a clockwise one)",
+    ] {
+        assert!(help.contains(words), "{words} in {help}");
+    }
     assert!(!help.contains("> 0 dissipative"), "{help}");
 
     write(tmp.path(), "stop.json", r#"{"type": "stop", "r": 0.25}"#);

@@ -30,13 +30,19 @@ fn row(line: &str) -> Option<(String, usize, f64, f64, f64, f64)> {
     ))
 }
 
+/// `hysteron bench ARGS` run in a fresh directory.
+fn bench(args: &[&str]) -> std::process::Output {
+    let dir = TempDir::new().unwrap();
+    hysteron(dir.path())
+        .arg("bench")
+        .args(args)
+        .output()
+        .unwrap()
+}
+
 #[test]
 fn prints_one_row_per_kernel_in_the_issue_format() {
-    let dir = TempDir::new().unwrap();
-    let out = hysteron(dir.path())
-        .args(["bench", "--samples", "3000", "--runs", "3"])
-        .output()
-        .unwrap();
+    let out = bench(&["--samples", "3000", "--runs", "3"]);
     assert!(
         out.status.success(),
         "{}",
@@ -87,19 +93,7 @@ fn prints_one_row_per_kernel_in_the_issue_format() {
 
 #[test]
 fn kernel_filter_selects_rows() {
-    let dir = TempDir::new().unwrap();
-    let out = hysteron(dir.path())
-        .args([
-            "bench",
-            "--samples",
-            "1000",
-            "--runs",
-            "1",
-            "--kernel",
-            "mms",
-        ])
-        .output()
-        .unwrap();
+    let out = bench(&["--samples", "1000", "--runs", "1", "--kernel", "mms"]);
     assert!(out.status.success());
     let stdout = String::from_utf8(out.stdout).unwrap();
     let kernels: Vec<String> = stdout.lines().filter_map(row).map(|r| r.0).collect();
@@ -108,11 +102,7 @@ fn kernel_filter_selects_rows() {
 
 #[test]
 fn bad_options_are_errors_not_panics() {
-    let dir = TempDir::new().unwrap();
-    let out = hysteron(dir.path())
-        .args(["bench", "--samples", "100", "--kernel", "no-such-kernel"])
-        .output()
-        .unwrap();
+    let out = bench(&["--samples", "100", "--kernel", "no-such-kernel"]);
     assert_eq!(out.status.code(), Some(1));
     assert!(one_line_error(&out.stderr).contains("no kernel matches"));
     // argument errors exit with 1 like all bad input, saying the range
@@ -131,11 +121,7 @@ fn bad_options_are_errors_not_panics() {
             "'--samples <N>': must be at least 1 (got -5)",
         ),
     ] {
-        let out = hysteron(dir.path())
-            .arg("bench")
-            .args(args)
-            .output()
-            .unwrap();
+        let out = bench(&args);
         assert_eq!(out.status.code(), Some(1), "{args:?}");
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(!err.contains("panicked"));

@@ -136,60 +136,44 @@ fn simulate_dahl_hand_written_spec() {
     );
 }
 
+/// The rate-dependent examples (LuGre, GMS) take their sample period from
+/// `--time-column` or `--dt` (the same output), and without either from the
+/// spec's own `dt` (0.01 s: another output).
 #[test]
-fn simulate_lugre_takes_dt_from_the_data() {
+fn simulate_rate_dependent_examples_take_dt_from_the_data() {
     let tmp = TempDir::new().unwrap();
     let x = record(tmp.path());
-    let spec_path = example("lugre.json");
-    let spec = Spec::from_json_file(&spec_path).unwrap();
-    assert!(spec.is_rate_dependent());
-    let expected = spec.with_dt(1.0 / 256.0).build().unwrap().run(&x).unwrap();
-    for dt_args in [&["--time-column", "t"][..], &["--dt", "0.00390625"][..]] {
-        let y = simulate(tmp.path(), &spec_path, dt_args, &x);
-        assert_eq!(y, expected, "{dt_args:?}");
+    for name in ["lugre.json", "gms.json"] {
+        let spec_path = example(name);
+        let spec = Spec::from_json_file(&spec_path).unwrap();
+        assert!(spec.is_rate_dependent(), "{name}");
+        let expected = spec.with_dt(1.0 / 256.0).build().unwrap().run(&x).unwrap();
+        for dt_args in [&["--time-column", "t"][..], &["--dt", "0.00390625"][..]] {
+            let y = simulate(tmp.path(), &spec_path, dt_args, &x);
+            assert_eq!(y, expected, "{name} {dt_args:?}");
+        }
+        let own = simulate(tmp.path(), &spec_path, &[], &x);
+        assert_eq!(own, spec.build().unwrap().run(&x).unwrap(), "{name}");
+        assert_ne!(own, expected, "{name}");
     }
-    // without either the spec's own dt (0.01 s) is used: another output
-    let own = simulate(tmp.path(), &spec_path, &[], &x);
-    assert_eq!(own, spec.build().unwrap().run(&x).unwrap());
-    assert_ne!(own, expected);
-    // a spec's own dt is checked when it is built
-    let bad = tmp.path().join("bad-dt.json");
-    let text = fs::read_to_string(&spec_path).unwrap();
-    assert!(text.contains(r#""dt": 0.01"#), "{text}");
-    fs::write(&bad, text.replace(r#""dt": 0.01"#, r#""dt": 0"#)).unwrap();
-    fails(
-        tmp.path(),
-        bad.to_str().unwrap(),
-        &[],
-        &["lugre.dt: must be > 0 (got 0)"],
-    );
 }
 
+/// A spec's own `dt` and its other parameters are checked when it is built.
 #[test]
-fn simulate_gms_example_with_time_column() {
+fn simulate_refuses_bad_rate_dependent_specs() {
     let tmp = TempDir::new().unwrap();
-    let x = record(tmp.path());
-    let spec_path = example("gms.json");
-    let spec = Spec::from_json_file(&spec_path).unwrap();
-    assert!(spec.is_rate_dependent());
-    let y = simulate(tmp.path(), &spec_path, &["--time-column", "t"], &x);
-    assert_eq!(
-        y,
-        spec.with_dt(1.0 / 256.0).build().unwrap().run(&x).unwrap()
-    );
-    // the spec's own dt (0.01 s) gives another output
-    let own = simulate(tmp.path(), &spec_path, &[], &x);
-    assert_eq!(own, spec.build().unwrap().run(&x).unwrap());
-    assert_ne!(own, y);
-    fs::write(
-        tmp.path().join("bad.json"),
-        r#"{"type": "gms", "k": [20], "alpha": [1], "c": 0, "f_c": 1, "f_s": 1.5, "v_s": 0.5, "dt": 0.01}"#,
-    )
-    .unwrap();
-    fails(
-        tmp.path(),
-        "bad.json",
-        &[],
-        &["model `bad.json`", "gms.c: must be > 0 (got 0)"],
-    );
+    record(tmp.path());
+    let lugre = fs::read_to_string(example("lugre.json")).unwrap();
+    assert!(lugre.contains(r#""dt": 0.01"#), "{lugre}");
+    let gms = r#"{"type": "gms", "k": [20], "alpha": [1], "c": 0, "f_c": 1, "f_s": 1.5, "v_s": 0.5, "dt": 0.01}"#;
+    for (text, expected) in [
+        (
+            lugre.replace(r#""dt": 0.01"#, r#""dt": 0"#),
+            "lugre.dt: must be > 0 (got 0)",
+        ),
+        (gms.to_string(), "gms.c: must be > 0 (got 0)"),
+    ] {
+        fs::write(tmp.path().join("bad.json"), text).unwrap();
+        fails(tmp.path(), "bad.json", &[], &["model `bad.json`", expected]);
+    }
 }

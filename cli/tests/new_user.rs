@@ -4,6 +4,8 @@
 //! (streamed; output bit for bit as before) and its figure (bounded, the
 //! extremes kept).
 
+use rand::rngs::StdRng;
+use rand::{Rng, SeedableRng};
 use std::fs;
 use std::path::Path;
 use tempfile::TempDir;
@@ -38,12 +40,24 @@ fn simulate(dir: &Path, extra: &[&str]) -> (i32, String, String) {
     )
 }
 
+/// A directory holding `m.json`, a gain of 2.
+fn gain_dir() -> TempDir {
+    let tmp = TempDir::new().unwrap();
+    fs::write(tmp.path().join("m.json"), GAIN).unwrap();
+    tmp
+}
+
+/// Writes `csv` as `in.csv` in `dir` and simulates it.
+fn simulate_csv(dir: &Path, csv: &str) -> (i32, String, String) {
+    fs::write(dir.join("in.csv"), csv).unwrap();
+    simulate(dir, &[])
+}
+
 // ---------------------------------------------------------- CSV structure
 
 #[test]
 fn a_blank_line_between_rows_is_an_error_naming_it() {
-    let tmp = TempDir::new().unwrap();
-    fs::write(tmp.path().join("m.json"), GAIN).unwrap();
+    let tmp = gain_dir();
     for (csv, expected) in [
         (
             "t,x\n0,1\n1,2\n\n2,3\n",
@@ -73,8 +87,7 @@ fn a_blank_line_between_rows_is_an_error_naming_it() {
     }
     // a final line end and blank lines after the last row are accepted
     for csv in ["t,x\n0,1\n1,2", "t,x\n0,1\n1,2\n", "t,x\n0,1\n1,2\n\n\n"] {
-        fs::write(tmp.path().join("in.csv"), csv).unwrap();
-        let (code, _, stderr) = simulate(tmp.path(), &[]);
+        let (code, _, stderr) = simulate_csv(tmp.path(), csv);
         assert_eq!(code, 0, "{csv:?}: {stderr}");
         assert_eq!(
             fs::read_to_string(tmp.path().join("out.csv")).unwrap(),
@@ -85,8 +98,7 @@ fn a_blank_line_between_rows_is_an_error_naming_it() {
 
 #[test]
 fn a_duplicate_column_name_is_an_error_naming_it() {
-    let tmp = TempDir::new().unwrap();
-    fs::write(tmp.path().join("m.json"), GAIN).unwrap();
+    let tmp = gain_dir();
     for (csv, expected) in [
         (
             "x,x\n1,2\n",
@@ -97,8 +109,7 @@ fn a_duplicate_column_name_is_an_error_naming_it() {
             "`in.csv`: column `t` appears twice in the header (columns 1 and 3)",
         ),
     ] {
-        fs::write(tmp.path().join("in.csv"), csv).unwrap();
-        let (code, _, stderr) = simulate(tmp.path(), &[]);
+        let (code, _, stderr) = simulate_csv(tmp.path(), csv);
         assert_eq!(code, 1, "{stderr}");
         let err = one_line_error(stderr.as_bytes());
         assert!(err.contains(expected), "{err}");
@@ -136,16 +147,10 @@ fn huge_and_tiny_values_are_written_short_and_read_back_exactly() {
         f64::MAX,
         -f64::MIN_POSITIVE,
     ];
-    let mut bits: u64 = 0x2545_F491_4F6C_DD1D;
-    while values.len() < 3000 {
-        bits ^= bits << 13;
-        bits ^= bits >> 7;
-        bits ^= bits << 17;
-        let v = f64::from_bits(bits);
-        if v.is_finite() {
-            values.push(v);
-        }
-    }
+    // random bit patterns over the whole finite range
+    let mut rng = StdRng::seed_from_u64(0x2545_F491_4F6C_DD1D);
+    let random_bits = std::iter::repeat_with(|| f64::from_bits(rng.random()));
+    values.extend(random_bits.filter(|v| v.is_finite()).take(3000));
     let mut csv = String::from("x\n");
     for v in &values {
         csv.push_str(&format!("{v:e}\n"));
@@ -311,8 +316,7 @@ fn simulate_output_is_unchanged_by_streaming() {
 /// first chunk are named by their row and line, and nothing is written.
 #[test]
 fn streamed_errors_name_rows_past_the_first_chunk() {
-    let tmp = TempDir::new().unwrap();
-    fs::write(tmp.path().join("m.json"), GAIN).unwrap();
+    let tmp = gain_dir();
     let n = 3 * hysteron_cli::simulate::CHUNK + 17;
     let mut csv = String::from("x\n");
     for i in 0..n {

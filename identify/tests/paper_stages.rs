@@ -53,6 +53,22 @@ fn points_at_true_knots(p: &TransmissionParams, x: &[f64]) -> Vec<(f64, f64)> {
         .collect()
 }
 
+/// The truth, its spring record `(x, f)`, and the points picked at the true
+/// knots.
+struct SpringCase {
+    t: TransmissionParams,
+    x: Vec<f64>,
+    f: Vec<f64>,
+    points: Vec<(f64, f64)>,
+}
+
+fn spring_case() -> SpringCase {
+    let t = truth();
+    let (x, f) = spring_record(&t);
+    let points = points_at_true_knots(&t, &x);
+    SpringCase { t, x, f, points }
+}
+
 fn perturbed_shape(p: &TransmissionParams) -> SpringShape {
     let s = SpringShape::of(&p.spring);
     SpringShape {
@@ -131,9 +147,7 @@ fn noisy(clean: &[f64], fraction: f64, seed: u64) -> (Vec<f64>, f64) {
 
 #[test]
 fn knot_rule_reproduces_the_true_stiffness_and_the_record() {
-    let t = truth();
-    let (x, f) = spring_record(&t);
-    let points = points_at_true_knots(&t, &x);
+    let SpringCase { t, x, f, points } = spring_case();
     let shape = SpringShape::of(&t.spring);
     let map = knots_from_points(&x, &points, &shape).unwrap();
     let want = &t.spring.stiffness;
@@ -169,9 +183,7 @@ fn knot_rule_reproduces_the_true_stiffness_and_the_record() {
 
 #[test]
 fn stage1_on_the_spring_alone_recovers_the_shape() {
-    let t = truth();
-    let (x, f) = spring_record(&t);
-    let points = points_at_true_knots(&t, &x);
+    let SpringCase { t, x, f, points } = spring_case();
     let started = Instant::now();
     let s = fit_spring_from_perturbed(&t, &x, &f, &points);
     let r = &s.report;
@@ -481,9 +493,7 @@ fn end_to_end_small_backlash_with_the_spring_refined_in_stage2() {
 
 #[test]
 fn spring_from_points_is_a_well_behaved_operator() {
-    let t = truth();
-    let (x, _) = spring_record(&t);
-    let points = points_at_true_knots(&t, &x);
+    let SpringCase { t, x, points, .. } = spring_case();
     let shape = SpringShape::of(&t.spring);
     let mut m = SpringFromPoints::new(&x, &points, &shape).unwrap();
     assert_eq!(m.name(), "spring-from-points");

@@ -264,30 +264,38 @@ mod tests {
 
     #[test]
     fn invalid_parameters_name_the_field() {
-        let bad = BoucWenBenchmarkParams {
-            upsample: 0,
-            ..BoucWenBenchmarkParams::published()
-        };
-        assert!(matches!(
-            boucwen_system(&bad),
-            Err(Error::InvalidParameter { name, .. }) if name == "upsample"
-        ));
-        let bad = BoucWenBenchmarkParams {
-            m: -1.0,
-            ..BoucWenBenchmarkParams::published()
-        };
-        assert!(matches!(
-            boucwen_system(&bad),
-            Err(Error::InvalidParameter { name, .. }) if name == "oscillator.m"
-        ));
-        let bad = BoucWenBenchmarkParams {
-            n: 0.5,
-            ..BoucWenBenchmarkParams::published()
-        };
-        assert!(matches!(
-            boucwen_system(&bad),
-            Err(Error::InvalidParameter { name, .. }) if name == "spring.n"
-        ));
+        let published = BoucWenBenchmarkParams::published;
+        for (bad, field) in [
+            (
+                BoucWenBenchmarkParams {
+                    upsample: 0,
+                    ..published()
+                },
+                "upsample",
+            ),
+            (
+                BoucWenBenchmarkParams {
+                    m: -1.0,
+                    ..published()
+                },
+                "oscillator.m",
+            ),
+            (
+                BoucWenBenchmarkParams {
+                    n: 0.5,
+                    ..published()
+                },
+                "spring.n",
+            ),
+        ] {
+            assert!(
+                matches!(
+                    boucwen_system(&bad),
+                    Err(Error::InvalidParameter { ref name, .. }) if name == field
+                ),
+                "{field}"
+            );
+        }
     }
 
     /// With `A = β' = γ' = 0` the spring is silent and the system is the
