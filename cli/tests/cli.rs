@@ -25,7 +25,7 @@ fn paper_writes_csvs_figures_and_summary() {
         .arg(&out)
         .assert()
         .success();
-    let stdout = String::from_utf8(assert.get_output().stdout.clone()).unwrap();
+    let stdout = stdout_of(&assert);
 
     let exps = experiments::paper_experiments(&TransmissionParams::default()).unwrap();
     assert_eq!(exps.len(), 4);
@@ -172,7 +172,7 @@ fn simulate_matches_the_spec_run_in_process() {
         ])
         .assert()
         .success();
-    let stdout = String::from_utf8(assert.get_output().stdout.clone()).unwrap();
+    let stdout = stdout_of(&assert);
     assert!(stdout.contains("simulated 5 samples"), "{stdout}");
     let (headers, rows) = read_csv(&s.path("out.csv"));
     assert_eq!(headers, ["t", "x", "label", "y"]);

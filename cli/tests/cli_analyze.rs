@@ -63,7 +63,7 @@ fn play_matches_the_closed_forms() {
         .arg(&out)
         .assert()
         .success();
-    let stdout = String::from_utf8(assert.get_output().stdout.clone()).unwrap();
+    let stdout = stdout_of(&assert);
     let table = rows(&stdout);
     assert_eq!(table.len(), 4, "{stdout}");
     let r = 0.3;
@@ -169,7 +169,7 @@ fn a_prandtl_ishlinskii_loop_dissipates_a_positive_energy() {
         ])
         .assert()
         .success();
-    let stdout = String::from_utf8(assert.get_output().stdout.clone()).unwrap();
+    let stdout = stdout_of(&assert);
     let table = rows(&stdout);
     assert_eq!(table.len(), 2, "{stdout}");
     for row in &table {
@@ -200,7 +200,7 @@ fn a_prandtl_ishlinskii_loop_dissipates_a_positive_energy() {
         .args(["analyze", "--help"])
         .assert()
         .success();
-    let help = String::from_utf8(help.get_output().stdout.clone()).unwrap();
+    let help = stdout_of(&help);
     let help = help.split_whitespace().collect::<Vec<_>>().join(" ");
     for words in [
         "the energy dissipated per loop (the loop's area |∮ y dx|",
@@ -215,7 +215,7 @@ fn a_prandtl_ishlinskii_loop_dissipates_a_positive_energy() {
         .args(["analyze", "--model", "stop.json", "--amplitudes", "1"])
         .assert()
         .success();
-    let stdout = String::from_utf8(assert.get_output().stdout.clone()).unwrap();
+    let stdout = stdout_of(&assert);
     let row = rows(&stdout)[0];
     assert!((row[3] - 4.0 * 0.25 * 0.75).abs() < 1e-5, "{stdout}");
     assert!(row[4] > 0.0 && row[4] == row[3], "{stdout}");

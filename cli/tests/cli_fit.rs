@@ -189,6 +189,7 @@ fn fit_recovers_known_parameters_and_the_spec_simulates_back() {
         "cost ",
         "RMS ",
         "NRMSE ",
+        "cond(JᵀJ) ",
         "iterations ",
         "evaluations ",
         "wall time ",
@@ -259,6 +260,35 @@ fn fit_recovers_known_parameters_and_the_spec_simulates_back() {
     assert_no_temp_files(s.dir());
 }
 
+/// Two gains in parallel: only their sum is determined, and the report
+/// says so, naming both (or calling `JᵀJ` singular); the fit itself
+/// succeeds.
+#[test]
+fn fit_warns_about_parameters_the_data_do_not_determine() {
+    let tmp = TempDir::new().unwrap();
+    let x: Vec<f64> = (0..500).map(|i| (0.05 * i as f64).sin()).collect();
+    let y: Vec<f64> = x.iter().map(|v| 1.5 * v).collect();
+    fs::write(tmp.path().join("data.csv"), csv_text("x,y", &[&x, &y])).unwrap();
+    fs::write(
+        tmp.path().join("start.json"),
+        r#"{"type": "parallel", "left": {"type": "gain", "k": 2}, "right": {"type": "gain", "k": 0.5}}"#,
+    )
+    .unwrap();
+    let args =
+        "fit --model start.json --data data.csv --free left.gain.k,right.gain.k --output f.json";
+    let out = hysteron(tmp.path())
+        .args(args.split(' '))
+        .assert()
+        .success();
+    let stdout = stdout_of(&out);
+    let warned = stdout.lines().any(|l| {
+        l.starts_with("warning: ")
+            && (l.contains("singular")
+                || l.contains("`left.gain.k` and `right.gain.k` are correlated"))
+    });
+    assert!(warned, "{stdout}");
+}
+
 #[test]
 fn fit_on_other_columns_and_overwrites_its_old_output_atomically() {
     let s = Setup::new();
@@ -289,7 +319,7 @@ fn fit_on_other_columns_and_overwrites_its_old_output_atomically() {
         ])
         .assert()
         .success();
-    let stdout = String::from_utf8(assert.get_output().stdout.clone()).unwrap();
+    let stdout = stdout_of(&assert);
     assert!(stdout.contains("2000 samples, u -> F"), "{stdout}");
     assert!(stdout.contains("2 free"), "{stdout}");
     let fitted = Spec::from_json_file(s.path("fitted.json")).unwrap();

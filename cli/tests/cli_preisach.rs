@@ -48,7 +48,7 @@ fn simulate_runs_the_preisach_example() {
         ])
         .assert()
         .success();
-    let stdout = String::from_utf8(assert.get_output().stdout.clone()).unwrap();
+    let stdout = stdout_of(&assert);
     assert!(
         stdout.contains(&format!("simulated {} samples", xs.len())),
         "{stdout}"

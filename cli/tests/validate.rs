@@ -71,7 +71,7 @@ fn exact_and_offset_records_give_the_figures_computed_by_hand() {
         .args(["--csv", "table.csv"])
         .assert()
         .success();
-    let stdout = String::from_utf8(out.get_output().stdout.clone()).unwrap();
+    let stdout = stdout_of(&out);
     for row in [
         "| record | samples | RMS | max \\|err\\| | NRMSE |\n",
         "| exact.csv | 6 | 0 | 0 | 0 |\n",
@@ -185,7 +185,7 @@ fn lowpass_removes_high_frequency_noise_from_the_score() {
         .args(["--time-column", "t", "--lowpass", "15", "--csv", "t.csv"])
         .assert()
         .success();
-    let stdout = String::from_utf8(out.get_output().stdout.clone()).unwrap();
+    let stdout = stdout_of(&out);
     assert!(stdout.contains(" low-passed NRMSE |\n"), "{stdout}");
     let (header, rows) = read_csv(&d.join("t.csv"));
     assert_eq!(header.last().unwrap(), "lowpassed_nrmse");
@@ -238,7 +238,7 @@ fn plot_writes_one_figure_per_record() {
         .args(["--plot", "figs"])
         .assert()
         .success();
-    let stdout = String::from_utf8(out.get_output().stdout.clone()).unwrap();
+    let stdout = stdout_of(&out);
     assert!(
         stdout.contains("wrote figs/exact.svg, figs/sine_0.5Hz.svg, figs/rec_1.5in.svg"),
         "{stdout}"

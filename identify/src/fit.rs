@@ -1,6 +1,7 @@
 //! Fitting any model's parameters to one record or several with
 //! Levenberg-Marquardt.
 
+use crate::diagnostics::{self, IdentifiabilityWarning};
 use crate::problem::{Layout, Problem};
 use hysteron_operators::{Error, Operator};
 use levenberg_marquardt::{LevenbergMarquardt, TerminationReason};
@@ -170,6 +171,16 @@ pub struct FittedParam {
     pub record: Option<usize>,
 }
 
+impl FittedParam {
+    /// The name, with `[record i]` appended for a per-record parameter.
+    pub fn label(&self) -> String {
+        match self.record {
+            Some(i) => format!("{}[record {i}]", self.name),
+            None => self.name.clone(),
+        }
+    }
+}
+
 /// The fit's figures on one record (over its scored samples, after the
 /// warm-up).
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -216,6 +227,13 @@ pub struct FitReport {
     /// reparametrization of bounded parameters is monotone and increasing,
     /// so to first order it leaves the correlations unchanged.
     pub correlation: Option<Vec<Vec<f64>>>,
+    /// Condition number `κ = λ_max/λ_min` of `JᵀJ` in the internal
+    /// parameters ([`diagnostics::condition_number`](crate::diagnostics::condition_number));
+    /// `None` where `JᵀJ` is singular.
+    pub condition_number: Option<f64>,
+    /// Parameters the data do not pin down: wide intervals, correlated
+    /// pairs, a singular `JᵀJ` ([`diagnostics::warnings`](crate::diagnostics::warnings)).
+    pub warnings: Vec<IdentifiabilityWarning>,
 }
 
 fn seconds<S: serde::Serializer>(d: &Duration, s: S) -> Result<S::Ok, S::Error> {
@@ -502,9 +520,10 @@ pub fn fit_records(
     let k = entries.len();
     let ssr = residuals.norm_squared();
     let dof = m.saturating_sub(k).max(1) as f64;
-    let cov = (jac.transpose() * &jac)
-        .try_inverse()
-        .map(|inv| inv * (ssr / dof));
+    let jtj = jac.transpose() * &jac;
+    let condition_number = diagnostics::condition_number(&jtj);
+    let inverse = jtj.try_inverse();
+    let cov = inverse.as_ref().map(|inv| inv * (ssr / dof));
 
     let names = model.param_names();
     let shared_params = problem.full_params(theta.as_slice(), 0);
@@ -514,7 +533,7 @@ pub fn fit_records(
     // (checked above) `≤ names.len(), base.len()`; `full_params` has
     // `base.len()` entries.
     #[allow(clippy::indexing_slicing)]
-    let params = entries
+    let params: Vec<FittedParam> = entries
         .iter()
         .enumerate()
         .map(|(j, &(i, record))| {
@@ -546,7 +565,9 @@ pub fn fit_records(
 
     // `i, j < k`: `sd` has `k` entries.
     #[allow(clippy::indexing_slicing)]
-    let correlation = cov.as_ref().and_then(|c| {
+    // From `(JᵀJ)⁻¹` itself (σ² cancels), so that a fit with zero
+    // residuals still has its correlations.
+    let correlation = inverse.as_ref().and_then(|c| {
         let sd: Vec<f64> = (0..k).map(|j| c[(j, j)].sqrt()).collect();
         let rows: Vec<Vec<f64>> = (0..k)
             .map(|i| (0..k).map(|j| c[(i, j)] / (sd[i] * sd[j])).collect())
@@ -576,6 +597,7 @@ pub fn fit_records(
             }
         })
         .collect();
+    let warnings = diagnostics::warnings(&params, correlation.as_deref());
     let mut fitted = dyn_clone::clone_box(model);
     fitted.set_params(&all_params).map_err(FitError::Start)?;
     let report = FitReport {
@@ -590,6 +612,8 @@ pub fn fit_records(
         wall_time: started.elapsed(),
         status,
         correlation,
+        condition_number,
+        warnings,
     };
     Ok(Fit {
         model: fitted,

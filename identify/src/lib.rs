@@ -6,7 +6,8 @@
 //!   nalgebra) over any subset of a model's flat parameter vector, bounded
 //!   parameters fitted through a reparametrization ([`Reparam`]), central
 //!   finite-difference Jacobian with columns in parallel, and a
-//!   [`FitReport`] with standard errors and confidence intervals;
+//!   [`FitReport`] with standard errors, confidence intervals and
+//!   identifiability warnings ([`diagnostics`]);
 //! * [`batch`]: many parameter sets or many records simulated in parallel;
 //! * [`metrics`]: error figures of a model against a measured record (RMS,
 //!   largest error, NRMSE) and a zero-phase Butterworth low-pass.
@@ -20,6 +21,7 @@
 
 pub mod batch;
 pub mod benchmark;
+pub mod diagnostics;
 mod fit;
 pub mod metrics;
 pub mod paper;
@@ -27,6 +29,7 @@ mod problem;
 pub mod report;
 mod transform;
 
+pub use diagnostics::IdentifiabilityWarning;
 pub use fit::{
     fit, fit_records, fit_with_progress, free_by_names, Fit, FitError, FitOptions, FitReport,
     FitStatus, FittedParam, Progress, Record, RecordFit,

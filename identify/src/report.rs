@@ -33,19 +33,16 @@ pub fn fmt_g(v: f64, sig: usize) -> String {
 
 /// The report as a table of the free parameters (name, start, value,
 /// standard error, 95 % confidence interval), then cost, RMS, NRMSE,
-/// iterations, evaluations, wall time and status (`converged (why)` or
+/// the condition number of `JᵀJ`, one `warning:` line per
+/// identifiability warning, iterations, evaluations, wall time and status (`converged (why)` or
 /// `NOT CONVERGED: why`). Ends with a newline.
 impl fmt::Display for FitReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let r = self;
-        let label = |p: &crate::FittedParam| match p.record {
-            Some(i) => format!("{}[record {i}]", p.name),
-            None => p.name.clone(),
-        };
         let w = r
             .params
             .iter()
-            .map(|p| label(p).len())
+            .map(|p| p.label().len())
             .max()
             .unwrap_or(0)
             .max("parameter".len());
@@ -62,7 +59,7 @@ impl fmt::Display for FitReport {
             writeln!(
                 f,
                 "{:<w$}  {:>13}  {:>13}  {:>10}  {ci}",
-                label(p),
+                p.label(),
                 fmt_g(p.start, 7),
                 fmt_g(p.value, 7),
                 se
@@ -80,6 +77,13 @@ impl fmt::Display for FitReport {
                 let nrmse = rf.nrmse.map_or("-".to_string(), |v| format!("{v:.6e}"));
                 writeln!(f, "{i:>6}  {:>7}  {:.6e}  {nrmse}", rf.samples, rf.rms)?;
             }
+        }
+        match r.condition_number {
+            Some(k) => writeln!(f, "cond(JᵀJ)    {k:.3e}")?,
+            None => writeln!(f, "cond(JᵀJ)    - (singular)")?,
+        }
+        for w in &r.warnings {
+            writeln!(f, "warning: {w}")?;
         }
         writeln!(f, "iterations   {}", r.iterations)?;
         writeln!(f, "evaluations  {}", r.evaluations)?;

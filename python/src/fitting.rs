@@ -152,6 +152,22 @@ impl FitResult {
         }
     }
 
+    /// The condition number `λ_max/λ_min` of `JᵀJ` in the fit's internal
+    /// parameters, or `None` where `JᵀJ` is singular.
+    #[getter]
+    fn condition_number(&self) -> Option<f64> {
+        self.report.condition_number
+    }
+
+    /// Identifiability warnings, one sentence each: every parameter whose
+    /// 95 % interval is wider than `|value|`, every pair correlated beyond
+    /// 0.99, or a singular `JᵀJ` (empty when the data pin every free
+    /// parameter down).
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.report.warnings.iter().map(|w| w.to_string()).collect()
+    }
+
     /// One dict per iteration: `iteration`, `evaluations` (so far) and
     /// `cost` at the start of that iteration.
     #[getter]

@@ -49,6 +49,24 @@ def test_noisy_fit_reports_uncertainty_and_correlation() -> None:
     assert c is not None and c.shape == (2, 2)
     assert np.allclose(np.diag(c), 1.0) and np.allclose(c, c.T)
     assert result.nrmse is not None and result.nrmse < 0.05
+    k = result.condition_number
+    assert k is not None and 1.0 <= k < 1e6
+    assert result.warnings == []
+
+
+def test_parameters_the_data_do_not_determine_are_named_in_the_warnings() -> None:
+    # Two gains in parallel: only their sum is determined.
+    x = _record()
+    start = hy.Model.from_spec(
+        {"type": "parallel", "left": {"type": "gain", "k": 2.0}, "right": {"type": "gain", "k": 0.5}}
+    )
+    result = hy.fit(start, x, 1.5 * x, ["left.gain.k", "right.gain.k"])
+    assert result.warnings, str(result)
+    assert any(
+        "singular" in w or ("`left.gain.k` and `right.gain.k` are correlated" in w)
+        for w in result.warnings
+    ), result.warnings
+    assert "warning: " in str(result)
 
 
 def test_fit_errors() -> None:

@@ -6,6 +6,11 @@ use std::fs;
 use std::path::{Path, PathBuf};
 use tempfile::TempDir;
 
+/// The standard output of a finished command, as text.
+pub fn stdout_of(assert: &assert_cmd::assert::Assert) -> String {
+    String::from_utf8(assert.get_output().stdout.clone()).expect("stdout is UTF-8")
+}
+
 /// The `hysteron` binary, run in `dir`.
 pub fn hysteron(dir: &Path) -> Command {
     let mut cmd = Command::cargo_bin("hysteron").expect("binary built");

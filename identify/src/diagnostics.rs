@@ -1,0 +1,205 @@
+//! Identifiability diagnostics of a fit: how well the data pin the free
+//! parameters down.
+//!
+//! From the Jacobian `J` of the residuals at the solution (in the internal
+//! parameters `θ` the optimizer works in, see [`Reparam`](crate::Reparam)):
+//!
+//! * the condition number `κ(JᵀJ) = λ_max / λ_min` of the Gauss-Newton
+//!   matrix (eigenvalues of the symmetric `JᵀJ`); a large `κ` means some
+//!   direction in parameter space barely changes the output;
+//! * [`IdentifiabilityWarning`]s naming every parameter whose 95 %
+//!   interval is wider than `|value|`, every pair whose correlation
+//!   exceeds [`CORRELATED`] in magnitude, and a singular `JᵀJ` (no
+//!   intervals at all).
+//!
+//! # Reference
+//! Bates & Watts, *Nonlinear Regression Analysis and Its Applications*
+//! (Wiley 1988), ch. 2–3: the linear approximation `C = σ² (JᵀJ)⁻¹` behind
+//! the standard errors, intervals and correlations.
+
+use crate::FittedParam;
+use nalgebra::{DMatrix, SymmetricEigen};
+use serde::Serialize;
+use std::fmt;
+
+/// Correlations beyond this magnitude are reported.
+pub const CORRELATED: f64 = 0.99;
+
+/// A sign that the data do not determine a parameter, or a pair of them.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum IdentifiabilityWarning {
+    /// `JᵀJ` is singular (or not positive definite): some combination of
+    /// the free parameters does not change the output at all, and no
+    /// standard errors, intervals or correlations exist.
+    Singular,
+    /// The 95 % interval of the parameter is wider than `|value|`.
+    WideInterval {
+        /// The parameter ([`FittedParam::label`]).
+        name: String,
+        /// Its fitted value.
+        value: f64,
+        /// Its 95 % interval.
+        interval: (f64, f64),
+    },
+    /// Two parameters are correlated beyond [`CORRELATED`]: the data
+    /// determine a combination of them, not each one.
+    Correlated {
+        /// The first parameter.
+        first: String,
+        /// The second.
+        second: String,
+        /// Their correlation `ρ`.
+        rho: f64,
+    },
+}
+
+impl fmt::Display for IdentifiabilityWarning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Singular => write!(
+                f,
+                "JᵀJ is singular: a combination of the free parameters does not change the output \
+                 (no standard errors)"
+            ),
+            Self::WideInterval {
+                name,
+                value,
+                interval: (a, b),
+            } => write!(
+                f,
+                "`{name}`: its 95 % interval [{a:.4e}, {b:.4e}] is wider than |value| = {:.4e}",
+                value.abs()
+            ),
+            Self::Correlated { first, second, rho } => write!(
+                f,
+                "`{first}` and `{second}` are correlated (ρ = {rho:.6}): the data fix a \
+                 combination of the two"
+            ),
+        }
+    }
+}
+
+/// `κ = λ_max / λ_min` of the symmetric positive semi-definite `jtj`;
+/// `None` where it is empty or `λ_min ≤ 0` (singular) or the eigenvalues
+/// are not finite.
+pub fn condition_number(jtj: &DMatrix<f64>) -> Option<f64> {
+    if jtj.is_empty() || jtj.iter().any(|v| !v.is_finite()) {
+        return None;
+    }
+    let eigenvalues = SymmetricEigen::new(jtj.clone()).eigenvalues;
+    let max = eigenvalues.max();
+    let min = eigenvalues.min();
+    (min > 0.0 && max.is_finite()).then_some(max / min)
+}
+
+/// The warnings for `params` with their correlation matrix (`None` where
+/// `JᵀJ` is singular): [`Singular`](IdentifiabilityWarning::Singular)
+/// alone in that case, else every wide interval, then every correlated
+/// pair `(i < j)` in the order of `params`.
+pub fn warnings(
+    params: &[FittedParam],
+    correlation: Option<&[Vec<f64>]>,
+) -> Vec<IdentifiabilityWarning> {
+    let Some(correlation) = correlation else {
+        return if params.is_empty() {
+            Vec::new()
+        } else {
+            vec![IdentifiabilityWarning::Singular]
+        };
+    };
+    let wide = params.iter().filter_map(|p| match p.ci95 {
+        Some((a, b)) if b - a > p.value.abs() => Some(IdentifiabilityWarning::WideInterval {
+            name: p.label(),
+            value: p.value,
+            interval: (a, b),
+        }),
+        _ => None,
+    });
+    let pairs = params.iter().enumerate().flat_map(|(i, p)| {
+        params
+            .iter()
+            .enumerate()
+            .skip(i + 1)
+            .filter_map(move |(j, q)| {
+                let rho = correlation.get(i)?.get(j).copied()?;
+                (rho.abs() > CORRELATED).then(|| IdentifiabilityWarning::Correlated {
+                    first: p.label(),
+                    second: q.label(),
+                    rho,
+                })
+            })
+    });
+    wide.chain(pairs).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn param(name: &str, value: f64, ci95: Option<(f64, f64)>) -> FittedParam {
+        FittedParam {
+            name: name.into(),
+            index: 0,
+            start: value,
+            value,
+            std_error: None,
+            ci95,
+            record: None,
+        }
+    }
+
+    #[test]
+    fn condition_number_is_the_eigenvalue_ratio() {
+        let m = DMatrix::from_row_slice(2, 2, &[4.0, 0.0, 0.0, 0.25]);
+        assert_eq!(condition_number(&m), Some(16.0));
+        // [[2, 1], [1, 2]]: eigenvalues 3 and 1
+        let m = DMatrix::from_row_slice(2, 2, &[2.0, 1.0, 1.0, 2.0]);
+        let k = condition_number(&m).unwrap();
+        assert!((k - 3.0).abs() < 1e-12, "{k}");
+        let singular = DMatrix::from_row_slice(2, 2, &[1.0, 1.0, 1.0, 1.0]);
+        assert_eq!(condition_number(&singular), None);
+        assert_eq!(condition_number(&DMatrix::zeros(0, 0)), None);
+        let nan = DMatrix::from_row_slice(1, 1, &[f64::NAN]);
+        assert_eq!(condition_number(&nan), None);
+    }
+
+    #[test]
+    fn warnings_name_wide_intervals_and_correlated_pairs() {
+        let params = [
+            param("a", 1.0, Some((0.9, 1.1))),
+            param("b", -0.5, Some((-1.2, 0.2))),
+            param("c", 2.0, Some((1.0, 3.0))),
+        ];
+        let rho = vec![
+            vec![1.0, 0.2, -0.995],
+            vec![0.2, 1.0, 0.5],
+            vec![-0.995, 0.5, 1.0],
+        ];
+        let w = warnings(&params, Some(&rho));
+        assert_eq!(
+            w,
+            [
+                IdentifiabilityWarning::WideInterval {
+                    name: "b".into(),
+                    value: -0.5,
+                    interval: (-1.2, 0.2)
+                },
+                IdentifiabilityWarning::Correlated {
+                    first: "a".into(),
+                    second: "c".into(),
+                    rho: -0.995
+                },
+            ]
+        );
+        // an interval exactly |value| wide is not flagged ("wider than")
+        assert!(warnings(&params[2..], Some(&[vec![1.0]])).is_empty());
+        assert_eq!(warnings(&params, None), [IdentifiabilityWarning::Singular]);
+        assert!(warnings(&[], None).is_empty());
+        let text = w[1].to_string();
+        assert!(
+            text.contains("`a` and `c`") && text.contains("-0.995"),
+            "{text}"
+        );
+    }
+}
