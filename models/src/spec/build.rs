@@ -43,27 +43,22 @@ impl Spec {
     /// assert_eq!(err.to_string(), "scaled.inner.play.r: must be ≥ 0 (got -1)");
     /// ```
     pub fn build(&self) -> Result<Box<dyn Operator<f64>>, SpecError> {
+        let too_deep = |depth: usize, reason| {
+            let nesting = Error::InvalidParameter {
+                name: "nesting".into(),
+                value: depth as f64,
+                reason,
+            };
+            Err(SpecError::invalid(self.kind(), nesting))
+        };
         let depth = self.depth();
         if depth > MAX_DEPTH {
-            return Err(SpecError::invalid(
-                self.kind(),
-                Error::InvalidParameter {
-                    name: "nesting".into(),
-                    value: depth as f64,
-                    reason: "at most 120 operators may be nested on one path from the root (hysteron_models::spec::MAX_DEPTH)",
-                },
-            ));
+            return too_deep(depth, "at most 120 operators may be nested on one path from the root (hysteron_models::spec::MAX_DEPTH)");
         }
+        // only once the depth is bounded: `implicit_depth` recurses
         let depth = self.implicit_depth();
         if depth > MAX_IMPLICIT_DEPTH {
-            return Err(SpecError::invalid(
-                self.kind(),
-                Error::InvalidParameter {
-                    name: "nesting".into(),
-                    value: depth as f64,
-                    reason: "at most 4 implicit combinators (feedback, series, inverse, transmission) may be nested on one path: each level multiplies the work per sample",
-                },
-            ));
+            return too_deep(depth, "at most 4 implicit combinators (feedback, series, inverse, transmission) may be nested on one path: each level multiplies the work per sample");
         }
         self.build_at(self.kind())
     }
