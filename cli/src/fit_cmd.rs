@@ -1,8 +1,9 @@
 //! The `fit` job: fits chosen parameters of a model spec (JSON, see
 //! [`Spec`]) to one record or several (two columns of CSV files, input and measured
-//! output) with Levenberg-Marquardt ([`fit_records`]), prints a
-//! report and writes the fitted spec, optionally with a figure of measured
-//! and fitted output.
+//! output) with Levenberg-Marquardt
+//! ([`fit_records`](crate::identify::fit_records), from several starting
+//! points with `--starts`: [`fit_multistart`]), prints a report and writes
+//! the fitted spec, optionally with a figure of measured and fitted output.
 //!
 //! * The free parameters are named as the built model's
 //!   [`param_names`](crate::Operator::param_names) (`left.mms.f_c`) or by a
@@ -33,7 +34,9 @@
 
 use crate::csvio::{self, CsvIoError};
 use crate::fitting::{not_converged_note, Display};
-use crate::identify::{fit_records, free_by_names, FitError, FitOptions, FitReport, Record};
+use crate::identify::{
+    fit_multistart, free_by_names, FitError, FitOptions, FitReport, MultiStart, Record,
+};
 use crate::model_file::ModelFileError;
 use crate::models::Spec;
 use crate::output::OutputError;
@@ -75,6 +78,8 @@ pub struct FitCmdOptions {
     /// Evaluation budget per free parameter and iteration
     /// ([`FitOptions::patience`]).
     pub patience: usize,
+    /// The starting points ([`fit_multistart`]; one start: a plain fit).
+    pub starts: MultiStart,
     /// Draw the progress display (only ever on a terminal).
     pub progress: bool,
     /// Where the sample period of the rate-dependent nodes comes from (a
@@ -421,9 +426,16 @@ pub fn run(opts: &FitCmdOptions) -> Result<FitCmdReport, FitCmdError> {
     };
     let fit = {
         let display = Display::new(opts.progress);
-        fit_records(model.as_ref(), &records, &free, &own, &fit_opts, &|p| {
-            display.update(p)
-        })
+        let progress = |p| display.update(p);
+        fit_multistart(
+            model.as_ref(),
+            &records,
+            &free,
+            &own,
+            &fit_opts,
+            &opts.starts,
+            &progress,
+        )
     }
     .map_err(|e| {
         let (r, error) = match e {

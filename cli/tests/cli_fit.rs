@@ -289,6 +289,55 @@ fn fit_warns_about_parameters_the_data_do_not_determine() {
     assert!(warned, "{stdout}");
 }
 
+/// A play's threshold from a start beyond the input's amplitude: one start
+/// cannot move (the output never changes there), `--starts 8` finds the
+/// truth and says how many starts reached it; a bad `--starts` or
+/// `--spread` is an argument error.
+#[test]
+fn fit_starts_searches_from_a_latin_hypercube() {
+    let tmp = TempDir::new().unwrap();
+    let x: Vec<f64> = (0..800).map(|i| (0.03 * i as f64).sin()).collect();
+    let mut truth = hysteron::operators::Play::new(0.3).unwrap();
+    let y = truth.run(&x).unwrap();
+    fs::write(tmp.path().join("data.csv"), csv_text("x,y", &[&x, &y])).unwrap();
+    fs::write(tmp.path().join("start.json"), r#"{"type": "play", "r": 2}"#).unwrap();
+    let fit = |extra: &str| {
+        let args =
+            format!("fit --model start.json --data data.csv --free r --output f.json {extra}");
+        hysteron(tmp.path())
+            .args(args.split_whitespace())
+            .output()
+            .unwrap()
+    };
+    let one = fit("");
+    let text = String::from_utf8(one.stdout).unwrap();
+    assert!(!text.contains("starts "), "{text}");
+    let fitted = Spec::from_json_file(tmp.path().join("f.json")).unwrap();
+    assert_eq!(fitted.build().unwrap().params()[0], 2.0, "{text}");
+
+    let many = fit("--starts 8 --seed 1");
+    assert!(many.status.success());
+    let text = String::from_utf8(many.stdout).unwrap();
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("starts       8 ("))
+        .unwrap_or_else(|| panic!("{text}"));
+    assert!(line.contains("reached the best cost within 1 %"), "{line}");
+    let fitted = Spec::from_json_file(tmp.path().join("f.json")).unwrap();
+    let r = fitted.build().unwrap().params()[0];
+    assert!((r - 0.3).abs() < 1e-9, "{r}: {text}");
+
+    for (bad, expected) in [
+        ("--starts 0", "'--starts <N>': must be at least 1 (got 0)"),
+        ("--spread 0", "'--spread <S>': must be positive and finite"),
+    ] {
+        let out = fit(bad);
+        assert_eq!(out.status.code(), Some(1), "{bad}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(expected), "{bad}: {err}");
+    }
+}
+
 #[test]
 fn fit_on_other_columns_and_overwrites_its_old_output_atomically() {
     let s = Setup::new();

@@ -234,6 +234,10 @@ pub struct FitReport {
     /// Parameters the data do not pin down: wide intervals, correlated
     /// pairs, a singular `JᵀJ` ([`diagnostics::warnings`](crate::diagnostics::warnings)).
     pub warnings: Vec<IdentifiabilityWarning>,
+    /// The costs of every start of a multi-start search and how many
+    /// reached the best ([`fit_multistart`](crate::fit_multistart));
+    /// `None` for a single start.
+    pub starts: Option<crate::StartsSummary>,
 }
 
 fn seconds<S: serde::Serializer>(d: &Duration, s: S) -> Result<S::Ok, S::Error> {
@@ -456,32 +460,25 @@ pub fn fit_records(
     {
         return Err(FitError::Repeated { index });
     }
-    if !(opts.step > 0.0 && opts.step < 0.1) {
-        return Err(FitError::Option {
-            name: "step",
-            reason: "must lie in (0, 0.1)",
-        });
-    }
-    if opts.patience == 0 {
-        return Err(FitError::Option {
-            name: "patience",
-            reason: "must be ≥ 1",
-        });
-    }
-    if opts.max_evaluations == Some(0) {
-        return Err(FitError::Option {
-            name: "max_evaluations",
-            reason: "must be ≥ 1",
-        });
-    }
-    if let Some(s) = opts.max_seconds {
-        if !(s > 0.0 && s.is_finite() && s <= 1e9) {
-            return Err(FitError::Option {
-                name: "max_seconds",
-                reason: "must be positive and finite (at most 1e9)",
-            });
-        }
-    }
+    option(
+        opts.step > 0.0 && opts.step < 0.1,
+        "step",
+        "must lie in (0, 0.1)",
+    )?;
+    option(opts.patience > 0, "patience", "must be ≥ 1")?;
+    option(
+        opts.max_evaluations != Some(0),
+        "max_evaluations",
+        "must be ≥ 1",
+    )?;
+    let seconds_ok = opts
+        .max_seconds
+        .is_none_or(|s| s > 0.0 && s.is_finite() && s <= 1e9);
+    option(
+        seconds_ok,
+        "max_seconds",
+        "must be positive and finite (at most 1e9)",
+    )?;
     let layout = Layout {
         shared: free.to_vec(),
         own: own.to_vec(),
@@ -614,11 +611,25 @@ pub fn fit_records(
         correlation,
         condition_number,
         warnings,
+        starts: None,
     };
     Ok(Fit {
         model: fitted,
         report,
     })
+}
+
+/// `Ok` where `holds`, else [`FitError::Option`] naming the option.
+pub(crate) fn option(
+    holds: bool,
+    name: &'static str,
+    reason: &'static str,
+) -> Result<(), FitError> {
+    if holds {
+        Ok(())
+    } else {
+        Err(FitError::Option { name, reason })
+    }
 }
 
 /// `(rms, rms / std(y))` of residuals `res` against the data `y` (the

@@ -8,6 +8,8 @@
 //!   finite-difference Jacobian with columns in parallel, and a
 //!   [`FitReport`] with standard errors, confidence intervals and
 //!   identifiability warnings ([`diagnostics`]);
+//! * [`multistart`]: the same fit from a Latin hypercube of starts, the
+//!   best kept;
 //! * [`batch`]: many parameter sets or many records simulated in parallel;
 //! * [`metrics`]: error figures of a model against a measured record (RMS,
 //!   largest error, NRMSE) and a zero-phase Butterworth low-pass.
@@ -24,6 +26,7 @@ pub mod benchmark;
 pub mod diagnostics;
 mod fit;
 pub mod metrics;
+pub mod multistart;
 pub mod paper;
 mod problem;
 pub mod report;
@@ -34,4 +37,5 @@ pub use fit::{
     fit, fit_records, fit_with_progress, free_by_names, Fit, FitError, FitOptions, FitReport,
     FitStatus, FittedParam, Progress, Record, RecordFit,
 };
+pub use multistart::{fit_multistart, MultiStart, StartsSummary};
 pub use transform::{Reparam, BOUNDARY_NUDGE};

@@ -82,6 +82,15 @@ impl fmt::Display for FitReport {
             Some(k) => writeln!(f, "cond(JᵀJ)    {k:.3e}")?,
             None => writeln!(f, "cond(JᵀJ)    - (singular)")?,
         }
+        if let Some(st) = &r.starts {
+            writeln!(
+                f,
+                "starts       {} ({} reached the best cost within 1 %; the best was start {})",
+                st.costs.len(),
+                st.reached,
+                st.best
+            )?;
+        }
         for w in &r.warnings {
             writeln!(f, "warning: {w}")?;
         }

@@ -3,8 +3,11 @@
 // The no-panic lints of the workspace Cargo.toml are for the library code.
 #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
 
-use hysteron_identify::{fit, free_by_names, FitOptions, FitReport, IdentifiabilityWarning};
-use hysteron_operators::{BoucWen, MaxwellSlip, Operator};
+use hysteron_identify::{
+    fit, fit_multistart, free_by_names, FitOptions, FitReport, IdentifiabilityWarning, MultiStart,
+    Record,
+};
+use hysteron_operators::{BoucWen, MaxwellSlip, Operator, Play};
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};
 
@@ -108,4 +111,39 @@ fn zero_residuals_keep_the_correlations() {
     assert!(rho[0][1].abs() < 0.99, "{r}");
     assert!(r.warnings.is_empty(), "{r}");
     assert!(r.condition_number.is_some(), "{r}");
+}
+
+/// A play's threshold from a start beyond the input's amplitude: there the
+/// output never moves, the gradient is zero and a single start stays where
+/// it began; eight Latin-hypercube starts (within a factor 4) include some
+/// below the amplitude, which find the truth, and the report says how many
+/// did.
+#[test]
+fn multiple_starts_find_what_one_start_misses() {
+    let x = input();
+    let y = Play::new(0.3).unwrap().run(&x).unwrap();
+    let start = Play::new(2.0).unwrap();
+    let free = free_by_names(&start, &["r"]).unwrap();
+    let opts = FitOptions::default();
+    let one = fit(&start, &x, &y, &free, &opts).unwrap().report;
+    assert_eq!(one.params[0].value, 2.0, "{one}");
+    let records = [Record {
+        x: &x,
+        y: &y,
+        skip: 0,
+    }];
+    let ms = MultiStart {
+        starts: 8,
+        ..MultiStart::default()
+    };
+    let many = fit_multistart(&start, &records, &free, &[], &opts, &ms, &|_| {})
+        .unwrap()
+        .report;
+    let summary = many.starts.as_ref().unwrap();
+    assert_eq!(summary.costs.len(), 8);
+    assert!(summary.reached >= 1 && summary.reached < 8, "{many}");
+    assert_ne!(summary.best, 0, "{many}");
+    assert!((many.params[0].value - 0.3).abs() < 1e-9, "{many}");
+    assert!(many.cost < 1e-20 && one.cost > 1.0, "{one}\n{many}");
+    assert!(many.to_string().contains("starts       8"), "{many}");
 }

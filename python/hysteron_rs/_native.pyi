@@ -109,6 +109,8 @@ class FitResult:
     @property
     def warnings(self) -> List[str]: ...
     @property
+    def starts(self) -> Optional[Dict[str, Any]]: ...
+    @property
     def cost(self) -> float: ...
     @property
     def rms(self) -> float: ...
@@ -196,6 +198,9 @@ def fit(
     gtol: float = 0.0,
     max_evaluations: Optional[int] = None,
     max_seconds: Optional[float] = None,
+    starts: int = 1,
+    spread: float = 1.3862943611198906,
+    seed: int = 0,
 ) -> FitResult: ...
 def fit_records(
     model: Model,
@@ -211,6 +216,9 @@ def fit_records(
     gtol: float = 0.0,
     max_evaluations: Optional[int] = None,
     max_seconds: Optional[float] = None,
+    starts: int = 1,
+    spread: float = 1.3862943611198906,
+    seed: int = 0,
 ) -> FitResult: ...
 def run_batch(
     model: Model, records: Sequence[_ArrayLike], *, threads: Optional[int] = None

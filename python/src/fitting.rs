@@ -4,7 +4,7 @@ use crate::array::samples;
 use crate::errors::{fit_error, spec_error, ParameterError};
 use crate::model::Model;
 use hysteron::identify::{
-    fit_records as fit_records_rs, FitOptions, FitReport, FitStatus, FittedParam, Progress, Record,
+    fit_multistart, FitOptions, FitReport, FitStatus, FittedParam, MultiStart, Progress, Record,
 };
 use numpy::PyArray2;
 use pyo3::prelude::*;
@@ -159,6 +159,22 @@ impl FitResult {
         self.report.condition_number
     }
 
+    /// With `starts > 1`: a dict of `costs` (every start's final cost, in
+    /// start order, `None` for a start that failed), `best` (the start
+    /// kept) and `reached` (starts within 1 % of the best cost); else
+    /// `None`.
+    #[getter]
+    fn starts<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(st) = &self.report.starts else {
+            return Ok(None);
+        };
+        let d = PyDict::new(py);
+        d.set_item("costs", st.costs.clone())?;
+        d.set_item("best", st.best)?;
+        d.set_item("reached", st.reached)?;
+        Ok(Some(d))
+    }
+
     /// Identifiability warnings, one sentence each: every parameter whose
     /// 95 % interval is wider than `|value|`, every pair correlated beyond
     /// 0.99, or a singular `JᵀJ` (empty when the data pin every free
@@ -204,6 +220,7 @@ struct Request {
     free: Vec<String>,
     own: Vec<String>,
     opts: FitOptions,
+    starts: MultiStart,
 }
 
 /// Resolves the names, checks ties and repeats, runs [`fit_records`] with
@@ -248,7 +265,15 @@ fn run_fit(
         .detach(|| {
             let mut m = start;
             m.reset();
-            fit_records_rs(m.as_ref(), &records, &shared, &own, &request.opts, &record)
+            fit_multistart(
+                m.as_ref(),
+                &records,
+                &shared,
+                &own,
+                &request.opts,
+                &request.starts,
+                &record,
+            )
         })
         .map_err(|e| fit_error(py, e))?;
     let spec = model
@@ -284,9 +309,12 @@ fn run_fit(
 /// one followed by a Jacobian of `2k` simulations); `max_evaluations` and
 /// `max_seconds` bound the work for real (the fit then ends not converged
 /// at its best point); `stride` compares every `stride`-th output with `y`
-/// (`len(x) = stride · len(y)`).
+/// (`len(x) = stride · len(y)`). `starts > 1` fits from the model's values
+/// and `starts − 1` Latin-hypercube points around them (within a factor
+/// `e^spread` for a positive parameter; `seed` fixes them), in parallel,
+/// and keeps the best (`FitResult.starts` says how many reached it).
 #[pyfunction]
-#[pyo3(signature = (model, x, y, free, *, patience=200, stride=1, ftol=1e-12, xtol=1e-12, gtol=0.0, max_evaluations=None, max_seconds=None))]
+#[pyo3(signature = (model, x, y, free, *, patience=200, stride=1, ftol=1e-12, xtol=1e-12, gtol=0.0, max_evaluations=None, max_seconds=None, starts=1, spread=1.3862943611198906, seed=0))]
 #[allow(clippy::too_many_arguments)] // the Python keyword arguments
 pub fn fit(
     py: Python<'_>,
@@ -301,6 +329,9 @@ pub fn fit(
     gtol: f64,
     max_evaluations: Option<usize>,
     max_seconds: Option<f64>,
+    starts: usize,
+    spread: f64,
+    seed: u64,
 ) -> PyResult<FitResult> {
     let data = [(samples(x, "x")?, samples(y, "y")?, 0)];
     let opts = FitOptions {
@@ -317,6 +348,11 @@ pub fn fit(
         free,
         own: vec![],
         opts,
+        starts: MultiStart {
+            starts,
+            spread,
+            seed,
+        },
     };
     run_fit(py, model, &data, request)
 }
@@ -328,7 +364,7 @@ pub fn fit(
 /// each record are simulated but not compared (a warm-up). Otherwise as
 /// `fit`.
 #[pyfunction]
-#[pyo3(signature = (model, records, free, *, own=Vec::new(), skip=0, patience=200, stride=1, ftol=1e-12, xtol=1e-12, gtol=0.0, max_evaluations=None, max_seconds=None))]
+#[pyo3(signature = (model, records, free, *, own=Vec::new(), skip=0, patience=200, stride=1, ftol=1e-12, xtol=1e-12, gtol=0.0, max_evaluations=None, max_seconds=None, starts=1, spread=1.3862943611198906, seed=0))]
 #[allow(clippy::too_many_arguments)] // the Python keyword arguments
 pub fn fit_records(
     py: Python<'_>,
@@ -344,6 +380,9 @@ pub fn fit_records(
     gtol: f64,
     max_evaluations: Option<usize>,
     max_seconds: Option<f64>,
+    starts: usize,
+    spread: f64,
+    seed: u64,
 ) -> PyResult<FitResult> {
     let data = records
         .iter()
@@ -366,5 +405,20 @@ pub fn fit_records(
         max_seconds,
         ..FitOptions::default()
     };
-    run_fit(py, model, &data, Request { free, own, opts })
+    let starts = MultiStart {
+        starts,
+        spread,
+        seed,
+    };
+    run_fit(
+        py,
+        model,
+        &data,
+        Request {
+            free,
+            own,
+            opts,
+            starts,
+        },
+    )
 }

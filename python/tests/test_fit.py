@@ -69,6 +69,26 @@ def test_parameters_the_data_do_not_determine_are_named_in_the_warnings() -> Non
     assert "warning: " in str(result)
 
 
+def test_several_starts_find_what_one_start_misses() -> None:
+    # A play's threshold from beyond the input's amplitude: the output never
+    # moves there, so one start stays; a Latin hypercube of 8 starts finds it.
+    x = np.sin(np.linspace(0.0, 20.0, 800))
+    y = hy.play(0.3).run(x)
+    one = hy.fit(hy.play(2.0), x, y, ["r"])
+    assert one.values["r"] == 2.0 and one.starts is None
+    many = hy.fit(hy.play(2.0), x, y, ["r"], starts=8, seed=1)
+    assert abs(many.values["r"] - 0.3) < 1e-9
+    st = many.starts
+    assert st is not None and len(st["costs"]) == 8 and 1 <= st["reached"] < 8
+    assert st["best"] != 0
+    again = hy.fit_records(hy.play(2.0), [(x, y)], ["r"], starts=8, seed=1)
+    assert again.values == many.values
+    with pytest.raises(hy.FitError, match="starts"):
+        hy.fit(hy.play(2.0), x, y, ["r"], starts=0)
+    with pytest.raises(hy.FitError, match="spread"):
+        hy.fit(hy.play(2.0), x, y, ["r"], starts=2, spread=float("nan"))
+
+
 def test_fit_errors() -> None:
     m = hy.mms(1.0, 10.0)
     x = _record(100)

@@ -1,0 +1,234 @@
+//! Multi-start fitting: the same least-squares problem solved from several
+//! starting points spread over the parameter domains, the best kept.
+//!
+//! Start 0 is the model's own parameter vector. Starts `1..N` are a Latin
+//! hypercube in the internal parameters `θ` of the fit ([`Reparam`]): each
+//! free parameter's range `[θ₀ − s, θ₀ + s]` (`s` =
+//! [`MultiStart::spread`]) is cut into `N − 1` equal strata, each stratum
+//! is used once per parameter, at a uniform point inside it, and the
+//! strata are paired across parameters by independent random
+//! permutations. So a positive parameter starts within a factor `e^s` of
+//! its value (`e^{1.386} = 4` by default), a parameter in `[0, 1]` within
+//! `±s` in its logit, and an unbounded one within `±s · max(|p₀|, 1)`.
+//! Only the shared parameters (`free`) are spread; per-record ones (`own`)
+//! start from the model's values. The starts run in parallel (rayon).
+//!
+//! # Reference
+//! McKay, Beckman & Conover, "A comparison of three methods for selecting
+//! values of input variables in the analysis of output from a computer
+//! code", *Technometrics* 21 (1979) 239–245 (Latin hypercube sampling).
+
+use crate::fit::option;
+use crate::{fit_records, Fit, FitError, FitOptions, Progress, Record, Reparam};
+use hysteron_operators::{Domain, Operator};
+use rand::rngs::StdRng;
+use rand::seq::SliceRandom;
+use rand::{Rng, SeedableRng};
+use rayon::prelude::*;
+use serde::Serialize;
+
+/// A start reached the best fit if its cost is within this fraction of the
+/// best cost.
+pub const REACHED: f64 = 0.01;
+
+/// How many starts, how far apart, from which random seed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MultiStart {
+    /// Number of starts, the model's own included (at least 1; 1 is a
+    /// plain fit).
+    pub starts: usize,
+    /// Half-width `s` of each parameter's range in internal coordinates
+    /// (positive and finite).
+    pub spread: f64,
+    /// Seed of the Latin hypercube (the same seed, the same starts).
+    pub seed: u64,
+}
+
+impl Default for MultiStart {
+    /// One start, `spread = ln 4`, seed 0.
+    fn default() -> Self {
+        Self {
+            starts: 1,
+            spread: 4f64.ln(),
+            seed: 0,
+        }
+    }
+}
+
+/// What a multi-start search found, beside its best fit.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StartsSummary {
+    /// The final cost of every start, in start order (`None`: that start
+    /// failed, for example a vector the model refuses).
+    pub costs: Vec<Option<f64>>,
+    /// The start that gave the best fit.
+    pub best: usize,
+    /// Starts whose cost is within [`REACHED`] of the best (the best
+    /// included).
+    pub reached: usize,
+}
+
+/// The starting parameter vectors: the model's own, then `starts − 1`
+/// Latin-hypercube points (see the module documentation).
+pub fn starting_points(
+    base: &[f64],
+    domains: &[Domain],
+    free: &[usize],
+    ms: &MultiStart,
+) -> Vec<Vec<f64>> {
+    let n = ms.starts.saturating_sub(1);
+    let mut rng = StdRng::seed_from_u64(ms.seed);
+    let mut points = vec![base.to_vec(); n];
+    for &i in free {
+        let (Some(&p0), Some(&domain)) = (base.get(i), domains.get(i)) else {
+            continue;
+        };
+        let mut strata: Vec<usize> = (0..n).collect();
+        strata.shuffle(&mut rng);
+        for (point, stratum) in points.iter_mut().zip(strata) {
+            let u = (stratum as f64 + rng.random::<f64>()) / n as f64;
+            let offset = ms.spread * (2.0 * u - 1.0);
+            let value = match domain {
+                Domain::Real => p0 + offset * p0.abs().max(1.0),
+                _ => {
+                    let map = Reparam(domain);
+                    map.to_external(map.to_internal(p0) + offset)
+                }
+            };
+            if let Some(v) = point.get_mut(i) {
+                *v = value;
+            }
+        }
+    }
+    let mut all = vec![base.to_vec()];
+    all.extend(points);
+    all
+}
+
+/// [`fit_records`] from [`MultiStart::starts`] starting points; the best
+/// fit (lowest cost) with a [`StartsSummary`] in its report
+/// ([`FitReport::starts`](crate::FitReport::starts)). One start is exactly
+/// [`fit_records`] (no summary).
+///
+/// # Requirements
+/// As [`fit_records`]; `starts ≥ 1`, `spread` positive and finite.
+///
+/// # Errors
+/// The errors of [`fit_records`] for a bad request. A start that fails on
+/// its own (the model refuses its vector, the fit fails) counts with no
+/// cost; if every start fails, the first start's error is returned.
+pub fn fit_multistart(
+    model: &(dyn Operator<f64> + 'static),
+    records: &[Record<'_>],
+    free: &[usize],
+    own: &[usize],
+    opts: &FitOptions,
+    ms: &MultiStart,
+    on_iteration: &(dyn Fn(Progress) + Sync),
+) -> Result<Fit, FitError> {
+    option(ms.starts > 0, "starts", "must be ≥ 1")?;
+    option(
+        ms.spread > 0.0 && ms.spread.is_finite(),
+        "spread",
+        "must be positive and finite",
+    )?;
+    let points = starting_points(&model.params(), &model.param_domains(), free, ms);
+    let run = |(j, p): (usize, &Vec<f64>)| -> Result<Fit, FitError> {
+        let mut start = dyn_clone::clone_box(model);
+        start.set_params(p).map_err(FitError::Start)?;
+        // Only the first start reports progress (the others run beside it).
+        let quiet = |_| {};
+        let progress: &(dyn Fn(Progress) + Sync) = if j == 0 { on_iteration } else { &quiet };
+        fit_records(start.as_ref(), records, free, own, opts, progress)
+    };
+    if let [only] = points.as_slice() {
+        // a plain fit: no summary
+        return run((0, only));
+    }
+    let mut fits: Vec<Result<Fit, FitError>> = points.par_iter().enumerate().map(run).collect();
+    let costs: Vec<Option<f64>> = fits
+        .iter()
+        .map(|f| f.as_ref().ok().map(|f| f.report.cost))
+        .collect();
+    let best = costs
+        .iter()
+        .enumerate()
+        .filter_map(|(j, c)| c.filter(|c| c.is_finite()).map(|c| (j, c)))
+        .min_by(|a, b| a.1.total_cmp(&b.1));
+    let Some((best, best_cost)) = best else {
+        // every start failed: the first one's error
+        return match fits.swap_remove(0) {
+            Ok(fit) => Ok(fit),
+            Err(e) => Err(e),
+        };
+    };
+    let reached = costs
+        .iter()
+        .flatten()
+        .filter(|&&c| c <= best_cost + REACHED * best_cost.abs())
+        .count();
+    let mut fit = fits.swap_remove(best)?;
+    fit.report.starts = Some(StartsSummary {
+        costs,
+        best,
+        reached,
+    });
+    Ok(fit)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn starts_are_a_latin_hypercube_around_the_model() {
+        let base = [2.0, 0.5, -3.0, 7.0];
+        let domains = [
+            Domain::Positive,
+            Domain::UnitInterval,
+            Domain::Real,
+            Domain::Positive,
+        ];
+        let ms = MultiStart {
+            starts: 9,
+            spread: 4f64.ln(),
+            seed: 3,
+        };
+        let points = starting_points(&base, &domains, &[0, 1, 2], &ms);
+        assert_eq!(points.len(), 9);
+        assert_eq!(points[0], base);
+        // each parameter: one point per stratum of its internal range
+        for (i, d) in domains.iter().enumerate().take(3) {
+            let map = Reparam(*d);
+            let mut strata: Vec<usize> = points[1..]
+                .iter()
+                .map(|p| {
+                    let (lo, width) = match d {
+                        Domain::Real => (base[i] - ms.spread * 3.0, 2.0 * ms.spread * 3.0),
+                        _ => (map.to_internal(base[i]) - ms.spread, 2.0 * ms.spread),
+                    };
+                    let t = match d {
+                        Domain::Real => p[i],
+                        _ => map.to_internal(p[i]),
+                    };
+                    ((t - lo) / width * 8.0).floor() as usize
+                })
+                .collect();
+            strata.sort();
+            assert_eq!(strata, (0..8).collect::<Vec<_>>(), "parameter {i}");
+            assert!(points.iter().all(|p| d.contains(p[i])));
+        }
+        // a parameter that is not free stays
+        assert!(points.iter().all(|p| p[3] == 7.0));
+        // the same seed, the same starts; another, others
+        assert_eq!(starting_points(&base, &domains, &[0, 1, 2], &ms), points);
+        let other = MultiStart { seed: 4, ..ms };
+        assert_ne!(starting_points(&base, &domains, &[0, 1, 2], &other), points);
+        // one start: the model alone
+        let one = MultiStart { starts: 1, ..ms };
+        assert_eq!(
+            starting_points(&base, &domains, &[0], &one),
+            vec![base.to_vec()]
+        );
+    }
+}
