@@ -80,3 +80,23 @@ fn cascade_of_vertical_into_flat_has_tangent_zero_not_nan() {
     assert!(t.output.is_finite());
     assert_eq!(t.tangent, 0.0, "tangent {}", t.tangent);
 }
+
+/// `operator_contract`: a gain's batch loop checked its outputs only after
+/// the whole batch, so `[an input that overflows, NaN]` failed at sample 1
+/// (the NaN input) in `process` but at sample 0 (the overflow) in the
+/// trial/commit loop. The batch now fails where the loop does, with the
+/// same error, and the memoryless leaves share that loop.
+#[test]
+fn a_gain_overflowing_before_a_nan_input_fails_at_the_overflow() {
+    let xs = [10.0, f64::NAN];
+    let mut op = Gain::new(1e308).unwrap();
+    let trial = op.trial(xs[0]).unwrap_err().to_string();
+    let processed = op.clone().run(&xs).unwrap_err();
+    assert!(processed.to_string().contains("sample 0"), "{processed}");
+    assert!(
+        processed.to_string().contains(&trial),
+        "{processed} vs {trial}"
+    );
+    // the model is left as the trial loop leaves it: nothing committed
+    assert_eq!(op.run(&[1.0]).unwrap(), [1e308]);
+}

@@ -80,7 +80,7 @@ impl<T: Float> StepLaw<T> for DeadZoneParams<T> {
 
     fn run(&self, _: &mut (), xs: &[T], ys: &mut [T]) -> Result<()> {
         let DeadZoneParams { b_l, b_r } = *self;
-        map_samples(xs, ys, |x| dead_zone(b_l, b_r, x))
+        map_samples(Self::KIND, xs, ys, |x| dead_zone(b_l, b_r, x))
     }
 
     const EQUATION: &'static str = "y = x − b_r above b_r, x − b_l below b_l, 0 in between";

@@ -1,6 +1,6 @@
 //! The linear gain (a linear spring in force-displacement terms).
 
-use crate::memoryless::{check_finite_outputs, map_samples};
+use crate::memoryless::map_samples;
 use crate::{declare_params, Float, Result, StepLaw, Stepped, Trial};
 
 declare_params! {
@@ -55,8 +55,7 @@ impl<T: Float> StepLaw<T> for GainParams<T> {
 
     fn run(&self, _: &mut (), xs: &[T], ys: &mut [T]) -> Result<()> {
         let k = self.k;
-        map_samples(xs, ys, |x| k * x)?;
-        check_finite_outputs(Self::KIND, xs, ys)
+        map_samples(Self::KIND, xs, ys, |x| k * x)
     }
 
     const EQUATION: &'static str = "y = k x";

@@ -58,7 +58,7 @@ impl<T: Float> StepLaw<T> for SaturationParams<T> {
 
     fn run(&self, _: &mut (), xs: &[T], ys: &mut [T]) -> Result<()> {
         let SaturationParams { lo, hi } = *self;
-        map_samples(xs, ys, |x| x.max(lo).min(hi))
+        map_samples(Self::KIND, xs, ys, |x| x.max(lo).min(hi))
     }
 
     const EQUATION: &'static str = "y = clamp(x, lo, hi)";
