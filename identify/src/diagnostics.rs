@@ -25,14 +25,24 @@ use std::fmt;
 /// Correlations beyond this magnitude are reported.
 pub const CORRELATED: f64 = 0.99;
 
+/// A parameter belongs to a singular combination if its component in the
+/// weakest direction (a unit vector) is at least this.
+pub const IN_NULL_DIRECTION: f64 = 0.1;
+
 /// A sign that the data do not determine a parameter, or a pair of them.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum IdentifiabilityWarning {
     /// `JᵀJ` is singular (or not positive definite): some combination of
     /// the free parameters does not change the output at all, and no
-    /// standard errors, intervals or correlations exist.
-    Singular,
+    /// standard errors, intervals or correlations exist. `names` are the
+    /// parameters in that combination: those with a component of at least
+    /// [`IN_NULL_DIRECTION`] in the unit eigenvector of the smallest
+    /// eigenvalue.
+    Singular {
+        /// The parameters of the combination ([`FittedParam::label`]).
+        names: Vec<String>,
+    },
     /// The 95 % interval of the parameter is wider than `|value|`.
     WideInterval {
         /// The parameter ([`FittedParam::label`]).
@@ -57,10 +67,15 @@ pub enum IdentifiabilityWarning {
 impl fmt::Display for IdentifiabilityWarning {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Self::Singular => write!(
+            Self::Singular { names } => write!(
                 f,
-                "JᵀJ is singular: a combination of the free parameters does not change the output \
-                 (no standard errors)"
+                "JᵀJ is singular: a combination of {} does not change the output (no standard \
+                 errors)",
+                names
+                    .iter()
+                    .map(|n| format!("`{n}`"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
             ),
             Self::WideInterval {
                 name,
@@ -80,32 +95,46 @@ impl fmt::Display for IdentifiabilityWarning {
     }
 }
 
-/// `κ = λ_max / λ_min` of the symmetric positive semi-definite `jtj`;
-/// `None` where it is empty or `λ_min ≤ 0` (singular) or the eigenvalues
-/// are not finite.
-pub fn condition_number(jtj: &DMatrix<f64>) -> Option<f64> {
+/// `κ = λ_max / λ_min` of the symmetric positive semi-definite `jtj`
+/// (`None` where it is empty, `λ_min ≤ 0` (singular) or the eigenvalues
+/// are not finite), and the unit eigenvector of `λ_min`: the direction in
+/// parameter space the data determine least.
+pub fn conditioning(jtj: &DMatrix<f64>) -> (Option<f64>, Vec<f64>) {
     if jtj.is_empty() || jtj.iter().any(|v| !v.is_finite()) {
-        return None;
+        return (None, Vec::new());
     }
-    let eigenvalues = SymmetricEigen::new(jtj.clone()).eigenvalues;
-    let max = eigenvalues.max();
-    let min = eigenvalues.min();
-    (min > 0.0 && max.is_finite()).then_some(max / min)
+    let eigen = SymmetricEigen::new(jtj.clone());
+    let weakest = eigen.eigenvalues.imin();
+    let direction = eigen.eigenvectors.column(weakest).iter().copied().collect();
+    let max = eigen.eigenvalues.max();
+    let min = eigen.eigenvalues.min();
+    (
+        (min > 0.0 && max.is_finite()).then_some(max / min),
+        direction,
+    )
 }
 
 /// The warnings for `params` with their correlation matrix (`None` where
-/// `JᵀJ` is singular): [`Singular`](IdentifiabilityWarning::Singular)
-/// alone in that case, else every wide interval, then every correlated
-/// pair `(i < j)` in the order of `params`.
+/// `JᵀJ` is singular) and the weakest direction of `JᵀJ` (from
+/// [`conditioning`]): [`Singular`](IdentifiabilityWarning::Singular)
+/// alone in the singular case, else every wide interval, then every
+/// correlated pair `(i < j)` in the order of `params`.
 pub fn warnings(
     params: &[FittedParam],
     correlation: Option<&[Vec<f64>]>,
+    weakest: &[f64],
 ) -> Vec<IdentifiabilityWarning> {
     let Some(correlation) = correlation else {
+        let names = params
+            .iter()
+            .zip(weakest)
+            .filter(|(_, v)| v.abs() >= IN_NULL_DIRECTION)
+            .map(|(p, _)| p.label())
+            .collect();
         return if params.is_empty() {
             Vec::new()
         } else {
-            vec![IdentifiabilityWarning::Singular]
+            vec![IdentifiabilityWarning::Singular { names }]
         };
     };
     let wide = params.iter().filter_map(|p| match p.ci95 {
@@ -152,16 +181,26 @@ mod tests {
     #[test]
     fn condition_number_is_the_eigenvalue_ratio() {
         let m = DMatrix::from_row_slice(2, 2, &[4.0, 0.0, 0.0, 0.25]);
-        assert_eq!(condition_number(&m), Some(16.0));
-        // [[2, 1], [1, 2]]: eigenvalues 3 and 1
+        let (k, weakest) = conditioning(&m);
+        assert_eq!(k, Some(16.0));
+        assert_eq!(
+            weakest.iter().map(|v| v.abs()).collect::<Vec<_>>(),
+            [0.0, 1.0]
+        );
+        // [[2, 1], [1, 2]]: eigenvalues 3 and 1, the weakest along (1, −1)/√2
         let m = DMatrix::from_row_slice(2, 2, &[2.0, 1.0, 1.0, 2.0]);
-        let k = condition_number(&m).unwrap();
-        assert!((k - 3.0).abs() < 1e-12, "{k}");
+        let (k, weakest) = conditioning(&m);
+        assert!((k.unwrap() - 3.0).abs() < 1e-12, "{k:?}");
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        assert!((weakest[0].abs() - h).abs() < 1e-12 && (weakest[0] + weakest[1]).abs() < 1e-12);
+        // singular: [[1, 1], [1, 1]] does not see (1, −1)
         let singular = DMatrix::from_row_slice(2, 2, &[1.0, 1.0, 1.0, 1.0]);
-        assert_eq!(condition_number(&singular), None);
-        assert_eq!(condition_number(&DMatrix::zeros(0, 0)), None);
+        let (k, weakest) = conditioning(&singular);
+        assert_eq!(k, None);
+        assert!((weakest[0] + weakest[1]).abs() < 1e-12, "{weakest:?}");
+        assert_eq!(conditioning(&DMatrix::zeros(0, 0)), (None, vec![]));
         let nan = DMatrix::from_row_slice(1, 1, &[f64::NAN]);
-        assert_eq!(condition_number(&nan), None);
+        assert_eq!(conditioning(&nan).0, None);
     }
 
     #[test]
@@ -176,7 +215,7 @@ mod tests {
             vec![0.2, 1.0, 0.5],
             vec![-0.995, 0.5, 1.0],
         ];
-        let w = warnings(&params, Some(&rho));
+        let w = warnings(&params, Some(&rho), &[]);
         assert_eq!(
             w,
             [
@@ -193,9 +232,20 @@ mod tests {
             ]
         );
         // an interval exactly |value| wide is not flagged ("wider than")
-        assert!(warnings(&params[2..], Some(&[vec![1.0]])).is_empty());
-        assert_eq!(warnings(&params, None), [IdentifiabilityWarning::Singular]);
-        assert!(warnings(&[], None).is_empty());
+        assert!(warnings(&params[2..], Some(&[vec![1.0]]), &[]).is_empty());
+        // singular along (a − c): those two are named, not b
+        let s = 0.5_f64.sqrt();
+        let singular = warnings(&params, None, &[s, 0.05, -s]);
+        assert_eq!(
+            singular,
+            [IdentifiabilityWarning::Singular {
+                names: vec!["a".into(), "c".into()]
+            }]
+        );
+        assert!(singular[0]
+            .to_string()
+            .contains("a combination of `a`, `c`"));
+        assert!(warnings(&[], None, &[]).is_empty());
         let text = w[1].to_string();
         assert!(
             text.contains("`a` and `c`") && text.contains("-0.995"),

@@ -228,7 +228,7 @@ pub struct FitReport {
     /// so to first order it leaves the correlations unchanged.
     pub correlation: Option<Vec<Vec<f64>>>,
     /// Condition number `κ = λ_max/λ_min` of `JᵀJ` in the internal
-    /// parameters ([`diagnostics::condition_number`](crate::diagnostics::condition_number));
+    /// parameters ([`diagnostics::conditioning`](crate::diagnostics::conditioning));
     /// `None` where `JᵀJ` is singular.
     pub condition_number: Option<f64>,
     /// Parameters the data do not pin down: wide intervals, correlated
@@ -518,7 +518,7 @@ pub fn fit_records(
     let ssr = residuals.norm_squared();
     let dof = m.saturating_sub(k).max(1) as f64;
     let jtj = jac.transpose() * &jac;
-    let condition_number = diagnostics::condition_number(&jtj);
+    let (condition_number, weakest) = diagnostics::conditioning(&jtj);
     let inverse = jtj.try_inverse();
     let cov = inverse.as_ref().map(|inv| inv * (ssr / dof));
 
@@ -594,7 +594,7 @@ pub fn fit_records(
             }
         })
         .collect();
-    let warnings = diagnostics::warnings(&params, correlation.as_deref());
+    let warnings = diagnostics::warnings(&params, correlation.as_deref(), &weakest);
     let mut fitted = dyn_clone::clone_box(model);
     fitted.set_params(&all_params).map_err(FitError::Start)?;
     let report = FitReport {

@@ -78,7 +78,7 @@ fn merged_elements_are_reported() {
     let r = fit_forces([0.5, 0.5]);
     let text = r.to_string();
     let names_both = |w: &IdentifiabilityWarning| match w {
-        IdentifiabilityWarning::Singular => true,
+        IdentifiabilityWarning::Singular { names } => names == &["f_b[0]", "f_b[1]"],
         IdentifiabilityWarning::Correlated { first, second, rho } => {
             first.ends_with("f_b[0]") && second.ends_with("f_b[1]") && rho.abs() > 0.99
         }
