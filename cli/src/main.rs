@@ -333,8 +333,11 @@ enum Command {
     /// (JSON) and prints both stage reports. Exit code 3 when a stage did
     /// not converge.
     IdentifyPaper {
-        /// The major-loop record (CSV with a header row; e.g. the `paper`
-        /// job's sines.csv).
+        /// The major-loop record (CSV with a header row): one sine, whose
+        /// whole record stage 1 fits and whose last increasing branch gives
+        /// the knots, e.g. the `paper` job's sine-5hz-I.csv (its sines.csv
+        /// holds three sines of different frequencies in a row: cut one out
+        /// first).
         #[arg(long = "loop", value_name = "LOOP.csv")]
         loop_record: PathBuf,
         /// The down-chirp record (CSV with a header row; e.g. the `paper`

@@ -67,16 +67,18 @@ pub enum IdentifiabilityWarning {
 impl fmt::Display for IdentifiabilityWarning {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Self::Singular { names } => write!(
-                f,
-                "JᵀJ is singular: a combination of {} does not change the output (no standard \
-                 errors)",
-                names
-                    .iter()
-                    .map(|n| format!("`{n}`"))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
+            Self::Singular { names } => {
+                let quoted: Vec<String> = names.iter().map(|n| format!("`{n}`")).collect();
+                let what = match quoted.as_slice() {
+                    [one] => one.clone(),
+                    [] => "the free parameters".to_string(),
+                    many => format!("a combination of {}", many.join(", ")),
+                };
+                write!(
+                    f,
+                    "JᵀJ is singular: {what} does not change the output (no standard errors)"
+                )
+            }
             Self::WideInterval {
                 name,
                 value,
