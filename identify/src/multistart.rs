@@ -150,30 +150,37 @@ pub fn fit_multistart(
         .iter()
         .map(|f| f.as_ref().ok().map(|f| f.report.cost))
         .collect();
-    let best = costs
-        .iter()
-        .enumerate()
-        .filter_map(|(j, c)| c.filter(|c| c.is_finite()).map(|c| (j, c)))
-        .min_by(|a, b| a.1.total_cmp(&b.1));
-    let Some((best, best_cost)) = best else {
+    let Some(summary) = summarize(costs) else {
         // every start failed: the first one's error
         return match fits.swap_remove(0) {
             Ok(fit) => Ok(fit),
             Err(e) => Err(e),
         };
     };
+    let mut fit = fits.swap_remove(summary.best)?;
+    fit.report.starts = Some(summary);
+    Ok(fit)
+}
+
+/// The best of the starts' final costs (`None` for a start that failed)
+/// and how many reached it within [`REACHED`]; `None` if no start has a
+/// finite cost.
+pub(crate) fn summarize(costs: Vec<Option<f64>>) -> Option<StartsSummary> {
+    let (best, best_cost) = costs
+        .iter()
+        .enumerate()
+        .filter_map(|(j, c)| c.filter(|c| c.is_finite()).map(|c| (j, c)))
+        .min_by(|a, b| a.1.total_cmp(&b.1))?;
     let reached = costs
         .iter()
         .flatten()
         .filter(|&&c| c <= best_cost + REACHED * best_cost.abs())
         .count();
-    let mut fit = fits.swap_remove(best)?;
-    fit.report.starts = Some(StartsSummary {
+    Some(StartsSummary {
         costs,
         best,
         reached,
-    });
-    Ok(fit)
+    })
 }
 
 #[cfg(test)]

@@ -29,12 +29,16 @@
 //! 15 kHz input exactly); [`boucwen_system_at_data_rate`] wraps it in an
 //! [`Oversample`] so it takes data-rate samples directly (input interpolated
 //! linearly between samples). [`periodic_steady_state`] runs a periodic
-//! input until the response repeats.
+//! input until the response repeats. [`simulate_record`] does all of it for
+//! a record of either kind ([`RecordKind`]: one steady-state period, or a
+//! record from rest such as a sine sweep), decimating the output after the
+//! record's [`DecimationPlan`].
 
 use crate::composition::{Feedback, OperatorExt, Oversample};
 use crate::operators::{
     check, BoucWen, BoucWenParams, Error, MassSpringDamper, Operator, Result, StiffnessMap,
 };
+use crate::signal::{DecimationPlan, RecordKind};
 use serde::{Deserialize, Serialize};
 
 /// Parameters of the Bouc-Wen benchmark system, in the Wen form
@@ -233,6 +237,70 @@ pub fn periodic_steady_state<O: Operator<f64> + ?Sized>(
         periods: max_periods,
         change,
         converged: false,
+    })
+}
+
+/// Steady state of a periodic record: the period-to-period change at
+/// which [`simulate_record`] stops (m).
+pub const STEADY_TOL: f64 = 1e-12;
+/// Periods [`simulate_record`] runs at most on a periodic record.
+pub const MAX_PERIODS: usize = 20;
+
+/// The benchmark system's response to a record, as the record was made.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RecordResponse {
+    /// The output decimated to the data rate after the record's plan
+    /// (compare this with the record's `y`).
+    pub decimated: Vec<f64>,
+    /// Every `upsample`-th sample of the output at the integration rate,
+    /// without a filter.
+    pub picked: Vec<f64>,
+    /// Periods simulated (1 for a record from rest).
+    pub periods: usize,
+    /// Whether the response reached its steady state (always true for a
+    /// record from rest).
+    pub converged: bool,
+}
+
+/// Simulates the benchmark system on a record's input `u` (sampled at
+/// `p.fs`) the way the reference made the record: `u` upsampled
+/// `p.upsample` times as `kind` needs ([`RecordKind::upsampling`]), the
+/// system integrated at `p.fs · p.upsample` (from rest; a periodic record
+/// period after period until the response repeats to [`STEADY_TOL`], at
+/// most [`MAX_PERIODS`] periods), its output decimated after `plan`
+/// ([`RecordKind::decimate`]).
+///
+/// Errors: `plan.factor()` other than `p.upsample` is an
+/// [`Error::InvalidParameter`] naming `plan`; a bad record or system is
+/// the error of the step that found it.
+pub fn simulate_record(
+    p: &BoucWenBenchmarkParams,
+    u: &[f64],
+    kind: RecordKind,
+    plan: &DecimationPlan,
+) -> Result<RecordResponse> {
+    p.validate()?;
+    if plan.factor() != p.upsample {
+        return Err(Error::InvalidParameter {
+            name: "plan".into(),
+            value: plan.factor() as f64,
+            reason: "must decimate by the system's upsampling factor",
+        });
+    }
+    let fine = kind.upsampling().upsample(u, p.upsample)?;
+    let mut system = boucwen_system(p)?;
+    let (output, periods, converged) = match kind {
+        RecordKind::Periodic => {
+            let r = periodic_steady_state(&mut system, &fine, STEADY_TOL, MAX_PERIODS)?;
+            (r.output, r.periods, r.converged)
+        }
+        RecordKind::FromRest => (system.run(&fine)?, 1, true),
+    };
+    Ok(RecordResponse {
+        decimated: kind.decimate(&output, plan)?,
+        picked: output.iter().step_by(p.upsample).copied().collect(),
+        periods,
+        converged,
     })
 }
 

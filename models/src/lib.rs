@@ -15,8 +15,9 @@
 //!   operator driven by a sine, in steady state;
 //! * [`energy`]: the work per closed loop `∮ y dx` of the same steady
 //!   cycle, and closed forms (PI bank, Bouc-Wen with `n = 1`);
-//! * [`signal`]: band-limited upsampling and FIR decimation of periodic
-//!   records.
+//! * [`signal`]: band-limited upsampling (FFT for periodic records,
+//!   polyphase for records from rest) and MATLAB's FIR decimation after a
+//!   chosen stage plan.
 
 #![warn(missing_docs)]
 // The library promises never to panic on user input: no unwrap/expect/panic
