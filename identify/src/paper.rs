@@ -44,7 +44,7 @@
 //! denominator's `(1 − w) h_i` term (at the first point `x_1 ≈ 0` it reads
 //! `S(0) ≈ F_1 / ((1 − w) h_1)`: the bias sets the stiffness at zero).
 
-use crate::{fit, free_by_names, FitError, FitOptions, FitReport};
+use crate::{fit, fit_records, free_by_names, FitError, FitOptions, FitReport, Record};
 use hysteron_composition::TravelLimits;
 use hysteron_models::{PaperModel, TransmissionParams};
 use hysteron_operators::{
@@ -109,7 +109,7 @@ pub enum PaperError {
     /// A fit could not start.
     #[error("stage {stage}: {source}")]
     Fit {
-        /// 1 (spring) or 2 (bedstop).
+        /// 1 (spring), 2 (bedstop) or 3 (joint refinement).
         stage: u8,
         /// The fit's error.
         #[source]
@@ -129,6 +129,10 @@ pub const MIN_BRANCH_SPAN: f64 = 0.5;
 /// The knot rule's denominator must exceed this fraction of the largest
 /// `|w x_j| + |(1 − w) h_j|` over the points.
 pub const MIN_DENOMINATOR: f64 = 1e-6;
+
+/// Half width of the force band of [`estimate_plateau`], as a fraction of
+/// the branch's force range.
+pub const PLATEAU_BAND: f64 = 0.02;
 
 /// A complete increasing branch of a record: the sample indices of the
 /// reversal minimum where it starts and the reversal maximum where it ends.
@@ -364,6 +368,109 @@ fn local_linear(x: &[f64], f: &[f64], x0: f64) -> f64 {
     } else {
         mf
     }
+}
+
+/// The plateau of a loop's increasing branch, where the slider crosses the
+/// backlash gap and the force barely changes ([`estimate_plateau`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Plateau {
+    /// The branch it lies on.
+    pub branch: Branch,
+    /// Its force level: the median force of the samples in the band.
+    pub level: f64,
+    /// Half width of the force band: [`PLATEAU_BAND`] times the branch's
+    /// force range.
+    pub band: f64,
+    /// Its extent in the input: the largest minus the smallest `x` of the
+    /// branch's samples whose force lies in the band.
+    pub width: f64,
+}
+
+/// The flattest stretch of the last complete increasing branch of a loop
+/// record `(x, F)` ([`last_increasing_branch`]): of all force bands
+/// `[c − δ, c + δ]` (`δ` = [`PLATEAU_BAND`] × the branch's force range,
+/// `c` any force of the branch), the one whose samples span the widest
+/// interval of `x`.
+///
+/// **What it estimates.** In the paper's model, after a reversal at the
+/// minimum the spring unloads (steep), the slider's friction turns from
+/// `−F_c` to `+F_c` within a travel of a few `1/K`, the slider then crosses
+/// the gap at a force ≈ `F_c` (the spring's deflection stays put, so the
+/// input moves by the slider's travel), and the spring loads again once
+/// the slider meets the stop. So the plateau's `width` estimates the
+/// backlash `b` and its `level` the Coulomb force `F_c`. The width is
+/// short of `b` by the part of the friction's turn that lies outside the
+/// band and long by the spring's deflection inside it (`2δ` over its
+/// stiffness); on the tests' default model (`b = 0.3`) it comes within
+/// about 10 %, which is all [`identify_paper`]'s stage 3 needs as a start.
+/// Without a backlash the "plateau" is the flattest part of the spring's
+/// branch, and the width is that of the band there.
+///
+/// Errors: a bad record, no complete increasing branch, or a force that is
+/// constant along it.
+// `order` holds indices of the branch (`branch.end < x.len() = f.len()`),
+// and `lo ≤ k < hi ≤ order.len()` for the window positions.
+#[allow(clippy::indexing_slicing)]
+pub fn estimate_plateau(x: &[f64], f: &[f64]) -> Result<Plateau, PaperError> {
+    check_record("record", x, f)?;
+    let branch = last_increasing_branch(x)?;
+    let mut order: Vec<usize> = (branch.start..=branch.end).collect();
+    order.sort_by(|&i, &j| f[i].total_cmp(&f[j]));
+    let n = order.len();
+    let band = PLATEAU_BAND * (f[order[n - 1]] - f[order[0]]);
+    if band.is_nan() || band <= 0.0 {
+        return Err(PaperError::Data {
+            record: "record",
+            reason: "the force is constant along the last complete increasing branch".into(),
+        });
+    }
+    // Sliding window over the samples sorted by force: [lo, hi) holds
+    // those within ±band of the k-th; monotone deques keep the window's
+    // largest and smallest x.
+    let (mut lo, mut hi) = (0usize, 0usize);
+    let mut max_q: std::collections::VecDeque<usize> = std::collections::VecDeque::new();
+    let mut min_q: std::collections::VecDeque<usize> = std::collections::VecDeque::new();
+    let mut best = (f64::NEG_INFINITY, 0usize, 1usize);
+    for k in 0..n {
+        let c = f[order[k]];
+        while hi < n && f[order[hi]] <= c + band {
+            let v = x[order[hi]];
+            while max_q.back().is_some_and(|&q| x[order[q]] <= v) {
+                max_q.pop_back();
+            }
+            max_q.push_back(hi);
+            while min_q.back().is_some_and(|&q| x[order[q]] >= v) {
+                min_q.pop_back();
+            }
+            min_q.push_back(hi);
+            hi += 1;
+        }
+        while f[order[lo]] < c - band {
+            lo += 1;
+        }
+        while max_q.front().is_some_and(|&q| q < lo) {
+            max_q.pop_front();
+        }
+        while min_q.front().is_some_and(|&q| q < lo) {
+            min_q.pop_front();
+        }
+        if let (Some(&a), Some(&b)) = (max_q.front(), min_q.front()) {
+            let width = x[order[a]] - x[order[b]];
+            if width > best.0 {
+                best = (width, lo, hi);
+            }
+        }
+    }
+    let (width, lo, hi) = best;
+    // the window is sorted by force: its median
+    let m = hi - lo;
+    let level = 0.5 * (f[order[lo + (m - 1) / 2]] + f[order[lo + m / 2]]);
+    Ok(Plateau {
+        branch,
+        level,
+        band,
+        width: width.max(0.0),
+    })
 }
 
 /// The shape of the Bouc-Wen-like spring: everything but its stiffness map.
@@ -730,7 +837,8 @@ pub fn fit_spring(
     })
 }
 
-/// The outcome of stage 2.
+/// The outcome of stage 2 ([`fit_bedstop`]) or stage 3 ([`fit_joint`]):
+/// a fit of the full model.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct BedstopStage {
     /// All model parameters after the fit.
@@ -799,20 +907,62 @@ pub struct PaperOptions {
     /// Stage 2's free parameters (names or suffixes of the model's
     /// `param_names`).
     pub bedstop_free: Vec<String>,
-    /// Settings of both fits.
+    /// Stage 3, the joint refinement on both records (see
+    /// [`identify_paper`]); `None` stops after the paper's two stages.
+    pub joint: Option<JointOptions>,
+    /// Settings of all fits.
     pub fit: FitOptions,
 }
 
 impl Default for PaperOptions {
     /// Twelve points, unsmoothed; stage 1 fits `w, beta, gamma, n, h0`;
-    /// stage 2 fits `limits.b, f_c, k`; default fit settings.
+    /// stage 2 fits `limits.b, f_c, k`; stage 3 runs with
+    /// [`JointOptions::default`]; default fit settings.
     fn default() -> Self {
         Self {
             points: 12,
             smoothing: 0,
             spring_free: SPRING_NAMES.iter().map(|s| s.to_string()).collect(),
             bedstop_free: ["limits.b", "f_c", "k"].map(String::from).to_vec(),
+            joint: Some(JointOptions::default()),
             fit: FitOptions::default(),
+        }
+    }
+}
+
+/// Settings of stage 3 of [`identify_paper`], the joint refinement of the
+/// full model on the loop and the chirp together.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct JointOptions {
+    /// Positions `z_i` of the stiffness map's knots in stage 3 (distinct,
+    /// increasing, `≥ 0`); `None` keeps stage 1's (the picked points'
+    /// `|x_i|`). Stage 1's map is resampled there (linear interpolation,
+    /// constant beyond its last knot) for the start, and the values `S_i`
+    /// are fitted; the positions stay fixed.
+    pub knots: Option<Vec<f64>>,
+    /// The free parameters besides the knot values (names or suffixes of
+    /// the model's `param_names`, as for stage 2). Every knot value
+    /// `stiffness.s[i]` is always free.
+    pub free: Vec<String>,
+    /// Start the backlash at the width and the Coulomb force at the level
+    /// of the loop's plateau ([`estimate_plateau`]); `false` takes both
+    /// from the `start` given to [`identify_paper`].
+    pub bedstop_from_plateau: bool,
+}
+
+impl Default for JointOptions {
+    /// Stage 1's knot positions; `w, beta, gamma, n, h0, limits.b, f_c, k`
+    /// and the knot values free; backlash and Coulomb force from the
+    /// plateau.
+    fn default() -> Self {
+        Self {
+            knots: None,
+            free: SPRING_NAMES
+                .iter()
+                .chain(&["limits.b", "f_c", "k"])
+                .map(|s| s.to_string())
+                .collect(),
+            bedstop_from_plateau: true,
         }
     }
 }
@@ -834,6 +984,18 @@ impl PaperOptions {
     }
 }
 
+/// The outcome of stage 3 of [`identify_paper`].
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct JointStage {
+    /// The loop's plateau, when the start's backlash and Coulomb force
+    /// came from it ([`JointOptions::bedstop_from_plateau`]).
+    pub plateau: Option<Plateau>,
+    /// Stage 3's starting model ([`joint_start`]).
+    pub start: TransmissionParams,
+    /// The fit: record 0 is the loop, record 1 the chirp.
+    pub report: FitReport,
+}
+
 /// The outcome of [`identify_paper`].
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PaperIdentification {
@@ -841,8 +1003,92 @@ pub struct PaperIdentification {
     pub spring: SpringStage,
     /// Stage 2's fit.
     pub bedstop: FitReport,
-    /// The identified model.
+    /// The model after stage 2 (the paper's result).
+    pub two_stage: TransmissionParams,
+    /// Stage 3, if it ran ([`PaperOptions::joint`]).
+    pub joint: Option<JointStage>,
+    /// The identified model: stage 3's if it ran, else stage 2's.
     pub params: TransmissionParams,
+}
+
+/// Stage 3's starting model: the stage-1 `spring` (its shape, and its
+/// stiffness map resampled at [`JointOptions::knots`] if given), the
+/// friction's `K`, `y0` and the slider's start from `start`, and the
+/// backlash and Coulomb force from the loop's plateau
+/// ([`estimate_plateau`] on `(loop_x, loop_f)`: `b` = its width, `F_c` =
+/// its level if positive) when [`JointOptions::bedstop_from_plateau`],
+/// else from `start`. The backlash is at least `2 |slider0|`, so the
+/// start's slider fits in the gap.
+///
+/// Stage 2's bedstop is deliberately not used: with the stage-1 spring
+/// fixed it degenerates (`b → 0`, `K → ∞`, see [`identify_paper`]), and a
+/// joint fit from there stays in that basin.
+pub fn joint_start(
+    loop_x: &[f64],
+    loop_f: &[f64],
+    spring: &BoucWenParams<f64>,
+    start: &TransmissionParams,
+    opts: &JointOptions,
+) -> Result<(TransmissionParams, Option<Plateau>), PaperError> {
+    let stiffness = match &opts.knots {
+        None => spring.stiffness.clone(),
+        Some(z) => StiffnessMap::new(
+            z.clone(),
+            z.iter().map(|&zi| spring.stiffness.eval(zi).0).collect(),
+        )
+        .map_err(|e| PaperError::Model(e.in_path("joint.knots")))?,
+    };
+    let mut p = TransmissionParams {
+        spring: BoucWenParams {
+            z0: start.spring.z0,
+            stiffness,
+            ..spring.clone()
+        },
+        ..start.clone()
+    };
+    let plateau = if opts.bedstop_from_plateau {
+        let plateau = estimate_plateau(loop_x, loop_f)?;
+        p.backlash = plateau.width;
+        if plateau.level > 0.0 {
+            p.friction.f_c = plateau.level;
+        }
+        Some(plateau)
+    } else {
+        None
+    };
+    p.backlash = p.backlash.max(2.0 * p.slider0.abs());
+    Ok((p, plateau))
+}
+
+/// Stage 3: fits the parameters named in `free` (names or suffixes of the
+/// [`PaperModel`]'s `param_names`) of the full model built from `params`
+/// to the loop record `(loop_x, loop_f)` and the chirp record `(chirp_x,
+/// chirp_f)` together ([`fit_records`]: one parameter set, the residuals
+/// of both records stacked, each simulated from the model's initial
+/// state). The report's record 0 is the loop, record 1 the chirp.
+pub fn fit_joint(
+    loop_x: &[f64],
+    loop_f: &[f64],
+    chirp_x: &[f64],
+    chirp_f: &[f64],
+    params: &TransmissionParams,
+    free: &[&str],
+    opts: &FitOptions,
+) -> Result<BedstopStage, PaperError> {
+    check_record("loop", loop_x, loop_f)?;
+    check_record("chirp", chirp_x, chirp_f)?;
+    let model = params.build().map_err(PaperError::Model)?;
+    let stage = |source| PaperError::Fit { stage: 3, source };
+    let idx = free_by_names(&model, free).map_err(stage)?;
+    let records = [Record::new(loop_x, loop_f), Record::new(chirp_x, chirp_f)];
+    let fitted = fit_records(&model, &records, &idx, &[], opts, &|_| {}).map_err(stage)?;
+    let mut m = model.clone();
+    m.set_params(&fitted.report.all_params)
+        .map_err(PaperError::Model)?;
+    Ok(BedstopStage {
+        params: transmission_params(&m, params),
+        report: fitted.report,
+    })
 }
 
 /// The paper's two stages:
@@ -919,10 +1165,44 @@ pub fn identify_paper(
             other => other,
         },
     )?;
+    let joint = match &opts.joint {
+        None => None,
+        Some(j) => {
+            let (joint_start, plateau) =
+                joint_start(loop_x, loop_f, &spring.spring, start, j).map_err(name_loop)?;
+            let knots = (0..joint_start.spring.stiffness.knots_z().len())
+                .map(|i| format!("stiffness.s[{i}]"))
+                .collect::<Vec<_>>();
+            let free: Vec<&str> = j.free.iter().chain(&knots).map(String::as_str).collect();
+            let fitted = fit_joint(
+                loop_x,
+                loop_f,
+                chirp_x,
+                chirp_f,
+                &joint_start,
+                &free,
+                &opts.fit,
+            )?;
+            Some((
+                JointStage {
+                    plateau,
+                    start: joint_start,
+                    report: fitted.report,
+                },
+                fitted.params,
+            ))
+        }
+    };
+    let (joint, params) = match joint {
+        Some((j, p)) => (Some(j), p),
+        None => (None, bedstop.params.clone()),
+    };
     Ok(PaperIdentification {
         spring,
         bedstop: bedstop.report,
-        params: bedstop.params,
+        two_stage: bedstop.params,
+        joint,
+        params,
     })
 }
 
