@@ -957,12 +957,21 @@ pub struct JointOptions {
     /// of the loop's plateau ([`estimate_plateau`]); `false` takes both
     /// from the `start` given to [`identify_paper`].
     pub bedstop_from_plateau: bool,
+    /// Parameters of `free` held at their start in a first pass (names as
+    /// in `free`); the second pass then frees everything from the first
+    /// pass's result. Empty: one pass. The default holds `k`: the
+    /// friction's rate `K → ∞` (a Coulomb step) is the direction in which
+    /// stage 2 degenerates, and a joint fit that may take it from a rough
+    /// start can run off there too (measured: with `F_c = 3`, `K = 60` the
+    /// one-pass fit from the plateau's start ended at `K ≈ 10²⁰`; with `K`
+    /// held first it recovered the truth).
+    pub hold_first: Vec<String>,
 }
 
 impl Default for JointOptions {
     /// Stage 1's knot positions; `w, beta, gamma, n, h0, limits.b, f_c, k`
     /// and the knot values free; backlash and Coulomb force from the
-    /// plateau.
+    /// plateau; `k` held in a first pass.
     fn default() -> Self {
         Self {
             knots: None,
@@ -972,6 +981,7 @@ impl Default for JointOptions {
                 .map(|s| s.to_string())
                 .collect(),
             bedstop_from_plateau: true,
+            hold_first: vec!["k".to_string()],
         }
     }
 }
@@ -1001,7 +1011,11 @@ pub struct JointStage {
     pub plateau: Option<Plateau>,
     /// Stage 3's starting model ([`joint_start`]).
     pub start: TransmissionParams,
-    /// The fit: record 0 is the loop, record 1 the chirp.
+    /// The first pass, with [`JointOptions::hold_first`] held (`None` when
+    /// nothing is held).
+    pub first: Option<FitReport>,
+    /// The fit (the second pass if there were two): record 0 is the loop,
+    /// record 1 the chirp.
     pub report: FitReport,
 }
 
@@ -1118,7 +1132,8 @@ pub fn fit_joint(
 ///    ([`fit_joint`]), from [`joint_start`]: the stage-1 spring (its map
 ///    resampled at [`JointOptions::knots`] if given), the backlash and
 ///    Coulomb force from the loop's plateau ([`estimate_plateau`]), `K`
-///    from `start`. The identified model
+///    from `start`; in two passes, the first with
+///    [`JointOptions::hold_first`] (`k`) held. The identified model
 ///    ([`PaperIdentification::params`]) is stage 3's; stage 2's stays in
 ///    [`PaperIdentification::two_stage`].
 ///
@@ -1205,19 +1220,26 @@ pub fn identify_paper(
                 .map(|i| format!("stiffness.s[{i}]"))
                 .collect::<Vec<_>>();
             let free: Vec<&str> = j.free.iter().chain(&knots).map(String::as_str).collect();
-            let fitted = fit_joint(
-                loop_x,
-                loop_f,
-                chirp_x,
-                chirp_f,
-                &joint_start,
-                &free,
-                &opts.fit,
-            )?;
+            let joint = |from: &TransmissionParams, free: &[&str]| {
+                fit_joint(loop_x, loop_f, chirp_x, chirp_f, from, free, &opts.fit)
+            };
+            let (first, from) = if j.hold_first.is_empty() {
+                (None, joint_start.clone())
+            } else {
+                let held: Vec<&str> = free
+                    .iter()
+                    .copied()
+                    .filter(|n| !j.hold_first.iter().any(|h| h == n))
+                    .collect();
+                let pass = joint(&joint_start, &held)?;
+                (Some(pass.report), pass.params)
+            };
+            let fitted = joint(&from, &free)?;
             Some((
                 JointStage {
                     plateau,
                     start: joint_start,
+                    first,
                     report: fitted.report,
                 },
                 fitted.params,
