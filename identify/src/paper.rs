@@ -1155,12 +1155,11 @@ pub fn fit_joint(
 /// knots placed at the truth's positions (with stage 1's knots, at the
 /// picked points, the map cannot equal the truth's piecewise-linear one:
 /// the scalar parameters then come within 2.6 %, `S` within 0.7 %). The
-/// same holds for `b` = 0.05, 0.1, 0.5, for `F_c` = 3 with `K` = 60 (which
-/// needs `K` held in the first pass) and `F_c` = 0.75 with `K` = 15, and
-/// `K` = 100; the joint fit converged from backlash starts of 0.3–2 times
-/// the truth (and `F_c` 0.5–2, `K` 0.3–3 times) in the exploration behind
-/// this. Not tried: measured records, and models whose loop has no
-/// plateau (`b` = 0).
+/// same holds for `b` = 0.01 (plateau width 0.29), 0.05, 0.1, 0.5, for
+/// `F_c` = 3 with `K` = 60 (which needs `K` held in the first pass) and
+/// `F_c` = 0.75 with `K` = 15, and `K` = 100; the joint fit converged from
+/// backlash starts of 0.3–2 times the truth (and `F_c` 0.5–2, `K` 0.3–3
+/// times) in the exploration behind this. Not tried: measured records.
 ///
 /// **The start this needs.** Stage 1 as before (shape within about
 /// ±30 %); stage 3 takes nothing of `start`'s bedstop but `K` (and `y0`,
