@@ -3,10 +3,10 @@
 #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
 
 use hysteron_identify::paper::{
-    estimate_plateau, fit_bedstop, fit_spring, identify_paper, knots_from_points,
-    last_increasing_branch, pick_branch_points, pick_branch_points_smoothed, BedstopStage,
-    JointOptions, PaperError, PaperIdentification, PaperOptions, SpringFromPoints, SpringShape,
-    SpringStage,
+    estimate_plateau, fit_bedstop, fit_joint, fit_spring, identify_paper, joint_start,
+    knots_from_points, last_increasing_branch, pick_branch_points, pick_branch_points_smoothed,
+    BedstopStage, JointOptions, PaperError, PaperIdentification, PaperOptions, SpringFromPoints,
+    SpringShape, SpringStage,
 };
 use hysteron_identify::FitOptions;
 use hysteron_models::experiments::{chirp, sine, DRIVE, FS};
@@ -699,6 +699,61 @@ fn plateau_of_a_synthetic_loop() {
     assert!(matches!(
         estimate_plateau(&x[..1000], &f[..1000]),
         Err(PaperError::NoIncreasingBranch { .. })
+    ));
+}
+
+/// Stage 3's own errors are typed: bad knot positions, an unknown free
+/// name, a bad record (named).
+#[test]
+fn stage3_bad_inputs_are_typed_errors() {
+    let t = truth();
+    let [loop_x, loop_f, chirp_x, chirp_f] = full_model_records(&t);
+    let opts = FitOptions::default();
+    let bad_knots = JointOptions {
+        knots: Some(vec![0.5, 0.2]),
+        ..JointOptions::default()
+    };
+    let e = joint_start(&loop_x, &loop_f, &t.spring, &t, &bad_knots).unwrap_err();
+    assert!(matches!(e, PaperError::Model(_)), "{e}");
+    assert!(e.to_string().contains("joint.knots"), "{e}");
+    // a flat loop has no plateau
+    let flat = vec![1.0; loop_x.len()];
+    assert!(matches!(
+        joint_start(&loop_x, &flat, &t.spring, &t, &JointOptions::default()),
+        Err(PaperError::Data { .. })
+    ));
+    // without the plateau, the start's bedstop is kept
+    let from_start = JointOptions {
+        bedstop_from_plateau: false,
+        ..JointOptions::default()
+    };
+    let (p, plateau) = joint_start(&loop_x, &flat, &t.spring, &t, &from_start).unwrap();
+    assert!(plateau.is_none());
+    assert_eq!((p.backlash, p.friction.f_c), (t.backlash, t.friction.f_c));
+    assert!(matches!(
+        fit_joint(&loop_x, &loop_f, &chirp_x, &chirp_f, &t, &["nope"], &opts),
+        Err(PaperError::Fit { stage: 3, .. })
+    ));
+    let mut nan = chirp_f.clone();
+    nan[3] = f64::NAN;
+    assert!(matches!(
+        fit_joint(&loop_x, &loop_f, &chirp_x, &nan, &t, &["f_c"], &opts),
+        Err(PaperError::Data {
+            record: "chirp",
+            ..
+        })
+    ));
+    assert!(matches!(
+        fit_joint(
+            &loop_x[1..],
+            &loop_f,
+            &chirp_x,
+            &chirp_f,
+            &t,
+            &["f_c"],
+            &opts
+        ),
+        Err(PaperError::Data { record: "loop", .. })
     ));
 }
 
