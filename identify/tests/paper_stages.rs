@@ -487,9 +487,10 @@ fn joint_errors(id: &PaperIdentification, t: &TransmissionParams) -> Vec<(String
 /// geometry (b = 0.3 deg), from the ±20–30 % start of the other tests:
 /// w, β, γ, n, h0, the six knot values (knots at the truth's positions, see
 /// [`joint_at_true_knots`]), b, F_c, K, each to ≤ 1e-6 relative (measured:
-/// ≤ 1e-14). Stage 3 starts from the stage-1 spring and the backlash and
-/// Coulomb force of the loop's plateau (measured: width 0.517 for b = 0.3,
-/// level 1.30 for F_c = 1.5); stage 2's result is b ≈ 0.01, K ≈ 2e13.
+/// ≤ 2.3e-14, γ). Stage 3 starts from the stage-1 spring and the backlash
+/// and Coulomb force of the loop's plateau (measured: width 0.517 for
+/// b = 0.3, level 1.30 for F_c = 1.5); stage 2's result is b ≈ 0.01,
+/// K ≈ 2e13.
 #[test]
 fn stage3_recovers_the_full_model_noise_free() {
     let t = truth();
