@@ -160,7 +160,11 @@ fn paper_two_stages(c: &mut Criterion) {
     start.backlash *= 1.2;
     start.friction.f_c *= 1.2;
     start.friction.k *= 0.8;
-    let opts = PaperOptions::default();
+    // the paper's two stages only (stage 3 off), as the README's figure
+    let opts = PaperOptions {
+        joint: None,
+        ..PaperOptions::default()
+    };
 
     let run = || {
         identify_paper(&loop_x, &loop_f, &chirp_x, &chirp_f, &start, &opts)

@@ -6,7 +6,9 @@
 //! * Stage 1 fits the spring's shape to the loop record, with the
 //!   stiffness knots derived from points on its last complete increasing
 //!   branch; stage 2 fits the bedstop (`limits.b`, `f_c`, `k`) of the full
-//!   model to the chirp record with that spring. Both start from the
+//!   model to the chirp record with that spring; stage 3 fits all
+//!   parameters on both records together, from the stage-1 spring and the
+//!   bedstop read off the loop's plateau. They start from the
 //!   illustrative [`TransmissionParams::default`], or from `--start`, a
 //!   `transmission` spec.
 //! * The result is written as a **model spec** of type `transmission`:
@@ -19,7 +21,7 @@
 //!   points; the identified stiffness map) and `DIR/chirp.svg` (measured
 //!   and identified force over the sample index and over the input).
 //!
-//! Both stage reports are printed. As for `fit`, nothing is written unless
+//! All stage reports are printed. As for `fit`, nothing is written unless
 //! everything before succeeded, files are written atomically, no output may
 //! be an input, errors are one line with exit code 1, and an
 //! identification whose stages ran but did not both converge exits with
@@ -137,7 +139,13 @@ impl IdentifyPaperReport {
     /// Whether both stages converged (exit code 0, otherwise
     /// [`EXIT_NOT_CONVERGED`](crate::fitting::EXIT_NOT_CONVERGED)).
     pub fn converged(&self) -> bool {
-        self.result.spring.report.status.converged() && self.result.bedstop.status.converged()
+        self.result.spring.report.status.converged()
+            && self.result.bedstop.status.converged()
+            && self
+                .result
+                .joint
+                .as_ref()
+                .is_none_or(|j| j.report.status.converged())
     }
 }
 
@@ -174,6 +182,22 @@ impl fmt::Display for IdentifyPaperReport {
         writeln!(f, "\nstage 2: the bedstop on the chirp, spring fixed")?;
         write!(f, "{}", r.bedstop)?;
         not_converged_note(f, &r.bedstop)?;
+        if let Some(j) = &r.joint {
+            writeln!(
+                f,
+                "\nstage 3: all parameters on the loop and the chirp together (record 0: loop, 1: chirp)"
+            )?;
+            if let Some(p) = &j.plateau {
+                writeln!(
+                    f,
+                    "start: backlash {} and f_c {} from the loop's plateau",
+                    fmt_g(p.width, 6),
+                    fmt_g(p.level, 6)
+                )?;
+            }
+            write!(f, "{}", j.report)?;
+            not_converged_note(f, &j.report)?;
+        }
         let p = &r.params;
         writeln!(
             f,
@@ -263,7 +287,9 @@ pub fn run(opts: &IdentifyPaperOptions) -> Result<IdentifyPaperReport, IdentifyP
     };
     let result = {
         let display = Display::new(opts.progress);
-        display.message("stages 1 (spring, loop) and 2 (bedstop, chirp)".into());
+        display.message(
+            "stages 1 (spring, loop), 2 (bedstop, chirp) and 3 (all, both records)".into(),
+        );
         identify_paper(loop_x, loop_f, chirp_x, chirp_f, &start, &paper_opts)
     }
     .map_err(|error| IdentifyPaperError::Paper {

@@ -23,8 +23,8 @@
 //!   work per loop of a model spec driven by sines (see
 //!   [`hysteron_cli::analyze`]);
 //! * `hysteron identify-paper --loop LOOP.csv --chirp CHIRP.csv --output
-//!   FITTED.json [--plot DIR]`: the paper's two-stage identification (see
-//!   [`hysteron_cli::identify_paper`]).
+//!   FITTED.json [--plot DIR]`: the paper's two-stage identification and
+//!   a joint refinement (see [`hysteron_cli::identify_paper`]).
 //!
 //! * `hysteron export-fmu --model SPEC.json --output MODEL.fmu [--name
 //!   NAME] [--library libhysteron_c.so]`: the spec as an FMI 2.0
@@ -329,9 +329,11 @@ enum Command {
     /// The two-stage identification of Ruderman & Bertram (2015): the
     /// spring's shape from a major loop (knots through points of its last
     /// increasing branch), then the bedstop (backlash, F_c, K) from a
-    /// down-chirp. Writes the identified model as a `transmission` spec
-    /// (JSON) and prints both stage reports. Exit code 3 when a stage did
-    /// not converge.
+    /// down-chirp; then a joint refinement of all parameters on both
+    /// records (stage 3, from the stage-1 spring and the backlash and F_c
+    /// of the loop's plateau). Writes the identified model as a
+    /// `transmission` spec (JSON) and prints the stage reports. Exit code 3
+    /// when a stage did not converge.
     IdentifyPaper {
         /// The major-loop record (CSV with a header row): one sine, whose
         /// whole record stage 1 fits and whose last increasing branch gives

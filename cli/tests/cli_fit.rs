@@ -774,7 +774,7 @@ fn paper_records(dir: &Path) {
 }
 
 #[test]
-fn identify_paper_writes_a_transmission_spec_and_both_reports() {
+fn identify_paper_writes_a_transmission_spec_and_the_stage_reports() {
     let s = Setup::new();
     paper_records(s.dir());
     let assert = hysteron(s.dir())
@@ -799,6 +799,8 @@ fn identify_paper_writes_a_transmission_spec_and_both_reports() {
     for want in [
         "stage 1: the spring",
         "stage 2: the bedstop",
+        "stage 3: all parameters on the loop and the chirp together",
+        "from the loop's plateau",
         "limits.b",
         "left.mms.f_c",
         "knots S",
@@ -807,7 +809,7 @@ fn identify_paper_writes_a_transmission_spec_and_both_reports() {
     ] {
         assert!(stdout.contains(want), "`{want}` not in:\n{stdout}");
     }
-    assert_eq!(stdout.matches("95% CI").count(), 2, "{stdout}");
+    assert_eq!(stdout.matches("95% CI").count(), 3, "{stdout}");
     assert_eq!(code == Some(3), stdout.contains("NOT CONVERGED"));
     let spec = Spec::from_json_file(s.path("ident.json")).unwrap();
     assert_eq!(spec.kind(), "transmission");

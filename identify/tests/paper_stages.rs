@@ -3,9 +3,10 @@
 #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
 
 use hysteron_identify::paper::{
-    fit_bedstop, fit_spring, identify_paper, knots_from_points, last_increasing_branch,
-    pick_branch_points, pick_branch_points_smoothed, BedstopStage, PaperError, PaperOptions,
-    SpringFromPoints, SpringShape, SpringStage,
+    estimate_plateau, fit_bedstop, fit_joint, fit_spring, identify_paper, joint_start,
+    knots_from_points, last_increasing_branch, pick_branch_points, pick_branch_points_smoothed,
+    BedstopStage, JointOptions, PaperError, PaperIdentification, PaperOptions, SpringFromPoints,
+    SpringShape, SpringStage,
 };
 use hysteron_identify::FitOptions;
 use hysteron_models::experiments::{chirp, sine, DRIVE, FS};
@@ -386,7 +387,7 @@ fn errors(p: &TransmissionParams, t: &TransmissionParams) -> [(&'static str, f64
     ]
 }
 
-/// `identify_paper` as the paper does it, on the full model's own loop and
+/// `identify_paper` as the paper does it (stage 3 off), on the full model's own loop and
 /// chirp with the default backlash (b = 0.3 deg, a fifth of the loop's
 /// amplitude). Stage 1 reads the loop as the spring's own, but the spring
 /// sees `z = x − r`: the slider's travel across the gap flattens the loop
@@ -397,7 +398,8 @@ fn errors(p: &TransmissionParams, t: &TransmissionParams) -> [(&'static str, f64
 /// a model that reproduces the loop (nrmse 0.006) and the chirp (nrmse
 /// 0.058, from 0.30 at stage 2's start; the starting model, which has the
 /// true knots, gives 0.10). Asserted: both fits converge, these nrmse
-/// levels (with margin), and stage 2 improves on its start.
+/// levels (with margin), and stage 2 improves on its start. Stage 3
+/// (`stage3_recovers_the_full_model_noise_free`) recovers the model.
 #[test]
 fn end_to_end_paper_procedure_on_the_full_model() {
     let t = truth();
@@ -408,15 +410,13 @@ fn end_to_end_paper_procedure_on_the_full_model() {
         nrmse(&y, &chirp_f)
     };
     let started = Instant::now();
-    let id = identify_paper(
-        &loop_x,
-        &loop_f,
-        &chirp_x,
-        &chirp_f,
-        &start,
-        &PaperOptions::default(),
-    )
-    .unwrap();
+    let two_stages = PaperOptions {
+        joint: None,
+        ..PaperOptions::default()
+    };
+    let id = identify_paper(&loop_x, &loop_f, &chirp_x, &chirp_f, &start, &two_stages).unwrap();
+    assert!(id.joint.is_none());
+    assert_eq!(id.params, id.two_stage);
     let (s1, s2) = (&id.spring.report, &id.bedstop);
     println!(
         "end to end (paper's procedure, b = 0.3): {:?}",
@@ -447,6 +447,317 @@ fn end_to_end_paper_procedure_on_the_full_model() {
     assert!(s2.nrmse.unwrap() < start_nrmse);
 }
 
+/// The stiffness map's knots of stage 3 placed where the truth has them
+/// (0, 0.3, …, 1.5 deg): stage 1's knots sit at the 12 points picked on
+/// the loop, which cannot coincide with the truth's, and a piecewise-linear
+/// map on other knots cannot equal the truth's. Only the positions are
+/// given; the values start from stage 1's map resampled there.
+fn joint_at_true_knots(t: &TransmissionParams) -> PaperOptions {
+    PaperOptions {
+        joint: Some(JointOptions {
+            knots: Some(t.spring.stiffness.knots_z().to_vec()),
+            ..JointOptions::default()
+        }),
+        ..PaperOptions::default()
+    }
+}
+
+/// Every parameter of the truth the model has, by name, with its fitted
+/// value: the joint fit's free parameters (shape, knot values, backlash,
+/// friction) compared with the truth's values at the same indices.
+fn joint_errors(id: &PaperIdentification, t: &TransmissionParams) -> Vec<(String, f64, f64)> {
+    let want = t.build().unwrap().params();
+    let r = &id.joint.as_ref().unwrap().report;
+    r.params
+        .iter()
+        .map(|p| {
+            let se = p.std_error.unwrap_or(f64::NAN);
+            (
+                p.name.clone(),
+                rel(p.value, want[p.index]),
+                (p.value - want[p.index]).abs() / se,
+            )
+        })
+        .collect()
+}
+
+/// Issue 15, item 4: after the paper's two stages, stage 3 (the joint
+/// refinement on the loop and the chirp together) recovers every parameter
+/// of the full model from its own noise-free records at the default
+/// geometry (b = 0.3 deg), from the ±20–30 % start of the other tests:
+/// w, β, γ, n, h0, the six knot values (knots at the truth's positions, see
+/// [`joint_at_true_knots`]), b, F_c, K, each to ≤ 1e-6 relative (measured:
+/// ≤ 2.3e-14, γ). Stage 3 starts from the stage-1 spring and the backlash
+/// and Coulomb force of the loop's plateau (measured: width 0.517 for
+/// b = 0.3, level 1.30 for F_c = 1.5); stage 2's result is b ≈ 0.01,
+/// K ≈ 2e13.
+#[test]
+fn stage3_recovers_the_full_model_noise_free() {
+    let t = truth();
+    let [loop_x, loop_f, chirp_x, chirp_f] = full_model_records(&t);
+    let start = perturbed_start(&t);
+    let started = Instant::now();
+    let id = identify_paper(
+        &loop_x,
+        &loop_f,
+        &chirp_x,
+        &chirp_f,
+        &start,
+        &joint_at_true_knots(&t),
+    )
+    .unwrap();
+    let j = id.joint.as_ref().unwrap();
+    let r = &j.report;
+    println!(
+        "stage 3 (b = 0.3, noise-free): plateau {:?}; stage 2 gave b {:.3e}, K {:.3e}",
+        j.plateau, id.two_stage.backlash, id.two_stage.friction.k
+    );
+    println!(
+        "  {} iterations, {} evaluations, nrmse {:?}, records {:?}, κ {:?}; all stages {:?}",
+        r.iterations,
+        r.evaluations,
+        r.nrmse,
+        r.records.iter().map(|f| f.nrmse).collect::<Vec<_>>(),
+        r.condition_number,
+        started.elapsed()
+    );
+    assert!(r.status.converged(), "{:?}", r.status);
+    let errs = joint_errors(&id, &t);
+    assert_eq!(
+        errs.len(),
+        14,
+        "w, beta, gamma, n, h0, b, f_c, k, 6 knot values"
+    );
+    for (name, e, _) in &errs {
+        println!("  {name}: relative error {e:.2e}");
+        assert!(*e <= 1e-6, "{name}: relative error {e:e}");
+    }
+    // the identified model is stage 3's, and it is the truth
+    assert_eq!(
+        id.params.spring.stiffness.knots_z(),
+        t.spring.stiffness.knots_z()
+    );
+    for (a, b) in [
+        (id.params.backlash, t.backlash),
+        (id.params.friction.f_c, t.friction.f_c),
+        (id.params.friction.k, t.friction.k),
+        (id.params.spring.n, t.spring.n),
+    ] {
+        assert!(rel(a, b) <= 1e-6, "{a} vs {b}");
+    }
+    // the plateau is what put stage 3 in the right basin: the start's
+    // bedstop came from it, not from `start`
+    let p = j.plateau.unwrap();
+    assert_eq!(j.start.backlash, p.width);
+    assert_eq!(j.start.friction.f_c, p.level);
+    // two passes, K held at the start's in the first
+    let first = j.first.as_ref().unwrap();
+    assert!(first.params.iter().all(|q| !q.name.ends_with(".k")));
+    assert_eq!(first.params.len(), 13);
+}
+
+/// Stage 3 on other geometries than the default, noise-free, same
+/// procedure and ±20–30 % starts: every parameter to ≤ 1e-6 relative.
+fn stage3_recovers(t: &TransmissionParams, label: &str) {
+    let [loop_x, loop_f, chirp_x, chirp_f] = full_model_records(t);
+    let start = perturbed_start(t);
+    let started = Instant::now();
+    let id = identify_paper(
+        &loop_x,
+        &loop_f,
+        &chirp_x,
+        &chirp_f,
+        &start,
+        &joint_at_true_knots(t),
+    )
+    .unwrap();
+    let j = id.joint.as_ref().unwrap();
+    let worst = joint_errors(&id, t)
+        .into_iter()
+        .map(|(_, e, _)| e)
+        .fold(0.0, f64::max);
+    println!(
+        "stage 3 ({label}): plateau {:?}; first pass {} it, second {} it; \
+         max relative error {worst:.2e}; {:?}",
+        j.plateau,
+        j.first.as_ref().unwrap().iterations,
+        j.report.iterations,
+        started.elapsed()
+    );
+    assert!(j.report.status.converged(), "{:?}", j.report.status);
+    for (name, e, _) in joint_errors(&id, t) {
+        assert!(e <= 1e-6, "{label}: {name}: relative error {e:e}");
+    }
+}
+
+/// A stiffer, stronger friction (F_c = 3 Nm, K = 60 /deg): the case for
+/// holding `K` in stage 3's first pass. Measured: in one pass
+/// (`hold_first` empty) the fit from the plateau's start ran off to
+/// K ≈ 10²⁰; in two it recovers everything to ~1e-15.
+#[test]
+fn stage3_recovers_a_stronger_friction() {
+    let mut t = truth();
+    t.friction.f_c = 3.0;
+    t.friction.k = 60.0;
+    stage3_recovers(&t, "F_c = 3, K = 60");
+}
+
+/// A small backlash (b = 0.1 deg): the plateau overshoots it 3.5× (width
+/// 0.35, mostly the spring's deflection inside the force band), and stage
+/// 3 still recovers everything (measured: ~1e-14).
+#[test]
+fn stage3_recovers_a_small_backlash() {
+    let mut t = truth();
+    t.backlash = 0.1;
+    stage3_recovers(&t, "b = 0.1");
+}
+
+/// Issue 15, item 4, with 1 % noise (of each record's RMS force, Gaussian,
+/// fixed seeds) on both records: stage 3's estimates lie within 3 of its
+/// reported standard errors of the truth, for every parameter (measured:
+/// at most 2.1, the fourth knot value; `b` 1.9). The knots are at the
+/// truth's positions ([`joint_at_true_knots`]); the picked forces are
+/// smoothed over ±25 samples for stage 1 (stage 3 does not use them). The
+/// fit's residual RMS is the noise's.
+#[test]
+fn stage3_noisy_truth_within_three_standard_errors() {
+    let t = truth();
+    let [loop_x, loop_clean, chirp_x, chirp_clean] = full_model_records(&t);
+    let (loop_f, sd_loop) = noisy(&loop_clean, 0.01, 5);
+    let (chirp_f, sd_chirp) = noisy(&chirp_clean, 0.01, 6);
+    let start = perturbed_start(&t);
+    let started = Instant::now();
+    let opts = PaperOptions {
+        smoothing: 25,
+        ..joint_at_true_knots(&t)
+    };
+    let id = identify_paper(&loop_x, &loop_f, &chirp_x, &chirp_f, &start, &opts).unwrap();
+    let r = &id.joint.as_ref().unwrap().report;
+    println!(
+        "stage 3 noisy: {} iterations, {:?}; all stages {:?}",
+        r.iterations,
+        r.status,
+        started.elapsed()
+    );
+    assert!(r.status.converged(), "{:?}", r.status);
+    let errs = joint_errors(&id, &t);
+    assert_eq!(errs.len(), 14);
+    for (name, e, z) in &errs {
+        println!("  {name}: relative error {e:.2e}, {z:.2} standard errors");
+        assert!(*z < 3.0, "{name}: {z:.2} standard errors off");
+    }
+    for (fit, sd) in r.records.iter().zip([sd_loop, sd_chirp]) {
+        println!("  rms {:e} vs noise {sd:e}", fit.rms);
+        assert!((fit.rms / sd - 1.0).abs() < 0.05);
+    }
+}
+
+/// The plateau of a synthetic branch: a steep rise, a flat stretch of known
+/// width at a known level, a steep rise.
+#[test]
+fn plateau_of_a_synthetic_loop() {
+    // x: 0 → 1 → −1 → 1 → 0; the increasing branch's force: 10 (x + 0.7)
+    // up to x = −0.7 (reaches 0), then 0.5 flat (width 0.4), then steep
+    let mut x: Vec<f64> = Vec::new();
+    let seg = |a: f64, b: f64, n: usize| -> Vec<f64> {
+        (0..n).map(|i| a + (b - a) * i as f64 / n as f64).collect()
+    };
+    x.extend(seg(0.0, 1.0, 500));
+    x.extend(seg(1.0, -1.0, 1000));
+    x.extend(seg(-1.0, 1.0, 1000));
+    x.extend(seg(1.0, 0.0, 500));
+    let rising = |v: f64| {
+        if v < -0.35 {
+            0.5 + 20.0 * (v + 0.35)
+        } else if v < 0.05 {
+            0.5
+        } else {
+            0.5 + 20.0 * (v - 0.05)
+        }
+    };
+    let f: Vec<f64> = x
+        .iter()
+        .enumerate()
+        .map(|(i, &v)| {
+            if (1500..2500).contains(&i) {
+                rising(v)
+            } else {
+                -rising(-v)
+            }
+        })
+        .collect();
+    let p = estimate_plateau(&x, &f).unwrap();
+    println!("{p:?}");
+    assert_eq!((p.branch.start, p.branch.end), (1500, 2500));
+    assert_eq!(p.level, 0.5);
+    // the flat 0.4 plus the band's reach into the two steep parts
+    let reach = 2.0 * p.band / 20.0;
+    assert!((p.width - (0.4 + reach)).abs() < 0.005, "{}", p.width);
+    assert!(matches!(
+        estimate_plateau(&x, &vec![1.0; x.len()]),
+        Err(PaperError::Data { .. })
+    ));
+    assert!(matches!(
+        estimate_plateau(&x[..1000], &f[..1000]),
+        Err(PaperError::NoIncreasingBranch { .. })
+    ));
+}
+
+/// Stage 3's own errors are typed: bad knot positions, an unknown free
+/// name, a bad record (named).
+#[test]
+fn stage3_bad_inputs_are_typed_errors() {
+    let t = truth();
+    let [loop_x, loop_f, chirp_x, chirp_f] = full_model_records(&t);
+    let opts = FitOptions::default();
+    let bad_knots = JointOptions {
+        knots: Some(vec![0.5, 0.2]),
+        ..JointOptions::default()
+    };
+    let e = joint_start(&loop_x, &loop_f, &t.spring, &t, &bad_knots).unwrap_err();
+    assert!(matches!(e, PaperError::Model(_)), "{e}");
+    assert!(e.to_string().contains("joint.knots"), "{e}");
+    // a flat loop has no plateau
+    let flat = vec![1.0; loop_x.len()];
+    assert!(matches!(
+        joint_start(&loop_x, &flat, &t.spring, &t, &JointOptions::default()),
+        Err(PaperError::Data { .. })
+    ));
+    // without the plateau, the start's bedstop is kept
+    let from_start = JointOptions {
+        bedstop_from_plateau: false,
+        ..JointOptions::default()
+    };
+    let (p, plateau) = joint_start(&loop_x, &flat, &t.spring, &t, &from_start).unwrap();
+    assert!(plateau.is_none());
+    assert_eq!((p.backlash, p.friction.f_c), (t.backlash, t.friction.f_c));
+    assert!(matches!(
+        fit_joint(&loop_x, &loop_f, &chirp_x, &chirp_f, &t, &["nope"], &opts),
+        Err(PaperError::Fit { stage: 3, .. })
+    ));
+    let mut nan = chirp_f.clone();
+    nan[3] = f64::NAN;
+    assert!(matches!(
+        fit_joint(&loop_x, &loop_f, &chirp_x, &nan, &t, &["f_c"], &opts),
+        Err(PaperError::Data {
+            record: "chirp",
+            ..
+        })
+    ));
+    assert!(matches!(
+        fit_joint(
+            &loop_x[1..],
+            &loop_f,
+            &chirp_x,
+            &chirp_f,
+            &t,
+            &["f_c"],
+            &opts
+        ),
+        Err(PaperError::Data { record: "loop", .. })
+    ));
+}
+
 fn nrmse(y: &[f64], d: &[f64]) -> f64 {
     let m = d.len() as f64;
     let mean = d.iter().sum::<f64>() / m;
@@ -464,7 +775,7 @@ fn nrmse(y: &[f64], d: &[f64]) -> f64 {
 /// knot positions from stage 1) recovers everything within 5 %: measured
 /// b 4.7 %, F_c 0.85 %, K 4.2 %, w 0.11 %, β 0.83 %, γ 0.32 %, n 0.44 %,
 /// h0 0.44 %, S 0.9 % (the knots sit at 12 points even in x, not at the
-/// true knots, so S cannot be exact).
+/// true knots, so S cannot be exact). Stage 3 is off here.
 #[test]
 fn end_to_end_small_backlash_with_the_spring_refined_in_stage2() {
     let mut t = truth();
@@ -472,7 +783,11 @@ fn end_to_end_small_backlash_with_the_spring_refined_in_stage2() {
     let [loop_x, loop_f, chirp_x, chirp_f] = full_model_records(&t);
     let start = perturbed_start(&t);
     let started = Instant::now();
-    let opts = PaperOptions::default().refine_spring_in_stage2();
+    let opts = PaperOptions {
+        joint: None,
+        ..PaperOptions::default()
+    }
+    .refine_spring_in_stage2();
     let id = identify_paper(&loop_x, &loop_f, &chirp_x, &chirp_f, &start, &opts).unwrap();
     let errs = errors(&id.params, &t);
     println!("end to end (b = 0.05, spring refined in stage 2): {errs:?}");
