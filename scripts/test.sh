@@ -26,6 +26,10 @@ RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
 echo "== cargo test --workspace"
 cargo test --workspace
 
+echo "== the vector kernels' contract on AVX2 and without vector kernels (HYSTERON_ISA caps the dispatch)"
+HYSTERON_ISA=avx2 cargo test -q -p hysteron --test contract
+HYSTERON_ISA=portable cargo test -q -p hysteron --test contract
+
 echo "== Python: install hysteron-rs into target/py-venv"
 python3 -m venv target/py-venv
 venv=target/py-venv/bin

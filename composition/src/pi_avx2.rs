@@ -35,14 +35,19 @@ pub(crate) enum Isa {
 }
 
 impl Isa {
-    /// The widest supported, if any.
+    /// The widest supported, if any, unless the environment variable
+    /// `HYSTERON_ISA` caps it (read once): `avx2` stops at AVX2, `portable`
+    /// uses no vector kernel. For measuring an AVX2-only machine on an
+    /// AVX-512 one, and for testing each kernel on any machine; the results
+    /// are the same bit for bit.
     pub(crate) fn detect() -> Option<Isa> {
-        if std::arch::is_x86_feature_detected!("avx512f") {
-            Some(Isa::Avx512)
-        } else if std::arch::is_x86_feature_detected!("avx2") {
-            Some(Isa::Avx2)
-        } else {
-            None
+        static CAP: std::sync::OnceLock<Option<String>> = std::sync::OnceLock::new();
+        let cap = CAP.get_or_init(|| std::env::var("HYSTERON_ISA").ok());
+        match cap.as_deref() {
+            Some("portable") => None,
+            Some("avx2") => std::arch::is_x86_feature_detected!("avx2").then_some(Isa::Avx2),
+            _ if std::arch::is_x86_feature_detected!("avx512f") => Some(Isa::Avx512),
+            _ => std::arch::is_x86_feature_detected!("avx2").then_some(Isa::Avx2),
         }
     }
 }
