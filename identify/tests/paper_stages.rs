@@ -481,6 +481,21 @@ fn joint_errors(id: &PaperIdentification, t: &TransmissionParams) -> Vec<(String
         .collect()
 }
 
+/// The three stages on the truth's own noise-free loop and chirp, from the
+/// ±20–30 % start, stage 3's knots at the truth's positions.
+fn identify_own_records(t: &TransmissionParams) -> PaperIdentification {
+    let [loop_x, loop_f, chirp_x, chirp_f] = full_model_records(t);
+    identify_paper(
+        &loop_x,
+        &loop_f,
+        &chirp_x,
+        &chirp_f,
+        &perturbed_start(t),
+        &joint_at_true_knots(t),
+    )
+    .unwrap()
+}
+
 /// Issue 15, item 4: after the paper's two stages, stage 3 (the joint
 /// refinement on the loop and the chirp together) recovers every parameter
 /// of the full model from its own noise-free records at the default
@@ -494,18 +509,8 @@ fn joint_errors(id: &PaperIdentification, t: &TransmissionParams) -> Vec<(String
 #[test]
 fn stage3_recovers_the_full_model_noise_free() {
     let t = truth();
-    let [loop_x, loop_f, chirp_x, chirp_f] = full_model_records(&t);
-    let start = perturbed_start(&t);
     let started = Instant::now();
-    let id = identify_paper(
-        &loop_x,
-        &loop_f,
-        &chirp_x,
-        &chirp_f,
-        &start,
-        &joint_at_true_knots(&t),
-    )
-    .unwrap();
+    let id = identify_own_records(&t);
     let j = id.joint.as_ref().unwrap();
     let r = &j.report;
     println!(
@@ -559,18 +564,8 @@ fn stage3_recovers_the_full_model_noise_free() {
 /// Stage 3 on other geometries than the default, noise-free, same
 /// procedure and ±20–30 % starts: every parameter to ≤ 1e-6 relative.
 fn stage3_recovers(t: &TransmissionParams, label: &str) {
-    let [loop_x, loop_f, chirp_x, chirp_f] = full_model_records(t);
-    let start = perturbed_start(t);
     let started = Instant::now();
-    let id = identify_paper(
-        &loop_x,
-        &loop_f,
-        &chirp_x,
-        &chirp_f,
-        &start,
-        &joint_at_true_knots(t),
-    )
-    .unwrap();
+    let id = identify_own_records(t);
     let j = id.joint.as_ref().unwrap();
     let worst = joint_errors(&id, t)
         .into_iter()
