@@ -323,7 +323,13 @@ fn spring(n: f64) -> BoucWen<f64> {
 /// both, bit for bit (`scripts/test.sh` runs this file once more with
 /// `HYSTERON_ISA=avx2` and `portable`).
 fn pi() -> PiBank<f64> {
-    let r: Vec<f64> = (0..37).map(|j| 0.03 * j as f64).collect();
+    pi_of(37)
+}
+
+/// `n` plays with thresholds from 0 to about 1.1 (8 to 64 plays in
+/// multiples of 8: the AVX-512 kernel keeps them in registers).
+fn pi_of(n: usize) -> PiBank<f64> {
+    let r: Vec<f64> = (0..n).map(|j| 1.1 * j as f64 / n as f64).collect();
     let w: Vec<f64> = r.iter().map(|r| (-r).exp() / 4.0).collect();
     PiBank::new(0.2, r, w).unwrap()
 }
@@ -364,6 +370,8 @@ fn leaves() {
         spring(2.7).with_solver(StateSolver::Adaptive),
     );
     check("pi bank", pi());
+    check("pi bank of 64", pi_of(64));
+    check("pi bank of 8", pi_of(8));
     check(
         "mass-spring-damper",
         MassSpringDamper::new(2.0, 10.0, 5e4, 1.0 / 750.0).unwrap(),

@@ -77,13 +77,101 @@ pub(crate) fn process(
     xs: &[f64],
     ys: &mut [f64],
 ) -> (usize, Option<Error>) {
-    // SAFETY: `isa` was detected on this CPU.
+    // SAFETY: `isa` was detected on this CPU; `resident` checks the
+    // lengths its kernel needs.
     unsafe {
         match isa {
             Isa::Avx2 => process_avx2(bank, xs, ys),
-            Isa::Avx512 => process_avx512(bank, xs, ys),
+            Isa::Avx512 => match resident_chunks(bank) {
+                Some(1) => resident512::<1>(bank, xs, ys),
+                Some(2) => resident512::<2>(bank, xs, ys),
+                Some(3) => resident512::<3>(bank, xs, ys),
+                Some(4) => resident512::<4>(bank, xs, ys),
+                Some(5) => resident512::<5>(bank, xs, ys),
+                Some(6) => resident512::<6>(bank, xs, ys),
+                Some(7) => resident512::<7>(bank, xs, ys),
+                Some(8) => resident512::<8>(bank, xs, ys),
+                _ => process_avx512(bank, xs, ys),
+            },
         }
     }
+}
+
+/// `Some(C)` if the bank is `8·C` plays, `1 ≤ C ≤ 8`, with every slice of
+/// that length: then its plays, thresholds and weights fit in `3C ≤ 24` of
+/// AVX-512's 32 registers for a whole batch.
+fn resident_chunks(bank: &Bank<'_>) -> Option<usize> {
+    let n = bank.r.len();
+    let same = [bank.w.len(), bank.y.len(), bank.pending.len()]
+        .iter()
+        .all(|&l| l == n);
+    (same && n.is_multiple_of(8) && (8..=64).contains(&n)).then_some(n / 8)
+}
+
+/// The AVX-512 batch loop for a bank of exactly `8·C` plays with the plays
+/// kept in registers from sample to sample (no store and reload of each
+/// play per sample): the same operations in the same order as
+/// [`process_avx512`], so the same bits. At the end the plays go to the
+/// buffer the caller expects (`y` after an even number of applied samples,
+/// `pending` after an odd one).
+#[target_feature(enable = "avx512f")]
+unsafe fn resident512<const C: usize>(
+    bank: &mut Bank<'_>,
+    xs: &[f64],
+    ys: &mut [f64],
+) -> (usize, Option<Error>) {
+    let load = |s: &[f64], c: usize| -> __m512d {
+        // SAFETY: every slice of the bank holds 8·C values (`resident_chunks`)
+        // and c < C.
+        unsafe { _mm512_loadu_pd(s.as_ptr().add(8 * c)) }
+    };
+    let r: [__m512d; C] = core::array::from_fn(|c| load(bank.r, c));
+    let w: [__m512d; C] = core::array::from_fn(|c| load(bank.w, c));
+    let mut y: [__m512d; C] = core::array::from_fn(|c| load(bank.y, c));
+    let mut applied = 0;
+    let mut error = None;
+    for (&x, out) in xs.iter().zip(ys.iter_mut()) {
+        if !x.is_finite() {
+            error = Some(Error::NonFiniteInput { value: x });
+            break;
+        }
+        let xv = _mm512_set1_pd(x);
+        let mut sum = _mm512_setzero_pd();
+        let mut next = y;
+        for c in 0..C {
+            let (rc, wc) = (r.get(c).copied(), w.get(c).copied());
+            let (Some(rc), Some(wc), Some(yc)) = (rc, wc, next.get_mut(c)) else {
+                continue;
+            };
+            *yc = _mm512_max_pd(
+                _mm512_min_pd(*yc, _mm512_add_pd(xv, rc)),
+                _mm512_sub_pd(xv, rc),
+            );
+            sum = _mm512_add_pd(sum, _mm512_mul_pd(wc, *yc));
+        }
+        let mut acc = [0.0; 8];
+        // SAFETY: `acc` holds 8 values.
+        unsafe { _mm512_storeu_pd(acc.as_mut_ptr(), sum) };
+        match output(bank.a0, x, total(&acc, 0.0)) {
+            Ok(v) => *out = v,
+            Err(e) => {
+                error = Some(e);
+                break;
+            }
+        }
+        y = next;
+        applied += 1;
+    }
+    let dest: &mut [f64] = if applied % 2 == 0 {
+        bank.y
+    } else {
+        bank.pending
+    };
+    for (c, yc) in y.iter().enumerate() {
+        // SAFETY: `dest` holds 8·C values and c < C.
+        unsafe { _mm512_storeu_pd(dest.as_mut_ptr().add(8 * c), *yc) };
+    }
+    (applied, error)
 }
 
 /// `Σ` of the eight partial sums and the tail, in the portable loop's order.
