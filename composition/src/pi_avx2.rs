@@ -244,44 +244,167 @@ fn drive(
     (xs.len().min(ys.len()), None)
 }
 
-/// Four plays per instruction, two registers per chunk of eight.
+/// `|x|` up to which no output of the bank can overflow: every play
+/// output lies in `[x − r_j, x + r_j]`, so `|a0 x + Σ w_j y_j| ≤ S |x| + R`
+/// with `S = |a0| + Σ |w_j|`, `R = Σ |w_j| r_j`, kept below `1e300` (far
+/// from `f64::MAX`, so rounding cannot cross it). Negative (no such `x`)
+/// when `S` or `R` is not finite or `R` is already that large.
+fn pair_limit(a0: f64, r: &[f64], w: &[f64]) -> f64 {
+    let s = a0.abs() + w.iter().map(|w| w.abs()).sum::<f64>();
+    let big: f64 = r.iter().zip(w).map(|(r, w)| w.abs() * r.abs()).sum();
+    if !(s.is_finite() && big.is_finite()) {
+        -1.0
+    } else if s > 0.0 {
+        (1e300 - big) / s
+    } else {
+        f64::MAX
+    }
+}
+
+/// The scalar plays beyond the last full chunk of eight, two samples in a
+/// row, updated in place; each sample's sum in [`tail`]'s order.
+#[inline(always)]
+fn tail_pair(r: &[f64], w: &[f64], y: &mut [f64], x0: f64, x1: f64) -> (f64, f64) {
+    let (mut s0, mut s1) = (0.0, 0.0);
+    for ((&r, &w), y) in r.iter().zip(w).zip(y) {
+        let a = play_step(r, *y, x0);
+        let b = play_step(r, a, x1);
+        *y = b;
+        s0 += w * a;
+        s1 += w * b;
+    }
+    (s0, s1)
+}
+
+/// One sample on AVX2: the plays of the full chunks of eight from `prev`
+/// to `next`, and the eight partial sums.
+#[target_feature(enable = "avx2")]
+#[inline]
+fn avx2_step(x: f64, r: &[f64], w: &[f64], prev: &[f64], next: &mut [f64]) -> [f64; 8] {
+    let m = r.len().min(w.len()).min(prev.len()).min(next.len()) / 8 * 8;
+    let mut acc = [0.0; 8];
+    let xv = _mm256_set1_pd(x);
+    let (mut acc0, mut acc1) = (_mm256_setzero_pd(), _mm256_setzero_pd());
+    let mut j = 0;
+    while j < m {
+        // SAFETY: j + 8 ≤ m, the least length of the four slices.
+        unsafe {
+            let (rp, wp) = (r.as_ptr().add(j), w.as_ptr().add(j));
+            let (yp, np) = (prev.as_ptr().add(j), next.as_mut_ptr().add(j));
+            let (r0, r1) = (_mm256_loadu_pd(rp), _mm256_loadu_pd(rp.add(4)));
+            let (p0, p1) = (_mm256_loadu_pd(yp), _mm256_loadu_pd(yp.add(4)));
+            let y0 = clamp4(p0, xv, r0);
+            let y1 = clamp4(p1, xv, r1);
+            _mm256_storeu_pd(np, y0);
+            _mm256_storeu_pd(np.add(4), y1);
+            acc0 = _mm256_add_pd(acc0, _mm256_mul_pd(_mm256_loadu_pd(wp), y0));
+            acc1 = _mm256_add_pd(acc1, _mm256_mul_pd(_mm256_loadu_pd(wp.add(4)), y1));
+        }
+        j += 8;
+    }
+    // SAFETY: `acc` holds 8 values.
+    unsafe {
+        _mm256_storeu_pd(acc.as_mut_ptr(), acc0);
+        _mm256_storeu_pd(acc.as_mut_ptr().add(4), acc1);
+    }
+    acc
+}
+
+/// Four plays `max(min(p, x + r), x − r)`.
+#[target_feature(enable = "avx2")]
+#[inline]
+fn clamp4(p: __m256d, xv: __m256d, r: __m256d) -> __m256d {
+    _mm256_max_pd(_mm256_min_pd(p, _mm256_add_pd(xv, r)), _mm256_sub_pd(xv, r))
+}
+
+/// Two samples on AVX2 in one pass over the plays: each chunk of eight is
+/// loaded once, stepped by `x0` then `x1` in registers and stored once, in
+/// place; the two samples' partial sums, each in [`avx2_step`]'s order.
+#[target_feature(enable = "avx2")]
+#[inline]
+fn avx2_pair(x0: f64, x1: f64, r: &[f64], w: &[f64], y: &mut [f64]) -> ([f64; 8], [f64; 8]) {
+    let m = r.len().min(w.len()).min(y.len()) / 8 * 8;
+    let (mut first, mut second) = ([0.0; 8], [0.0; 8]);
+    let (xa, xb) = (_mm256_set1_pd(x0), _mm256_set1_pd(x1));
+    let (mut a0, mut a1) = (_mm256_setzero_pd(), _mm256_setzero_pd());
+    let (mut b0, mut b1) = (_mm256_setzero_pd(), _mm256_setzero_pd());
+    let mut j = 0;
+    while j < m {
+        // SAFETY: j + 8 ≤ m, the least length of the three slices.
+        unsafe {
+            let (rp, wp, yp) = (r.as_ptr().add(j), w.as_ptr().add(j), y.as_mut_ptr().add(j));
+            let (r0, r1) = (_mm256_loadu_pd(rp), _mm256_loadu_pd(rp.add(4)));
+            let (w0, w1) = (_mm256_loadu_pd(wp), _mm256_loadu_pd(wp.add(4)));
+            let (p0, p1) = (_mm256_loadu_pd(yp), _mm256_loadu_pd(yp.add(4)));
+            let (u0, u1) = (clamp4(p0, xa, r0), clamp4(p1, xa, r1));
+            let (v0, v1) = (clamp4(u0, xb, r0), clamp4(u1, xb, r1));
+            _mm256_storeu_pd(yp, v0);
+            _mm256_storeu_pd(yp.add(4), v1);
+            a0 = _mm256_add_pd(a0, _mm256_mul_pd(w0, u0));
+            a1 = _mm256_add_pd(a1, _mm256_mul_pd(w1, u1));
+            b0 = _mm256_add_pd(b0, _mm256_mul_pd(w0, v0));
+            b1 = _mm256_add_pd(b1, _mm256_mul_pd(w1, v1));
+        }
+        j += 8;
+    }
+    // SAFETY: each array holds 8 values.
+    unsafe {
+        _mm256_storeu_pd(first.as_mut_ptr(), a0);
+        _mm256_storeu_pd(first.as_mut_ptr().add(4), a1);
+        _mm256_storeu_pd(second.as_mut_ptr(), b0);
+        _mm256_storeu_pd(second.as_mut_ptr().add(4), b1);
+    }
+    (first, second)
+}
+
+/// Four plays per instruction, two registers per chunk of eight; two
+/// samples per pass over the plays while no output can overflow
+/// ([`pair_limit`]), else one (where a non-finite input or output stops
+/// the batch at its sample, as in [`drive`]). Pairs update the plays in
+/// place and do not swap the buffers, so the buffer holding the plays
+/// still follows the parity of the samples applied.
+// Hot loop, kept free of checks: `n` is the least of the four lengths,
+// `m = n / 8 * 8 ≤ n`, and `i + 1 < len ≤ xs.len(), ys.len()` for a pair.
+#[allow(clippy::indexing_slicing)]
 #[target_feature(enable = "avx2")]
 unsafe fn process_avx2(bank: &mut Bank<'_>, xs: &[f64], ys: &mut [f64]) -> (usize, Option<Error>) {
-    drive(bank, xs, ys, |x, r, w, prev, next| {
-        let m = r.len().min(w.len()).min(prev.len()).min(next.len()) / 8 * 8;
-        let mut acc = [0.0; 8];
-        let xv = _mm256_set1_pd(x);
-        let (mut acc0, mut acc1) = (_mm256_setzero_pd(), _mm256_setzero_pd());
-        let mut j = 0;
-        while j < m {
-            // SAFETY: j + 8 ≤ m, the least length of the four slices.
-            unsafe {
-                let (rp, wp) = (r.as_ptr().add(j), w.as_ptr().add(j));
-                let (yp, np) = (prev.as_ptr().add(j), next.as_mut_ptr().add(j));
-                let (r0, r1) = (_mm256_loadu_pd(rp), _mm256_loadu_pd(rp.add(4)));
-                let (p0, p1) = (_mm256_loadu_pd(yp), _mm256_loadu_pd(yp.add(4)));
-                let y0 = _mm256_max_pd(
-                    _mm256_min_pd(p0, _mm256_add_pd(xv, r0)),
-                    _mm256_sub_pd(xv, r0),
-                );
-                let y1 = _mm256_max_pd(
-                    _mm256_min_pd(p1, _mm256_add_pd(xv, r1)),
-                    _mm256_sub_pd(xv, r1),
-                );
-                _mm256_storeu_pd(np, y0);
-                _mm256_storeu_pd(np.add(4), y1);
-                acc0 = _mm256_add_pd(acc0, _mm256_mul_pd(_mm256_loadu_pd(wp), y0));
-                acc1 = _mm256_add_pd(acc1, _mm256_mul_pd(_mm256_loadu_pd(wp.add(4)), y1));
-            }
-            j += 8;
+    let n = bank
+        .r
+        .len()
+        .min(bank.w.len())
+        .min(bank.y.len())
+        .min(bank.pending.len());
+    let m = n / 8 * 8;
+    let a0 = bank.a0;
+    let (r, w) = (&bank.r[..n], &bank.w[..n]);
+    let limit = pair_limit(a0, r, w);
+    let (mut prev, mut next) = (&mut bank.y[..n], &mut bank.pending[..n]);
+    let len = xs.len().min(ys.len());
+    let mut i = 0;
+    while i < len {
+        let x0 = xs[i];
+        if i + 1 < len && x0.abs() <= limit && xs[i + 1].abs() <= limit {
+            let x1 = xs[i + 1];
+            let (p, q) = avx2_pair(x0, x1, &r[..m], &w[..m], &mut prev[..m]);
+            let (t0, t1) = tail_pair(&r[m..], &w[m..], &mut prev[m..], x0, x1);
+            ys[i] = a0 * x0 + total(&p, t0);
+            ys[i + 1] = a0 * x1 + total(&q, t1);
+            i += 2;
+            continue;
         }
-        // SAFETY: `acc` holds 8 values.
-        unsafe {
-            _mm256_storeu_pd(acc.as_mut_ptr(), acc0);
-            _mm256_storeu_pd(acc.as_mut_ptr().add(4), acc1);
+        if !x0.is_finite() {
+            return (i, Some(Error::NonFiniteInput { value: x0 }));
         }
-        acc
-    })
+        let acc = avx2_step(x0, &r[..m], &w[..m], &prev[..m], &mut next[..m]);
+        let t = tail(&r[m..], &w[m..], &prev[m..], &mut next[m..], x0);
+        match output(a0, x0, total(&acc, t)) {
+            Ok(y) => ys[i] = y,
+            Err(e) => return (i, Some(e)),
+        }
+        core::mem::swap(&mut prev, &mut next);
+        i += 1;
+    }
+    (len, None)
 }
 
 /// Eight plays per instruction, one register per chunk of eight.
