@@ -27,6 +27,17 @@ pub(crate) struct Bank<'a> {
     pub pending: &'a mut [f64],
 }
 
+impl Bank<'_> {
+    /// The plays every slice has: the least of the four lengths.
+    fn plays(&self) -> usize {
+        self.r
+            .len()
+            .min(self.w.len())
+            .min(self.y.len())
+            .min(self.pending.len())
+    }
+}
+
 /// Which vector instructions to use, detected at run time.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Isa {
@@ -220,12 +231,7 @@ fn drive(
     ys: &mut [f64],
     mut chunks: impl FnMut(f64, &[f64], &[f64], &[f64], &mut [f64]) -> [f64; 8],
 ) -> (usize, Option<Error>) {
-    let n = bank
-        .r
-        .len()
-        .min(bank.w.len())
-        .min(bank.y.len())
-        .min(bank.pending.len());
+    let n = bank.plays();
     let m = n / 8 * 8;
     let (r, w) = (&bank.r[..n], &bank.w[..n]);
     let (mut prev, mut next) = (&mut bank.y[..n], &mut bank.pending[..n]);
@@ -368,12 +374,7 @@ fn avx2_pair(x0: f64, x1: f64, r: &[f64], w: &[f64], y: &mut [f64]) -> ([f64; 8]
 #[allow(clippy::indexing_slicing)]
 #[target_feature(enable = "avx2")]
 unsafe fn process_avx2(bank: &mut Bank<'_>, xs: &[f64], ys: &mut [f64]) -> (usize, Option<Error>) {
-    let n = bank
-        .r
-        .len()
-        .min(bank.w.len())
-        .min(bank.y.len())
-        .min(bank.pending.len());
+    let n = bank.plays();
     let m = n / 8 * 8;
     let a0 = bank.a0;
     let (r, w) = (&bank.r[..n], &bank.w[..n]);
