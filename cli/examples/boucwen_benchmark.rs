@@ -47,6 +47,7 @@ use clap::Parser;
 use hysteron::identify::benchmark::{
     identify_boucwen_multistart, linear_estimate, start_from_data, FREE,
 };
+use hysteron::identify::metrics::{errors, rms};
 use hysteron::identify::multistart::MultiStart;
 use hysteron::identify::{FitOptions, FitStatus};
 use hysteron::models::benchmark::{simulate_record, BoucWenBenchmarkParams};
@@ -115,13 +116,10 @@ fn read_record(path: &Path) -> Result<(Vec<f64>, Vec<f64>), String> {
     Ok((u, y))
 }
 
-fn rms(v: impl Iterator<Item = f64>) -> f64 {
-    let (sum, n) = v.fold((0.0, 0usize), |(s, n), x| (s + x * x, n + 1));
-    (sum / n.max(1) as f64).sqrt()
-}
-
+/// `RMS(a − b)`; NaN when the two cannot be compared (different lengths,
+/// a non-finite sample), which prints as such.
 fn rms_error(a: &[f64], b: &[f64]) -> f64 {
-    rms(a.iter().zip(b).map(|(a, b)| a - b))
+    errors(a, b).map_or(f64::NAN, |e| e.rms)
 }
 
 /// Simulates `p` on every record and prints the errors; returns the
@@ -145,7 +143,7 @@ fn validate(p: &BoucWenBenchmarkParams, records: &[Record], label: &str) -> Resu
             "{label} {}: rms error {e:.3e} m (decimated {}, output rms {:.3e} m); every 20th sample {:.3e} m; {} period(s), {:.2} s",
             r.path.display(),
             r.plan,
-            rms(r.y.iter().copied()),
+            rms(&r.y),
             rms_error(&response.picked, &r.y),
             response.periods,
             start.elapsed().as_secs_f64()

@@ -197,7 +197,8 @@ pub fn start_from_data(
 ) -> Result<BoucWenBenchmarkParams, BenchmarkError> {
     let lin = linear_estimate(u, y, fs)?;
     let mean = y.iter().sum::<f64>() / y.len() as f64;
-    let rms = (y.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / y.len() as f64).sqrt();
+    let centred: Vec<f64> = y.iter().map(|v| v - mean).collect();
+    let rms = crate::metrics::rms(&centred);
     hysteron_operators::check::positive("rms(y)", rms)?;
     Ok(BoucWenBenchmarkParams {
         m: lin.m,

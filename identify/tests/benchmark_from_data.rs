@@ -7,6 +7,7 @@
 use hysteron_identify::benchmark::{
     identify_boucwen, identify_boucwen_multistart, start_from_data, FREE,
 };
+use hysteron_identify::metrics::{errors, rms};
 use hysteron_identify::multistart::MultiStart;
 use hysteron_identify::{FitOptions, FitStatus};
 use hysteron_models::benchmark::{boucwen_system, BoucWenBenchmarkParams};
@@ -42,11 +43,6 @@ fn multisine(periods: usize, seed: u64) -> Vec<f64> {
         .collect()
 }
 
-fn rms(v: impl Iterator<Item = f64>) -> f64 {
-    let (sum, n) = v.fold((0.0, 0usize), |(s, n), x| (s + x * x, n + 1));
-    (sum / n as f64).sqrt()
-}
-
 /// A noise-free record of the published system from rest: two periods of
 /// the multisine, simulated at 15 kHz on the exactly upsampled input.
 fn record(truth: &BoucWenBenchmarkParams) -> (Vec<f64>, Vec<f64>) {
@@ -70,12 +66,9 @@ fn the_benchmark_system_is_recovered_from_a_start_taken_from_the_data() {
     // more than a third of the record's RMS
     let fine = fft_upsample(&u, truth.upsample).unwrap();
     let y0: Vec<f64> = boucwen_system(&start).unwrap().run(&fine).unwrap();
-    let miss = rms(y0
-        .iter()
-        .step_by(truth.upsample)
-        .zip(&y)
-        .map(|(a, b)| a - b));
-    let scale = rms(y.iter().copied());
+    let picked: Vec<f64> = y0.iter().step_by(truth.upsample).copied().collect();
+    let miss = errors(&picked, &y).unwrap().rms;
+    let scale = rms(&y);
     assert!(miss > scale / 3.0, "start misses by {miss:e} of {scale:e}");
     let pairs = |p: &BoucWenBenchmarkParams| [p.m, p.c, p.k, p.a, p.beta, p.gamma, p.n];
     let opts = FitOptions {
