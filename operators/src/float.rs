@@ -1,16 +1,26 @@
 //! The floating-point alias every operator is generic over.
 
+use crate::Differentiable;
 use core::fmt::{Debug, Display};
 
-/// A real scalar usable by hysteron operators: `f32` and `f64`.
+/// A real scalar usable by hysteron operators: `f32`, `f64` and the dual
+/// numbers [`DualN`](crate::DualN) (values with their derivatives).
 ///
 /// This is a trait alias over [`num_traits::Float`] with the extra bounds the
-/// framework needs (thread-safe, printable). It has no serde bound:
-/// serialization belongs to the spec layer, so a dual-number type can
-/// serve as the scalar. It is implemented
+/// framework needs (thread-safe, printable, and [`Differentiable`], which
+/// says whether the scalar carries derivatives). It has no serde bound:
+/// serialization belongs to the spec layer. It is implemented
 /// for every type that meets the bounds, so users never implement it by hand.
 pub trait Float:
-    num_traits::Float + num_traits::FloatConst + Debug + Display + Default + Send + Sync + 'static
+    num_traits::Float
+    + num_traits::FloatConst
+    + Differentiable
+    + Debug
+    + Display
+    + Default
+    + Send
+    + Sync
+    + 'static
 {
     /// Converts a constant (a literal written as `f64`) into `Self`.
     ///
@@ -30,6 +40,7 @@ pub trait Float:
 impl<T> Float for T where
     T: num_traits::Float
         + num_traits::FloatConst
+        + Differentiable
         + Debug
         + Display
         + Default

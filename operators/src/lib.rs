@@ -39,6 +39,7 @@ pub use serde as __serde;
 
 pub mod check;
 mod domain;
+mod dual;
 mod error;
 mod float;
 mod leaf;
@@ -52,6 +53,7 @@ mod stiffness;
 
 pub use bouc_wen::StateSolver;
 pub use domain::Domain;
+pub use dual::{Differentiable, Dual, DualN, DUAL_WIDTH};
 pub use error::{Error, Result};
 pub use float::Float;
 pub use leaf::{checked_step, Leaf, StepLaw, Stepped};

@@ -1,7 +1,7 @@
 //! The core trait: a scalar operator with memory, driven sample by sample
 //! through a trial/commit protocol.
 
-use crate::{Domain, Error, Float, Result};
+use crate::{Domain, Dual, Error, Float, Result};
 use core::fmt::Debug;
 use dyn_clone::DynClone;
 
@@ -170,6 +170,18 @@ pub trait Operator<T: Float>: DynClone + Debug + Send + Sync {
     fn param_domains(&self) -> Vec<Domain> {
         vec![Domain::Real; self.n_params()]
     }
+
+    /// The same operator over the dual scalar [`Dual`], with the same
+    /// parameters (as constants: seed them with
+    /// [`set_params`](Operator::set_params)) and settings, at its initial
+    /// state; `None` where the operator cannot build one.
+    ///
+    /// Fits use it for exact Jacobians (forward-mode derivatives) and fall
+    /// back to finite differences without it. Models built from a spec
+    /// (`hysteron_models::Spec::build`) have one; the default says `None`.
+    fn to_dual(&self) -> Option<Box<dyn Operator<Dual>>> {
+        None
+    }
 }
 
 dyn_clone::clone_trait_object!(<T> Operator<T> where T: Float);
@@ -260,6 +272,9 @@ impl<T: Float> Operator<T> for Box<dyn Operator<T>> {
     }
     fn param_domains(&self) -> Vec<Domain> {
         (**self).param_domains()
+    }
+    fn to_dual(&self) -> Option<Box<dyn Operator<Dual>>> {
+        (**self).to_dual()
     }
 }
 
