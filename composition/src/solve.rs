@@ -58,6 +58,8 @@ pub(crate) type Eval<T> = (T, T);
 struct Tracked<F, T> {
     f: F,
     last: Option<T>,
+    /// The residual and its slope at `last`.
+    last_eval: Option<Eval<T>>,
     solver: &'static str,
 }
 
@@ -80,6 +82,7 @@ impl<T: Float, F: FnMut(T) -> Result<Eval<T>>> Tracked<F, T> {
                 expansions: 0,
             });
         }
+        self.last_eval = Some((r, d));
         Ok((r, d))
     }
 }
@@ -137,12 +140,58 @@ impl<T: Float> Start<T> {
 /// Solves `f(x) = 0` from `start`.
 ///
 /// On success the last evaluation of `f` was at the returned point.
+///
+/// # Derivatives
+/// Over a scalar that carries derivatives ([`Differentiable`](hysteron_operators::Differentiable)), the
+/// root's derivatives are set by the implicit function theorem at the
+/// root, not carried through the iterations: with `r(x, p) = 0`,
+/// `∂x/∂p = −(∂r/∂p) / (∂r/∂x)`. The residual's derivative parts at the
+/// root are `r_x ∂x/∂p + r_p` for whatever `∂x/∂p` the iterate carried,
+/// so one step `x − (r − value(r)) / value(r_x)` gives the theorem's value
+/// without moving the root's value; `f` is then evaluated there once more,
+/// so the children's pending trials carry the same derivatives. Where
+/// `r_x` is zero or not finite (a flat residual) the iterate's derivatives
+/// are kept. A root held at a bound takes the bound's derivatives.
 pub(crate) fn solve<T, F>(
     solver: &'static str,
     f: F,
     start: Start<T>,
     opts: &SolverOptions<T>,
 ) -> Result<Root<T>>
+where
+    T: Float,
+    F: FnMut(T) -> Result<Eval<T>>,
+{
+    let mut f = Tracked {
+        f,
+        last: None,
+        last_eval: None,
+        solver,
+    };
+    let root = search(&mut f, start, opts)?;
+    if !T::CARRIES_DERIVATIVES {
+        return Ok(root);
+    }
+    Ok(match root {
+        Root::Inside(x) => {
+            let x = match f.last_eval {
+                Some((r, d)) if d != T::zero() && d.is_finite() => {
+                    x - (r - r.without_derivatives()) / d.without_derivatives()
+                }
+                _ => x,
+            };
+            f.eval(x)?;
+            Root::Inside(x)
+        }
+        Root::AtBound(x) => {
+            f.eval(x)?;
+            Root::AtBound(x)
+        }
+    })
+}
+
+/// The search of [`solve`].
+fn search<T, F>(f: &mut Tracked<F, T>, start: Start<T>, opts: &SolverOptions<T>) -> Result<Root<T>>
 where
     T: Float,
     F: FnMut(T) -> Result<Eval<T>>,
@@ -154,11 +203,6 @@ where
         bounds,
         scale,
     } = start;
-    let mut f = Tracked {
-        f,
-        last: None,
-        solver,
-    };
     let clamp = |x: T| match bounds {
         Some((lo, hi)) => x.max(lo).min(hi),
         None => x,
@@ -174,7 +218,7 @@ where
             return Ok(Root::AtBound(x0));
         }
     }
-    let bracket = match find_bracket(&mut f, x0, r0, d0, step, hint, bounds, scale, opts)? {
+    let bracket = match find_bracket(f, x0, r0, d0, step, hint, bounds, scale, opts)? {
         Found::Bracket(b) => b,
         Found::AtBound(x) => {
             if f.last != Some(x) {
@@ -183,7 +227,7 @@ where
             return Ok(Root::AtBound(x));
         }
     };
-    let x = refine(&mut f, bracket, scale, opts)?;
+    let x = refine(f, bracket, scale, opts)?;
     if f.last != Some(x) {
         f.eval(x)?;
     }

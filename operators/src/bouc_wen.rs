@@ -173,7 +173,12 @@ impl<T: Float> BoucWen<T> {
         let eq = StateEquation::new(p.alpha, p.beta, p.gamma, p.n, rtol);
         let closed_form = eq.power == Power::One;
         let table = match solver {
-            StateSolver::Tabulated if !closed_form => FlowTable::new(&eq),
+            // Over a dual scalar the flow is integrated, so that its
+            // derivatives are those of the flow, not of the table's
+            // interpolant.
+            StateSolver::Tabulated if !closed_form && !T::CARRIES_DERIVATIVES => {
+                FlowTable::new(&eq)
+            }
             _ => None,
         };
         Self {
@@ -304,7 +309,7 @@ impl<T: Float> BoucWen<T> {
         // reversal (a new one starts when the direction changes).
         let (z_a, branch) = match c.branch {
             BranchStart::Linear(b) if dir == c.dir => (c.z_a, b),
-            _ if dir == 0 => return Ok(*c),
+            _ if dir == 0 => return Ok(self.at_rest(z)),
             _ => (c.z, self.eq.branch(sign * c.h)),
         };
         let h = sign * branch.at(sign * (z - z_a));
@@ -321,6 +326,23 @@ impl<T: Float> BoucWen<T> {
             z_a,
             branch: BranchStart::Linear(branch),
         })
+    }
+
+    /// The committed state before any motion, at `z` equal to it in value:
+    /// the same, but over dual numbers with derivatives of `z` that differ
+    /// from the committed ones, `h` moves by the rate upward (the
+    /// one-sided derivative `dh/dz = f(h)`, as a motion would start).
+    fn at_rest(&self, z: T) -> State<T> {
+        let c = self.s;
+        let dz = z - c.z;
+        if !dz.has_derivatives() {
+            return c;
+        }
+        State {
+            z,
+            h: c.h + dz * self.eq.rate(c.h),
+            ..c
+        }
     }
 
     /// `H = w S(z) z + (1 − w) S(z) h` for `S = S(z)`.
@@ -485,7 +507,7 @@ impl<T: Float> BoucWen<T> {
                 branch: c.branch,
             },
             // No motion yet: the initial state.
-            _ if dir == 0 => *c,
+            _ if dir == 0 => self.at_rest(z),
             _ => {
                 let b = self.eq.branch(sign * c.h);
                 State {

@@ -57,13 +57,15 @@ pub struct DahlState<T> {
 /// scaled travel `u = (σ/F_c)·|x − x_r|`, from
 /// `d|w|/du = −|w|^α`:
 ///
-/// * `α = 1`: `a e^{−u}`;
+/// * `α = 1`: `a e^{−u}` (over dual numbers with `α` seeded, the first
+///   order in `ε`: `a exp(−u + ε (u ln a − u²/2))`, so that `∂/∂α` is the
+///   general form's limit);
 /// * `α ≠ 1` (`ε = 1 − α`): `|w|^ε = a^ε − ε u`, evaluated as
 ///   `a · exp(ln(1 − ε u a^{−ε}) / ε)` (accurate for `α` near 1), and 0
 ///   once `ε u a^{−ε} ≥ 1` (`α < 1` reaches saturation in finite travel).
 #[inline(always)]
 fn decay<T: Float>(a: T, u: T, alpha: T) -> T {
-    if a == T::zero() || u == T::zero() {
+    if a == T::zero() || (u == T::zero() && !u.has_derivatives()) {
         return a;
     }
     if !u.is_finite() {
@@ -71,6 +73,14 @@ fn decay<T: Float>(a: T, u: T, alpha: T) -> T {
     }
     let eps = T::one() - alpha;
     if eps == T::zero() {
+        if alpha.has_derivatives() {
+            // Over dual numbers at α = 1: the first order in ε of the
+            // general form, `a exp(−u + ε (u ln a − u²/2))`, whose value is
+            // the closed form's and whose ∂/∂α is the limit of the general
+            // form's.
+            let two = T::lit(2.0);
+            return a * (-u + eps * (u * a.ln() - u * u / two)).exp();
+        }
         return a * (-u).exp();
     }
     let c = eps * u * a.powf(-eps);

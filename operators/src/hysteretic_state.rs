@@ -56,7 +56,10 @@ pub(crate) enum Power<T> {
 impl<T: Float> Power<T> {
     pub(crate) fn new(n: T) -> Self {
         let two = T::lit(2.0);
-        if n == T::one() {
+        if n.has_derivatives() {
+            // ∂/∂n needs `|g|^n ln |g|`: the general power, even at n = 1.
+            Power::Real(n)
+        } else if n == T::one() {
             Power::One
         } else if n == two {
             Power::Two
@@ -163,9 +166,33 @@ impl<T: Float> Branch<T> {
 #[inline(always)]
 fn closed_form<T: Float>(g: T, f: T, c: T, f_over_c: T, asymptote: T, s: T) -> T {
     if c == T::zero() {
-        g + f * s
+        flat_side(g, f, c, s)
     } else {
         asymptote - f_over_c * (-c * s).exp()
+    }
+}
+
+/// `g + f s` on a side with `c = 0`; over dual numbers with `c` carrying
+/// derivatives, the first order in `c` of the general form,
+/// `g + f s (1 − c s/2)`, so that `∂/∂c` is its limit.
+#[inline(always)]
+fn flat_side<T: Float>(g: T, f: T, c: T, s: T) -> T {
+    if c.has_derivatives() {
+        g + f * s * (T::one() - c * s / T::lit(2.0))
+    } else {
+        g + f * s
+    }
+}
+
+/// The travel `−g/f` to zero on a side with `c = 0`; over dual numbers
+/// with `c` carrying derivatives, the first order in `c` of
+/// `−ln(1 + g c/f)/c`: `−g/f + c g²/(2 f²)`.
+#[inline(always)]
+fn flat_crossing<T: Float>(g: T, f: T, c: T) -> T {
+    if c.has_derivatives() {
+        -g / f + c * g * g / (T::lit(2.0) * f * f)
+    } else {
+        -g / f
     }
 }
 
@@ -328,7 +355,13 @@ impl<T: Float> StateEquation<T> {
     #[inline]
     pub(crate) fn advance(&self, g: T, s: T) -> Result<T> {
         if s == T::zero() {
-            return Ok(g);
+            // (over dual numbers, a travel of 0 that carries derivatives
+            // moves g by the rate: dg/ds = f(g))
+            return Ok(if s.has_derivatives() {
+                g + s * self.rate(g)
+            } else {
+                g
+            });
         }
         let g = match self.power {
             Power::One => self.advance_linear(g, s),
@@ -395,7 +428,7 @@ impl<T: Float> StateEquation<T> {
         if toward_zero {
             // g(s0) = 0  ⇔  e^{−c s0} = 1 + g c / f  (s0 = −g/f for c = 0).
             let s = if c_a == zero {
-                -g_a / f_a
+                flat_crossing(g_a, f_a, c_a)
             } else {
                 -(g_a * c_a / f_a).ln_1p() / c_a
             };
@@ -445,7 +478,7 @@ impl<T: Float> StateEquation<T> {
             if toward_zero {
                 // g(s0) = 0  ⇔  e^{−c s0} = 1 + g c / f  (s0 = −g/f for c = 0).
                 let s0 = if c == zero {
-                    -g / f
+                    flat_crossing(g, f, c)
                 } else {
                     -(g * c / f).ln_1p() / c
                 };
@@ -457,7 +490,7 @@ impl<T: Float> StateEquation<T> {
             }
             // Stay on this side: g + f (1 − e^{−c s}) / c  (g + f s for c = 0).
             return if c == zero {
-                g + f * s
+                flat_side(g, f, c, s)
             } else {
                 g - f * (-c * s).exp_m1() / c
             };
@@ -580,6 +613,11 @@ impl<T: Float> StateEquation<T> {
                 let approach = h * (l(0.9) * g / (g - g5)).max(l(1e-3));
                 if g.abs() <= snap || approach <= done {
                     // Close enough (or too close to step any closer).
+                    if T::CARRIES_DERIVATIVES && k1 != T::zero() {
+                        // The crossing is where g reaches 0, at travel
+                        // t − g/f: its derivatives carry −g'/f into t.
+                        t = t - (g - g.without_derivatives()) / k1.without_derivatives();
+                    }
                     g = T::zero();
                     k1 = self.rate_with(pow, g);
                 } else {

@@ -101,7 +101,10 @@ impl<T: Float> MmsParams<T> {
         let target = sign * p.f_c;
         // Standing still keeps the branch (dir = s.dir), so the committed
         // decay is the one at x.
-        let (y, decay) = if x == s.x {
+        // (Over dual numbers the branch is evaluated there too, so that the
+        // output follows the input's derivatives: the one-sided derivative
+        // in the current direction, upward before any motion.)
+        let (y, decay) = if x == s.x && !T::CARRIES_DERIVATIVES {
             (s.y, s.decay)
         } else {
             // 1 − e^{−a} via expm1 keeps full accuracy near a reversal.
@@ -243,7 +246,7 @@ impl<T: Float> StepLaw<T> for MmsParams<T> {
                     *a = a.exp_m1();
                 }
                 for (j, (y_out, &x)) in yb.iter_mut().zip(xb).enumerate() {
-                    let (y, decay) = if x == s.x {
+                    let (y, decay) = if x == s.x && !T::CARRIES_DERIVATIVES {
                         (s.y, s.decay)
                     } else {
                         let rise = -*y_out;
