@@ -101,8 +101,10 @@ pub struct FitOptions {
     /// overrun by the time of one Jacobian.
     pub max_seconds: Option<f64>,
     /// Relative step of the central finite differences in the internal
-    /// parameters, `h = step · max(1, |θ|)`.
+    /// parameters, `h = step · max(1, |θ|)` (where they are used).
     pub step: f64,
+    /// How the Jacobian is computed; [`Jacobian::Exact`] by default.
+    pub jacobian: Jacobian,
     /// Compute the Jacobian's columns in parallel (rayon).
     pub parallel: bool,
     /// Compare every `stride`-th model output with the record: the model
@@ -124,10 +126,28 @@ impl Default for FitOptions {
             max_evaluations: None,
             max_seconds: None,
             step: f64::EPSILON.cbrt(),
+            jacobian: Jacobian::Exact,
             parallel: true,
             stride: 1,
         }
     }
+}
+
+/// How a fit computes its Jacobian `∂r/∂θ`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+pub enum Jacobian {
+    /// Forward-mode derivatives through the model's twin over dual numbers
+    /// ([`Operator::to_dual`]): exact to rounding, one simulation per
+    /// [`DUAL_WIDTH`](hysteron_operators::DUAL_WIDTH) parameters. A model
+    /// without a twin (an operator not built from a spec), or one whose
+    /// derivatives are not finite at some sample, gets finite differences.
+    /// At a kink the derivative is that of the branch the model takes
+    /// ([`DualN`](hysteron_operators::DualN)).
+    #[default]
+    Exact,
+    /// Central finite differences, two simulations per parameter
+    /// ([`FitOptions::step`]).
+    FiniteDifferences,
 }
 
 /// How a fit ended.
@@ -214,8 +234,12 @@ pub struct FitReport {
     pub records: Vec<RecordFit>,
     /// Levenberg-Marquardt iterations (Jacobian evaluations).
     pub iterations: usize,
-    /// Model simulations over all records (residuals and Jacobian).
+    /// Model simulations over all records (residuals and Jacobian; a pass
+    /// of the dual model counts as one).
     pub evaluations: usize,
+    /// How the Jacobian was computed ([`Jacobian::FiniteDifferences`] where
+    /// exact derivatives were asked for but the model has no dual twin).
+    pub jacobian: Jacobian,
     /// Wall time of the fit.
     #[serde(serialize_with = "seconds")]
     pub wall_time: Duration,
@@ -606,6 +630,7 @@ pub fn fit_records(
         records: per_record,
         iterations: problem.jacobians.load(Ordering::Relaxed).saturating_sub(1),
         evaluations: problem.evaluations.load(Ordering::Relaxed),
+        jacobian: problem.jacobian_kind(),
         wall_time: started.elapsed(),
         status,
         correlation,

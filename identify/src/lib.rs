@@ -35,7 +35,7 @@ mod transform;
 pub use diagnostics::IdentifiabilityWarning;
 pub use fit::{
     fit, fit_records, fit_with_progress, free_by_names, Fit, FitError, FitOptions, FitReport,
-    FitStatus, FittedParam, Progress, Record, RecordFit,
+    FitStatus, FittedParam, Jacobian, Progress, Record, RecordFit,
 };
 pub use multistart::{fit_multistart, MultiStart, StartsSummary};
 pub use transform::{Reparam, BOUNDARY_NUDGE};

@@ -1,10 +1,12 @@
 //! The least-squares problem a fit hands to Levenberg-Marquardt: residuals
-//! `model(x_r; φ(θ)) − y_r` over the scored samples of every record, a
-//! central finite-difference Jacobian, and the evaluation budget.
+//! `model(x_r; φ(θ)) − y_r` over the scored samples of every record, the
+//! Jacobian (forward-mode derivatives through the model's dual twin, or
+//! central finite differences), and the evaluation budget.
 
-use crate::fit::{FitOptions, Progress, Record};
+use crate::fit::{FitOptions, Jacobian, Progress, Record};
 use crate::transform::Reparam;
-use hysteron_operators::{Error, Operator};
+use hysteron_models::sensitivity::derivatives;
+use hysteron_operators::{Dual, Error, Operator, DUAL_WIDTH};
 use levenberg_marquardt::LeastSquaresProblem;
 use nalgebra::{DMatrix, DVector, Dyn, Owned};
 use rayon::prelude::*;
@@ -65,6 +67,9 @@ impl Budget {
 pub(crate) struct Problem<'a> {
     on_iteration: &'a (dyn Fn(Progress) + Sync),
     template: Box<dyn Operator<f64>>,
+    /// The model over dual numbers, for exact Jacobians (`None`: finite
+    /// differences).
+    dual: Option<Box<dyn Operator<Dual>>>,
     base: Vec<f64>,
     layout: Layout,
     pub maps: Vec<Reparam>,
@@ -148,9 +153,99 @@ impl Problem<'_> {
         }
     }
 
-    /// The Jacobian at the current `θ` (`2k` simulations).
+    /// The Jacobian at the current `θ`: exact through the dual twin where
+    /// there is one (falling back to finite differences if a derivative is
+    /// not finite), else [`fd_jacobian`](Self::fd_jacobian).
     pub fn jacobian_matrix(&self) -> DMatrix<f64> {
         self.jacobians.fetch_add(1, Ordering::Relaxed);
+        if let Some(dual) = &self.dual {
+            if let Some(j) = self.exact_jacobian(dual.as_ref()) {
+                return j;
+            }
+        }
+        self.fd_jacobian()
+    }
+
+    /// Which Jacobian the problem computes.
+    pub fn jacobian_kind(&self) -> Jacobian {
+        if self.dual.is_some() {
+            Jacobian::Exact
+        } else {
+            Jacobian::FiniteDifferences
+        }
+    }
+
+    /// The simulations one Jacobian costs: one dual pass per
+    /// [`DUAL_WIDTH`] parameters of a record, or two per column.
+    pub fn jacobian_cost(&self) -> usize {
+        match &self.dual {
+            Some(_) => {
+                let per_record = self.layout.shared.len() + self.layout.own.len();
+                per_record.div_ceil(DUAL_WIDTH).max(1)
+            }
+            None => 2 * self.theta.len(),
+        }
+    }
+
+    /// `∂r/∂θ` by forward-mode derivatives: each record runs through the
+    /// dual model with the parameters it depends on (the shared ones and
+    /// its own) seeded, [`DUAL_WIDTH`] at a time, and the chain rule of the
+    /// reparametrization, `∂r/∂θ_j = (∂y/∂p_i) dφ/dθ_j`. `None` where a
+    /// dual simulation fails or a derivative is not finite.
+    // Indices: `j < theta.len() = maps.len()`, layout indices `< base.len()`
+    // (checked by the caller), rows within the record's block of `m`.
+    #[allow(clippy::indexing_slicing)]
+    fn exact_jacobian(&self, dual: &(dyn Operator<Dual> + 'static)) -> Option<DMatrix<f64>> {
+        self.evaluations
+            .fetch_add(self.jacobian_cost(), Ordering::Relaxed);
+        let theta = self.theta.as_slice();
+        let k = self.layout.shared.len();
+        let n_own = self.layout.own.len();
+        let run = |r: usize| {
+            let record = &self.records[r];
+            // θ entries of record r, and their model indices
+            let entries: Vec<(usize, usize)> = (self.layout.shared.iter().enumerate())
+                .map(|(j, &i)| (j, i))
+                .chain((self.layout.own.iter().enumerate()).map(|(o, &i)| (k + r * n_own + o, i)))
+                .collect();
+            let mut model = dyn_clone::clone_box(dual);
+            let p: Vec<Dual> = (self.full_params(theta, r).into_iter())
+                .map(Dual::constant)
+                .collect();
+            model.set_params(&p).ok()?;
+            let indices: Vec<usize> = entries.iter().map(|&(_, i)| i).collect();
+            let (_, columns) = derivatives(model.as_ref(), record.x, &indices).ok()?;
+            Some((r, entries, columns))
+        };
+        let done: Vec<_> = if self.parallel {
+            (0..self.records.len()).into_par_iter().map(run).collect()
+        } else {
+            (0..self.records.len()).map(run).collect()
+        };
+        let mut jac = DMatrix::zeros(self.m, theta.len());
+        let mut first_row = 0;
+        for pass in done {
+            let (r, entries, columns) = pass?;
+            let record = &self.records[r];
+            let rows = record.y.len().saturating_sub(record.skip);
+            for (&(j, _), column) in entries.iter().zip(&columns) {
+                let dp = self.maps[j].derivative(theta[j]);
+                let scored = column
+                    .iter()
+                    .step_by(self.stride)
+                    .skip(record.skip)
+                    .take(rows);
+                for (row, d) in scored.enumerate() {
+                    jac[(first_row + row, j)] = d * dp;
+                }
+            }
+            first_row += rows;
+        }
+        Some(jac)
+    }
+
+    /// The Jacobian by central differences (`2k` simulations).
+    pub fn fd_jacobian(&self) -> DMatrix<f64> {
         let k = self.theta.len();
         let cols: Vec<DVector<f64>> = if self.parallel {
             (0..k).into_par_iter().map(|j| self.column(j)).collect()
@@ -245,6 +340,10 @@ impl<'a> Problem<'a> {
         let mut problem = Problem {
             on_iteration,
             template: dyn_clone::clone_box(model),
+            dual: match opts.jacobian {
+                Jacobian::Exact => model.to_dual(),
+                Jacobian::FiniteDifferences => None,
+            },
             base,
             layout,
             maps,
@@ -312,7 +411,7 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
                 .as_ref()
                 .map_or(f64::INFINITY, |r| 0.5 * r.norm_squared()),
         });
-        if !self.allows(2 * self.theta.len()) {
+        if !self.allows(self.jacobian_cost()) {
             return None;
         }
         Some(self.jacobian_matrix())

@@ -96,6 +96,11 @@ impl fmt::Display for FitReport {
         }
         writeln!(f, "iterations   {}", r.iterations)?;
         writeln!(f, "evaluations  {}", r.evaluations)?;
+        let jacobian = match r.jacobian {
+            crate::Jacobian::Exact => "exact (forward-mode derivatives)",
+            crate::Jacobian::FiniteDifferences => "central finite differences",
+        };
+        writeln!(f, "jacobian     {jacobian}")?;
         writeln!(f, "wall time    {:.3} s", r.wall_time.as_secs_f64())?;
         match &r.status {
             FitStatus::Converged(why) => writeln!(f, "status       converged ({why})"),

@@ -28,6 +28,7 @@ pub mod benchmark;
 pub mod describing;
 pub mod energy;
 pub mod experiments;
+pub mod sensitivity;
 pub mod signal;
 pub mod spec;
 mod transmission;

@@ -1,9 +1,14 @@
 //! Building a [`Spec`] into a boxed operator, with every limit a spec
 //! must respect.
 
+use super::registry::LeafKind;
 use super::{Spec, SpecError, MAX_DEPTH};
+use crate::TransmissionParams;
 use hysteron_composition::{OperatorExt, Oversample, SolverOptions, TravelLimits};
-use hysteron_operators::{check, BoucWen, Error, Leaf, Operator};
+use hysteron_operators::{
+    check, BoucWen, BoucWenParams, Dual, Error, Float, Leaf, Mms, MmsParams, Operator,
+};
+use serde::{de::DeserializeOwned, Serialize};
 use serde_json::Value;
 
 /// Largest `max_iter` / `max_expansions` a spec's solver may ask for (a
@@ -43,6 +48,32 @@ impl Spec {
     /// assert_eq!(err.to_string(), "scaled.inner.play.r: must be ≥ 0 (got -1)");
     /// ```
     pub fn build(&self) -> Result<Box<dyn Operator<f64>>, SpecError> {
+        self.check_nesting()?;
+        let op = self.build_at(self.kind())?;
+        Ok(Box::new(super::model::SpecModel::new(op, self.clone())))
+    }
+
+    /// Builds the model over the dual scalar [`Dual`], for derivatives:
+    /// the same operators with the same parameters and settings as
+    /// [`build`](Self::build) gives (every derivative 0 until
+    /// [`Operator::set_params`] seeds some), with the same errors.
+    ///
+    /// ```
+    /// use hysteron_models::Spec;
+    /// use hysteron_operators::{Dual, Operator};
+    /// let spec: Spec = serde_json::from_str(r#"{"type": "gain", "k": 3.0}"#).unwrap();
+    /// let mut m = spec.build_dual().unwrap();
+    /// m.set_params(&[Dual::variable(3.0, 0)]).unwrap(); // seed ∂/∂k in slot 0
+    /// let y = m.run(&[Dual::constant(2.0)]).unwrap();
+    /// assert_eq!((y[0].re, y[0].eps[0]), (6.0, 2.0)); // y = k x, ∂y/∂k = x
+    /// ```
+    pub fn build_dual(&self) -> Result<Box<dyn Operator<Dual>>, SpecError> {
+        self.check_nesting()?;
+        self.build_at(self.kind())
+    }
+
+    /// The depth limits of [`build`](Self::build).
+    fn check_nesting(&self) -> Result<(), SpecError> {
         let too_deep = |depth: usize, reason| {
             let nesting = Error::InvalidParameter {
                 name: "nesting".into(),
@@ -60,7 +91,7 @@ impl Spec {
         if depth > MAX_IMPLICIT_DEPTH {
             return too_deep(depth, "at most 4 implicit combinators (feedback, series, inverse, transmission) may be nested on one path: each level multiplies the work per sample");
         }
-        self.build_at(self.kind())
+        Ok(())
     }
 
     /// The largest number of implicit combinators (solved per sample) on
@@ -81,24 +112,29 @@ impl Spec {
             .unwrap_or(0)
     }
 
-    fn build_at(&self, path: &str) -> Result<Box<dyn Operator<f64>>, SpecError> {
+    fn build_at<T: SpecScalar>(&self, path: &str) -> Result<Box<dyn Operator<T>>, SpecError> {
         let invalid = |e: Error| SpecError::invalid(path, e);
-        let child =
-            |field: &str, spec: &Spec| spec.build_at(&format!("{path}.{field}.{}", spec.kind()));
-        let solver = |opts: &Option<SolverOptions<f64>>| -> Result<SolverOptions<f64>, SpecError> {
+        let child = |field: &str, spec: &Spec| {
+            spec.build_at::<T>(&format!("{path}.{field}.{}", spec.kind()))
+        };
+        let solver = |opts: &Option<SolverOptions<f64>>| -> Result<SolverOptions<T>, SpecError> {
             let opts = opts.unwrap_or_default();
             check_solver(&opts).map_err(|e| invalid(e.in_path("solver")))?;
-            Ok(opts)
+            Ok(SolverOptions {
+                rel_tol: T::lit(opts.rel_tol),
+                abs_tol: T::lit(opts.abs_tol),
+                max_iter: opts.max_iter,
+                max_expansions: opts.max_expansions,
+            })
         };
         Ok(match self {
             Spec::Leaf(leaf) => leaf
                 .entry()
-                .and_then(|e| e.build(&leaf.params))
+                .and_then(|e| T::leaf(e, &leaf.params))
                 .map_err(invalid)?,
-            Spec::Transmission(p) => p
-                .build()
-                .map_err(|e| invalid(transmission_names(e)))?
-                .boxed(),
+            Spec::Transmission(p) => {
+                T::transmission(p).map_err(|e| invalid(transmission_names(e)))?
+            }
             Spec::Cascade { first, second } => {
                 let a = child("first", first)?;
                 let b = child("second", second)?;
@@ -111,7 +147,10 @@ impl Spec {
             }
             Spec::Scaled { w, inner } => {
                 check::finite("w", *w).map_err(invalid)?;
-                child("inner", inner)?.scaled(*w).map_err(invalid)?.boxed()
+                child("inner", inner)?
+                    .scaled(T::lit(*w))
+                    .map_err(invalid)?
+                    .boxed()
             }
             Spec::Feedback {
                 forward,
@@ -137,7 +176,7 @@ impl Spec {
                     None => child("right", right)?,
                 };
                 a.series(b)
-                    .with_limits(*limits)
+                    .with_limits(cast_limits(limits))
                     .map_err(invalid)?
                     .with_solver(opts)
                     .boxed()
@@ -161,6 +200,70 @@ impl Spec {
                 Oversample::new(a, *q).map_err(invalid)?.boxed()
             }
         })
+    }
+}
+
+/// A scalar a spec builds over: `f64` ([`Spec::build`]) and [`Dual`]
+/// ([`Spec::build_dual`]).
+pub(super) trait SpecScalar: Float + DeserializeOwned {
+    /// The registered leaf `kind` with canonical `params`.
+    fn leaf(kind: &dyn LeafKind, params: &Value) -> Result<Box<dyn Operator<Self>>, Error>;
+    /// The paper's model.
+    fn transmission(p: &TransmissionParams) -> Result<Box<dyn Operator<Self>>, Error>;
+}
+
+impl SpecScalar for f64 {
+    fn leaf(kind: &dyn LeafKind, params: &Value) -> Result<Box<dyn Operator<f64>>, Error> {
+        kind.build(params)
+    }
+    fn transmission(p: &TransmissionParams) -> Result<Box<dyn Operator<f64>>, Error> {
+        Ok(p.build()?.boxed())
+    }
+}
+
+impl SpecScalar for Dual {
+    fn leaf(kind: &dyn LeafKind, params: &Value) -> Result<Box<dyn Operator<Dual>>, Error> {
+        kind.build_dual(params)
+    }
+    fn transmission(p: &TransmissionParams) -> Result<Box<dyn Operator<Dual>>, Error> {
+        let friction: MmsParams<Dual> = cast(&p.friction)?;
+        let spring: BoucWenParams<Dual> = cast(&p.spring_params())?;
+        let friction = Mms::from_params(friction).map_err(|e| e.in_path("friction"))?;
+        let spring = BoucWen::from_params(spring).map_err(|e| e.in_path("spring"))?;
+        let model = crate::transmission(
+            friction,
+            spring,
+            Dual::constant(p.backlash),
+            Dual::constant(p.slider0),
+        )?;
+        Ok(model.boxed())
+    }
+}
+
+/// A parameter set of `f64` as the same set over another scalar (through
+/// its serde form, which holds the values exactly).
+fn cast<P: Serialize, Q: DeserializeOwned>(p: &P) -> Result<Q, Error> {
+    serde_json::to_value(p)
+        .and_then(serde_json::from_value)
+        .map_err(|_| Error::InvalidParameter {
+            name: "parameters".into(),
+            value: f64::NAN,
+            reason: "cannot be carried over to the dual scalar",
+        })
+}
+
+/// The limits of a series over the scalar `T`.
+fn cast_limits<T: Float>(l: &TravelLimits<f64>) -> TravelLimits<T> {
+    match *l {
+        TravelLimits::None => TravelLimits::None,
+        TravelLimits::Range { lo, hi } => TravelLimits::Range {
+            lo: T::lit(lo),
+            hi: T::lit(hi),
+        },
+        TravelLimits::Gap { b, r0 } => TravelLimits::Gap {
+            b: T::lit(b),
+            r0: T::lit(r0),
+        },
     }
 }
 

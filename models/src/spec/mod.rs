@@ -29,6 +29,7 @@
 
 mod build;
 mod json;
+mod model;
 mod params;
 pub mod registry;
 #[cfg(test)]

@@ -7,7 +7,7 @@
 //! `hysteron-operators` (see `CONTRIBUTING.md`).
 
 use hysteron_composition::{PiBank, PiInverse};
-use hysteron_operators::{Error, FieldInfo, FieldKind, Leaf, Operator, ParamSet};
+use hysteron_operators::{Dual, Error, FieldInfo, FieldKind, Leaf, Operator, ParamSet};
 use serde::{de::DeserializeOwned, Serialize};
 use serde_json::Value;
 use std::marker::PhantomData;
@@ -63,6 +63,10 @@ pub trait LeafKind: Sync {
     ) -> Result<Value, serde_path_to_error::Error<serde_json::Error>>;
     /// Builds the operator from canonical parameters.
     fn build(&self, params: &Value) -> Result<Box<dyn Operator<f64>>, Error>;
+    /// Builds the operator from canonical parameters over the dual scalar
+    /// [`Dual`] (values as given, derivatives 0: seed them with
+    /// [`Operator::set_params`]).
+    fn build_dual(&self, params: &Value) -> Result<Box<dyn Operator<Dual>>, Error>;
     /// The same parameters with the flat entries taken from the front of
     /// `p` (validated).
     fn with_values(&self, params: &Value, p: &mut &[f64]) -> Result<Value, Error>;
@@ -114,6 +118,7 @@ impl<L> LeafKind for Registered<L>
 where
     L: Leaf<f64> + 'static,
     L::Params: Serialize + DeserializeOwned,
+    <L::With<Dual> as Leaf<Dual>>::Params: DeserializeOwned,
 {
     fn kind(&self) -> &'static str {
         L::KIND
@@ -142,6 +147,12 @@ where
 
     fn build(&self, params: &Value) -> Result<Box<dyn Operator<f64>>, Error> {
         Ok(Box::new(L::from_params(typed(params)?)?))
+    }
+
+    fn build_dual(&self, params: &Value) -> Result<Box<dyn Operator<Dual>>, Error> {
+        Ok(Box::new(<L::With<Dual> as Leaf<Dual>>::from_params(
+            typed(params)?,
+        )?))
     }
 
     fn with_values(&self, params: &Value, p: &mut &[f64]) -> Result<Value, Error> {
