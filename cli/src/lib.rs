@@ -22,5 +22,6 @@ pub mod output;
 pub mod paper;
 pub mod period;
 pub mod plot;
+pub mod sensitivity;
 pub mod simulate;
 pub mod validate;

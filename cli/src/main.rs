@@ -7,6 +7,11 @@
 //!   runs a model spec over one column of a CSV file (see
 //!   [`hysteron_cli::simulate`]); `--dt` or a uniformly spaced time column sets
 //!   the sample period of the spec's rate-dependent nodes;
+//! * `hysteron sensitivity --model SPEC.json --input IN.csv [--column x]
+//!   --params a,b --output OUT.csv [--dt SECONDS | --time-column t]`: runs a
+//!   model spec over one column of a CSV file and writes the output with
+//!   its derivatives `dy/d<param>` by forward-mode automatic
+//!   differentiation (see [`hysteron_cli::sensitivity`]);
 //! * `hysteron fit --model SPEC.json --data DATA.csv [--input-column x]
 //!   [--output-column y] --free a,b,c --output FITTED.json [--plot FIT.svg]
 //!   [--dt SECONDS | --time-column t]`:
@@ -47,7 +52,7 @@ use hysteron_cli::identify::MultiStart;
 use hysteron_cli::models::describing::SineOptions;
 use hysteron_cli::{
     analyze, args, bench, csvio, export_fmu, fit_cmd, fitting, identify_paper, paper, period,
-    simulate, validate,
+    sensitivity, simulate, validate,
 };
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -122,6 +127,42 @@ enum Command {
         plot: Option<PathBuf>,
         /// The name of the output column written (an error if the input
         /// already has a column of that name).
+        #[arg(long, value_name = "NAME", default_value = "y")]
+        output_column: String,
+        #[command(flatten)]
+        period: SamplePeriodArgs,
+    },
+    /// Run a model spec (JSON) over one column of a CSV file (with a
+    /// header) and compute the derivatives of its output with respect to
+    /// chosen parameters, ∂y_k/∂p, by forward-mode automatic
+    /// differentiation (dual numbers, no step size to choose; at a
+    /// kink, the derivative of the branch the model takes). The output
+    /// holds all input columns, `y`, then one column `dy/d<path>` per
+    /// parameter (e.g. dy/dleft.mms.f_c), in the order given.
+    Sensitivity {
+        /// The model spec (JSON, see hysteron::models::Spec); the model
+        /// runs from its initial state.
+        #[arg(long, value_name = "SPEC.json")]
+        model: PathBuf,
+        /// The input CSV file, with a header row of distinct column names
+        /// (blank lines only at the end of the file; every value of the
+        /// input column a finite number).
+        #[arg(long, value_name = "IN.csv")]
+        input: PathBuf,
+        /// The input column.
+        #[arg(long, value_name = "NAME", default_value = "x")]
+        column: String,
+        /// The parameters, comma-separated: full names as the model lists
+        /// them (left.mms.f_c) or unique suffixes (f_c), each at most once;
+        /// the columns are named by the full names.
+        #[arg(long, value_name = "NAMES", value_delimiter = ',', required = true)]
+        params: Vec<String>,
+        /// The output CSV file (written atomically; may not be the input).
+        #[arg(long, value_name = "OUT.csv")]
+        output: PathBuf,
+        /// The name of the output column written (the derivative columns
+        /// are then `d<NAME>/d<path>`; an error if the input already has a
+        /// column of one of these names).
         #[arg(long, value_name = "NAME", default_value = "y")]
         output_column: String,
         #[command(flatten)]
@@ -583,6 +624,28 @@ fn main() -> ExitCode {
             column,
             output,
             plot,
+            output_column,
+            dt: period.source(),
+        })
+        .map(|report| {
+            println!("{report}");
+            None
+        })
+        .map_err(|e| e.to_string()),
+        Command::Sensitivity {
+            model,
+            input,
+            column,
+            params,
+            output,
+            output_column,
+            period,
+        } => sensitivity::run(&sensitivity::SensitivityOptions {
+            model,
+            input,
+            column,
+            params,
+            output,
             output_column,
             dt: period.source(),
         })

@@ -43,6 +43,7 @@ from ._native import (
     paper_model,
     run_batch,
     run_parameter_sets,
+    sensitivity,
 )
 from ._operators import (
     asymmetric_friction,
@@ -106,6 +107,7 @@ __all__ = [
     "run_batch",
     "run_parameter_sets",
     "saturation",
+    "sensitivity",
     "stop",
     "viscous_damper",
 ]

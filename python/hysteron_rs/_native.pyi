@@ -29,6 +29,7 @@ __all__ = [
     "paper_model",
     "run_batch",
     "run_parameter_sets",
+    "sensitivity",
 ]
 
 _ArrayLike: TypeAlias = Union[npt.ArrayLike, Sequence[float]]
@@ -230,3 +231,6 @@ def run_parameter_sets(
     *,
     threads: Optional[int] = None,
 ) -> List[npt.NDArray[np.float64]]: ...
+def sensitivity(
+    model: Model, x: _ArrayLike, params: Sequence[str]
+) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...

@@ -12,6 +12,7 @@ mod errors;
 mod fitting;
 mod leaves;
 mod model;
+mod sensitivity;
 
 use pyo3::prelude::*;
 
@@ -31,6 +32,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fitting::fit_records, m)?)?;
     m.add_function(wrap_pyfunction!(batch::run_batch, m)?)?;
     m.add_function(wrap_pyfunction!(batch::run_parameter_sets, m)?)?;
+    m.add_function(wrap_pyfunction!(sensitivity::sensitivity, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

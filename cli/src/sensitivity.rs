@@ -1,0 +1,362 @@
+//! The `sensitivity` job: runs a model spec (JSON, see [`Spec`]) over one
+//! column of a CSV file, like `simulate`, and writes with the output the
+//! derivatives of the output with respect to chosen parameters,
+//! `∂y_k/∂p_i`, computed by forward-mode automatic differentiation
+//! ([`sensitivity`]).
+//!
+//! * The parameters (`--params`) are named as the built model's
+//!   [`param_names`](crate::Operator::param_names) (`left.mms.f_c`) or by a
+//!   unique suffix after a dot (`f_c`), as `fit --free` takes them (see
+//!   [`free_by_names`]); each is given at most once.
+//! * The output holds the input's columns (verbatim), the output column
+//!   (`y`, or the name given by `--output-column`), then one column per
+//!   parameter, `dy/d<path>` with the parameter's full path
+//!   (`dy/dleft.mms.f_c`), in the order given. Values are written by
+//!   [`csvio::fmt_f64`].
+//! * The model runs from its initial state; at a kink of a hysteresis
+//!   branch the derivative is that of the branch the model takes.
+//!
+//! Unlike `simulate`, the record is held in memory (the derivatives run in
+//! passes of [`DUAL_WIDTH`](crate::operators::DUAL_WIDTH) parameters over
+//! the whole input). Nothing is written unless everything succeeded: the
+//! output is written atomically, and may not be the input or the model file
+//! (compared after canonicalization).
+
+use crate::csvio::{self, CsvIoError};
+use crate::identify::free_by_names;
+use crate::model_file::ModelFileError;
+use crate::models::sensitivity::{sensitivity, Sensitivity, SensitivityError};
+use crate::models::Spec;
+use crate::output::OutputError;
+use crate::period::DtSource;
+use crate::Operator;
+use std::fmt;
+use std::path::PathBuf;
+
+/// The default name of the output column (as for `simulate`).
+pub const OUTPUT_COLUMN: &str = crate::simulate::OUTPUT_COLUMN;
+
+/// Options of the sensitivity job.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SensitivityOptions {
+    /// The model spec (JSON).
+    pub model: PathBuf,
+    /// The input CSV file (with a header row).
+    pub input: PathBuf,
+    /// The input column.
+    pub column: String,
+    /// The parameters (full paths or unique suffixes), in the order of the
+    /// derivative columns.
+    pub params: Vec<String>,
+    /// The output CSV file.
+    pub output: PathBuf,
+    /// The name of the output column ([`OUTPUT_COLUMN`] by default); the
+    /// derivative columns are `d<name>/d<path>`. None of them may be a
+    /// column of the input already.
+    pub output_column: String,
+    /// Where the sample period of the rate-dependent nodes of the model
+    /// comes from (default: the spec's own `dt`).
+    pub dt: DtSource,
+}
+
+/// An error of the sensitivity job (one-line message naming file, row and
+/// column where relevant).
+#[derive(Debug, thiserror::Error)]
+pub enum SensitivityCmdError {
+    /// An output path names an input file.
+    #[error(transparent)]
+    SameFile(#[from] csvio::SameFile),
+    /// The model spec could not be read, parsed or built.
+    #[error(transparent)]
+    Model(#[from] ModelFileError),
+    /// The input could not be read or is invalid (no data rows, a cell
+    /// that is not a finite number, ...).
+    #[error("input {0}")]
+    Input(CsvIoError),
+    /// A `--params` name is unknown, ambiguous or repeated, or none is
+    /// given; the message lists the model's parameters where it helps.
+    #[error("--params: model `{}`: {}", .0.display(), .1)]
+    Params(PathBuf, String),
+    /// The input already has a column named like an output column.
+    #[error(
+        "input `{}` already has a column `{}`: name the output column otherwise \
+         with --output-column",
+        .0.display(),
+        .1
+    )]
+    OutputColumnExists(PathBuf, String),
+    /// The model failed at a sample.
+    #[error("model `{}` failed{}", .0.model.display(), .0.location())]
+    Operator(Box<csvio::SampleFailure>),
+    /// A derivative is not finite (an infinite slope).
+    #[error(
+        "model `{}`: {} at sample {}: input `{}`, row {} (line {}), column `{}` = {}",
+        .0.model.display(),
+        .0.message,
+        .0.sample,
+        .0.file.display(),
+        .0.row,
+        .0.line,
+        .0.column,
+        csvio::fmt_f64(.0.value)
+    )]
+    NonFiniteDerivative(Box<NonFinite>),
+    /// Writing the output failed.
+    #[error(transparent)]
+    Output(#[from] OutputError),
+}
+
+/// Where a derivative is not finite.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NonFinite {
+    /// The model spec.
+    pub model: PathBuf,
+    /// What is not finite (`∂y/∂p is not finite`).
+    pub message: String,
+    /// The sample (0-based).
+    pub sample: usize,
+    /// The input file.
+    pub file: PathBuf,
+    /// Its data row (1-based).
+    pub row: usize,
+    /// The line in the file.
+    pub line: u64,
+    /// The input column.
+    pub column: String,
+    /// The input value at the sample.
+    pub value: f64,
+}
+
+/// What the sensitivity job did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SensitivityReport {
+    /// Samples run (data rows).
+    pub samples: usize,
+    /// The parameters' full paths, in the order of the columns.
+    pub params: Vec<String>,
+    /// The model's operator name.
+    pub model: &'static str,
+    /// Files written.
+    pub files: Vec<PathBuf>,
+}
+
+impl fmt::Display for SensitivityReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "computed the sensitivities to {} parameter(s) ({}) over {} samples with a `{}` \
+             model; wrote {}",
+            self.params.len(),
+            self.params.join(", "),
+            self.samples,
+            self.model,
+            csvio::join_paths(&self.files)
+        )
+    }
+}
+
+/// The name of the derivative column of `output` with respect to `param`:
+/// `d<output>/d<param>` (`dy/dleft.mms.f_c`).
+pub fn derivative_column(output: &str, param: &str) -> String {
+    format!("d{output}/d{param}")
+}
+
+/// Runs the job; see the module docs.
+pub fn run(opts: &SensitivityOptions) -> Result<SensitivityReport, SensitivityCmdError> {
+    let inputs = [
+        ("input", opts.input.as_path()),
+        ("model", opts.model.as_path()),
+    ];
+    csvio::refuse_same("output", &opts.output, &inputs)?;
+
+    let model_err = |e| ModelFileError::new(&opts.model, e);
+    let spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
+    let spec = opts
+        .dt
+        .apply(spec, &opts.input)
+        .map_err(SensitivityCmdError::Input)?;
+    let model = spec.build().map_err(model_err)?;
+    let params = full_names(opts, model.as_ref())?;
+
+    let mut reader = csvio::CsvReader::open(&opts.input).map_err(SensitivityCmdError::Input)?;
+    let index = reader
+        .column(&opts.column)
+        .map_err(SensitivityCmdError::Input)?;
+    let name = reader.headers()[index].trim().to_string();
+    let out_name = opts.output_column.trim();
+    let mut new_columns = vec![out_name.to_string()];
+    new_columns.extend(params.iter().map(|p| derivative_column(out_name, p)));
+    if let Some(taken) = new_columns
+        .iter()
+        .find(|c| reader.headers().iter().any(|h| h.trim() == c.as_str()))
+    {
+        return Err(SensitivityCmdError::OutputColumnExists(
+            opts.input.clone(),
+            taken.clone(),
+        ));
+    }
+
+    let mut rows = Vec::new();
+    let mut xs = Vec::new();
+    let mut row = csvio::Row::default();
+    while reader
+        .read_row(&mut row)
+        .map_err(SensitivityCmdError::Input)?
+    {
+        xs.push(
+            reader
+                .number(&row, index, &name)
+                .map_err(SensitivityCmdError::Input)?,
+        );
+        rows.push(std::mem::take(&mut row));
+    }
+    if xs.is_empty() {
+        return Err(SensitivityCmdError::Input(CsvIoError::NoRows {
+            path: opts.input.clone(),
+        }));
+    }
+    csvio::target_dir(&opts.output).map_err(OutputError::Write)?;
+
+    let refs: Vec<&str> = params.iter().map(String::as_str).collect();
+    let result = sensitivity(&spec, &xs, &refs).map_err(|e| locate(opts, &rows, &xs, e))?;
+
+    write(opts, &reader, &rows, &new_columns, &result)?;
+    Ok(SensitivityReport {
+        samples: xs.len(),
+        params,
+        model: model.name(),
+        files: vec![opts.output.clone()],
+    })
+}
+
+/// The `--params` names (trimmed, empty ones dropped) as the model's full
+/// parameter paths.
+fn full_names(
+    opts: &SensitivityOptions,
+    model: &(dyn Operator<f64> + 'static),
+) -> Result<Vec<String>, SensitivityCmdError> {
+    let params_err = |message: String| SensitivityCmdError::Params(opts.model.clone(), message);
+    let names: Vec<&str> = opts
+        .params
+        .iter()
+        .map(|s| s.trim())
+        .filter(|s| !s.is_empty())
+        .collect();
+    let all = model.param_names();
+    if names.is_empty() {
+        return Err(params_err(format!(
+            "no parameter given (the model has: {})",
+            all.join(", ")
+        )));
+    }
+    let indices = free_by_names(model, &names).map_err(|e| params_err(e.to_string()))?;
+    let mut full = Vec::with_capacity(indices.len());
+    for (&i, &asked) in indices.iter().zip(&names) {
+        let path = all.get(i).cloned().unwrap_or_else(|| asked.to_string());
+        if full.contains(&path) {
+            let also = if path == asked {
+                String::new()
+            } else {
+                format!(" (as `{asked}`)")
+            };
+            return Err(params_err(format!(
+                "parameter `{path}` is given twice{also}"
+            )));
+        }
+        full.push(path);
+    }
+    Ok(full)
+}
+
+/// The library's error as the job's, located in the input file.
+fn locate(
+    opts: &SensitivityOptions,
+    rows: &[csvio::Row],
+    xs: &[f64],
+    e: SensitivityError,
+) -> SensitivityCmdError {
+    let params_err = |message: String| SensitivityCmdError::Params(opts.model.clone(), message);
+    match e {
+        SensitivityError::Spec(e) => ModelFileError::new(&opts.model, e).into(),
+        SensitivityError::EmptyInput => SensitivityCmdError::Input(CsvIoError::NoRows {
+            path: opts.input.clone(),
+        }),
+        e @ (SensitivityError::NoParameters { .. }
+        | SensitivityError::UnknownParameter { .. }
+        | SensitivityError::Repeated { .. }) => params_err(e.to_string()),
+        SensitivityError::Model(e) => {
+            SensitivityCmdError::Operator(Box::new(csvio::SampleFailure::locate_in(
+                &opts.model,
+                &opts.input,
+                "input",
+                &opts.column,
+                e,
+                |i| {
+                    let (row, line) = rows.get(i).map_or((i + 1, 0), |r| (r.row(), r.line()));
+                    (i, row, line, xs.get(i).copied())
+                },
+            )))
+        }
+        SensitivityError::NonFiniteDerivative { sample, param } => {
+            let (row, line) = rows
+                .get(sample)
+                .map_or((sample + 1, 0), |r| (r.row(), r.line()));
+            SensitivityCmdError::NonFiniteDerivative(Box::new(NonFinite {
+                model: opts.model.clone(),
+                message: format!("∂y/∂{param} is not finite"),
+                sample,
+                file: opts.input.clone(),
+                row,
+                line,
+                column: opts.column.clone(),
+                value: xs.get(sample).copied().unwrap_or(f64::NAN),
+            }))
+        }
+    }
+}
+
+/// Writes the input's rows with the output and derivative columns,
+/// atomically.
+fn write(
+    opts: &SensitivityOptions,
+    reader: &csvio::CsvReader,
+    rows: &[csvio::Row],
+    new_columns: &[String],
+    result: &Sensitivity,
+) -> Result<(), SensitivityCmdError> {
+    let write_err = |e: csv::Error| {
+        SensitivityCmdError::from(OutputError::Write(CsvIoError::Io {
+            path: opts.output.clone(),
+            source: std::io::Error::other(e),
+        }))
+    };
+    let output_err = |e| SensitivityCmdError::from(OutputError::Write(e));
+    csvio::write_atomic_with(&opts.output, output_err, |w| {
+        let mut out = csv::Writer::from_writer(w);
+        out.write_record(
+            reader
+                .headers()
+                .iter()
+                .chain(new_columns.iter().map(String::as_str)),
+        )
+        .map_err(write_err)?;
+        let mut cells = vec![String::new(); new_columns.len()];
+        for (k, row) in rows.iter().enumerate() {
+            let values = std::iter::once(&result.output)
+                .chain(&result.columns)
+                .map(|c| c.get(k).copied().unwrap_or(f64::NAN));
+            for (cell, v) in cells.iter_mut().zip(values) {
+                cell.clear();
+                csvio::push_f64(cell, v);
+            }
+            out.write_record(row.fields().chain(cells.iter().map(String::as_str)))
+                .map_err(write_err)?;
+        }
+        out.flush().map_err(|source| {
+            output_err(CsvIoError::Io {
+                path: opts.output.clone(),
+                source,
+            })
+        })
+    })
+}
