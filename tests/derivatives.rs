@@ -1,0 +1,287 @@
+//! Forward-mode derivatives (`Spec::build_dual`, `sensitivity`) against
+//! central differences and closed forms.
+
+use hysteron::models::sensitivity::sensitivity;
+use hysteron::models::spec::registry::LEAVES;
+use hysteron::models::Spec;
+
+/// A signal with reversals of varying amplitude.
+fn signal(n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|i| {
+            let t = i as f64;
+            1.4 * (0.045 * t).sin() * (1.0 + 0.3 * (0.011 * t).sin()) + 0.05 * (0.31 * t).sin()
+        })
+        .collect()
+}
+
+/// The output of `spec` with parameter `i` moved by `d`, run as the dual
+/// model with constants (the code path the derivatives come from).
+fn shifted(spec: &Spec, i: usize, d: f64, xs: &[f64]) -> Option<Vec<f64>> {
+    let mut p = spec.build().ok()?.params();
+    p[i] += d;
+    let s = spec.with_params(&p).ok()?;
+    let names = s.build().ok()?.param_names();
+    let name = names[i].clone();
+    Some(sensitivity(&s, xs, &[&name]).ok()?.output)
+}
+
+struct Comparison {
+    compared: usize,
+    worst: f64,
+}
+
+/// Compares the derivative column of parameter `i` with central
+/// differences (step `h = 1e-4 max(|p|, 0.01)`) at the samples away from
+/// kinks, where the one-sided differences agree to 1e-3 of the column's
+/// scale (a kink within `h` of the parameter separates them by the jump of
+/// the slope) and central differences with steps `h` and `h/4` agree to
+/// 1e-6 (two kinks within `h` can leave the one-sided ones equal): the
+/// worst difference there, relative to the scale.
+fn compare(spec: &Spec, i: usize, xs: &[f64]) -> Option<Comparison> {
+    let model = spec.build().ok()?;
+    let p = model.params()[i];
+    let name = model.param_names()[i].clone();
+    let s = sensitivity(spec, xs, &[&name]).ok()?;
+    let col = &s.columns[0];
+    let h = 1e-4 * p.abs().max(1e-2);
+    let (up, mid, down) = (
+        shifted(spec, i, h, xs)?,
+        shifted(spec, i, 0.0, xs)?,
+        shifted(spec, i, -h, xs)?,
+    );
+    let (up4, down4) = (
+        shifted(spec, i, h / 4.0, xs)?,
+        shifted(spec, i, -h / 4.0, xs)?,
+    );
+    // a floor for derivatives that are 0 up to rounding
+    let y_scale = mid.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let scale = col
+        .iter()
+        .fold(0.0_f64, |m, v| m.max(v.abs()))
+        .max(1e-9 * y_scale / p.abs().max(1e-2));
+    let mut compared = 0;
+    let mut worst = 0.0_f64;
+    for k in 0..xs.len() {
+        let forward = (up[k] - mid[k]) / h;
+        let backward = (mid[k] - down[k]) / h;
+        let central = (up[k] - down[k]) / (2.0 * h);
+        let central4 = (up4[k] - down4[k]) / (h / 2.0);
+        if (forward - backward).abs() > 1e-3 * scale || (central - central4).abs() > 1e-6 * scale {
+            continue; // a kink within h
+        }
+        compared += 1;
+        worst = worst.max((col[k] - central).abs() / scale);
+    }
+    Some(Comparison { compared, worst })
+}
+
+/// Whether parameter `name` is an initial state exactly at rest (`y0`,
+/// `h0`, `z0`, `f0`, `x0` = 0). A model that starts at rest and in balance
+/// has a kink there: the first motion's direction, and with it the branch,
+/// flips with the sign of the perturbation, and the dual derivative is the
+/// upward one-sided one (documented at `DualN`).
+fn at_rest_start(name: &str, value: f64) -> bool {
+    let field = name.rsplit('.').next().unwrap_or(name);
+    value == 0.0 && ["y0", "h0", "z0", "f0", "x0", "w0"].contains(&field)
+}
+
+/// Derivatives of every parameter of `spec` along `xs` agree with central
+/// differences to `tol` (relative to the column's scale) wherever the
+/// model is smooth in that parameter.
+fn check_spec(label: &str, spec: &Spec, xs: &[f64], tol: f64) {
+    let model = spec.build().unwrap();
+    let (names, values) = (model.param_names(), model.params());
+    for i in 0..names.len() {
+        if at_rest_start(&names[i], values[i]) {
+            continue;
+        }
+        // `None`: a shifted parameter leaves its domain (a bound at 0)
+        let Some(c) = compare(spec, i, xs) else {
+            continue;
+        };
+        assert!(
+            c.worst <= tol,
+            "{label}: ∂y/∂{} differs from central differences by {:.2e} of its scale ({} samples compared)",
+            names[i],
+            c.worst,
+            c.compared
+        );
+    }
+}
+
+#[test]
+fn every_leaf_and_example_against_central_differences() {
+    let xs = signal(400);
+    let mut specs: Vec<(String, Spec)> = LEAVES
+        .iter()
+        .map(|l| (l.kind().to_string(), l.example_spec()))
+        .collect();
+    for entry in std::fs::read_dir("examples/specs").unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "json") {
+            specs.push((
+                path.display().to_string(),
+                Spec::from_json_file(&path).unwrap(),
+            ));
+        }
+    }
+    for (label, spec) in specs {
+        check_spec(&label, &spec, &xs, 2e-5);
+    }
+}
+
+fn spec(json: &str) -> Spec {
+    Spec::from_json(json).unwrap()
+}
+
+/// The PI bank `y = a0 x + Σ w_j play_{r_j}[x]` is linear in its weights:
+/// `∂y/∂w_j` is the output of play `j` and `∂y/∂a0 = x`, exactly.
+#[test]
+fn pi_bank_weights_have_their_plays_as_derivatives() {
+    let xs = signal(300);
+    let bank = spec(
+        r#"{"type": "pi_bank", "a0": 0.5, "r": [0.0, 0.3, 1.0], "w": [1.0, 0.5, 0.25], "y0": [0.0, 0.1, -0.2]}"#,
+    );
+    let s = sensitivity(&bank, &xs, &["a0", "w[0]", "w[1]", "w[2]"]).unwrap();
+    assert_eq!(s.columns[0], xs);
+    for (j, (r, y0)) in [(0.0, 0.0), (0.3, 0.1), (1.0, -0.2)]
+        .into_iter()
+        .enumerate()
+    {
+        let play = spec(&format!(r#"{{"type": "play", "r": {r}, "y0": {y0}}}"#));
+        let expected = play.build().unwrap().run(&xs).unwrap();
+        assert_eq!(s.columns[j + 1], expected, "w[{j}]");
+    }
+}
+
+/// MMS on its first branch from rest (`y0 = 0`, rising):
+/// `y = F_c (1 − e^{−K x})`, so `∂y/∂F_c = 1 − e^{−K x}` and
+/// `∂y/∂K = F_c x e^{−K x}`.
+#[test]
+fn mms_branch_derivatives_are_the_closed_form() {
+    let (f_c, k) = (1.5, 30.0);
+    let xs: Vec<f64> = (1..=50).map(|i| 0.002 * i as f64).collect();
+    let mms = spec(&format!(
+        r#"{{"type": "mms", "f_c": {f_c}, "k": {k}, "y0": 0.0}}"#
+    ));
+    let s = sensitivity(&mms, &xs, &["f_c", "k"]).unwrap();
+    for (i, &x) in xs.iter().enumerate() {
+        let e = (-k * x).exp();
+        assert!(
+            (s.columns[0][i] - (1.0 - e)).abs() <= 1e-15,
+            "∂/∂F_c at {x}"
+        );
+        assert!(
+            (s.columns[1][i] - f_c * x * e).abs() <= 1e-15,
+            "∂/∂K at {x}"
+        );
+    }
+}
+
+/// Bouc-Wen `n = 1`, constant stiffness `k`, rising from `h = 0`:
+/// `h = (α/c)(1 − e^{−c z})` with `c = β + γ` and
+/// `H = w k z + (1 − w) k h`, so
+/// `∂H/∂α = (1 − w) k (1 − e^{−c z})/c` and
+/// `∂H/∂β = ∂H/∂γ = (1 − w) k α (z e^{−c z}/c − (1 − e^{−c z})/c²)`.
+#[test]
+fn bouc_wen_linear_branch_derivatives_are_the_closed_form() {
+    let (k, w, alpha, beta, gamma) = (2.0, 0.3, 1.0, 0.6, 0.4);
+    let bw = spec(&format!(
+        r#"{{"type": "bouc_wen", "w": {w}, "alpha": {alpha}, "beta": {beta}, "gamma": {gamma}, "n": 1.0,
+            "h0": 0.0, "z0": 0.0, "stiffness": {{"z": [0.0], "s": [{k}]}}}}"#
+    ));
+    let xs: Vec<f64> = (1..=40).map(|i| 0.1 * i as f64).collect();
+    // (n is seeded apart: with it seeded the flow is integrated, see below)
+    let s = sensitivity(&bw, &xs, &["alpha", "beta", "gamma"]).unwrap();
+    let c = beta + gamma;
+    for (i, &z) in xs.iter().enumerate() {
+        let e = (-c * z).exp();
+        let d_alpha = (1.0 - w) * k * (1.0 - e) / c;
+        let d_c = (1.0 - w) * k * alpha * (z * e / c - (1.0 - e) / (c * c));
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b.abs().max(1.0);
+        assert!(close(s.columns[0][i], d_alpha), "∂/∂α at {z}");
+        assert!(close(s.columns[1][i], d_c), "∂/∂β at {z}");
+        assert!(close(s.columns[2][i], d_c), "∂/∂γ at {z}");
+    }
+    // ∂/∂n at n = 1, where the closed form does not depend on n, comes
+    // from the integrated flow: `|h|^n ln|h|` makes it nonzero
+    let dn = sensitivity(&bw, &xs, &["n"]).unwrap();
+    assert!(dn.columns[0].iter().any(|d| d.abs() > 1e-3));
+}
+
+/// A leaf spec from a choice and three numbers in [0, 1).
+fn leaf(kind: u8, a: f64, b: f64, c: f64) -> String {
+    match kind % 5 {
+        0 => format!(r#"{{"type": "gain", "k": {}}}"#, 0.5 + 2.0 * a),
+        1 => format!(
+            r#"{{"type": "bouc_wen", "w": {}, "alpha": 1.0, "beta": {}, "gamma": {}, "n": {},
+                "h0": 0.1, "z0": 0.0, "stiffness": {{"z": [0.0], "s": [2.0]}}}}"#,
+            0.2 + 0.5 * a,
+            0.8 + b,
+            0.3 * b,
+            1.0 + 1.5 * c
+        ),
+        2 => format!(
+            r#"{{"type": "mms", "f_c": {}, "k": {}, "y0": 0.2}}"#,
+            0.5 + a,
+            5.0 + 20.0 * b
+        ),
+        3 => format!(r#"{{"type": "play", "r": {}, "y0": 0.05}}"#, 0.05 + 0.3 * a),
+        _ => format!(
+            r#"{{"type": "elastoplastic", "k": {}, "f_b": {}, "f0": 0.1}}"#,
+            1.0 + 3.0 * a,
+            0.3 + b
+        ),
+    }
+}
+
+/// A composition of two leaves (`series` takes a friction-like left
+/// element and a spring, `feedback` a gain loop, `inverse` an
+/// invertible spring).
+fn composed(form: u8, l: &str, r: &str) -> String {
+    match form % 5 {
+        0 => format!(r#"{{"type": "cascade", "first": {l}, "second": {r}}}"#),
+        1 => format!(r#"{{"type": "parallel", "left": {l}, "right": {r}}}"#),
+        2 => format!(r#"{{"type": "series", "left": {l}, "right": {{"type": "gain", "k": 3.0}}}}"#),
+        3 => format!(
+            r#"{{"type": "feedback", "forward": {l}, "back": {{"type": "gain", "k": 0.4}}}}"#
+        ),
+        _ => format!(
+            r#"{{"type": "inverse", "inner": {{"type": "parallel", "left": {l}, "right": {{"type": "gain", "k": 1.0}}}}}}"#
+        ),
+    }
+}
+
+proptest::proptest! {
+    /// Random compositions with random parameters, driven by a random
+    /// amplitude: every parameter's derivative agrees with central
+    /// differences wherever the output is smooth in it.
+    ///
+    /// Ignored: it finds cases not yet understood, where a derivative
+    /// differs by more than the tolerance at samples the kink filter keeps:
+    /// `∂y/∂first.elastoplastic.f_b` of a cascade of two elastoplastic
+    /// elements (k 3.1567 and 3.8084, both f_b = 0.3, f0 = 0.1) by 7.4e-3
+    /// of its scale, and `∂y/∂first.mms.y0` of an MMS (f_c 1.312, K 9.597,
+    /// y0 0.2) cascaded into an elastoplastic element (k 1.556, f_b 0.3,
+    /// f0 0.1) by 1.7e-4 (README, "What is not done yet").
+    #[test]
+    #[ignore]
+    fn random_compositions_against_central_differences(
+        form in 0u8..5,
+        kinds in (0u8..5, 0u8..5),
+        p in proptest::array::uniform6(0.0..1.0f64),
+        amplitude in 0.5..2.0f64,
+    ) {
+        let l = leaf(kinds.0, p[0], p[1], p[2]);
+        let r = leaf(kinds.1, p[3], p[4], p[5]);
+        let text = composed(form, &l, &r);
+        let s = spec(&text);
+        let xs: Vec<f64> = signal(250).iter().map(|x| amplitude * x).collect();
+        // a composition may be invalid for the drawn values (an inverse of
+        // a flat operator): then there is nothing to compare
+        if s.build().is_ok_and(|mut m| m.run(&xs).is_ok()) {
+            check_spec(&text, &s, &xs, 2e-5);
+        }
+    }
+}
