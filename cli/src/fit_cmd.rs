@@ -35,7 +35,7 @@
 use crate::csvio::{self, CsvIoError};
 use crate::fitting::{not_converged_note, Display};
 use crate::identify::{
-    fit_multistart, free_by_names, FitError, FitOptions, FitReport, MultiStart, Record,
+    fit_multistart, free_by_names, FitError, FitOptions, FitReport, Jacobian, MultiStart, Record,
 };
 use crate::model_file::ModelFileError;
 use crate::models::Spec;
@@ -78,6 +78,8 @@ pub struct FitCmdOptions {
     /// Evaluation budget per free parameter and iteration
     /// ([`FitOptions::patience`]).
     pub patience: usize,
+    /// How the Jacobian is computed ([`FitOptions::jacobian`]).
+    pub jacobian: Jacobian,
     /// The starting points ([`fit_multistart`]; one start: a plain fit).
     pub starts: MultiStart,
     /// Draw the progress display (only ever on a terminal).
@@ -420,6 +422,7 @@ pub fn run(opts: &FitCmdOptions) -> Result<FitCmdReport, FitCmdError> {
 
     let fit_opts = FitOptions {
         patience: opts.patience,
+        jacobian: opts.jacobian,
         max_evaluations: opts.max_evaluations,
         max_seconds: opts.max_seconds,
         ..FitOptions::default()

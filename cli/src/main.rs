@@ -47,8 +47,8 @@
 //! [`hysteron_cli::args`]); 3 for a fit that ran but did not converge (its
 //! report says so and its result is written).
 
-use clap::{Parser, Subcommand};
-use hysteron_cli::identify::MultiStart;
+use clap::{Parser, Subcommand, ValueEnum};
+use hysteron_cli::identify::{Jacobian, MultiStart};
 use hysteron_cli::models::describing::SineOptions;
 use hysteron_cli::{
     analyze, args, bench, csvio, export_fmu, fit_cmd, fitting, identify_paper, paper, period,
@@ -94,6 +94,15 @@ impl SamplePeriodArgs {
     fn source(self) -> period::DtSource {
         period::DtSource::from_options(self.dt, self.time_column)
     }
+}
+
+/// `fit --jacobian`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum JacobianArg {
+    /// Forward-mode derivatives.
+    Exact,
+    /// Central finite differences.
+    Fd,
 }
 
 #[derive(Debug, Subcommand)]
@@ -229,6 +238,12 @@ enum Command {
         /// --max-seconds).
         #[arg(long, value_name = "N", default_value_t = 200, value_parser = args::at_least_1, allow_negative_numbers = true)]
         patience: u64,
+        /// How the Jacobian is computed: `exact` (forward-mode derivatives
+        /// through the model over dual numbers, one simulation per 8
+        /// parameters; see README "Derivatives") or `fd` (central finite
+        /// differences, two simulations per parameter).
+        #[arg(long, value_enum, default_value_t = JacobianArg::Exact)]
+        jacobian: JacobianArg,
         /// Fit from N starting points: the spec's own and N − 1 from a Latin
         /// hypercube around it (see --spread), in parallel; the best is
         /// kept and the report says how many starts reached its cost
@@ -493,6 +508,7 @@ fn main() -> ExitCode {
             output,
             plot,
             patience,
+            jacobian,
             starts,
             spread,
             seed,
@@ -511,6 +527,10 @@ fn main() -> ExitCode {
             output,
             plot,
             patience: usize::try_from(patience).unwrap_or(usize::MAX),
+            jacobian: match jacobian {
+                JacobianArg::Exact => Jacobian::Exact,
+                JacobianArg::Fd => Jacobian::FiniteDifferences,
+            },
             starts: MultiStart {
                 starts: usize::try_from(starts).unwrap_or(usize::MAX),
                 spread,

@@ -192,6 +192,7 @@ fn fit_recovers_known_parameters_and_the_spec_simulates_back() {
         "cond(JᵀJ) ",
         "iterations ",
         "evaluations ",
+        "jacobian     exact (forward-mode derivatives)",
         "wall time ",
         "status       converged",
         "wrote fitted.json, fit.svg",
@@ -334,6 +335,77 @@ fn fit_starts_searches_from_a_latin_hypercube() {
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(err.contains(expected), "{bad}: {err}");
     }
+}
+
+/// `--jacobian fd` keeps the central differences; both Jacobians reach the
+/// same parameters, the exact one in fewer simulations.
+#[test]
+fn fit_jacobian_exact_and_by_finite_differences_agree() {
+    let tmp = TempDir::new().unwrap();
+    let x: Vec<f64> = (0..1500)
+        .map(|i| 1.2 * (-2.0 * i as f64 / 1500.0).exp() * (0.02 * i as f64).sin())
+        .collect();
+    let truth = r#"{"type": "bouc_wen", "w": 0.6, "alpha": 1.0, "beta": 2.5, "gamma": 1.5, "n": 1.0,
+        "h0": 0.0, "z0": 0.0, "stiffness": {"z": [0.0], "s": [10.0]}}"#;
+    let y = Spec::from_json(truth)
+        .unwrap()
+        .build()
+        .unwrap()
+        .run(&x)
+        .unwrap();
+    fs::write(tmp.path().join("data.csv"), csv_text("x,y", &[&x, &y])).unwrap();
+    fs::write(
+        tmp.path().join("start.json"),
+        truth.replace("2.5", "3.0").replace("0.6", "0.5"),
+    )
+    .unwrap();
+    let fit = |jacobian: &str| {
+        let args = format!(
+            "fit --model start.json --data data.csv --free w,beta --output {jacobian}.json --jacobian {jacobian}"
+        );
+        let out = hysteron(tmp.path())
+            .args(args.split_whitespace())
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{out:?}");
+        let text = String::from_utf8(out.stdout).unwrap();
+        let evaluations: usize = text
+            .lines()
+            .find_map(|l| l.strip_prefix("evaluations "))
+            .and_then(|v| v.trim().parse().ok())
+            .unwrap_or_else(|| panic!("{text}"));
+        let p = Spec::from_json_file(tmp.path().join(format!("{jacobian}.json")))
+            .unwrap()
+            .build()
+            .unwrap()
+            .params();
+        (text, evaluations, p)
+    };
+    let (exact_text, exact_runs, exact) = fit("exact");
+    let (fd_text, fd_runs, fd) = fit("fd");
+    assert!(exact_text.contains("jacobian     exact"), "{exact_text}");
+    assert!(
+        fd_text.contains("jacobian     central finite differences"),
+        "{fd_text}"
+    );
+    // w and beta at indices 0 and 2; both back at the truth
+    for p in [&exact, &fd] {
+        assert!(
+            (p[0] - 0.6).abs() < 1e-8 && (p[2] - 2.5).abs() < 1e-7,
+            "{p:?}"
+        );
+    }
+    assert!(exact_runs < fd_runs, "{exact_runs} vs {fd_runs}");
+    let bad = hysteron(tmp.path())
+        .args(
+            "fit --model start.json --data data.csv --free w --output b.json --jacobian numeric"
+                .split_whitespace(),
+        )
+        .output()
+        .unwrap();
+    assert_eq!(bad.status.code(), Some(1), "{bad:?}");
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(err.contains("invalid value 'numeric' for '--jacobian"), "{err}");
 }
 
 #[test]

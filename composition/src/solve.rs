@@ -484,6 +484,42 @@ mod tests {
         }
     }
 
+    /// The root's derivatives come from the implicit function theorem, not
+    /// from the iterate: a start already at the root (in value) whose
+    /// derivative is stale (as a committed solution's is when a parameter
+    /// moved) gets `∂x/∂p = −r_p/r_x`, and so does a root found by
+    /// iterating.
+    #[test]
+    fn root_derivatives_are_those_of_the_implicit_function_theorem() {
+        use hysteron_operators::DualN;
+        type D = DualN<1>;
+        // r(x, p) = x³ − p at p = 8: x = 2, ∂x/∂p = 1/(3x²) = 1/12
+        let p = D::variable(8.0, 0);
+        let residual = |x: D| Ok((x * x * x - p, D::constant(3.0) * x * x));
+        let opts = SolverOptions::<D>::default();
+        for x0 in [
+            D {
+                re: 2.0,
+                eps: [5.0],
+            }, // at the root, stale derivative
+            D {
+                re: 3.0,
+                eps: [0.0],
+            }, // found by iterating
+        ] {
+            let start = Start {
+                x0,
+                step: D::constant(0.5),
+                hint: None,
+                bounds: None,
+                scale: D::constant(1.0),
+            };
+            let root = solve("test", residual, start, &opts).unwrap().value();
+            assert!((root.re - 2.0).abs() < 1e-14);
+            assert!((root.eps[0] - 1.0 / 12.0).abs() < 1e-15, "{:?}", root);
+        }
+    }
+
     #[test]
     fn finds_smooth_root() {
         let root = solve(
