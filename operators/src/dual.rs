@@ -381,12 +381,21 @@ impl<const N: usize> NumFloat for DualN<N> {
     /// `x^n = 0` (its limit for `n > 0`) or `n` carries no derivative.
     fn powf(self, n: Self) -> Self {
         let v = self.re.powf(n.re);
-        let dx = if self.re == 0.0 && n.re > 1.0 {
+        let dx = if self.re == 0.0 {
+            if n.re > 1.0 {
+                0.0
+            } else {
+                n.re * self.re.powf(n.re - 1.0)
+            }
+        } else {
+            // x^{n−1} = x^n / x: one `pow` instead of two
+            n.re * v / self.re
+        };
+        let dn = if v == 0.0 || !n.has_derivatives() {
             0.0
         } else {
-            n.re * self.re.powf(n.re - 1.0)
+            v * self.re.ln()
         };
-        let dn = if v == 0.0 { 0.0 } else { v * self.re.ln() };
         self.combine(dx, n, dn, v)
     }
     fn log(self, base: Self) -> Self {
