@@ -30,6 +30,9 @@ echo "== the vector kernels' contract on AVX2 and without vector kernels (HYSTER
 HYSTERON_ISA=avx2 cargo test -q -p hysteron --test contract
 HYSTERON_ISA=portable cargo test -q -p hysteron --test contract
 
+echo "== the derivative property test at 10x its default cases (issue 16)"
+PROPTEST_CASES=2560 cargo test -q -p hysteron --test derivatives random_compositions
+
 echo "== Python: install hysteron-rs into target/py-venv"
 python3 -m venv target/py-venv
 venv=target/py-venv/bin

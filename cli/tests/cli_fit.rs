@@ -405,7 +405,10 @@ fn fit_jacobian_exact_and_by_finite_differences_agree() {
         .unwrap();
     assert_eq!(bad.status.code(), Some(1), "{bad:?}");
     let err = String::from_utf8_lossy(&bad.stderr);
-    assert!(err.contains("invalid value 'numeric' for '--jacobian"), "{err}");
+    assert!(
+        err.contains("invalid value 'numeric' for '--jacobian"),
+        "{err}"
+    );
 }
 
 #[test]
