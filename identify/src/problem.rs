@@ -5,7 +5,7 @@
 
 use crate::fit::{FitOptions, Jacobian, Progress, Record};
 use crate::transform::Reparam;
-use hysteron_models::sensitivity::derivatives;
+use hysteron_models::sensitivity::derivatives_at;
 use hysteron_operators::{Dual, Error, Operator, DUAL_WIDTH};
 use levenberg_marquardt::LeastSquaresProblem;
 use nalgebra::{DMatrix, DVector, Dyn, Owned};
@@ -208,13 +208,9 @@ impl Problem<'_> {
                 .map(|(j, &i)| (j, i))
                 .chain((self.layout.own.iter().enumerate()).map(|(o, &i)| (k + r * n_own + o, i)))
                 .collect();
-            let mut model = dyn_clone::clone_box(dual);
-            let p: Vec<Dual> = (self.full_params(theta, r).into_iter())
-                .map(Dual::constant)
-                .collect();
-            model.set_params(&p).ok()?;
             let indices: Vec<usize> = entries.iter().map(|&(_, i)| i).collect();
-            let (_, columns) = derivatives(model.as_ref(), record.x, &indices).ok()?;
+            let (_, columns) =
+                derivatives_at(dual, &self.full_params(theta, r), record.x, &indices).ok()?;
             Some((r, entries, columns))
         };
         let done: Vec<_> = if self.parallel {

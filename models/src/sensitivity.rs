@@ -2,7 +2,7 @@
 //! chosen parameters, by forward-mode derivatives (dual numbers).
 
 use crate::{Spec, SpecError};
-use hysteron_operators::{Differentiable, Dual, Error, Operator, DUAL_WIDTH};
+use hysteron_operators::{Dual, Error, Operator, DUAL_WIDTH};
 
 /// A model's output along an input and its derivatives with respect to
 /// chosen parameters.
@@ -162,15 +162,27 @@ pub fn derivatives(
     input: &[f64],
     indices: &[usize],
 ) -> Result<(Vec<f64>, Vec<Vec<f64>>), Failure> {
+    let base: Vec<f64> = model.params().iter().map(|v| v.re).collect();
+    derivatives_at(model, &base, input, indices)
+}
+
+/// [`derivatives`] at the parameter values `base` (all of the model's, in
+/// the order of its names) instead of the model's own: each pass sets them
+/// once, seeded, on a clone (a fit's Jacobian, whose model is a template).
+pub fn derivatives_at(
+    model: &(dyn Operator<Dual> + 'static),
+    base: &[f64],
+    input: &[f64],
+    indices: &[usize],
+) -> Result<(Vec<f64>, Vec<Vec<f64>>), Failure> {
     if input.is_empty() {
         return Err(Failure::Empty);
     }
-    let base = model.params();
     let xs: Vec<Dual> = input.iter().map(|&x| Dual::constant(x)).collect();
     let mut output = Vec::new();
     let mut columns = Vec::with_capacity(indices.len());
     for (pass, chunk) in indices.chunks(DUAL_WIDTH).enumerate() {
-        let mut p: Vec<Dual> = base.iter().map(|v| v.without_derivatives()).collect();
+        let mut p: Vec<Dual> = base.iter().map(|&v| Dual::constant(v)).collect();
         for (slot, &i) in chunk.iter().enumerate() {
             if let Some(v) = p.get_mut(i) {
                 *v = Dual::variable(v.re, slot);

@@ -1,5 +1,6 @@
 //! The Bouc-Wen-like hysteresis spring with a nonlinear stiffness map.
 
+use crate::flow_sensitivity::{SensitiveFlow, SensitivityHint};
 use crate::flow_table::{FlowTable, Hint};
 use crate::hysteretic_state::{Branch, Power, StateEquation};
 use crate::{
@@ -56,6 +57,11 @@ enum BranchStart<T> {
     Linear(Branch<T>),
     /// Tabulated flow: the position `σ(g_a)` of the branch start.
     Flow(T),
+    /// Tabulated flow over dual numbers: the position of the branch start
+    /// and what its derivatives contribute along the branch,
+    /// `(dg_a − A(σ_a))/f(g_a) − sgn(ż) dz_a` (see
+    /// [`BoucWen::step_sensitive`]).
+    Sensitive { position: f64, carry: T },
 }
 
 impl<T: Float> State<T> {
@@ -95,7 +101,12 @@ pub enum StateSolver {
     /// `|h| ≤ (α/(β+γ))^{1/n}`, and for hardening sets (`β + γ ≤ 0`) as far
     /// as the states go (the table is extended on demand); other parameter
     /// sets and states (a preload `h0` beyond saturation) fall back to
-    /// [`StateSolver::Adaptive`].
+    /// [`StateSolver::Adaptive`]. Over dual numbers the flow of the
+    /// parameters' values is tabulated with its derivatives with respect to
+    /// `α, β, γ, n` (the solution of the variational equation, to about
+    /// `rtol`), so a sample costs a few more polynomial evaluations, not an
+    /// integration; there `n = 1` with `n` carrying a derivative is
+    /// tabulated too (with the general power: `∂/∂n` needs `|h|^n ln |h|`).
     #[default]
     Tabulated,
     /// Dormand–Prince 5(4) from sample to sample, local error per sub-step
@@ -153,6 +164,12 @@ pub struct BoucWen<T> {
     /// Where the last table lookups were (speed only; results do not
     /// depend on it).
     hint: Hint,
+    /// Over dual numbers, `n ≠ 1` with [`StateSolver::Tabulated`]: the
+    /// flow of the parameters' values tabulated with its derivatives.
+    sensitive: Option<Box<SensitiveFlow>>,
+    sensitive_hint: SensitivityHint,
+    /// The derivative parts of `(α, β, γ, n)` (value 0).
+    d_params: [T; 4],
     s: State<T>,
     pending: Option<State<T>>,
 }
@@ -173,14 +190,29 @@ impl<T: Float> BoucWen<T> {
         let eq = StateEquation::new(p.alpha, p.beta, p.gamma, p.n, rtol);
         let closed_form = eq.power == Power::One;
         let table = match solver {
-            // Over a dual scalar the flow is integrated, so that its
-            // derivatives are those of the flow, not of the table's
-            // interpolant.
             StateSolver::Tabulated if !closed_form && !T::CARRIES_DERIVATIVES => {
                 FlowTable::new(&eq)
             }
             _ => None,
         };
+        // Over a dual scalar the flow of the values is tabulated with its
+        // derivatives (those of the flow, not of the table's interpolant).
+        let sensitive = match solver {
+            StateSolver::Tabulated if !closed_form && T::CARRIES_DERIVATIVES => {
+                let v = |t: T| t.as_f64();
+                // The same powers as the f64 spring (the same values), but
+                // at n = 1 the general one: ∂/∂n needs |g|^n ln |g|.
+                let power = match Power::new(v(p.n)) {
+                    Power::One => Power::Real(1.0),
+                    other => other,
+                };
+                let eq = StateEquation::with_power(v(p.alpha), v(p.beta), v(p.gamma), power, v(rtol));
+                SensitiveFlow::new(eq).map(Box::new)
+            }
+            _ => None,
+        };
+        let part = |t: T| t - t.without_derivatives();
+        let d_params = [part(p.alpha), part(p.beta), part(p.gamma), part(p.n)];
         Self {
             slopes: p.stiffness.slopes(),
             closed_form,
@@ -190,6 +222,9 @@ impl<T: Float> BoucWen<T> {
             solver,
             table,
             hint: Hint::default(),
+            sensitive,
+            sensitive_hint: SensitivityHint::default(),
+            d_params,
             pending: None,
         }
     }
@@ -241,7 +276,7 @@ impl<T: Float> BoucWen<T> {
     /// Whether the flow of the state equation is tabulated (see
     /// [`StateSolver::Tabulated`] for when it is).
     pub fn is_tabulated(&self) -> bool {
-        self.table.is_some()
+        self.table.is_some() || self.sensitive.is_some()
     }
 
     /// The parameters.
@@ -273,6 +308,14 @@ impl<T: Float> BoucWen<T> {
     #[inline]
     fn step(&mut self, z: T) -> Result<State<T>> {
         let (dir, sign) = self.direction(z);
+        if self.sensitive.is_some() {
+            if dir == 0 {
+                return Ok(self.at_rest(z));
+            }
+            if let Some(next) = self.step_sensitive(z, dir, sign) {
+                return Ok(next);
+            }
+        }
         let c = &self.s;
         if let Some(table) = &mut self.table {
             // Tabulated flow: the state at position σ_a + travel, from the
@@ -325,6 +368,58 @@ impl<T: Float> BoucWen<T> {
             dir,
             z_a,
             branch: BranchStart::Linear(branch),
+        })
+    }
+
+    /// [`step`](Self::step) over dual numbers on the tabulated flow with
+    /// its derivatives (`None` where the state or the position is outside
+    /// the table: the caller integrates). The value is the table's
+    /// `g = G(σ_a + s)`, as for `f64`; the derivatives, from
+    /// `σ(g) = σ(g_a) + s`,
+    ///
+    /// `dg = f(g) ((dg_a − A(σ_a))/f(g_a) + ds) + A(σ)`,
+    ///
+    /// with `s = sgn(ż)(z − z_a)` and `A(σ) = Σ ∂G(σ)/∂θ dθ` over
+    /// `θ = (α, β, γ, n)` (the flow from 0, tabulated). The branch start's
+    /// part is computed once per branch (the `carry`).
+    fn step_sensitive(&mut self, z: T, dir: i8, sign: T) -> Option<State<T>> {
+        let flow = self.sensitive.as_deref_mut()?;
+        let hint = &mut self.sensitive_hint;
+        let d = &self.d_params;
+        let part = |t: T| t - t.without_derivatives();
+        let seeded = d.iter().any(|t| t.has_derivatives());
+        let a_of = |dp: [f64; 4]| {
+            if !seeded {
+                return T::zero();
+            }
+            dp.iter()
+                .zip(d)
+                .fold(T::zero(), |acc, (&j, &dt)| acc + T::lit(j) * dt)
+        };
+        let c = &self.s;
+        let (z_a, position, carry) = match c.branch {
+            BranchStart::Sensitive { position, carry } if dir == c.dir => (c.z_a, position, carry),
+            _ => {
+                let g_a = sign * c.h;
+                let position = flow.position(g_a.as_f64())?;
+                let start = flow.at(position, hint)?;
+                if !(position.is_finite() && start.rate != 0.0) {
+                    return None;
+                }
+                let carry = (part(g_a) - a_of(start.d_params)) * T::lit(1.0 / start.rate)
+                    - sign * part(c.z);
+                (c.z, position, carry)
+            }
+        };
+        let travel = (sign * (z - z_a)).as_f64();
+        let p = flow.at(position + travel, hint)?;
+        let g = T::lit(p.g) + T::lit(p.rate) * (carry + sign * part(z)) + a_of(p.d_params);
+        Some(State {
+            z,
+            h: sign * g,
+            dir,
+            z_a,
+            branch: BranchStart::Sensitive { position, carry },
         })
     }
 
@@ -577,7 +672,7 @@ impl<T: Float> Operator<T> for BoucWen<T> {
     fn process(&mut self, zs: &[T], ys: &mut [T]) -> Result<()> {
         check_lengths(zs, ys)?;
         self.pending = None;
-        if !self.closed_form && self.table.is_none() {
+        if !self.closed_form && self.table.is_none() && self.sensitive.is_none() {
             // The adaptive integration dominates; the default loop is as fast.
             return process_by_trials(self, zs, ys);
         }
@@ -591,7 +686,7 @@ impl<T: Float> Operator<T> for BoucWen<T> {
     #[allow(clippy::indexing_slicing)]
     fn process_while(&mut self, zs: &[T], ys: &mut [T], keep: &mut Keep<'_, T>) -> usize {
         self.pending = None;
-        if !self.closed_form && self.table.is_none() {
+        if !self.closed_form && self.table.is_none() && self.sensitive.is_none() {
             return process_while_by_trials(self, zs, ys, keep);
         }
         let n = zs.len().min(ys.len());

@@ -67,16 +67,18 @@ const MAX_N: f64 = 64.0;
 
 /// One quintic Hermite piece on `[τ_k, τ_k + Δ]`, in `θ = (τ − τ_k)/Δ`.
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Piece<T> {
-    start: T,
+pub(crate) struct Piece<T> {
+    /// `τ_k`.
+    pub start: T,
     inv_width: T,
-    b: [T; 6],
+    /// Coefficients in `θ`; `b[0]` is the value at `τ_k`.
+    pub b: [T; 6],
 }
 
 impl<T: Float> Piece<T> {
     /// The quintic with values `u`, slopes `d1` and second derivatives
     /// `d2` at both ends of an interval of width `w`.
-    fn hermite(start: T, w: T, left: [T; 3], right: [T; 3]) -> Self {
+    pub(crate) fn hermite(start: T, w: T, left: [T; 3], right: [T; 3]) -> Self {
         let l = T::lit;
         let [u0, d0, e0] = left;
         let [u1, d1, e1] = right;
@@ -99,7 +101,7 @@ impl<T: Float> Piece<T> {
     }
 
     #[inline(always)]
-    fn eval(&self, tau: T) -> T {
+    pub(crate) fn eval(&self, tau: T) -> T {
         let t = (tau - self.start) * self.inv_width;
         let b = &self.b;
         b[0] + t * (b[1] + t * (b[2] + t * (b[3] + t * (b[4] + t * b[5]))))
@@ -117,15 +119,15 @@ impl<T: Float> Piece<T> {
 
 /// The saturating tail `u = u* − v_T e^{−λ(τ − τ_T)}` beyond the last knot.
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Tail<T> {
-    u_star: T,
-    v_t: T,
+pub(crate) struct Tail<T> {
+    pub u_star: T,
+    pub v_t: T,
     lambda: T,
 }
 
 /// `u(τ)` on one side of zero: `du/dτ = α − c u^n`, `u(0) = 0`.
 #[derive(Debug, Clone, PartialEq)]
-struct Side<T> {
+pub(crate) struct Side<T> {
     pieces: Vec<Piece<T>>,
     /// `τ` and `u` at the end of the last piece.
     end: T,
@@ -137,13 +139,33 @@ struct Side<T> {
 }
 
 impl<T: Float> Side<T> {
+    /// The pieces, in `τ`.
+    pub(crate) fn pieces(&self) -> &[Piece<T>] {
+        &self.pieces
+    }
+
+    /// `τ` at the end of the last piece.
+    pub(crate) fn end(&self) -> T {
+        self.end
+    }
+
+    /// `u` at the end of the last piece.
+    pub(crate) fn u_end(&self) -> T {
+        self.u_end
+    }
+
+    /// The saturating tail beyond the last piece, if the side has one.
+    pub(crate) fn tail(&self) -> Option<Tail<T>> {
+        self.tail
+    }
+
     /// The piece holding `τ ≥ 0` (`None` beyond the last piece), searched
     /// from `hint` forwards and backwards one piece, then by bisection.
     // Hot path, kept free of extra checks: `holds(j)` is called only for
     // `j < p.len()`, and looks at `p[j + 1]` only when `j + 1 < p.len()`.
     #[allow(clippy::indexing_slicing)]
     #[inline(always)]
-    fn locate(&self, tau: T, hint: &mut usize) -> Option<usize> {
+    pub(crate) fn locate(&self, tau: T, hint: &mut usize) -> Option<usize> {
         let p = &self.pieces;
         // Piece j covers [start_j, start_{j+1}), the last one [start, end].
         let holds = |j: usize| {
@@ -284,13 +306,10 @@ impl<T: Float> FlowTable<T> {
     /// tabulated (`α ≤ 0`, `β < γ`, `n = 1`, `n > 64`, or a table that would
     /// need more than 4096 pieces per side).
     pub(crate) fn new(eq: &StateEquation<T>) -> Option<Self> {
-        let n = match eq.power {
-            Power::HalfInt(k) => T::lit(k as f64 + 0.5),
-            Power::Int(k) => T::lit(k as f64),
-            Power::Two => T::lit(2.0),
-            Power::Real(n) => n,
-            Power::One => return None,
-        };
+        if eq.power == Power::One {
+            return None;
+        }
+        let n = eq.power.exponent();
         if n > T::lit(MAX_N) {
             return None;
         }
@@ -366,6 +385,16 @@ impl<T: Float> FlowTable<T> {
         self.state_at(sigma, hint)
     }
 
+    /// The side above zero (`σ ≥ 0`, `u = g`).
+    pub(crate) fn upper(&self) -> &Side<T> {
+        &self.upper
+    }
+
+    /// The side below zero (`σ < 0`, `u = −g`).
+    pub(crate) fn lower(&self) -> &Side<T> {
+        &self.lower
+    }
+
     /// Pieces of the upper and the lower side.
     #[cfg(test)]
     pub(crate) fn pieces(&self) -> (usize, usize) {
@@ -394,6 +423,9 @@ struct Builder<T> {
     left: [T; 3],
     /// The width to try next.
     w: T,
+    /// The integrator's sub-step to try first in the next piece (0: none
+    /// yet).
+    step: T,
     failures: usize,
     pieces: usize,
 }
@@ -419,6 +451,7 @@ impl<T: Float> Builder<T> {
             tau: T::zero(),
             left: [T::zero(); 3],
             w: w0,
+            step: T::zero(),
             failures: 0,
             pieces: 0,
         };
@@ -458,18 +491,25 @@ impl<T: Float> Builder<T> {
                 w = w.min(cap);
             }
             // A piece whose integration fails counts as failing its check.
+            // The interior points and the end, integrated one quarter after
+            // the other (the flow composes: u(τ + a + b) is u(τ + a)
+            // advanced by b), so a piece costs one integration of its width.
             let mut worst = T::infinity();
             let mut right = left;
-            match self.eq.advance(left[0], w) {
-                Ok(u1) => {
+            let mut step = self.step;
+            let quarters = (1..=4).try_fold(([T::zero(); 3], left[0]), |(mut at, u), q| {
+                let next = self.eq.advance_from(u, w * l(0.25), &mut step)?;
+                if let Some(slot) = at.get_mut(q - 1) {
+                    *slot = next;
+                }
+                Ok::<_, crate::Error>((at, next))
+            });
+            match quarters {
+                Ok((interior, u1)) => {
                     right = self.jet(u1);
                     let piece = Piece::hermite(tau, w, left, right);
                     worst = T::zero();
-                    for theta in [0.25, 0.5, 0.75] {
-                        let Ok(want) = self.eq.advance(left[0], w * l(theta)) else {
-                            worst = T::infinity();
-                            break;
-                        };
+                    for (want, theta) in interior.into_iter().zip([0.25, 0.5, 0.75]) {
                         let err = (piece.eval(tau + w * l(theta)) - want).abs() / want.abs();
                         worst = worst.max(err);
                     }
@@ -487,6 +527,7 @@ impl<T: Float> Builder<T> {
             }
             self.tau = tau + w;
             self.left = right;
+            self.step = step;
             self.pieces += 1;
             // Grow by at most 2, by the sixth-order error model.
             let grow = if worst == T::zero() {

@@ -72,6 +72,17 @@ impl<T: Float> Power<T> {
         }
     }
 
+    /// The exponent `n`.
+    pub(crate) fn exponent(self) -> T {
+        match self {
+            Power::One => T::one(),
+            Power::Two => T::lit(2.0),
+            Power::Int(k) => T::lit(f64::from(k)),
+            Power::HalfInt(k) => T::lit(f64::from(k) + 0.5),
+            Power::Real(n) => n,
+        }
+    }
+
     /// `a^n` for `a ≥ 0`.
     #[inline(always)]
     pub(crate) fn pow(self, a: T) -> T {
@@ -326,11 +337,18 @@ const MAX_SUBSTEPS: usize = 100_000;
 impl<T: Float> StateEquation<T> {
     /// The state equation with shape `α, β, γ, n` and tolerance `rtol`.
     pub(crate) fn new(alpha: T, beta: T, gamma: T, n: T, rtol: T) -> Self {
+        Self::with_power(alpha, beta, gamma, Power::new(n), rtol)
+    }
+
+    /// [`new`](Self::new) with `|g|^n` computed as `power` says (the
+    /// general power at `n = 1`, for a table whose derivatives include
+    /// `∂/∂n`).
+    pub(crate) fn with_power(alpha: T, beta: T, gamma: T, power: Power<T>, rtol: T) -> Self {
         let mut eq = StateEquation {
             alpha,
             beta,
             gamma,
-            power: Power::new(n),
+            power,
             rtol,
             cap: None,
             near_zero: None,
@@ -354,6 +372,17 @@ impl<T: Float> StateEquation<T> {
     /// Advances `g` over travel `s ≥ 0`.
     #[inline]
     pub(crate) fn advance(&self, g: T, s: T) -> Result<T> {
+        let mut step = s;
+        self.advance_from(g, s, &mut step)
+    }
+
+    /// [`advance`](Self::advance), trying `step` as the first sub-step of
+    /// the adaptive integration (the whole travel where `step ≥ s`) and
+    /// leaving there the sub-step it would take next: for a run of
+    /// consecutive travels (the flow table's knots), whose restarts then
+    /// cost no rejected sub-steps. The result is within the tolerance
+    /// whatever `step` is.
+    pub(crate) fn advance_from(&self, g: T, s: T, step: &mut T) -> Result<T> {
         if s == T::zero() {
             // (over dual numbers, a travel of 0 that carries derivatives
             // moves g by the rate: dg/ds = f(g))
@@ -365,7 +394,7 @@ impl<T: Float> StateEquation<T> {
         }
         let g = match self.power {
             Power::One => self.advance_linear(g, s),
-            _ => self.advance_adaptive(g, s)?,
+            _ => self.advance_adaptive(g, s, step)?,
         };
         if g.is_finite() {
             Ok(g)
@@ -499,17 +528,17 @@ impl<T: Float> StateEquation<T> {
     }
 
     /// Dormand–Prince 5(4) with step-size control.
-    fn advance_adaptive(&self, g: T, s: T) -> Result<T> {
+    fn advance_adaptive(&self, g: T, s: T, step: &mut T) -> Result<T> {
         // One instantiation per kind of power, so the hot loop evaluates
         // |g|^n one way only (matching the enum inside the loop let the
         // compiler evaluate the `powf` arm speculatively at every call).
         match self.power {
-            Power::One => self.integrate(|a| a, g, s),
-            Power::Two => self.integrate(|a| a * a, g, s),
-            Power::Int(k) => self.integrate(move |a: T| a.powi(k), g, s),
-            Power::HalfInt(1) => self.integrate(|a: T| a * a.sqrt(), g, s),
-            Power::HalfInt(k) => self.integrate(move |a: T| a.powi(k) * a.sqrt(), g, s),
-            Power::Real(n) => self.integrate(move |a: T| a.powf(n), g, s),
+            Power::One => self.integrate(|a| a, g, s, step),
+            Power::Two => self.integrate(|a| a * a, g, s, step),
+            Power::Int(k) => self.integrate(move |a: T| a.powi(k), g, s, step),
+            Power::HalfInt(1) => self.integrate(|a: T| a * a.sqrt(), g, s, step),
+            Power::HalfInt(k) => self.integrate(move |a: T| a.powi(k) * a.sqrt(), g, s, step),
+            Power::Real(n) => self.integrate(move |a: T| a.powf(n), g, s, step),
         }
     }
 
@@ -526,10 +555,10 @@ impl<T: Float> StateEquation<T> {
 
     /// [`advance_adaptive`](Self::advance_adaptive) with `|g|^n = pow(|g|)`.
     #[inline(always)]
-    fn integrate(&self, pow: impl Fn(T) -> T + Copy, mut g: T, s: T) -> Result<T> {
+    fn integrate(&self, pow: impl Fn(T) -> T + Copy, mut g: T, s: T, step: &mut T) -> Result<T> {
         let l = T::lit;
         let mut t = T::zero();
-        let mut h = s;
+        let mut h = if *step > T::zero() { *step } else { s };
         let mut k1 = self.rate_with(pow, g);
         // |g| below which a state about to cross zero is set to zero.
         let snap = (self.rtol * g.abs().max(self.alpha.abs() * s)).max(T::min_positive_value());
@@ -568,6 +597,7 @@ impl<T: Float> StateEquation<T> {
                 }
             }
             h = h.max(done);
+            let proposed = h;
             let last = h >= s - t;
             if last {
                 h = s - t;
@@ -640,6 +670,7 @@ impl<T: Float> StateEquation<T> {
                 g = g5;
                 k1 = k7;
                 if last {
+                    *step = proposed;
                     return Ok(g);
                 }
                 t = t + h;

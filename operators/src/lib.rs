@@ -47,6 +47,7 @@ mod memoryless;
 mod operator;
 pub mod params;
 
+mod flow_sensitivity;
 mod flow_table;
 mod hysteretic_state;
 mod stiffness;
