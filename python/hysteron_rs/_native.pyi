@@ -130,6 +130,8 @@ class FitResult:
     @property
     def wall_time(self) -> float: ...
     @property
+    def jacobian(self) -> str: ...
+    @property
     def history(self) -> List[Dict[str, float]]: ...
     @property
     def records(self) -> List[Dict[str, Any]]: ...
@@ -202,6 +204,7 @@ def fit(
     starts: int = 1,
     spread: float = 1.3862943611198906,
     seed: int = 0,
+    jacobian: str = "exact",
 ) -> FitResult: ...
 def fit_records(
     model: Model,
@@ -220,6 +223,7 @@ def fit_records(
     starts: int = 1,
     spread: float = 1.3862943611198906,
     seed: int = 0,
+    jacobian: str = "exact",
 ) -> FitResult: ...
 def run_batch(
     model: Model, records: Sequence[_ArrayLike], *, threads: Optional[int] = None

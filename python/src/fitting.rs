@@ -4,7 +4,8 @@ use crate::array::samples;
 use crate::errors::{fit_error, spec_error, ParameterError};
 use crate::model::Model;
 use hysteron::identify::{
-    fit_multistart, FitOptions, FitReport, FitStatus, FittedParam, MultiStart, Progress, Record,
+    fit_multistart, FitOptions, FitReport, FitStatus, FittedParam, Jacobian, MultiStart, Progress,
+    Record,
 };
 use numpy::PyArray2;
 use pyo3::prelude::*;
@@ -49,6 +50,29 @@ pub struct FitResult {
     /// Wall time of the fit (s).
     #[pyo3(get)]
     wall_time: f64,
+    /// How the Jacobian was computed: `"exact"` (forward-mode derivatives)
+    /// or `"fd"` (central finite differences, also where exact ones were
+    /// asked for but the model has no dual twin).
+    #[pyo3(get)]
+    jacobian: &'static str,
+}
+
+/// The `jacobian` keyword: `"exact"` or `"fd"` (as the CLI's `--jacobian`).
+fn jacobian_kind(name: &str) -> PyResult<Jacobian> {
+    match name {
+        "exact" => Ok(Jacobian::Exact),
+        "fd" => Ok(Jacobian::FiniteDifferences),
+        other => Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "jacobian: expected \"exact\" or \"fd\", got {other:?}"
+        ))),
+    }
+}
+
+fn jacobian_name(j: Jacobian) -> &'static str {
+    match j {
+        Jacobian::Exact => "exact",
+        Jacobian::FiniteDifferences => "fd",
+    }
 }
 
 /// A free parameter's key: its path, with `[record i]` for a per-record
@@ -293,6 +317,7 @@ fn run_fit(
         iterations: report.iterations,
         evaluations: report.evaluations,
         wall_time: report.wall_time.as_secs_f64(),
+        jacobian: jacobian_name(report.jacobian),
         report,
         history: history.into_inner().unwrap_or_default(),
     })
@@ -300,13 +325,15 @@ fn run_fit(
 
 /// Fits the parameters `free` (full paths or unique suffixes) of `model`
 /// to the record `(x, y)`: residuals `model(x) − y` from the model's
-/// initial state, Levenberg-Marquardt with central finite differences,
-/// bounded parameters through a reparametrization that keeps them inside
+/// initial state, Levenberg-Marquardt with exact Jacobians (forward-mode
+/// derivatives; `jacobian="fd"` for central finite differences), bounded
+/// parameters through a reparametrization that keeps them inside
 /// their domains. The other parameters stay at the model's values. The
 /// GIL is released while it runs.
 ///
 /// `patience` bounds the trial steps (`patience · (k + 1)`, each accepted
-/// one followed by a Jacobian of `2k` simulations); `max_evaluations` and
+/// one followed by a Jacobian: one pass over dual numbers per 8 parameters,
+/// or `2k` simulations by finite differences); `max_evaluations` and
 /// `max_seconds` bound the work for real (the fit then ends not converged
 /// at its best point); `stride` compares every `stride`-th output with `y`
 /// (`len(x) = stride · len(y)`). `starts > 1` fits from the model's values
@@ -314,7 +341,7 @@ fn run_fit(
 /// `e^spread` for a positive parameter; `seed` fixes them), in parallel,
 /// and keeps the best (`FitResult.starts` says how many reached it).
 #[pyfunction]
-#[pyo3(signature = (model, x, y, free, *, patience=200, stride=1, ftol=1e-12, xtol=1e-12, gtol=0.0, max_evaluations=None, max_seconds=None, starts=1, spread=1.3862943611198906, seed=0))]
+#[pyo3(signature = (model, x, y, free, *, patience=200, stride=1, ftol=1e-12, xtol=1e-12, gtol=0.0, max_evaluations=None, max_seconds=None, starts=1, spread=1.3862943611198906, seed=0, jacobian="exact"))]
 #[allow(clippy::too_many_arguments)] // the Python keyword arguments
 pub fn fit(
     py: Python<'_>,
@@ -332,6 +359,7 @@ pub fn fit(
     starts: usize,
     spread: f64,
     seed: u64,
+    jacobian: &str,
 ) -> PyResult<FitResult> {
     let data = [(samples(x, "x")?, samples(y, "y")?, 0)];
     let opts = FitOptions {
@@ -342,6 +370,7 @@ pub fn fit(
         stride,
         max_evaluations,
         max_seconds,
+        jacobian: jacobian_kind(jacobian)?,
         ..FitOptions::default()
     };
     let request = Request {
@@ -364,7 +393,7 @@ pub fn fit(
 /// each record are simulated but not compared (a warm-up). Otherwise as
 /// `fit`.
 #[pyfunction]
-#[pyo3(signature = (model, records, free, *, own=Vec::new(), skip=0, patience=200, stride=1, ftol=1e-12, xtol=1e-12, gtol=0.0, max_evaluations=None, max_seconds=None, starts=1, spread=1.3862943611198906, seed=0))]
+#[pyo3(signature = (model, records, free, *, own=Vec::new(), skip=0, patience=200, stride=1, ftol=1e-12, xtol=1e-12, gtol=0.0, max_evaluations=None, max_seconds=None, starts=1, spread=1.3862943611198906, seed=0, jacobian="exact"))]
 #[allow(clippy::too_many_arguments)] // the Python keyword arguments
 pub fn fit_records(
     py: Python<'_>,
@@ -383,6 +412,7 @@ pub fn fit_records(
     starts: usize,
     spread: f64,
     seed: u64,
+    jacobian: &str,
 ) -> PyResult<FitResult> {
     let data = records
         .iter()
@@ -403,6 +433,7 @@ pub fn fit_records(
         stride,
         max_evaluations,
         max_seconds,
+        jacobian: jacobian_kind(jacobian)?,
         ..FitOptions::default()
     };
     let starts = MultiStart {

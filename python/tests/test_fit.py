@@ -31,6 +31,22 @@ def test_noise_free_recovery_of_a_bouc_wen_spring() -> None:
     hist = result.history
     assert len(hist) >= 1 and hist[-1]["cost"] <= hist[0]["cost"]
     assert "converged" in str(result)
+    assert result.jacobian == "exact"
+
+
+def test_exact_and_finite_difference_jacobians_reach_the_same_fit() -> None:
+    truth = hy.bouc_wen(0.3, 1.0, 0.8, 0.4, 1.5, stiffness={"z": [0.0], "s": [3.0]})
+    x = _record()
+    y = truth.run(x)
+    start = truth.with_params(w=0.4, beta=0.6, gamma=0.5)
+    exact = hy.fit(start, x, y, ["w", "beta", "gamma"], jacobian="exact")
+    fd = hy.fit(start, x, y, ["w", "beta", "gamma"], jacobian="fd")
+    assert (exact.jacobian, fd.jacobian) == ("exact", "fd")
+    for name, value in fd.values.items():
+        assert exact.values[name] == pytest.approx(value, rel=1e-8), name
+    # A Jacobian by finite differences runs two simulations per parameter,
+    # an exact one a single pass over dual numbers.
+    assert exact.evaluations < fd.evaluations
 
 
 def test_noisy_fit_reports_uncertainty_and_correlation() -> None:
@@ -107,6 +123,8 @@ def test_fit_errors() -> None:
         hy.fit(hy.paper_model(), x, x, ["right.bouc_wen.z0"])
     with pytest.raises(hy.FitError, match="patience"):
         hy.fit(m, x, y, ["k"], patience=0)
+    with pytest.raises(ValueError, match="jacobian: expected"):
+        hy.fit(m, x, y, ["k"], jacobian="central")
 
 
 def test_several_records_with_their_own_preloads() -> None:
