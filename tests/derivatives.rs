@@ -383,6 +383,51 @@ fn bouc_wen_n_derivative_near_one_against_extrapolated_differences() {
     }
 }
 
+/// A pass runs the record in blocks (buffers that stay in cache): the
+/// output and derivatives are those of the dual model run over the whole
+/// record at once, bit for bit, and a model error in a later block names
+/// its sample in the record.
+#[test]
+fn passes_in_blocks_equal_one_run_and_name_the_failing_sample() {
+    use hysteron::models::sensitivity::SensitivityError;
+    use hysteron::operators::{Dual, Operator};
+    let bw = spec(
+        r#"{"type": "bouc_wen", "w": 0.3, "alpha": 1.0, "beta": 0.7, "gamma": 0.3, "n": 1.5,
+            "h0": 0.0, "z0": 0.0, "stiffness": {"z": [0.0], "s": [2.0]}}"#,
+    );
+    let xs = signal(5000);
+    let s = sensitivity(&bw, &xs, &["beta", "n"]).unwrap();
+    let mut whole = bw.build_dual().unwrap();
+    let names = whole.param_names();
+    let mut p = whole.params();
+    for (slot, name) in ["beta", "n"].iter().enumerate() {
+        let i = names.iter().position(|n| n == name).unwrap();
+        p[i] = Dual::variable(p[i].re, slot);
+    }
+    whole.set_params(&p).unwrap();
+    let ys = whole
+        .run(&xs.iter().map(|&x| Dual::constant(x)).collect::<Vec<_>>())
+        .unwrap();
+    for (k, y) in ys.iter().enumerate() {
+        assert_eq!(s.output[k].to_bits(), y.re.to_bits(), "y at {k}");
+        for slot in 0..2 {
+            assert_eq!(
+                s.columns[slot][k].to_bits(),
+                y.eps[slot].to_bits(),
+                "column {slot} at {k}"
+            );
+        }
+    }
+    let mut bad = xs.clone();
+    bad[4500] = f64::NAN;
+    match sensitivity(&bw, &bad, &["beta"]) {
+        Err(SensitivityError::Model(e)) => {
+            assert!(e.to_string().starts_with("at sample 4500:"), "{e}")
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
 /// A leaf spec from a choice and three numbers in [0, 1).
 fn leaf(kind: u8, a: f64, b: f64, c: f64) -> String {
     match kind % 5 {

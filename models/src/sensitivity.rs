@@ -137,6 +137,10 @@ pub fn sensitivity(
     })
 }
 
+/// Samples per block of a pass: dual buffers of 2048 samples (147 KB
+/// each) stay in the L2 cache.
+const BLOCK: usize = 2048;
+
 /// Why [`derivatives`] failed.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Failure {
@@ -178,9 +182,13 @@ pub fn derivatives_at(
     if input.is_empty() {
         return Err(Failure::Empty);
     }
-    let xs: Vec<Dual> = input.iter().map(|&x| Dual::constant(x)).collect();
+    let n = input.len();
     let mut output = Vec::new();
     let mut columns = Vec::with_capacity(indices.len());
+    // The record runs in blocks through buffers that stay in cache (the
+    // model resumes from its state at every block, as `process` does).
+    let mut xs = Vec::with_capacity(BLOCK.min(n));
+    let mut ys = Vec::with_capacity(BLOCK.min(n));
     for (pass, chunk) in indices.chunks(DUAL_WIDTH).enumerate() {
         let mut p: Vec<Dual> = base.iter().map(|&v| Dual::constant(v)).collect();
         for (slot, &i) in chunk.iter().enumerate() {
@@ -190,22 +198,37 @@ pub fn derivatives_at(
         }
         let mut m = dyn_clone::clone_box(model);
         m.set_params(&p).map_err(Failure::Model)?;
-        let ys = m.run(&xs).map_err(Failure::Model)?;
-        for slot in 0..chunk.len() {
-            let col: Vec<f64> = ys
-                .iter()
-                .map(|y| y.eps.get(slot).copied().unwrap_or(0.0))
-                .collect();
+        let first = columns.len();
+        columns.extend((0..chunk.len()).map(|_| Vec::with_capacity(n)));
+        for (b, block) in input.chunks(BLOCK).enumerate() {
+            let offset = b * BLOCK;
+            xs.clear();
+            xs.extend(block.iter().map(|&x| Dual::constant(x)));
+            ys.clear();
+            ys.resize(block.len(), Dual::constant(0.0));
+            m.process(&xs, &mut ys).map_err(|e| {
+                Failure::Model(match e {
+                    Error::AtSample { index, source } => Error::AtSample {
+                        index: index + offset,
+                        source,
+                    },
+                    other => other,
+                })
+            })?;
+            for (slot, col) in columns.iter_mut().skip(first).enumerate() {
+                col.extend(ys.iter().map(|y| y.eps.get(slot).copied().unwrap_or(0.0)));
+            }
+            if pass == 0 {
+                output.extend(ys.iter().map(|y| y.re));
+            }
+        }
+        for (slot, col) in columns.iter().skip(first).enumerate() {
             if let Some(sample) = col.iter().position(|d| !d.is_finite()) {
                 return Err(Failure::NonFinite {
                     sample,
                     column: pass * DUAL_WIDTH + slot,
                 });
             }
-            columns.push(col);
-        }
-        if pass == 0 {
-            output = ys.iter().map(|y| y.re).collect();
         }
     }
     Ok((output, columns))
