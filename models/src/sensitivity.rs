@@ -71,8 +71,9 @@ pub enum SensitivityError {
 /// parameters). Every operator and combinator differentiates its own law;
 /// implicit solves set their root's derivatives by the implicit function
 /// theorem (`∂x/∂p = −r_p/r_x`), the Bouc-Wen spring differentiates its
-/// integrated flow rather than its table, and rate-dependent elements their
-/// per-sample update. At a kink the derivative is that of the branch the
+/// flow (the solution of its variational equation, tabulated beside the
+/// flow, or integrated where the flow is), never its table's interpolant,
+/// and rate-dependent elements their per-sample update. At a kink the derivative is that of the branch the
 /// model takes ([`DualN`](hysteron_operators::DualN)).
 ///
 /// # Requirements

@@ -159,13 +159,15 @@ pub struct BoucWen<T> {
     closed_form: bool,
     eq: StateEquation<T>,
     solver: StateSolver,
-    /// `n ≠ 1` with [`StateSolver::Tabulated`], where tabulated.
+    /// Over `f32`/`f64`, `n ≠ 1` with [`StateSolver::Tabulated`], where
+    /// tabulated.
     table: Option<FlowTable<T>>,
     /// Where the last table lookups were (speed only; results do not
     /// depend on it).
     hint: Hint,
-    /// Over dual numbers, `n ≠ 1` with [`StateSolver::Tabulated`]: the
-    /// flow of the parameters' values tabulated with its derivatives.
+    /// Over dual numbers, with [`StateSolver::Tabulated`] unless `n = 1` is
+    /// in closed form (`n` carrying no derivative): the flow of the
+    /// parameters' values tabulated with its derivatives.
     sensitive: Option<Box<SensitiveFlow>>,
     sensitive_hint: SensitivityHint,
     /// The derivative parts of `(α, β, γ, n)` (value 0).
@@ -373,7 +375,9 @@ impl<T: Float> BoucWen<T> {
 
     /// [`step`](Self::step) over dual numbers on the tabulated flow with
     /// its derivatives (`None` where the state or the position is outside
-    /// the table: the caller integrates). The value is the table's
+    /// the table, the branch starts at saturation (`f(g_a) = 0`, position
+    /// `∞`) or a side of the derivatives' table could not be made: the
+    /// caller integrates). The value is the table's
     /// `g = G(σ_a + s)`, as for `f64`; the derivatives, from
     /// `σ(g) = σ(g_a) + s`,
     ///

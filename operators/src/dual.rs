@@ -463,9 +463,10 @@ impl<'de, const N: usize> serde::Deserialize<'de> for DualN<N> {
 /// and `f64`, the dual parts for [`DualN`]. Part of [`Float`](crate::Float).
 ///
 /// Operators use it to take the path that differentiates well where a fast
-/// path would differentiate an approximation (the Bouc-Wen spring
-/// integrates its flow instead of reading its table), and implicit solvers
-/// to set the derivatives of their root.
+/// path would differentiate an approximation (the Bouc-Wen spring reads
+/// the derivatives of its flow from a table of their own, never
+/// differentiating its flow table's interpolant), and implicit solvers to
+/// set the derivatives of their root.
 pub trait Differentiable: Copy {
     /// Whether values of this type carry derivatives.
     const CARRIES_DERIVATIVES: bool = false;

@@ -24,8 +24,8 @@
 //! `J(τ) = J* + (J(τ_T) − J* − K Δ) e^{−λΔ}`,
 //! `K = v_T (f_uu(u*) J* + f_θu(u*))`,
 //!
-//! neglecting terms of order `v_T` relative to the deviation, as the
-//! table's own tail does (`v_T ≤ u* √rtol`).
+//! neglecting terms of order `v_T` relative to the deviation and `v²`
+//! terms, as the table's own tail does (`v_T ≤ u* √rtol`).
 //!
 //! Along a branch from `g_a` (position `σ_a`) the state after travel `s`
 //! is `g = G(σ_a + s)`; differentiating `σ(g) = σ(g_a) + s` gives
@@ -69,20 +69,25 @@ impl Law {
         self.alpha - self.c * u.powf(self.n)
     }
 
-    /// `(f_u, f_uu)`; 0 at `u = 0` (where `f_uu J → 0` for `n > 1`).
+    /// `(f_u, f_uu)`; at `u = 0` `(0, 0)` for `n > 1` (where `f_uu J → 0`)
+    /// and `(−c, 0)` for `n = 1`.
     fn f_u(&self, u: f64) -> (f64, f64) {
         if u <= 0.0 {
-            return (0.0, 0.0);
+            return (if self.n == 1.0 { -self.c } else { 0.0 }, 0.0);
         }
         let (c, n) = (self.c, self.n);
         let p = u.powf(n - 2.0);
         (-c * n * p * u, -c * n * (n - 1.0) * p)
     }
 
-    /// `[f_α, f_c, f_n]` and their `u`-derivatives.
+    /// `[f_α, f_c, f_n]` and their `u`-derivatives. At `u = 0`, `f_cu` is
+    /// `−1` for `n = 1` (0 above), and `f_nu = −c (n u^{n−1} ln u +
+    /// u^{n−1})`, `−∞` there for `n = 1`, is taken as 0 (only the jet at
+    /// the first knot uses it; the refinement of the pieces makes up).
     fn f_theta(&self, u: f64) -> ([f64; PARAMS], [f64; PARAMS]) {
         if u <= 0.0 {
-            return ([1.0, 0.0, 0.0], [0.0; PARAMS]);
+            let f_cu = if self.n == 1.0 { -1.0 } else { 0.0 };
+            return ([1.0, 0.0, 0.0], [0.0, f_cu, 0.0]);
         }
         let (c, n) = (self.c, self.n);
         let ln = u.ln();
@@ -182,7 +187,9 @@ struct Tail {
 /// match the variational equation's solution at their midpoints to
 /// `rtol/4` relative (or of the parameter's scale, where `J` is near 0):
 /// `J` can be less smooth than `u`, as `J_n ∝ τ^{n+1} ln τ` near `τ = 0`
-/// for `n` near 1, where the table's pieces are not graded.
+/// for `n` near 1, where the table's pieces are not graded. A piece that
+/// cannot be made so (20 halvings, 16 384 pieces, non-finite values) ends
+/// the side's use: lookups there return `None`.
 #[derive(Debug, Clone, PartialEq)]
 struct SideSensitivity {
     law: Law,
@@ -198,10 +205,17 @@ struct SideSensitivity {
     end_tau: f64,
     end: [f64; PARAMS],
     tail: Option<Tail>,
+    /// A piece could not be made to the tolerance (too many halvings or
+    /// pieces, or non-finite values): nothing is read from this side any
+    /// more (the spring integrates instead).
+    broken: bool,
 }
 
-/// Halvings of a table piece at most (then the piece is kept as it is).
-const MAX_SPLITS: usize = 20;
+/// Halvings of a table piece at most.
+const MAX_SPLITS: i32 = 20;
+
+/// Pieces per side at most.
+const MAX_PIECES: usize = 16_384;
 
 impl SideSensitivity {
     fn new(law: Law, rtol: f64) -> Self {
@@ -215,6 +229,7 @@ impl SideSensitivity {
             end_tau: 0.0,
             end: [0.0; PARAMS],
             tail: None,
+            broken: false,
         }
     }
 
@@ -235,31 +250,47 @@ impl SideSensitivity {
             ];
         }
         while let Some(p) = table.get(self.followed) {
+            if self.broken {
+                return;
+            }
             let b = table.get(self.followed + 1).map_or(side.end(), |q| q.start);
-            let (mut t0, mut w) = (p.start, b - p.start);
-            let smallest = w * 0.5f64.powi(MAX_SPLITS as i32);
+            let smallest = (b - p.start) * 0.5f64.powi(MAX_SPLITS);
+            let mut t0 = p.start;
+            let mut w = b - t0;
             while t0 < b {
-                w = w.min(b - t0);
+                // widths between representable points, so that the piece
+                // ends where the next begins and each step advances
+                let t1 = (t0 + w).min(b);
+                let w_now = t1 - t0;
+                let mid = t0 + 0.5 * w_now;
                 let j0 = self.end;
-                let j1 = self.law.across(p, t0, w, j0);
-                let mid = self.law.across(p, t0, 0.5 * w, j0);
+                let j1 = self.law.across(p, t0, w_now, j0);
+                let j_mid = self.law.across(p, t0, mid - t0, j0);
                 let left = self.law.jets(p.eval(t0), j0);
-                let right = self.law.jets(p.eval(t0 + w), j1);
+                let right = self.law.jets(p.eval(t1), j1);
                 let cand: [Piece<f64>; PARAMS] =
-                    std::array::from_fn(|i| Piece::hermite(t0, w, left[i], right[i]));
+                    std::array::from_fn(|i| Piece::hermite(t0, w_now, left[i], right[i]));
                 let fits = (0..PARAMS).all(|i| {
-                    let err = (cand[i].eval(t0 + 0.5 * w) - mid[i]).abs();
-                    err <= self.tol * (mid[i].abs() + self.scale[i])
+                    let err = (cand[i].eval(mid) - j_mid[i]).abs();
+                    err <= self.tol * (j_mid[i].abs() + self.scale[i])
                 });
-                if !fits && w > smallest {
-                    w *= 0.5;
+                if !fits {
+                    if 0.5 * w_now < smallest || !(mid > t0 && mid < t1) {
+                        self.broken = true;
+                        return;
+                    }
+                    w = 0.5 * w_now;
                     continue;
+                }
+                if self.pieces.len() >= MAX_PIECES {
+                    self.broken = true;
+                    return;
                 }
                 self.starts.push(t0);
                 self.pieces.push(cand);
                 self.end = j1;
-                t0 = if w == b - t0 { b } else { t0 + w };
-                w *= 2.0;
+                t0 = t1;
+                w = 2.0 * w_now;
             }
             self.followed += 1;
             self.end_tau = b;
@@ -288,10 +319,17 @@ impl SideSensitivity {
     // `k` is checked against `pieces`.
     #[allow(clippy::indexing_slicing)]
     fn at(&self, tau: f64, hint: &mut usize) -> Option<[f64; PARAMS]> {
+        if self.broken {
+            return None;
+        }
         if tau > self.end_tau {
             return self.tail.map(|t| {
                 let d = tau - self.end_tau;
                 let e = (-(t.lambda * d)).exp();
+                if e == 0.0 {
+                    // (also at d = ∞, a state at saturation)
+                    return t.j_star;
+                }
                 std::array::from_fn(|i| t.j_star[i] + (t.e_t[i] - t.k[i] * d) * e)
             });
         }

@@ -1,4 +1,5 @@
-//! The flow of the Bouc-Wen state equation for `n ≠ 1`, tabulated once per
+//! The flow of the Bouc-Wen state equation (for `n ≠ 1`, and for `n = 1`
+//! held as a general power where `∂/∂n` is wanted), tabulated once per
 //! parameter set, so that each sample is one polynomial evaluation.
 //!
 //! In the direction frame the state equation is the autonomous ODE
@@ -32,7 +33,8 @@
 //! `u = u* − v_T e^{−λ(τ − τ_T)}`, `λ = c₊ n u*^{n−1}`. The neglected
 //! quadratic term of `v' = −λ v + a v² + …` (`a = −f''(u*)/2`) changes `v`
 //! by at most `(a/λ) v_T²` relative to `v_T`, so `v_T` is chosen with
-//! `(a/λ) v_T² ≤ rtol u*/8`, and the tail is checked like an interval.
+//! `(a/λ) v_T² ≤ rtol u*/8` and `v_T ≤ u* √rtol`, and the tail is checked
+//! like an interval.
 //!
 //! A growing side (`c ≤ 0`: the lower side for `β ≥ γ`, and the upper one
 //! too for hardening sets `β + γ ≤ 0`) has no end: it is tabulated first up
@@ -303,7 +305,8 @@ impl PartialEq for Hint {
 
 impl<T: Float> FlowTable<T> {
     /// The table of `eq`'s flow, or `None` where the parameter set is not
-    /// tabulated (`α ≤ 0`, `β < γ`, `n = 1`, `n > 64`, or a table that would
+    /// tabulated (`α ≤ 0`, `β < γ`, `n = 1` held as [`Power::One`] (closed
+    /// form), `n > 64`, or a table that would
     /// need more than 4096 pieces per side).
     pub(crate) fn new(eq: &StateEquation<T>) -> Option<Self> {
         if eq.power == Power::One {
@@ -549,12 +552,10 @@ fn saturating_side<T: Float>(alpha: T, c: T, n: T, rtol: T) -> Option<Side<T>> {
     if !(u_star.is_finite() && u_star > T::zero()) {
         return None;
     }
-    // (a/λ) v_T² ≤ rtol u*/8 with a/λ = (n − 1)/(2 u*).
-    let v_t = if n > T::one() {
-        u_star * (rtol / (l(4.0) * (n - T::one()))).sqrt()
-    } else {
-        u_star * rtol.sqrt()
-    };
+    // (a/λ) v_T² ≤ rtol u*/8 with a/λ = (n − 1)/(2 u*), and v_T ≤ u* √rtol
+    // (for n near 1, where the tail of the derivatives' table neglects a
+    // term ∝ v² that does not vanish with n − 1).
+    let v_t = u_star * (rtol / (l(4.0) * (n - T::one())).max(T::one())).sqrt();
     let target = u_star - v_t;
     let mut b = Builder::new(alpha, c, n, rtol, target / alpha * l(1e-3))?;
     let mut pieces = Vec::new();

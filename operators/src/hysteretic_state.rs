@@ -377,11 +377,14 @@ impl<T: Float> StateEquation<T> {
     }
 
     /// [`advance`](Self::advance), trying `step` as the first sub-step of
-    /// the adaptive integration (the whole travel where `step ≥ s`) and
-    /// leaving there the sub-step it would take next: for a run of
-    /// consecutive travels (the flow table's knots), whose restarts then
-    /// cost no rejected sub-steps. The result is within the tolerance
-    /// whatever `step` is.
+    /// the adaptive integration (the whole travel where `step ≥ s`; `step ≤
+    /// 0`: the whole travel) and leaving there, when the travel ends on an
+    /// accepted Dormand–Prince sub-step, the size proposed for it before it
+    /// was cut to the travel left (unchanged when it ends in the series
+    /// around zero or on a final Euler step): for a run of consecutive
+    /// travels (the flow table's knots), whose restarts then cost few
+    /// rejected sub-steps. The result is within the tolerance whatever
+    /// `step` is.
     pub(crate) fn advance_from(&self, g: T, s: T, step: &mut T) -> Result<T> {
         if s == T::zero() {
             // (over dual numbers, a travel of 0 that carries derivatives
