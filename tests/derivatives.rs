@@ -320,12 +320,17 @@ fn bouc_wen_tabulated_derivatives_match_the_integrated_flow() {
 #[test]
 fn bouc_wen_n_derivative_near_one_against_extrapolated_differences() {
     use hysteron::operators::{BoucWen, BoucWenParams, Dual, Operator, StiffnessMap};
-    let xs: Vec<f64> = (0..3000)
+    let mut xs: Vec<f64> = (0..3000)
         .map(|i| {
             let t = i as f64 * 0.01;
             2.5 * (0.9 * t).sin() * (1.0 - 0.25 * (0.13 * t).cos()) + 0.02 * (7.0 * t).sin()
         })
         .collect();
+    // then long branches, deep into the saturating tail (travel 12 ≫ the
+    // tail's start, about 7.6 at rtol 1e-10)
+    let last = xs[xs.len() - 1];
+    xs.extend((1..=1200).map(|i| last + (12.0 - last) * i as f64 / 1200.0));
+    xs.extend((1..=2400).map(|i| 12.0 - 24.0 * i as f64 / 2400.0));
     let (beta, gamma) = (0.6, 0.4);
     for n0 in [1.0, 1.0001, 1.02] {
         let f64_run = |n: f64| {
