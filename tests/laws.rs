@@ -1201,6 +1201,96 @@ fn law7_bouc_wen_zero_crossing_reproduction() {
     );
 }
 
+/// `set_params` that keeps `α, β, γ, n` keeps the spring's tables (a fit
+/// moving `S`, `w` or the initial state builds none): the outputs are bit
+/// for bit those of a spring built afresh (a saturating and a hardening
+/// set, and over dual numbers with other seeds); a change of the flow's
+/// parameters builds anew.
+#[test]
+fn bouc_wen_set_params_reuses_its_table_only_for_the_same_flow() {
+    use hysteron::operators::{BoucWenParams, Dual, StiffnessMap};
+    let xs: Vec<f64> = (0..2000)
+        .map(|i| 0.4 * (0.01 * i as f64).sin() * (1.0 + 0.0005 * i as f64))
+        .collect();
+    for (beta, gamma, n) in [(0.7, 0.3, 1.5), (0.05, -0.1, 3.0)] {
+        let params = |s: f64, w: f64, h0: f64| BoucWenParams {
+            w,
+            alpha: 1.0,
+            beta,
+            gamma,
+            n,
+            h0,
+            z0: 0.0,
+            stiffness: StiffnessMap::constant(s).unwrap(),
+        };
+        let mut reused = BoucWen::from_params(params(2.0, 0.3, 0.0)).unwrap();
+        reused.run(&xs).unwrap();
+        let names = reused.param_names();
+        let mut p = reused.params();
+        let at = |name: &str| names.iter().position(|n| n == name).unwrap();
+        p[at("stiffness.s[0]")] = 2.5;
+        p[at("w")] = 0.4;
+        p[at("h0")] = 0.1;
+        reused.set_params(&p).unwrap();
+        let fresh = BoucWen::from_params(params(2.5, 0.4, 0.1)).unwrap();
+        let (a, b) = (reused.run(&xs).unwrap(), fresh.clone().run(&xs).unwrap());
+        assert!(
+            a.iter().zip(&b).all(|(x, y)| x.to_bits() == y.to_bits()),
+            "n = {n}"
+        );
+        // another exponent: another flow
+        p[at("n")] = n + 0.25;
+        reused.set_params(&p).unwrap();
+        let mut other = fresh.clone();
+        other.set_params(&p).unwrap();
+        let c = reused.run(&xs).unwrap();
+        assert!(c
+            .iter()
+            .zip(&other.run(&xs).unwrap())
+            .all(|(x, y)| x.to_bits() == y.to_bits()));
+        assert!(
+            c.iter().zip(&b).any(|(x, y)| x != y),
+            "n = {n}: the new exponent changed nothing"
+        );
+        // over dual numbers, with other seeds: the table of values is kept
+        let dual = |s: f64, slot: usize| {
+            let q = params(s, 0.3, 0.0);
+            let mut d = BoucWen::from_params(BoucWenParams {
+                w: Dual::constant(q.w),
+                alpha: Dual::constant(q.alpha),
+                beta: Dual::variable(q.beta, slot),
+                gamma: Dual::constant(q.gamma),
+                n: Dual::constant(q.n),
+                h0: Dual::constant(0.0),
+                z0: Dual::constant(0.0),
+                stiffness: StiffnessMap::constant(Dual::constant(s)).unwrap(),
+            })
+            .unwrap();
+            let zs: Vec<Dual> = xs.iter().map(|&x| Dual::constant(x)).collect();
+            d.run(&zs).unwrap();
+            d
+        };
+        let mut d = dual(2.0, 0);
+        let mut dp = d.params();
+        let s_index = at("stiffness.s[0]");
+        dp[s_index] = Dual::constant(2.5);
+        dp[at("beta")] = Dual::variable(beta, 3);
+        d.set_params(&dp).unwrap();
+        let zs: Vec<Dual> = xs.iter().map(|&x| Dual::constant(x)).collect();
+        let mut fresh_dual = dual(2.5, 3);
+        fresh_dual.reset();
+        let (e, f) = (d.run(&zs).unwrap(), fresh_dual.run(&zs).unwrap());
+        assert!(e
+            .iter()
+            .zip(&f)
+            .all(|(x, y)| x.re.to_bits() == y.re.to_bits()
+                && x.eps
+                    .iter()
+                    .zip(&y.eps)
+                    .all(|(u, v)| u.to_bits() == v.to_bits())));
+    }
+}
+
 // ---------------------------------------------------------------------------
 // Law 8: Bouc-Wen bound
 // ---------------------------------------------------------------------------

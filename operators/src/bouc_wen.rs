@@ -189,8 +189,49 @@ impl<T: Float> BoucWen<T> {
 
     /// The spring for validated `p`, tolerance `rtol` and `solver`.
     fn build(p: BoucWenParams<T>, rtol: T, solver: StateSolver) -> Self {
+        Self::build_reusing(p, rtol, solver, None)
+    }
+
+    /// [`build`](Self::build), taking the tables of `previous` where they
+    /// are those of `p` (the same values of `α, β, γ, n`, tolerance and
+    /// solver: a fit that moves only `S`, `w` or the initial state builds
+    /// no table). A table extended on demand is the same table (its pieces
+    /// do not depend on the order of the requests).
+    fn build_reusing(
+        p: BoucWenParams<T>,
+        rtol: T,
+        solver: StateSolver,
+        previous: Option<&Self>,
+    ) -> Self {
         let eq = StateEquation::new(p.alpha, p.beta, p.gamma, p.n, rtol);
         let closed_form = eq.power == Power::One;
+        let same_flow = |q: &Self| {
+            let v = |t: T| t.as_f64().to_bits();
+            let (a, b) = (&q.p, &p);
+            q.solver == solver
+                && v(q.eq.rtol) == v(rtol)
+                && q.closed_form == closed_form
+                && [(a.alpha, b.alpha), (a.beta, b.beta), (a.gamma, b.gamma), (a.n, b.n)]
+                    .iter()
+                    .all(|&(x, y)| v(x) == v(y))
+        };
+        if let Some(q) = previous.filter(|q| same_flow(q)) {
+            let part = |t: T| t - t.without_derivatives();
+            return Self {
+                slopes: p.stiffness.slopes(),
+                closed_form,
+                s: State::initial(&p),
+                d_params: [part(p.alpha), part(p.beta), part(p.gamma), part(p.n)],
+                p,
+                eq,
+                solver,
+                table: q.table.clone(),
+                hint: Hint::default(),
+                sensitive: q.sensitive.clone(),
+                sensitive_hint: SensitivityHint::default(),
+                pending: None,
+            };
+        }
         let table = match solver {
             StateSolver::Tabulated if !closed_form && !T::CARRIES_DERIVATIVES => {
                 FlowTable::new(&eq)
@@ -725,6 +766,6 @@ impl<T: Float> BoucWen<T> {
     /// The spring for new parameters with this one's tolerance and solver.
     fn with_same_settings(&self, p: BoucWenParams<T>) -> Result<Self> {
         p.validate()?;
-        Ok(Self::build(p, self.eq.rtol, self.solver))
+        Ok(Self::build_reusing(p, self.eq.rtol, self.solver, Some(self)))
     }
 }
