@@ -219,6 +219,21 @@ fn bouc_wen_linear_branch_derivatives_are_the_closed_form() {
     assert!(dn.columns[0].iter().any(|d| d.abs() > 1e-3));
 }
 
+/// The f64 spring of the Bouc-Wen derivative tests: `w = 0.3`, `α = 1.1`,
+/// `h0 = 0.2`, `z0 = −0.1`, constant stiffness 2.
+fn spring_params(beta: f64, gamma: f64, n: f64) -> hysteron::operators::BoucWenParams<f64> {
+    hysteron::operators::BoucWenParams {
+        w: 0.3,
+        alpha: 1.1,
+        beta,
+        gamma,
+        n,
+        h0: 0.2,
+        z0: -0.1,
+        stiffness: hysteron::operators::StiffnessMap::constant(2.0).unwrap(),
+    }
+}
+
 /// Bouc-Wen with `n ≠ 1` over dual numbers: the tabulated flow with its
 /// tabulated derivatives (the default) against the integrated flow
 /// (`StateSolver::Adaptive`, Dormand–Prince over dual numbers), every
@@ -275,17 +290,7 @@ fn bouc_wen_tabulated_derivatives_match_the_integrated_flow() {
             .collect();
         let a = tabulated.run(&zs).unwrap();
         let b = integrated.run(&zs).unwrap();
-        let mut f64_model = BoucWen::from_params(BoucWenParams {
-            w: 0.3,
-            alpha: 1.1,
-            beta,
-            gamma,
-            n,
-            h0: 0.2,
-            z0: -0.1,
-            stiffness: StiffnessMap::constant(2.0).unwrap(),
-        })
-        .unwrap();
+        let mut f64_model = BoucWen::from_params(spring_params(beta, gamma, n)).unwrap();
         let plain = f64_model.run(&xs).unwrap();
         let scale = b.iter().map(|y| y.re.abs()).fold(1.0, f64::max);
         let mut worst = [0.0f64; 7];
@@ -334,17 +339,7 @@ fn bouc_wen_n_derivative_near_one_against_extrapolated_differences() {
     let (beta, gamma) = (0.6, 0.4);
     for n0 in [1.0, 1.0001, 1.02] {
         let f64_run = |n: f64| {
-            let p = BoucWenParams {
-                w: 0.3,
-                alpha: 1.1,
-                beta,
-                gamma,
-                n,
-                h0: 0.2,
-                z0: -0.1,
-                stiffness: StiffnessMap::constant(2.0).unwrap(),
-            };
-            let mut m = BoucWen::from_params(p)
+            let mut m = BoucWen::from_params(spring_params(beta, gamma, n))
                 .unwrap()
                 .with_tolerance(2e-12)
                 .unwrap();
