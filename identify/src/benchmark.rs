@@ -8,6 +8,7 @@ use crate::{fit, free_by_names, FitError, FitOptions, FitReport};
 use hysteron_models::benchmark::{boucwen_system, BoucWenBenchmarkParams};
 use hysteron_models::composition::OperatorExt;
 use hysteron_models::signal::Upsampling;
+use hysteron_models::Spec;
 use hysteron_operators::Error;
 use hysteron_operators::Operator;
 use rayon::prelude::*;
@@ -244,6 +245,33 @@ pub struct BenchmarkIdentification {
     pub report: FitReport,
 }
 
+/// [`boucwen_system`] built from its spec (`feedback` of
+/// `mass_spring_damper` and `bouc_wen`), which has a twin over dual numbers
+/// ([`Operator::to_dual`]), so that its fits get exact Jacobians; the same
+/// operators, so the same outputs. The static system where the spec
+/// would not build (it does for every valid `p`: checked first).
+fn system_with_dual_twin(p: &BoucWenBenchmarkParams) -> Result<Box<dyn Operator<f64>>, Error> {
+    let system = boucwen_system(p)?;
+    let json = format!(
+        r#"{{"type": "feedback",
+            "forward": {{"type": "mass_spring_damper", "m": {:?}, "c": {:?}, "k": {:?}, "dt": {:?}}},
+            "back": {{"type": "bouc_wen", "w": 0.0, "alpha": {:?}, "beta": {:?}, "gamma": {:?},
+                "n": {:?}, "h0": 0.0, "z0": 0.0, "stiffness": {{"z": [0.0], "s": [1.0]}}}}}}"#,
+        p.m,
+        p.c,
+        p.k,
+        p.dt(),
+        p.a,
+        p.beta,
+        p.gamma,
+        p.n
+    );
+    Ok(match Spec::from_json(&json).and_then(|s| s.build()) {
+        Ok(model) => Box::new(model),
+        Err(_) => system.boxed(),
+    })
+}
+
 /// Fits `m, c, k, A, β', γ', n` of the benchmark system to a record `(u, y)`
 /// sampled at `start.fs` that starts from rest: the input is upsampled
 /// `start.upsample` times as `upsampling` says ([`Upsampling::Fft`] when
@@ -261,7 +289,7 @@ pub fn identify_boucwen(
     opts: &FitOptions,
 ) -> Result<BenchmarkIdentification, BenchmarkError> {
     let fine = upsampling.upsample(u, start.upsample)?;
-    let model = boucwen_system(start)?.boxed();
+    let model = system_with_dual_twin(start)?;
     let opts = FitOptions {
         stride: start.upsample,
         ..opts.clone()
@@ -341,6 +369,23 @@ mod tests {
             (est.k_total / 2.0, est.k_total / 2.0, 0.0, START_N)
         );
         assert_eq!((start.fs, start.upsample), (750.0, 20));
+    }
+
+    /// The system the fits run is the static one built from its spec: the
+    /// same outputs bit for bit, and a dual twin (exact Jacobians).
+    #[test]
+    fn the_fitted_system_is_the_static_one_with_a_dual_twin() {
+        let p = BoucWenBenchmarkParams::published();
+        let fine = fft_upsample(&multisine(), p.upsample).unwrap();
+        let twin = system_with_dual_twin(&p).unwrap();
+        assert!(twin.to_dual().is_some());
+        let system = boucwen_system(&p).unwrap();
+        assert_eq!(twin.param_names(), system.param_names());
+        assert_eq!(twin.params(), system.params());
+        let a = dyn_clone::clone_box(twin.as_ref()).run(&fine).unwrap();
+        let b = boucwen_system(&p).unwrap().run(&fine).unwrap();
+        assert!(a.iter().zip(&b).all(|(x, y)| x.to_bits() == y.to_bits()));
+        assert!(boucwen_system(&p).unwrap().to_dual().is_none());
     }
 
     #[test]
