@@ -205,54 +205,49 @@ impl<T: Float> BoucWen<T> {
     ) -> Self {
         let eq = StateEquation::new(p.alpha, p.beta, p.gamma, p.n, rtol);
         let closed_form = eq.power == Power::One;
-        let same_flow = |q: &Self| {
-            let v = |t: T| t.as_f64().to_bits();
+        let v = |t: T| t.as_f64();
+        let same_flow = |q: &&Self| {
             let (a, b) = (&q.p, &p);
             q.solver == solver
-                && v(q.eq.rtol) == v(rtol)
+                && v(q.eq.rtol).to_bits() == v(rtol).to_bits()
                 && q.closed_form == closed_form
                 && [(a.alpha, b.alpha), (a.beta, b.beta), (a.gamma, b.gamma), (a.n, b.n)]
                     .iter()
-                    .all(|&(x, y)| v(x) == v(y))
+                    .all(|&(x, y)| v(x).to_bits() == v(y).to_bits())
         };
-        if let Some(q) = previous.filter(|q| same_flow(q)) {
-            let part = |t: T| t - t.without_derivatives();
-            return Self {
-                slopes: p.stiffness.slopes(),
-                closed_form,
-                s: State::initial(&p),
-                d_params: [part(p.alpha), part(p.beta), part(p.gamma), part(p.n)],
-                p,
-                eq,
-                solver,
-                table: q.table.clone(),
-                hint: Hint::default(),
-                sensitive: q.sensitive.clone(),
-                sensitive_hint: SensitivityHint::default(),
-                pending: None,
-            };
-        }
-        let table = match solver {
-            StateSolver::Tabulated if !closed_form && !T::CARRIES_DERIVATIVES => {
-                FlowTable::new(&eq)
-            }
-            _ => None,
-        };
-        // Over a dual scalar the flow of the values is tabulated with its
-        // derivatives (those of the flow, not of the table's interpolant).
-        let sensitive = match solver {
-            StateSolver::Tabulated if !closed_form && T::CARRIES_DERIVATIVES => {
-                let v = |t: T| t.as_f64();
-                // The same powers as the f64 spring (the same values), but
-                // at n = 1 the general one: ∂/∂n needs |g|^n ln |g|.
-                let power = match Power::new(v(p.n)) {
-                    Power::One => Power::Real(1.0),
-                    other => other,
+        let (table, sensitive) = match previous.filter(same_flow) {
+            Some(q) => (q.table.clone(), q.sensitive.clone()),
+            None => {
+                let table = match solver {
+                    StateSolver::Tabulated if !closed_form && !T::CARRIES_DERIVATIVES => {
+                        FlowTable::new(&eq)
+                    }
+                    _ => None,
                 };
-                let eq = StateEquation::with_power(v(p.alpha), v(p.beta), v(p.gamma), power, v(rtol));
-                SensitiveFlow::new(eq).map(Box::new)
+                // Over a dual scalar the flow of the values is tabulated with
+                // its derivatives (those of the flow, not of the table's
+                // interpolant).
+                let sensitive = match solver {
+                    StateSolver::Tabulated if !closed_form && T::CARRIES_DERIVATIVES => {
+                        // The same powers as the f64 spring (the same values),
+                        // but at n = 1 the general one: ∂/∂n needs |g|^n ln |g|.
+                        let power = match Power::new(v(p.n)) {
+                            Power::One => Power::Real(1.0),
+                            other => other,
+                        };
+                        let eq = StateEquation::with_power(
+                            v(p.alpha),
+                            v(p.beta),
+                            v(p.gamma),
+                            power,
+                            v(rtol),
+                        );
+                        SensitiveFlow::new(eq).map(Box::new)
+                    }
+                    _ => None,
+                };
+                (table, sensitive)
             }
-            _ => None,
         };
         let part = |t: T| t - t.without_derivatives();
         let d_params = [part(p.alpha), part(p.beta), part(p.gamma), part(p.n)];
