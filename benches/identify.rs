@@ -11,6 +11,9 @@
 //!   is one whole fit (throughput: samples of the record);
 //! * `bouc_wen_eval`: one run of that spring (at the true parameters) over
 //!   the record, the unit the fit's cost is made of;
+//! * `bouc_wen_dual_pass`: the derivatives of that run with respect to the
+//!   5 fitted parameters (one pass over dual numbers, what a fit's
+//!   Jacobian costs);
 //! * `paper_two_stages`: [`identify_paper`] on records of the paper's model
 //!   sampled at 250 Hz (a 0.5 Hz major loop, 2 cycles, 2001 samples; the
 //!   5 → 0.1 Hz down-chirp over 20 s, 5001 samples), with the truth's
@@ -25,6 +28,7 @@ use criterion::{criterion_group, criterion_main, BenchmarkGroup, Criterion, Thro
 use hysteron::identify::paper::{identify_paper, PaperOptions};
 use hysteron::identify::{fit, free_by_names, FitOptions};
 use hysteron::models::experiments::{chirp, sine, DRIVE};
+use hysteron::models::sensitivity::derivatives_at;
 use hysteron::models::TransmissionParams;
 use hysteron::prelude::*;
 use rand::rngs::StdRng;
@@ -141,6 +145,16 @@ fn bouc_wen_fit(c: &mut Criterion) {
     });
     g.measurement_time(Duration::from_secs(3));
     bench_eval(&mut g, "bouc_wen_eval", &mut truth.clone(), &x);
+    let dual = truth.to_dual().expect("a leaf has a dual twin");
+    let base = truth.params();
+    g.bench_function("bouc_wen_dual_pass", |b| {
+        b.iter(|| {
+            let (_, columns) =
+                derivatives_at(dual.as_ref(), black_box(&base), black_box(&x), &free)
+                    .expect("dual pass");
+            black_box(columns)
+        })
+    });
     g.finish();
 }
 

@@ -6,7 +6,7 @@
 
 use hysteron::models::spec::registry::LEAVES;
 use hysteron::models::Spec;
-use hysteron::operators::Domain;
+use hysteron::operators::{Domain, Dual};
 use hysteron::prelude::*;
 
 mod common;
@@ -259,6 +259,50 @@ fn check<T: Float, O: Operator<T> + Clone + 'static>(label: &str, op: O) {
         h.set_params(&p[..p.len().saturating_sub(1)]).is_err() || p.is_empty(),
         "{label}: short vector accepted"
     );
+
+    // the dual twin (`to_dual`, what exact Jacobians run): over `f64`,
+    // every operator has one, with the same parameters under the same
+    // names, and its values along the signal are the `f64` ones
+    if T::epsilon().as_f64() == f64::EPSILON && !T::CARRIES_DERIVATIVES {
+        let mut twin = fresh
+            .to_dual()
+            .unwrap_or_else(|| panic!("{label}: no dual twin"));
+        assert_eq!(twin.name(), fresh.name(), "{label}: twin's name");
+        assert_eq!(
+            twin.param_names(),
+            fresh.param_names(),
+            "{label}: twin's names"
+        );
+        assert_eq!(
+            twin.params().iter().map(|v| v.re).collect::<Vec<_>>(),
+            bits(&fresh.params())
+                .into_iter()
+                .map(f64::from_bits)
+                .collect::<Vec<_>>(),
+            "{label}: twin's parameters"
+        );
+        let dual_xs: Vec<Dual> = xs.iter().map(|x| Dual::constant(x.as_f64())).collect();
+        let values: Vec<f64> = twin
+            .run(&dual_xs)
+            .unwrap_or_else(|e| panic!("{label}: twin: {e}"))
+            .iter()
+            .map(|y| y.re)
+            .collect();
+        // (within rounding: dual arithmetic may order a value's operations
+        // differently, as `powf` by `exp(n ln x)`)
+        let scale = reference
+            .iter()
+            .fold(1.0f64, |m, y| m.max(y.as_f64().abs()));
+        let worst = values
+            .iter()
+            .zip(&reference)
+            .map(|(a, b)| (a - b.as_f64()).abs())
+            .fold(0.0f64, f64::max);
+        assert!(
+            worst <= 1e-12 * scale,
+            "{label}: twin's values differ by {worst:e} (scale {scale:e})"
+        );
+    }
 
     // mismatched buffers are an error
     let mut ys = vec![T::zero(); 3];

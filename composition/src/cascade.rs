@@ -1,7 +1,7 @@
 //! Cascade: the output of one operator drives the next.
 
 use crate::Child;
-use hysteron_operators::{Float, Operator, Result, Trial};
+use hysteron_operators::{Dual, Float, Operator, Result, Trial};
 
 /// Cascade `y = B[A[x]]` (signal-flow composition, `a.then(b)`).
 ///
@@ -46,6 +46,11 @@ impl<A, B> Cascade<A, B> {
 impl<T: Float, A: Child<T>, B: Child<T>> Operator<T> for Cascade<A, B> {
     fn name(&self) -> &'static str {
         "cascade"
+    }
+
+    fn to_dual(&self) -> Option<Box<dyn Operator<Dual>>> {
+        let (a, b) = (self.first.to_dual()?, self.second.to_dual()?);
+        Some(Box::new(Cascade::new(a, b)))
     }
 
     #[inline]

@@ -2,7 +2,7 @@
 
 use crate::solve::{solve, SolverOptions, Start};
 use crate::Child;
-use hysteron_operators::{check_input, Float, Operator, Result, Trial};
+use hysteron_operators::{check_input, CastScalar, Dual, Float, Operator, Result, Trial};
 
 /// Negative feedback loop `y = A[x − B[y]]` (`a.feedback(b)`), with `A`
 /// in the forward path and `B` in the return path.
@@ -55,6 +55,13 @@ impl<T: Float, A, B> Feedback<T, A, B> {
 impl<T: Float, A: Child<T>, B: Child<T>> Operator<T> for Feedback<T, A, B> {
     fn name(&self) -> &'static str {
         "feedback"
+    }
+
+    fn to_dual(&self) -> Option<Box<dyn Operator<Dual>>> {
+        let (a, b) = (self.forward.to_dual()?, self.back.to_dual()?);
+        Some(Box::new(
+            Feedback::new(a, b).with_solver(self.opts.cast_scalar()),
+        ))
     }
 
     fn trial(&mut self, x: T) -> Result<Trial<T>> {

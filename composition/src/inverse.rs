@@ -3,7 +3,7 @@
 use crate::pair::inner_methods;
 use crate::solve::{solve, SolverOptions, Start};
 use crate::Child;
-use hysteron_operators::{check_input, Error, Float, Operator, Result, Trial};
+use hysteron_operators::{check_input, CastScalar, Dual, Error, Float, Operator, Result, Trial};
 
 /// Inverse `u = A⁻¹[x]` of a non-decreasing operator `A` (`a.inverse()`):
 /// every sample solves `A[u] = x` for `u` from `A`'s committed state (its
@@ -119,6 +119,13 @@ where
 impl<T: Float, A: Child<T>> Operator<T> for Inverse<T, A> {
     fn name(&self) -> &'static str {
         "inverse"
+    }
+
+    fn to_dual(&self) -> Option<Box<dyn Operator<Dual>>> {
+        let inner = self.inner.to_dual()?;
+        Some(Box::new(
+            Inverse::new(inner).with_solver(self.opts.cast_scalar()),
+        ))
     }
 
     fn trial(&mut self, x: T) -> Result<Trial<T>> {

@@ -2,7 +2,7 @@
 
 use crate::pair::inner_methods;
 use crate::Child;
-use hysteron_operators::{check_input, Error, Float, Operator, Result, Trial};
+use hysteron_operators::{check_input, Dual, Error, Float, Operator, Result, Trial};
 
 /// Runs `inner` at `q` times the data rate (`Oversample::new(inner, q)`):
 /// every data sample is `q` sub-steps of `inner`, the input interpolated
@@ -103,6 +103,11 @@ impl<T: Float, A> Oversample<T, A> {
 impl<T: Float, A: Child<T>> Operator<T> for Oversample<T, A> {
     fn name(&self) -> &'static str {
         "oversample"
+    }
+
+    fn to_dual(&self) -> Option<Box<dyn Operator<Dual>>> {
+        let inner = self.inner.to_dual()?;
+        Some(Box::new(Oversample::new(inner, self.q).ok()?))
     }
 
     fn trial(&mut self, x: T) -> Result<Trial<T>> {

@@ -1,7 +1,7 @@
 //! Parallel connection: outputs add.
 
 use crate::Child;
-use hysteron_operators::{Float, Operator, Result, Trial};
+use hysteron_operators::{Dual, Float, Operator, Result, Trial};
 
 /// Parallel connection `y = A[x] + B[x]` (`a.plus(b)`). As mechanical
 /// elements: equal displacement, forces add. Tangent `A' + B'`.
@@ -34,6 +34,11 @@ impl<A, B> Parallel<A, B> {
 impl<T: Float, A: Child<T>, B: Child<T>> Operator<T> for Parallel<A, B> {
     fn name(&self) -> &'static str {
         "parallel"
+    }
+
+    fn to_dual(&self) -> Option<Box<dyn Operator<Dual>>> {
+        let (a, b) = (self.left.to_dual()?, self.right.to_dual()?);
+        Some(Box::new(Parallel::new(a, b)))
     }
 
     #[inline]

@@ -2,7 +2,9 @@
 
 use crate::pair::{prefixed, set_inner};
 use crate::Child;
-use hysteron_operators::{check, check_output, Error, Float, Operator, Result, Trial};
+use hysteron_operators::{
+    check, check_output, CastScalar, Dual, Error, Float, Operator, Result, Trial,
+};
 
 /// Weighted operator `y = w · A[x]` (`a.scaled(w)`), `w` finite. Its
 /// parameters are `[w, params of A]`.
@@ -40,6 +42,11 @@ impl<T: Float, A> Scaled<T, A> {
 impl<T: Float, A: Child<T>> Operator<T> for Scaled<T, A> {
     fn name(&self) -> &'static str {
         "scaled"
+    }
+
+    fn to_dual(&self) -> Option<Box<dyn Operator<Dual>>> {
+        let inner = self.inner.to_dual()?;
+        Some(Box::new(Scaled::new(self.w.cast_scalar(), inner).ok()?))
     }
 
     #[inline]

@@ -4,7 +4,8 @@ use crate::pair::{pair_domains, pair_names, set_pair};
 use crate::solve::{solve, Root, SolverOptions, Start};
 use crate::Child;
 use hysteron_operators::{
-    check, check_input, check_lengths, Domain, Error, Float, Operator, Result, Trial,
+    check, check_input, check_lengths, CastScalar, Domain, Dual, Error, Float, Operator, Result,
+    Trial,
 };
 use serde::{Deserialize, Serialize};
 
@@ -32,6 +33,24 @@ pub enum TravelLimits<T> {
         #[serde(default)]
         r0: T,
     },
+}
+
+/// The same limits over the scalar `U` (see [`CastScalar`]).
+impl<T: Float, U: Float> CastScalar<U> for TravelLimits<T> {
+    type Out = TravelLimits<U>;
+    fn cast_scalar(&self) -> TravelLimits<U> {
+        match *self {
+            TravelLimits::None => TravelLimits::None,
+            TravelLimits::Range { lo, hi } => TravelLimits::Range {
+                lo: lo.cast_scalar(),
+                hi: hi.cast_scalar(),
+            },
+            TravelLimits::Gap { b, r0 } => TravelLimits::Gap {
+                b: b.cast_scalar(),
+                r0: r0.cast_scalar(),
+            },
+        }
+    }
 }
 
 impl<T: Float> TravelLimits<T> {
@@ -278,6 +297,15 @@ impl<T: Float, L: Operator<T>, R: Operator<T>> MechanicalSeries<T, L, R> {
 impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, R> {
     fn name(&self) -> &'static str {
         "series"
+    }
+
+    fn to_dual(&self) -> Option<Box<dyn Operator<Dual>>> {
+        let (a, b) = (self.left.to_dual()?, self.right.to_dual()?);
+        let series = MechanicalSeries::new(a, b)
+            .with_limits(self.limits.cast_scalar())
+            .ok()?
+            .with_solver(self.opts.cast_scalar());
+        Some(Box::new(series))
     }
 
     /// Solves `L[x_L] = R[x − r0 − x_L]` for the split `x_L` from the

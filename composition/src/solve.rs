@@ -15,7 +15,7 @@
 //! returned root is therefore within that tolerance of a sign change of the
 //! residual.
 
-use hysteron_operators::{Error, Float, Result};
+use hysteron_operators::{CastScalar, Error, Float, Result};
 use serde::{Deserialize, Serialize};
 
 /// Tolerances and limits of an implicit solve.
@@ -40,6 +40,19 @@ impl<T: Float> Default for SolverOptions<T> {
             abs_tol: T::min_positive_value(),
             max_iter: 200,
             max_expansions: 64,
+        }
+    }
+}
+
+/// The same tolerances over the scalar `U` (see [`CastScalar`]).
+impl<T: Float, U: Float> CastScalar<U> for SolverOptions<T> {
+    type Out = SolverOptions<U>;
+    fn cast_scalar(&self) -> SolverOptions<U> {
+        SolverOptions {
+            rel_tol: self.rel_tol.cast_scalar(),
+            abs_tol: self.abs_tol.cast_scalar(),
+            max_iter: self.max_iter,
+            max_expansions: self.max_expansions,
         }
     }
 }

@@ -139,7 +139,8 @@ pub enum Jacobian {
     /// Forward-mode derivatives through the model's twin over dual numbers
     /// ([`Operator::to_dual`]): exact to rounding, one simulation per
     /// [`DUAL_WIDTH`](hysteron_operators::DUAL_WIDTH) parameters. A model
-    /// without a twin (an operator not built from a spec), or one whose
+    /// without a twin (an operator of your own that does not implement
+    /// `to_dual`, as stage 1 of the paper's identification), or one whose
     /// derivatives are not finite at some sample, gets finite differences.
     /// At a kink the derivative is that of the branch the model takes
     /// ([`DualN`](hysteron_operators::DualN)).

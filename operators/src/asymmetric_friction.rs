@@ -126,6 +126,10 @@ impl<T: Float> StepLaw<T> for AsymmetricFrictionParams<T> {
     type State = T;
     type With<U: Float> = AsymmetricFrictionParams<U>;
 
+    fn cast_law<U: Float>(&self) -> Self::With<U> {
+        crate::CastScalar::cast_scalar(self)
+    }
+
     fn initial(&self) -> T {
         -(self.f0 / self.k)
     }

@@ -63,6 +63,10 @@ impl<T: Float> StepLaw<T> for BacklashContactParams<T> {
     type State = ();
     type With<U: Float> = BacklashContactParams<U>;
 
+    fn cast_law<U: Float>(&self) -> Self::With<U> {
+        crate::CastScalar::cast_scalar(self)
+    }
+
     fn initial(&self) {}
 
     #[inline(always)]

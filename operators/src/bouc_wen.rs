@@ -293,6 +293,12 @@ impl<T: Float> BoucWen<T> {
     /// `rtol/4`) or of each adaptive sub-step ([`StateSolver::Adaptive`]).
     /// Rebuilds the table and resets the spring.
     pub fn with_tolerance(self, rtol: T) -> Result<Self> {
+        Self::check_tolerance(rtol)?;
+        Ok(Self::build(self.p, rtol, self.solver))
+    }
+
+    /// `rtol ∈ [64 ε, 1e-3]` (see [`with_tolerance`](Self::with_tolerance)).
+    fn check_tolerance(rtol: T) -> Result<()> {
         check::positive("rtol", rtol)?;
         if rtol < T::epsilon() * T::lit(64.0) || rtol > T::lit(1e-3) {
             return Err(crate::Error::InvalidParameter {
@@ -301,7 +307,18 @@ impl<T: Float> BoucWen<T> {
                 reason: "must lie in [64 ε, 1e-3]",
             });
         }
-        Ok(Self::build(self.p, rtol, self.solver))
+        Ok(())
+    }
+
+    /// The same spring over the scalar `U` ([`Leaf::cast_leaf`]): the
+    /// parameters as constants, the same solver and tolerance (an error if
+    /// the tolerance is outside `[64 ε, 1e-3]` of `U`), its initial state.
+    pub fn cast_leaf<U: Float>(&self) -> Result<BoucWen<U>> {
+        let p: BoucWenParams<U> = crate::CastScalar::cast_scalar(&self.p);
+        p.validate()?;
+        let rtol = U::lit(self.eq.rtol.as_f64());
+        BoucWen::<U>::check_tolerance(rtol)?;
+        Ok(BoucWen::build(p, rtol, self.solver))
     }
 
     /// Chooses how the state equation is solved for `n ≠ 1` (default
@@ -754,7 +771,8 @@ crate::impl_leaf!(
     "bouc_wen",
     p,
     equation: "H = w S(z) z + (1 − w) S(z) h, dh/dz = α − |h|^n (β sgn(ż h) + γ), z = x − z0",
-    with_parameters: BoucWen::with_same_settings
+    with_parameters: BoucWen::with_same_settings,
+    cast_leaf: BoucWen::cast_leaf
 );
 
 impl<T: Float> BoucWen<T> {

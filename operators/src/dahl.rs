@@ -220,6 +220,10 @@ impl<T: Float> StepLaw<T> for DahlParams<T> {
     type State = DahlState<T>;
     type With<U: Float> = DahlParams<U>;
 
+    fn cast_law<U: Float>(&self) -> Self::With<U> {
+        crate::CastScalar::cast_scalar(self)
+    }
+
     fn initial(&self) -> DahlState<T> {
         Self::start(self)
     }

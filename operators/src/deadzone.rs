@@ -59,6 +59,10 @@ impl<T: Float> StepLaw<T> for DeadZoneParams<T> {
     type State = ();
     type With<U: Float> = DeadZoneParams<U>;
 
+    fn cast_law<U: Float>(&self) -> Self::With<U> {
+        crate::CastScalar::cast_scalar(self)
+    }
+
     fn initial(&self) {}
 
     #[inline(always)]

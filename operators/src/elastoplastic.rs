@@ -73,6 +73,10 @@ impl<T: Float> StepLaw<T> for ElastoPlasticParams<T> {
     type State = T;
     type With<U: Float> = ElastoPlasticParams<U>;
 
+    fn cast_law<U: Float>(&self) -> Self::With<U> {
+        crate::CastScalar::cast_scalar(self)
+    }
+
     fn initial(&self) -> T {
         -self.stop().s0
     }

@@ -39,6 +39,10 @@ impl<T: Float> StepLaw<T> for GainParams<T> {
     type State = ();
     type With<U: Float> = GainParams<U>;
 
+    fn cast_law<U: Float>(&self) -> Self::With<U> {
+        crate::CastScalar::cast_scalar(self)
+    }
+
     fn initial(&self) {}
 
     #[inline(always)]

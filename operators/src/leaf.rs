@@ -28,7 +28,7 @@ pub trait Leaf<T: Float>: Operator<T> + Sized {
     /// Its declared parameters.
     type Params: ParamSet<T>;
     /// The same operator for another scalar type.
-    type With<U: Float>: Leaf<U>;
+    type With<U: Float>: Leaf<U> + 'static;
 
     /// Builds the operator from validated parameters.
     fn from_params(p: Self::Params) -> Result<Self>;
@@ -48,6 +48,14 @@ pub trait Leaf<T: Float>: Operator<T> + Sized {
     fn with_parameters(&self, p: Self::Params) -> Result<Self> {
         Self::from_params(p)
     }
+
+    /// The same operator over the scalar `U`: its parameters carried over
+    /// as constants of `U` ([`CastScalar`](crate::CastScalar)) and its
+    /// settings that are not parameters (a solver and its tolerance), in
+    /// its initial state. Errors where a setting has no counterpart over
+    /// `U` (a tolerance below `U`'s resolution). Over [`Dual`](crate::Dual)
+    /// it is the leaf's [`Operator::to_dual`].
+    fn cast_leaf<U: Float>(&self) -> Result<Self::With<U>>;
 }
 
 /// Implements [`Leaf`] for an operator `Op<T>` that has an inherent
@@ -56,11 +64,13 @@ pub trait Leaf<T: Float>: Operator<T> + Sized {
 /// `impl_leaf!(Gms, GmsParams, "gms", p, equation: "F = …");`, and
 /// optionally `, with_parameters: Op::method` (an inherent
 /// `fn(&self, Params<T>) -> Result<Self>` keeping settings that are not
-/// parameters).
+/// parameters) and `, cast_leaf: Op::method` (an inherent generic
+/// `fn<U: Float>(&self) -> Result<Op<U>>` carrying them to another scalar;
+/// the default builds from the cast parameters).
 #[macro_export]
 macro_rules! impl_leaf {
     ($op:ident, $params:ident, $kind:literal, $field:ident, equation: $equation:literal
-        $(, with_parameters: $with:path)? $(,)?) => {
+        $(, with_parameters: $with:path)? $(, cast_leaf: $cast:path)? $(,)?) => {
         impl<T: $crate::Float> $crate::Leaf<T> for $op<T> {
             const KIND: &'static str = $kind;
             const EQUATION: &'static str = $equation;
@@ -80,13 +90,26 @@ macro_rules! impl_leaf {
                     $with(self, p)
                 }
             )?
+
+            $crate::impl_leaf!(@cast $op, $field $(, $cast)?);
+        }
+    };
+    (@cast $op:ident, $field:ident) => {
+        fn cast_leaf<U: $crate::Float>(&self) -> $crate::Result<$op<U>> {
+            $op::from_params($crate::CastScalar::<U>::cast_scalar(&self.$field))
+        }
+    };
+    (@cast $op:ident, $field:ident, $cast:path) => {
+        fn cast_leaf<U: $crate::Float>(&self) -> $crate::Result<$op<U>> {
+            $cast(self)
         }
     };
 }
 
 /// The [`Operator`] methods of a [`Leaf`] that follow from its declared
 /// parameters: `name`, `n_params`, `params_into`, `param_names`,
-/// `param_domains` and `set_params`. Use inside `impl Operator<T> for …`.
+/// `param_domains`, `set_params` and `to_dual` (by
+/// [`Leaf::cast_leaf`]). Use inside `impl Operator<T> for …`.
 #[macro_export]
 macro_rules! leaf_param_methods {
     ($t:ty) => {
@@ -111,6 +134,10 @@ macro_rules! leaf_param_methods {
             *self = $crate::Leaf::<$t>::with_parameters(self, next)?;
             Ok(())
         }
+        fn to_dual(&self) -> Option<Box<dyn $crate::Operator<$crate::Dual>>> {
+            let dual = $crate::Leaf::<$t>::cast_leaf::<$crate::Dual>(self).ok()?;
+            Some(Box::new(dual))
+        }
     };
 }
 
@@ -133,7 +160,11 @@ pub trait StepLaw<T: Float>: ParamSet<T> {
     /// The state between samples.
     type State: Clone + Debug + PartialEq + Send + Sync + 'static;
     /// The same law for another scalar type.
-    type With<U: Float>: StepLaw<U>;
+    type With<U: Float>: StepLaw<U> + 'static;
+
+    /// The same parameters over the scalar `U`, as constants (for a
+    /// declared set: `CastScalar::cast_scalar(self)`).
+    fn cast_law<U: Float>(&self) -> Self::With<U>;
 
     /// The state before the first sample.
     fn initial(&self) -> Self::State;
@@ -223,6 +254,10 @@ impl<T: Float, L: StepLaw<T>> Leaf<T> for Stepped<L, T> {
 
     fn example() -> L {
         L::example()
+    }
+
+    fn cast_leaf<U: Float>(&self) -> Result<Stepped<L::With<U>, U>> {
+        Stepped::from_params(self.law.cast_law())
     }
 }
 

@@ -62,7 +62,7 @@ pub use operator::{
     check_input, check_lengths, check_output, process_by_trials, process_while_by_trials, Keep,
     Operator, Trial,
 };
-pub use params::{FieldInfo, FieldKind, ParamField, ParamSet};
+pub use params::{CastScalar, FieldInfo, FieldKind, ParamField, ParamSet};
 pub use stiffness::StiffnessMap;
 
 /// Declares the leaf operators of this crate: each line is a module (its

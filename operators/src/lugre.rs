@@ -190,6 +190,10 @@ impl<T: Float> StepLaw<T> for LuGreParams<T> {
     type State = LuGreState<T>;
     type With<U: Float> = LuGreParams<U>;
 
+    fn cast_law<U: Float>(&self) -> Self::With<U> {
+        crate::CastScalar::cast_scalar(self)
+    }
+
     fn initial(&self) -> LuGreState<T> {
         LuGreState {
             x: T::zero(),

@@ -79,6 +79,10 @@ impl<T: Float> StepLaw<T> for MassSpringDamperParams<T> {
     type State = MsdState<T>;
     type With<U: Float> = MassSpringDamperParams<U>;
 
+    fn cast_law<U: Float>(&self) -> Self::With<U> {
+        crate::CastScalar::cast_scalar(self)
+    }
+
     fn initial(&self) -> MsdState<T> {
         MsdState {
             y: T::zero(),

@@ -165,6 +165,10 @@ impl<T: Float> StepLaw<T> for MmsParams<T> {
     type State = MmsState<T>;
     type With<U: Float> = MmsParams<U>;
 
+    fn cast_law<U: Float>(&self) -> Self::With<U> {
+        crate::CastScalar::cast_scalar(self)
+    }
+
     fn initial(&self) -> MmsState<T> {
         Self::start(self)
     }

@@ -34,6 +34,10 @@ impl<T: Float> StepLaw<T> for OffsetParams<T> {
     type State = ();
     type With<U: Float> = OffsetParams<U>;
 
+    fn cast_law<U: Float>(&self) -> Self::With<U> {
+        crate::CastScalar::cast_scalar(self)
+    }
+
     fn initial(&self) {}
 
     fn step(&self, _: &(), x: T) -> Result<((), Trial<T>)> {

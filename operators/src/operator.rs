@@ -177,8 +177,11 @@ pub trait Operator<T: Float>: DynClone + Debug + Send + Sync {
     /// state; `None` where the operator cannot build one.
     ///
     /// Fits use it for exact Jacobians (forward-mode derivatives) and fall
-    /// back to finite differences without it. Models built from a spec
-    /// (`hysteron_models::Spec::build`) have one; the default says `None`.
+    /// back to finite differences without it. Every leaf
+    /// ([`Leaf::cast_leaf`](crate::Leaf::cast_leaf)) and combinator of the
+    /// library has one, built from its children's, and so does a model
+    /// built from a spec; the default, for an operator of your own, says
+    /// `None`.
     fn to_dual(&self) -> Option<Box<dyn Operator<Dual>>> {
         None
     }

@@ -167,6 +167,42 @@ fn take<'a, T>(p: &mut &'a [T], n: usize) -> Result<&'a [T]> {
     Ok(head)
 }
 
+/// A parameter set, or a field of one, carried over to the scalar type
+/// `U`: the same structure (vector lengths, fixed settings) with each value
+/// `v` as the constant `U::lit(v.as_f64())` (a dual value's derivatives
+/// are dropped). [`declare_params!`](crate::declare_params) implements it
+/// for every declared set; [`Leaf::cast_leaf`](crate::Leaf::cast_leaf)
+/// builds operators from it.
+///
+/// ```
+/// use hysteron_operators::{CastScalar, Dual, MmsParams};
+/// let p = MmsParams { f_c: 1.5, k: 30.0, y0: -0.4 };
+/// let d: MmsParams<Dual> = p.cast_scalar();
+/// assert_eq!((d.f_c.re, d.k.re, d.y0.re), (1.5, 30.0, -0.4));
+/// assert_eq!(d.k.eps, [0.0; 8]);
+/// ```
+pub trait CastScalar<U: Float> {
+    /// The same set or field over `U`.
+    type Out;
+    /// The values as constants of `U`.
+    fn cast_scalar(&self) -> Self::Out;
+}
+
+impl<T: Float, U: Float> CastScalar<U> for T {
+    type Out = U;
+    #[inline]
+    fn cast_scalar(&self) -> U {
+        U::lit(self.as_f64())
+    }
+}
+
+impl<T: Float, U: Float> CastScalar<U> for Vec<T> {
+    type Out = Vec<U>;
+    fn cast_scalar(&self) -> Vec<U> {
+        self.iter().map(|v| U::lit(v.as_f64())).collect()
+    }
+}
+
 impl<T: Float> ParamField<T> for T {
     fn count(&self, kind: FieldKind) -> usize {
         usize::from(matches!(kind, FieldKind::Param(_)))
@@ -398,6 +434,15 @@ macro_rules! declare_params {
         }
 
         $crate::nested_param_field!($name);
+
+        impl<T: $crate::Float, U: $crate::Float> $crate::CastScalar<U> for $name<T> {
+            type Out = $name<U>;
+            fn cast_scalar(&self) -> $name<U> {
+                $name {
+                    $($field: $crate::CastScalar::<U>::cast_scalar(&self.$field),)*
+                }
+            }
+        }
     };
     (@example $t:ident, $ty:ty) => { <$ty as $crate::ParamField<$t>>::example_default() };
     (@example $t:ident, $ty:ty, $e:expr) => {

@@ -144,6 +144,10 @@ impl<T: Float> StepLaw<T> for PlayParams<T> {
     type State = T;
     type With<U: Float> = PlayParams<U>;
 
+    fn cast_law<U: Float>(&self) -> Self::With<U> {
+        crate::CastScalar::cast_scalar(self)
+    }
+
     fn initial(&self) -> T {
         self.y0
     }

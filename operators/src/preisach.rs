@@ -2,7 +2,7 @@
 //! an Everett function (tabulated or in closed form).
 
 use crate::{
-    check, check_input, check_output, Domain, Error, FieldInfo, FieldKind, Float, Operator,
+    CastScalar, check, check_input, check_output, Domain, Error, FieldInfo, FieldKind, Float, Operator,
     ParamSet, Result, Trial,
 };
 use serde::{Deserialize, Serialize};
@@ -109,6 +109,47 @@ pub struct PreisachParams<T> {
     /// flat vector).
     #[serde(default)]
     pub start: PreisachStart,
+}
+
+/// The same measure over the scalar `U` (see [`CastScalar`]).
+impl<T: Float, U: Float> CastScalar<U> for PreisachParams<T> {
+    type Out = PreisachParams<U>;
+    fn cast_scalar(&self) -> PreisachParams<U> {
+        let rows = |m: &Vec<Vec<T>>| m.iter().map(|r| r.cast_scalar()).collect();
+        let c = |v: &T| -> U { v.cast_scalar() };
+        let measure = match &self.measure {
+            PreisachMeasure::Grid { t, mu } => PreisachMeasure::Grid {
+                t: t.cast_scalar(),
+                mu: rows(mu),
+            },
+            PreisachMeasure::Table { x, e } => PreisachMeasure::Table {
+                x: x.cast_scalar(),
+                e: rows(e),
+            },
+            PreisachMeasure::Uniform { mu, x_min, x_max } => PreisachMeasure::Uniform {
+                mu: c(mu),
+                x_min: c(x_min),
+                x_max: c(x_max),
+            },
+            PreisachMeasure::Tanh {
+                amplitude,
+                hc,
+                w,
+                x_min,
+                x_max,
+            } => PreisachMeasure::Tanh {
+                amplitude: c(amplitude),
+                hc: c(hc),
+                w: c(w),
+                x_min: c(x_min),
+                x_max: c(x_max),
+            },
+        };
+        PreisachParams {
+            measure,
+            start: self.start,
+        }
+    }
 }
 
 fn invalid<T: Float>(name: String, value: T, reason: &'static str) -> Error {

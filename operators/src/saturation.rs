@@ -37,6 +37,10 @@ impl<T: Float> StepLaw<T> for SaturationParams<T> {
     type State = ();
     type With<U: Float> = SaturationParams<U>;
 
+    fn cast_law<U: Float>(&self) -> Self::With<U> {
+        crate::CastScalar::cast_scalar(self)
+    }
+
     fn initial(&self) {}
 
     #[inline(always)]

@@ -1,6 +1,8 @@
 //! The stiffness map `S(z)` of the Bouc-Wen-like spring.
 
-use crate::{check, Domain, Error, FieldInfo, FieldKind, Float, ParamField, ParamSet, Result};
+use crate::{
+    check, CastScalar, Domain, Error, FieldInfo, FieldKind, Float, ParamField, ParamSet, Result,
+};
 use serde::{Deserialize, Serialize};
 
 /// Symmetric stiffness map `S(z) = σ(|z|)`, with `σ` piecewise linear
@@ -147,6 +149,17 @@ impl<T: Float> StiffnessMap<T> {
     fn fields(&self) -> [(&Vec<T>, &'static FieldInfo); 2] {
         let f = <Self as ParamSet<T>>::FIELDS;
         [(&self.z, &f[0]), (&self.s, &f[1])]
+    }
+}
+
+/// The same knots over the scalar `U` (see [`CastScalar`]).
+impl<T: Float, U: Float> CastScalar<U> for StiffnessMap<T> {
+    type Out = StiffnessMap<U>;
+    fn cast_scalar(&self) -> StiffnessMap<U> {
+        StiffnessMap {
+            z: self.z.cast_scalar(),
+            s: self.s.cast_scalar(),
+        }
     }
 }
 

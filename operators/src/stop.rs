@@ -65,6 +65,10 @@ impl<T: Float> StepLaw<T> for StopParams<T> {
     type State = T;
     type With<U: Float> = StopParams<U>;
 
+    fn cast_law<U: Float>(&self) -> Self::With<U> {
+        crate::CastScalar::cast_scalar(self)
+    }
+
     fn initial(&self) -> T {
         -self.s0
     }

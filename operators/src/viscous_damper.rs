@@ -47,6 +47,10 @@ impl<T: Float> StepLaw<T> for ViscousDamperParams<T> {
     type State = T;
     type With<U: Float> = ViscousDamperParams<U>;
 
+    fn cast_law<U: Float>(&self) -> Self::With<U> {
+        crate::CastScalar::cast_scalar(self)
+    }
+
     fn initial(&self) -> T {
         T::zero()
     }
