@@ -55,7 +55,7 @@ use crate::{fit, fit_records, free_by_names, FitError, FitOptions, FitReport, Re
 use hysteron_composition::TravelLimits;
 use hysteron_models::{PaperModel, TransmissionParams};
 use hysteron_operators::{
-    check, BoucWen, BoucWenParams, Domain, Error, Operator, StiffnessMap, Trial,
+    check, BoucWen, BoucWenParams, Domain, Error, Leaf, Operator, StiffnessMap, Trial,
 };
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
@@ -527,11 +527,17 @@ impl SpringShape {
     }
 
     /// The spring with `w = 0` and `S ≡ 1`: its output is the state `h`.
-    fn unit_spring(&self) -> Result<BoucWen<f64>, Error> {
-        BoucWen::from_params(BoucWenParams {
+    /// Built from `previous` ([`Leaf::with_parameters`]), it takes over
+    /// that spring's flow table where the flow is the same (`α, β, γ, n`).
+    fn unit_spring(&self, previous: Option<&BoucWen<f64>>) -> Result<BoucWen<f64>, Error> {
+        let p = BoucWenParams {
             w: 0.0,
             ..self.with_stiffness(StiffnessMap::constant(1.0)?)
-        })
+        };
+        match previous {
+            Some(spring) => spring.with_parameters(p),
+            None => BoucWen::from_params(p),
+        }
     }
 }
 
@@ -571,9 +577,10 @@ fn derive_knots(
     prefix: &[f64],
     points: &[(f64, f64)],
     shape: &SpringShape,
-) -> Result<StiffnessMap<f64>, KnotFailure> {
+    previous: Option<&BoucWen<f64>>,
+) -> Result<(StiffnessMap<f64>, BoucWen<f64>), KnotFailure> {
     check::unit_interval("w", shape.w).map_err(KnotFailure::Model)?;
-    let mut unit = shape.unit_spring().map_err(KnotFailure::Model)?;
+    let mut unit = shape.unit_spring(previous).map_err(KnotFailure::Model)?;
     unit.process(prefix, &mut vec![0.0; prefix.len()])
         .map_err(KnotFailure::Model)?;
     // From the committed state at the branch start, each trial is one
@@ -600,7 +607,8 @@ fn derive_knots(
         z.push(x.abs());
         s.push(f / d);
     }
-    StiffnessMap::new(z, s).map_err(|e| KnotFailure::Model(e.in_path("stiffness")))
+    let map = StiffnessMap::new(z, s).map_err(|e| KnotFailure::Model(e.in_path("stiffness")))?;
+    Ok((map, unit))
 }
 
 /// The record up to the branch start (shared between clones).
@@ -680,7 +688,9 @@ pub fn knots_from_points(
     shape: &SpringShape,
 ) -> Result<StiffnessMap<f64>, PaperError> {
     let (prefix, sorted) = prepare(x, points)?;
-    derive_knots(&prefix, &sorted, shape).map_err(KnotFailure::into_paper)
+    derive_knots(&prefix, &sorted, shape, None)
+        .map(|(map, _)| map)
+        .map_err(KnotFailure::into_paper)
 }
 
 /// The spring whose stiffness knots follow from picked branch points: an
@@ -709,8 +719,12 @@ impl SpringFromPoints {
     /// complete increasing branch of `x` (see [`knots_from_points`]).
     pub fn new(x: &[f64], points: &[(f64, f64)], shape: &SpringShape) -> Result<Self, PaperError> {
         let (prefix, points) = prepare(x, points)?;
-        let map = derive_knots(&prefix, &points, shape).map_err(KnotFailure::into_paper)?;
-        let spring = BoucWen::from_params(shape.with_stiffness(map)).map_err(PaperError::Model)?;
+        let (map, unit) =
+            derive_knots(&prefix, &points, shape, None).map_err(KnotFailure::into_paper)?;
+        // (the unit spring's flow table is the spring's)
+        let spring = unit
+            .with_parameters(shape.with_stiffness(map))
+            .map_err(PaperError::Model)?;
         Ok(Self {
             prefix,
             points,
@@ -791,9 +805,12 @@ impl Operator<f64> for SpringFromPoints {
             n: p[3],
             h0: p[4],
         };
-        let map =
-            derive_knots(&self.prefix, &self.points, &shape).map_err(KnotFailure::into_operator)?;
-        self.spring = BoucWen::from_params(shape.with_stiffness(map))?;
+        // The flow table is built once per flow: taken from the current
+        // spring where only `w` or `h0` changed (a difference quotient's
+        // column), and shared by the unit spring and the new one.
+        let (map, unit) = derive_knots(&self.prefix, &self.points, &shape, Some(&self.spring))
+            .map_err(KnotFailure::into_operator)?;
+        self.spring = unit.with_parameters(shape.with_stiffness(map))?;
         Ok(())
     }
 }
