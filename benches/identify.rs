@@ -4,6 +4,9 @@
 //! * `paper_model_eval`: one run (`reset` + `process`) of the paper's
 //!   model, `TransmissionParams::default().build()`, over `N = 20 000`
 //!   samples of a decaying sine (throughput: samples);
+//! * `paper_model_dual_pass`: its derivatives with respect to the three
+//!   parameters stage 2 of the paper's identification fits (`limits.b`,
+//!   `f_c`, `K`), one pass over dual numbers;
 //! * `bouc_wen_fit_5`: a fit of 5 parameters of a Bouc-Wen spring with a
 //!   constant stiffness (`stiffness.s[0]`, `w`, `beta`, `gamma`, `n`) to
 //!   `N` samples of its response to a decaying sine with 1 % Gaussian noise
@@ -93,6 +96,17 @@ fn paper_model_eval(c: &mut Criterion) {
     model.process(&x, &mut y).expect("paper model runs");
     let mut g = group(c, 0.5, 3, N);
     bench_eval(&mut g, "paper_model_eval", &mut model, &x);
+    let dual = model.to_dual().expect("the paper model has a dual twin");
+    let base = model.params();
+    let free = free_by_names(&model, &["limits.b", "f_c", "left.mms.k"]).expect("stage 2's names");
+    g.bench_function("paper_model_dual_pass", |b| {
+        b.iter(|| {
+            let (_, columns) =
+                derivatives_at(dual.as_ref(), black_box(&base), black_box(&x), &free)
+                    .expect("dual pass");
+            black_box(columns)
+        })
+    });
     g.finish();
 }
 

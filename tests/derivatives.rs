@@ -306,8 +306,26 @@ fn bouc_wen_tabulated_derivatives_match_the_integrated_flow() {
                 d
             })
             .collect();
+        let mut stepped = tabulated.clone();
         let a = tabulated.run(&zs).unwrap();
         let b = integrated.run(&zs).unwrap();
+        // the batch loop is the trial + commit loop, bit for bit, over dual
+        // numbers too
+        let by_trials: Vec<Dual> = zs
+            .iter()
+            .map(|&z| {
+                let t = stepped.trial(z).unwrap();
+                stepped.commit();
+                t.output
+            })
+            .collect();
+        let bits = |v: &[Dual]| -> Vec<u64> {
+            v.iter()
+                .flat_map(|d| std::iter::once(d.re).chain(d.eps))
+                .map(f64::to_bits)
+                .collect()
+        };
+        assert_eq!(bits(&a), bits(&by_trials), "n = {n}: process vs trials");
         let mut f64_model = BoucWen::from_params(spring_params(beta, gamma, n)).unwrap();
         let plain = f64_model.run(&xs).unwrap();
         let scale = b.iter().map(|y| y.re.abs()).fold(1.0, f64::max);

@@ -1,6 +1,6 @@
 //! The Bouc-Wen-like hysteresis spring with a nonlinear stiffness map.
 
-use crate::flow_sensitivity::{SensitiveFlow, SensitivityHint};
+use crate::flow_sensitivity::{FlowPoint, SensitiveFlow, SensitivityHint};
 use crate::flow_table::{FlowTable, Hint};
 use crate::hysteretic_state::{Branch, Power, StateEquation};
 use crate::{
@@ -172,6 +172,8 @@ pub struct BoucWen<T> {
     sensitive_hint: SensitivityHint,
     /// The derivative parts of `(α, β, γ, n)` (value 0).
     d_params: [T; 4],
+    /// Whether any of them is not 0.
+    seeded: bool,
     s: State<T>,
     pending: Option<State<T>>,
 }
@@ -251,6 +253,7 @@ impl<T: Float> BoucWen<T> {
         };
         let part = |t: T| t - t.without_derivatives();
         let d_params = [part(p.alpha), part(p.beta), part(p.gamma), part(p.n)];
+        let seeded = d_params.iter().any(|t| t.has_derivatives());
         Self {
             slopes: p.stiffness.slopes(),
             closed_form,
@@ -263,6 +266,7 @@ impl<T: Float> BoucWen<T> {
             sensitive,
             sensitive_hint: SensitivityHint::default(),
             d_params,
+            seeded,
             pending: None,
         }
     }
@@ -442,17 +446,8 @@ impl<T: Float> BoucWen<T> {
     fn step_sensitive(&mut self, z: T, dir: i8, sign: T) -> Option<State<T>> {
         let flow = self.sensitive.as_deref_mut()?;
         let hint = &mut self.sensitive_hint;
-        let d = &self.d_params;
+        let (d, seeded) = (&self.d_params, self.seeded);
         let part = |t: T| t - t.without_derivatives();
-        let seeded = d.iter().any(|t| t.has_derivatives());
-        let a_of = |dp: [f64; 4]| {
-            if !seeded {
-                return T::zero();
-            }
-            dp.iter()
-                .zip(d)
-                .fold(T::zero(), |acc, (&j, &dt)| acc + T::lit(j) * dt)
-        };
         let c = &self.s;
         let (z_a, position, carry) = match c.branch {
             BranchStart::Sensitive { position, carry } if dir == c.dir => (c.z_a, position, carry),
@@ -463,14 +458,15 @@ impl<T: Float> BoucWen<T> {
                 if !(position.is_finite() && start.rate != 0.0) {
                     return None;
                 }
-                let carry = (part(g_a) - a_of(start.d_params)) * T::lit(1.0 / start.rate)
+                let carry = (part(g_a) - flow_part(start.d_params, d, seeded))
+                    * T::lit(1.0 / start.rate)
                     - sign * part(c.z);
                 (c.z, position, carry)
             }
         };
         let travel = (sign * (z - z_a)).as_f64();
         let p = flow.at(position + travel, hint)?;
-        let g = T::lit(p.g) + T::lit(p.rate) * (carry + sign * part(z)) + a_of(p.d_params);
+        let g = sensitive_state(&p, carry, sign, z, d, seeded);
         Some(State {
             z,
             h: sign * g,
@@ -520,7 +516,7 @@ impl<T: Float> BoucWen<T> {
     }
 
     /// Outputs of `zs[i..]` along the committed branch, while the input
-    /// keeps its direction (or stands still) and `at(travel)` gives the
+    /// keeps its direction (or stands still) and `at(travel, z)` gives the
     /// state in the direction frame, and `keep(i, y_i)` accepts each output;
     /// stops before the first other sample.
     // Hot loop, kept free of checks: `i < zs.len() ≤ ys.len()` (the only
@@ -532,7 +528,7 @@ impl<T: Float> BoucWen<T> {
         zs: &[T],
         ys: &mut [T],
         mut i: usize,
-        mut at: impl FnMut(T) -> Option<T>,
+        mut at: impl FnMut(T, T) -> Option<T>,
         keep: &mut impl FnMut(usize, T) -> bool,
     ) -> Run<T> {
         let c = &self.s;
@@ -545,7 +541,7 @@ impl<T: Float> BoucWen<T> {
             if !(sign * (z - z_prev) >= T::zero() && z.is_finite()) {
                 break;
             }
-            let Some(g) = at(sign * (z - z_a)) else {
+            let Some(g) = at(sign * (z - z_a), z) else {
                 break;
             };
             let h = sign * g;
@@ -574,7 +570,7 @@ impl<T: Float> BoucWen<T> {
     }
 
     /// The batch loop of [`process`](Operator::process) (closed form, or
-    /// tabulated flow): the first sample of each monotone run goes through
+    /// tabulated flow, with or without its derivatives): the first sample of each monotone run goes through
     /// [`step`](Self::step) (which starts a new branch on a reversal); the
     /// rest of the run evaluates the same branch from its start (closed form
     /// for n = 1, the tabulated flow otherwise), sample by sample
@@ -612,7 +608,7 @@ impl<T: Float> BoucWen<T> {
             i += 1;
             let run = match (self.s.branch, &self.table) {
                 (BranchStart::Linear(branch), _) => {
-                    self.run_branch(zs, ys, i, |s| Some(branch.at(s)), &mut keep)
+                    self.run_branch(zs, ys, i, |s, _| Some(branch.at(s)), &mut keep)
                 }
                 (BranchStart::Flow(sa), Some(table)) => {
                     let mut hint = self.hint;
@@ -620,10 +616,33 @@ impl<T: Float> BoucWen<T> {
                         zs,
                         ys,
                         i,
-                        |s| table.state_at(sa + s, &mut hint),
+                        |s, _| table.state_at(sa + s, &mut hint),
                         &mut keep,
                     );
                     self.hint = hint;
+                    run
+                }
+                (BranchStart::Sensitive { position, carry }, _) => {
+                    // (`step`'s formula along the branch, on the table as
+                    // it is: a lookup beyond it ends the run, and `step`
+                    // extends a growing side)
+                    let Some(flow) = self.sensitive.as_deref() else {
+                        continue;
+                    };
+                    let (d, seeded) = (self.d_params, self.seeded);
+                    let sign = if self.s.dir < 0 { -T::one() } else { T::one() };
+                    let mut hint = self.sensitive_hint;
+                    let run = self.run_branch(
+                        zs,
+                        ys,
+                        i,
+                        |s, z| {
+                            let p = flow.lookup(position + s.as_f64(), &mut hint)?;
+                            Some(sensitive_state(&p, carry, sign, z, &d, seeded))
+                        },
+                        &mut keep,
+                    );
+                    self.sensitive_hint = hint;
                     run
                 }
                 _ => continue,
@@ -703,6 +722,35 @@ impl<T: Float> BoucWen<T> {
     fn slope(&self, h: T, sign: T) -> T {
         self.eq.rate(sign * h)
     }
+}
+
+/// `A(σ) = Σ_θ ∂G(σ)/∂θ dθ` over `θ = (α, β, γ, n)` with derivative parts
+/// `d` (0 unless `seeded`).
+#[inline(always)]
+fn flow_part<T: Float>(dp: [f64; 4], d: &[T; 4], seeded: bool) -> T {
+    if !seeded {
+        return T::zero();
+    }
+    dp.iter()
+        .zip(d)
+        .fold(T::zero(), |acc, (&j, &dt)| acc + T::lit(j) * dt)
+}
+
+/// The state on a tabulated branch over dual numbers at the flow point
+/// `p`, `g = G + f(G) (carry + sgn(ż) dz) + A(σ)` (see
+/// [`BoucWen::step_sensitive`]); one function for `step` and the batch loop,
+/// so that both give the same bits.
+#[inline(always)]
+fn sensitive_state<T: Float>(
+    p: &FlowPoint,
+    carry: T,
+    sign: T,
+    z: T,
+    d: &[T; 4],
+    seeded: bool,
+) -> T {
+    let dz = z - z.without_derivatives();
+    T::lit(p.g) + T::lit(p.rate) * (carry + sign * dz) + flow_part(p.d_params, d, seeded)
 }
 
 impl<T: Float> Operator<T> for BoucWen<T> {

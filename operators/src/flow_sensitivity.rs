@@ -431,6 +431,14 @@ impl SensitiveFlow {
         self.lower.follow(self.table.lower());
     }
 
+    /// [`at`](Self::at) without extending the table: `None` beyond it too
+    /// (the same point where `at` gives one without extending).
+    #[inline]
+    pub(crate) fn lookup(&self, sigma: f64, hint: &mut SensitivityHint) -> Option<FlowPoint> {
+        let g = self.table.state_at(sigma, &mut hint.table)?;
+        self.point(sigma, g, hint)
+    }
+
     /// The flow at position `σ` (extending a growing side to reach it), or
     /// `None` outside the table. Above zero (`σ ≥ 0`, `u = g`, `τ = σ`) the
     /// derivatives are `(J_α, J_c, J_c, J_n)` with `c = β + γ`; below it
@@ -438,6 +446,12 @@ impl SensitiveFlow {
     pub(crate) fn at(&mut self, sigma: f64, hint: &mut SensitivityHint) -> Option<FlowPoint> {
         let g = self.table.state_at_growing(sigma, &mut hint.table)?;
         self.follow();
+        self.point(sigma, g, hint)
+    }
+
+    /// The flow point at `σ` with state `g = G(σ)` (see [`at`](Self::at)).
+    #[inline(always)]
+    fn point(&self, sigma: f64, g: f64, hint: &mut SensitivityHint) -> Option<FlowPoint> {
         let upper = sigma >= 0.0;
         let j = if upper {
             self.upper.at(sigma, &mut hint.upper)?
