@@ -87,6 +87,26 @@ fn bench_eval(
     });
 }
 
+/// Times the derivatives of `op` along `x` with respect to its parameters
+/// `free`, at its own values: one pass over dual numbers through its twin.
+fn bench_dual_pass(
+    g: &mut BenchmarkGroup<'_, WallTime>,
+    name: &str,
+    op: &dyn Operator<f64>,
+    x: &[f64],
+    free: &[usize],
+) {
+    let dual = op.to_dual().expect("every operator here has a dual twin");
+    let base = op.params();
+    g.bench_function(name, |b| {
+        b.iter(|| {
+            let (_, columns) = derivatives_at(dual.as_ref(), black_box(&base), black_box(x), free)
+                .expect("dual pass");
+            black_box(columns)
+        })
+    });
+}
+
 fn paper_model_eval(c: &mut Criterion) {
     let mut model = TransmissionParams::default()
         .build()
@@ -96,17 +116,8 @@ fn paper_model_eval(c: &mut Criterion) {
     model.process(&x, &mut y).expect("paper model runs");
     let mut g = group(c, 0.5, 3, N);
     bench_eval(&mut g, "paper_model_eval", &mut model, &x);
-    let dual = model.to_dual().expect("the paper model has a dual twin");
-    let base = model.params();
     let free = free_by_names(&model, &["limits.b", "f_c", "left.mms.k"]).expect("stage 2's names");
-    g.bench_function("paper_model_dual_pass", |b| {
-        b.iter(|| {
-            let (_, columns) =
-                derivatives_at(dual.as_ref(), black_box(&base), black_box(&x), &free)
-                    .expect("dual pass");
-            black_box(columns)
-        })
-    });
+    bench_dual_pass(&mut g, "paper_model_dual_pass", &model, &x, &free);
     g.finish();
 }
 
@@ -159,16 +170,7 @@ fn bouc_wen_fit(c: &mut Criterion) {
     });
     g.measurement_time(Duration::from_secs(3));
     bench_eval(&mut g, "bouc_wen_eval", &mut truth.clone(), &x);
-    let dual = truth.to_dual().expect("a leaf has a dual twin");
-    let base = truth.params();
-    g.bench_function("bouc_wen_dual_pass", |b| {
-        b.iter(|| {
-            let (_, columns) =
-                derivatives_at(dual.as_ref(), black_box(&base), black_box(&x), &free)
-                    .expect("dual pass");
-            black_box(columns)
-        })
-    });
+    bench_dual_pass(&mut g, "bouc_wen_dual_pass", truth.as_ref(), &x, &free);
     g.finish();
 }
 
