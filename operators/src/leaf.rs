@@ -18,7 +18,9 @@ use core::fmt::Debug;
 ///   the operator in its initial state;
 /// * `parameters()` returns the set it was built from, so that
 ///   `from_params(op.parameters().clone())` is the same operator;
-/// * [`example`](Leaf::example) is a valid set (the contract test runs it).
+/// * [`example`](Leaf::example) is a valid set (the contract test runs it);
+/// * [`cast_leaf`](Leaf::cast_leaf) over `f64` gives the same values, to
+///   rounding, as the operator (the contract test runs its dual twin).
 pub trait Leaf<T: Float>: Operator<T> + Sized {
     /// The operator's name (snake case).
     const KIND: &'static str;
