@@ -570,8 +570,9 @@ impl<T: Float> BoucWen<T> {
     }
 
     /// The batch loop of [`process`](Operator::process) (closed form, or
-    /// tabulated flow, with or without its derivatives): the first sample of each monotone run goes through
-    /// [`step`](Self::step) (which starts a new branch on a reversal); the
+    /// tabulated flow, with or without its derivatives): the first sample
+    /// of each monotone run goes through [`step`](Self::step) (which starts
+    /// a new branch on a reversal); the
     /// rest of the run evaluates the same branch from its start (closed form
     /// for n = 1, the tabulated flow otherwise), sample by sample
     /// independent, which is what `step` computes for them too. Each output
