@@ -18,23 +18,9 @@ out=${1:-out/brfd}
 mkdir -p "$out"
 cargo build --release -q -p hysteron-cli
 h=target/release/hysteron
-d=data/brfd
+source scripts/brfd-records.sh
 common=(--output-column F --time-column t --skip 1 --no-progress)
 score=(--output-column F --time-column t --skip 1 --lowpass 10)
-
-train=(--data $d/ds3_sine_0.25Hz_30lb_1in.csv.gz --data $d/ds3_sine_1Hz_30lb_1.5in.csv.gz)
-val30=()
-for f in $d/ds3_*.csv.gz; do
-  case $f in
-    *0.25Hz_30lb_1in*|*1Hz_30lb_1.5in*) ;;
-    *) val30+=(--data "$f") ;;
-  esac
-done
-new=$d/ds2_sine_0.5Hz_36lb_1in.csv.gz
-val36=()
-for f in $d/ds2_*_36lb_*.csv.gz; do
-  [ "$f" = "$new" ] || val36+=(--data "$f")
-done
 
 echo "== the device model: fit on ${train[*]}"
 $h fit --model examples/specs/brfd/start.json "${train[@]}" "${common[@]}" \
