@@ -131,10 +131,28 @@ impl<T: Float> MmsParams<T> {
 /// Samples per block of the batch loop of [`Mms::process`].
 const RUN_BLOCK: usize = 64;
 
-/// `1 − e^{−K |x − x_r|}`, via `expm1` for full accuracy near a reversal.
+/// `1 − e^{−K |x − x_r|}`, within about one ulp for every distance from
+/// the reversal: see [`exp_m1_of_negative`].
 #[inline(always)]
 fn rise<T: Float>(k: T, x: T, x_r: T) -> T {
-    -(-k * (x - x_r).abs()).exp_m1()
+    -exp_m1_of_negative(-k * (x - x_r).abs())
+}
+
+/// `e^{−a} − 1` for `−a ≤ 0`: `expm1` near the reversal (`a ≤ ln 2`), where
+/// `e^{−a} − 1` would cancel, and `exp` beyond, where `e^{−a} < 1/2` and
+/// the subtraction adds at most one rounding (relative error of the result
+/// within `ε (1/2 + e^{−a} / (2 (1 − e^{−a}))) ≤ ε`).
+///
+/// The branch is the MMS kernel's cost: glibc's `exp` takes about two
+/// thirds of the time of its `expm1`, and past `a = ln 2` (a distance of
+/// `ln 2 / K` from the reversal) a branch stays on `exp`.
+#[inline(always)]
+fn exp_m1_of_negative<T: Float>(minus_a: T) -> T {
+    if minus_a < -T::LN_2() {
+        minus_a.exp() - T::one()
+    } else {
+        minus_a.exp_m1()
+    }
 }
 
 /// The branch value `y_r + Ω · rise`, `Ω = target − y_r`.
@@ -219,7 +237,7 @@ impl<T: Float> StepLaw<T> for MmsParams<T> {
             // formula as `step`, with the branch constants hoisted, and no
             // dependency from one sample to the next. It runs in blocks of
             // three loops: the exponent of every sample, the `expm1` calls
-            // alone (a call clobbers every floating-point register, so with
+            // alone (`exp` or `expm1`: a call clobbers every floating-point register, so with
             // nothing else live around it nothing is spilled and reloaded
             // per sample), and the outputs; the same operations on the same
             // values as one loop.
@@ -247,24 +265,27 @@ impl<T: Float> StepLaw<T> for MmsParams<T> {
                     *a = -k * (x - x_r).abs();
                 }
                 for a in yb.iter_mut() {
-                    *a = a.exp_m1();
+                    *a = exp_m1_of_negative(*a);
                 }
-                for (j, (y_out, &x)) in yb.iter_mut().zip(xb).enumerate() {
-                    let (y, decay) = if x == s.x && !T::CARRIES_DERIVATIVES {
-                        (s.y, s.decay)
-                    } else {
-                        let rise = -*y_out;
-                        (on_branch(rise, target, y_r), T::one() - rise)
-                    };
-                    if !y.is_finite() {
-                        *state = s;
-                        return Err(non_finite(x, i + j));
-                    }
-                    s.x = x;
-                    s.y = y;
-                    s.decay = decay;
-                    *y_out = y;
+                // Within the run a sample standing still gives the same
+                // value as the committed one (the same formula at the same
+                // `x`), so the loop needs no test of `x` against the
+                // previous sample, nor any other branch: it vectorises.
+                let (Some(&x_last), Some(&minus_rise_last)) = (xb.last(), yb.last()) else {
+                    break;
+                };
+                for y_out in yb.iter_mut() {
+                    *y_out = on_branch(-*y_out, target, y_r);
                 }
+                // The outputs lie between `y_r` and `±F_c`, both finite, so
+                // this holds; checked anyway, after the loop.
+                if let Some(j) = yb.iter().position(|y| !y.is_finite()) {
+                    *state = s;
+                    return Err(non_finite(xb.get(j).copied().unwrap_or(x_last), i + j));
+                }
+                s.x = x_last;
+                s.y = yb.last().copied().unwrap_or(s.y);
+                s.decay = T::one() + minus_rise_last;
                 i = end;
                 if end < end_max {
                     break;
