@@ -317,4 +317,25 @@ mod tests {
             Err(Error::LengthMismatch { .. })
         ));
     }
+
+    /// `e^{−a} − 1` through `exp` past `ln 2` and `expm1` before it stays
+    /// within two ulps of `expm1` everywhere, across the switch too (`exp`
+    /// alone would be off by up to `ε/a` relative near the reversal).
+    #[test]
+    fn exp_m1_of_negative_is_within_two_ulps_of_expm1() {
+        let ln2 = std::f64::consts::LN_2;
+        let mut grid: Vec<f64> = (-300..=2).map(|e| 10f64.powi(e)).collect();
+        grid.extend((1..=4000).map(|i| f64::from(i) * 0.01));
+        let (mut above, mut below) = (ln2, ln2);
+        for _ in 0..64 {
+            grid.extend([above, below]);
+            above = above.next_up();
+            below = below.next_down();
+        }
+        for a in grid {
+            let (got, want) = (exp_m1_of_negative(-a), (-a).exp_m1());
+            let ulp = want.abs() * f64::EPSILON;
+            assert!((got - want).abs() <= 2.0 * ulp, "a = {a:e}: {got:e} against {want:e}");
+        }
+    }
 }
