@@ -22,7 +22,9 @@ use hysteron_operators::{check_input, CastScalar, Dual, Error, Float, Operator, 
 /// solver tolerance `τ = abs_tol + rel_tol · max(|u|, scale)`
 /// (`2 |A'(u)| τ + 8 ε (|x| + |A(u)|)`); then `A` is probed at `u ∓ 2τ` on
 /// the far side of the sign change, and a change of `A` there larger than
-/// `8 max|A'| τ + √ε (max|A| + max|A'| max(|u|, scale))` is a jump.
+/// `8 max|A'| τ + √ε (max|A| + max|A'| max(|u|, scale, reach))` is a jump,
+/// `reach` the largest `|u|` committed since the last reset (an operator
+/// with memory carries rounding of the size its terms reached).
 ///
 /// Tangent: `1 / A'(u)` (`+∞` where `A` is flat).
 ///
@@ -38,6 +40,9 @@ pub struct Inverse<T, A> {
     opts: SolverOptions<T>,
     x: T,
     u: T,
+    /// The largest `|u|` committed since the last reset: the size of the
+    /// terms `A`'s memory may still hold (see `check_jump`).
+    reach: T,
     pending: Option<(T, T)>,
 }
 
@@ -49,6 +54,7 @@ impl<T: Float, A> Inverse<T, A> {
             opts: SolverOptions::default(),
             x: T::zero(),
             u: T::zero(),
+            reach: T::zero(),
             pending: None,
         }
     }
@@ -93,8 +99,12 @@ where
         // Continuous operators may differ from monotone by their own
         // accuracy (rounding, an integrator's rtol) relative to the size of
         // their terms, which near an output of 0 is not |out| but about
-        // slope · |u|: both scales enter the noise allowance.
-        let noise = out.abs().max(far.output.abs()) + lip * u.abs().max(scale);
+        // slope · |u|, and for an operator with memory slope · the largest
+        // |u| it was driven to (a Bouc-Wen state built up there and
+        // returned to 0 keeps rounding of that size): all enter the noise
+        // allowance.
+        let reach = u.abs().max(scale).max(self.reach);
+        let noise = out.abs().max(far.output.abs()) + lip * reach;
         let bound = T::lit(8.0) * lip * tau + eps.sqrt() * noise;
         let across = (far.output - x) * r < T::zero();
         if across && (far.output - out).abs() > bound {
@@ -155,6 +165,7 @@ impl<T: Float, A: Child<T>> Operator<T> for Inverse<T, A> {
             self.inner.commit();
             self.x = x;
             self.u = u;
+            self.reach = self.reach.max(u.abs());
         }
     }
 
@@ -162,6 +173,7 @@ impl<T: Float, A: Child<T>> Operator<T> for Inverse<T, A> {
         self.inner.reset();
         self.x = T::zero();
         self.u = T::zero();
+        self.reach = T::zero();
         self.pending = None;
     }
 

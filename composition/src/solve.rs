@@ -8,8 +8,9 @@
 //! an end that survives twice in a row is halved), which converges
 //! superlinearly across kinks, kept at least one tolerance inside the
 //! bracket (so an end that already is the root gets its bracket closed),
-//! and every fourth such step in a row a bisection, so the bracket at least
-//! halves every four steps. The iteration stops when a step or the bracket is
+//! and every fourth such step a bisection, counted since the last Newton
+//! step that halved the residual (a Newton step that did not is followed by
+//! a fallback, so the bracket at least halves every eight steps). The iteration stops when a step or the bracket is
 //! smaller than `abs_tol + rel_tol · max(|x|, scale)`, or the residual is
 //! exactly zero, and otherwise fails with [`Error::NotConverged`]. The
 //! returned root is therefore within that tolerance of a sign change of the
@@ -434,7 +435,6 @@ where
             && newton < hi
             && r.abs() <= r_prev * half;
         let x_next = if use_newton {
-            fallbacks = 0;
             newton
         } else {
             fallbacks += 1;
@@ -452,6 +452,14 @@ where
         let (r_next, d_next) = f.eval(x_next)?;
         if r_next == T::zero() {
             return Ok(x_next);
+        }
+        // Only a Newton step that halved the residual ends a run of
+        // fallbacks: one that did not is followed by a fallback anyway, and
+        // resetting the count there let Newton and secant steps alternate
+        // at a stick-slip kink without a bisection ever coming due (the
+        // bracket barely shrank for 200 iterations).
+        if use_newton && r_next.abs() <= r.abs() * half {
+            fallbacks = 0;
         }
         if r_next < T::zero() {
             if last_end == -1 {
