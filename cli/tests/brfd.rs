@@ -86,3 +86,49 @@ fn the_36lb_model_differs_only_in_the_friction_levels() {
         }
     }
 }
+
+/// The training fit of `scripts/brfd.sh` drives the contact's linear
+/// stiffness `k1` (non-negative, fitted as `e^θ`) to 0, where its column of
+/// the Jacobian vanishes. The report says so and gives it no standard
+/// error; the others' errors are computed with it held. (Before, the
+/// whole `JᵀJ` was inverted and `b` got a standard error of 1.4e4 and the
+/// interval [0, ∞] for a value of 0.093.)
+#[test]
+fn the_damper_fit_reports_k1_at_zero_as_undetermined() {
+    let root = root();
+    let dir = tempfile::tempdir().unwrap();
+    let out = hysteron(&root)
+        .args(["fit", "--model", "examples/specs/brfd/start.json"])
+        .args(["--data", "data/brfd/ds3_sine_0.25Hz_30lb_1in.csv.gz"])
+        .args(["--data", "data/brfd/ds3_sine_1Hz_30lb_1.5in.csv.gz"])
+        .args(["--output-column", "F", "--time-column", "t", "--skip", "1"])
+        .args([
+            "--no-progress",
+            "--free",
+            "f_pos,f_neg,gain.k,b,k1,k2,offset.c",
+        ])
+        .arg("--output")
+        .arg(dir.path().join("fit.json"))
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    let row = |name: &str| {
+        text.lines()
+            .find(|l| l.starts_with(&format!("first.series.right.backlash_contact.{name} ")))
+            .unwrap_or_else(|| panic!("no row for {name} in\n{text}"))
+            .split_whitespace()
+            .map(str::to_string)
+            .collect::<Vec<_>>()
+    };
+    let k1 = row("k1");
+    assert_eq!(k1[3], "-", "k1 has no standard error: {k1:?}");
+    let b = row("b");
+    let (value, se): (f64, f64) = (b[2].parse().unwrap(), b[3].parse().unwrap());
+    assert!(se > 0.0 && se < 0.1 * value, "b = {value} ± {se}");
+    assert!(
+        text.contains("warning: `first.series.right.backlash_contact.k1`")
+            && text.contains("does not change the output here"),
+        "{text}"
+    );
+}

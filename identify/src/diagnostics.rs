@@ -29,6 +29,55 @@ pub const CORRELATED: f64 = 0.99;
 /// weakest direction (a unit vector) is at least this.
 pub const IN_NULL_DIRECTION: f64 = 0.1;
 
+/// A parameter whose column of `J` (in the internal parameters) has at
+/// most this norm relative to the largest column is taken as not
+/// determined by the data at the solution (`√ε`: its share of `JᵀJ` is at
+/// the rounding of the others').
+pub const UNDETERMINED: f64 = 1.5e-8;
+
+/// Which free parameters the data determine at the solution: those whose
+/// column of `J` has a norm above [`UNDETERMINED`] times the largest one's.
+///
+/// A parameter kept non-negative by `θ ↦ e^θ` that the fit drives towards
+/// 0 has the column `e^θ ∂r/∂p`, which vanishes with it: `JᵀJ` is then
+/// singular only to rounding, and inverting it as a whole would spread
+/// that parameter's unbounded variance over every other parameter's error
+/// (see [`inverse_of_determined`]).
+pub fn determined(jac: &DMatrix<f64>) -> Vec<bool> {
+    let norms: Vec<f64> = jac.column_iter().map(|c| c.norm()).collect();
+    let largest = norms.iter().copied().fold(0.0, f64::max);
+    norms
+        .iter()
+        .map(|&n| n.is_finite() && n > UNDETERMINED * largest)
+        .collect()
+}
+
+/// `(JᵀJ)⁻¹` restricted to the `determined` parameters: the inverse of
+/// their block of `jtj`, with NaN in the rows and columns of the others
+/// (their variance is unbounded; they are held at their values). `None`
+/// where that block is singular.
+pub fn inverse_of_determined(jtj: &DMatrix<f64>, determined: &[bool]) -> Option<DMatrix<f64>> {
+    let keep: Vec<usize> = (0..jtj.nrows())
+        .filter(|&i| determined.get(i).copied().unwrap_or(false))
+        .collect();
+    let block = DMatrix::from_fn(keep.len(), keep.len(), |a, b| {
+        keep.get(a)
+            .zip(keep.get(b))
+            .and_then(|(&i, &j)| jtj.get((i, j)).copied())
+            .unwrap_or(f64::NAN)
+    });
+    let inverse = block.try_inverse()?;
+    let mut full = DMatrix::from_element(jtj.nrows(), jtj.ncols(), f64::NAN);
+    for (a, &i) in keep.iter().enumerate() {
+        for (b, &j) in keep.iter().enumerate() {
+            if let (Some(v), Some(out)) = (inverse.get((a, b)), full.get_mut((i, j))) {
+                *out = *v;
+            }
+        }
+    }
+    Some(full)
+}
+
 /// A sign that the data do not determine a parameter, or a pair of them.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
@@ -42,6 +91,16 @@ pub enum IdentifiabilityWarning {
     Singular {
         /// The parameters of the combination ([`FittedParam::label`]).
         names: Vec<String>,
+    },
+    /// The parameter's column of `J` vanishes ([`determined`]): at this
+    /// point the output does not depend on it (typically a non-negative
+    /// parameter driven to 0). It has no standard error, and the others'
+    /// are computed with it held at its value.
+    Undetermined {
+        /// The parameter ([`FittedParam::label`]).
+        name: String,
+        /// Its fitted value.
+        value: f64,
     },
     /// The 95 % interval of the parameter is wider than `|value|`.
     WideInterval {
@@ -79,6 +138,11 @@ impl fmt::Display for IdentifiabilityWarning {
                     "JᵀJ is singular: {what} does not change the output (no standard errors)"
                 )
             }
+            Self::Undetermined { name, value } => write!(
+                f,
+                "`{name}` = {value:.4e} does not change the output here (its Jacobian column \
+                 vanishes): no standard error; the others' are computed with it held"
+            ),
             Self::WideInterval {
                 name,
                 value,
@@ -203,6 +267,40 @@ mod tests {
         assert_eq!(conditioning(&DMatrix::zeros(0, 0)), (None, vec![]));
         let nan = DMatrix::from_row_slice(1, 1, &[f64::NAN]);
         assert_eq!(conditioning(&nan).0, None);
+    }
+
+    /// A column at `√ε` of the largest or below is undetermined; the
+    /// inverse is the determined block's, NaN elsewhere (and the whole
+    /// matrix's inverse where every column counts).
+    #[test]
+    fn undetermined_columns_are_left_out_of_the_inverse() {
+        // Columns of norms 2, 1e-9 and 1 (the second below √ε · 2).
+        let jac = DMatrix::from_row_slice(3, 3, &[2.0, 1e-9, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]);
+        let d = determined(&jac);
+        assert_eq!(d, vec![true, false, true]);
+        let jtj = jac.transpose() * &jac;
+        let inv = inverse_of_determined(&jtj, &d).unwrap();
+        assert_eq!(inv[(0, 0)], 0.25);
+        assert_eq!(inv[(2, 2)], 1.0);
+        assert_eq!(inv[(0, 2)], 0.0);
+        for i in 0..3 {
+            assert!(inv[(1, i)].is_nan() && inv[(i, 1)].is_nan());
+        }
+        // A column just above the threshold counts, and the full inverse
+        // is returned.
+        let jac = DMatrix::from_row_slice(2, 2, &[2.0, 0.0, 0.0, 1e-7]);
+        assert_eq!(determined(&jac), vec![true, true]);
+        let jtj = jac.transpose() * &jac;
+        let inv = inverse_of_determined(&jtj, &[true, true]).unwrap();
+        assert!((inv[(1, 1)] * 1e-14 - 1.0).abs() < 1e-9);
+        // A singular determined block is still singular.
+        let jac = DMatrix::from_row_slice(2, 2, &[1.0, 1.0, 1.0, 1.0]);
+        assert_eq!(
+            inverse_of_determined(&(jac.transpose() * &jac), &determined(&jac)),
+            None
+        );
+        // No columns at all.
+        assert_eq!(determined(&DMatrix::zeros(4, 0)), Vec::<bool>::new());
     }
 
     #[test]

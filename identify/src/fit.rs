@@ -544,7 +544,8 @@ pub fn fit_records(
     let dof = m.saturating_sub(k).max(1) as f64;
     let jtj = jac.transpose() * &jac;
     let (condition_number, weakest) = diagnostics::conditioning(&jtj);
-    let inverse = jtj.try_inverse();
+    let determined = diagnostics::determined(&jac);
+    let inverse = diagnostics::inverse_of_determined(&jtj, &determined);
     let cov = inverse.as_ref().map(|inv| inv * (ssr / dof));
 
     let names = model.param_names();
@@ -594,7 +595,11 @@ pub fn fit_records(
         let rows: Vec<Vec<f64>> = (0..k)
             .map(|i| (0..k).map(|j| c[(i, j)] / (sd[i] * sd[j])).collect())
             .collect();
-        rows.iter().flatten().all(|v| v.is_finite()).then_some(rows)
+        // NaN in the rows and columns of undetermined parameters only.
+        let finite = |i: usize| determined.get(i).copied().unwrap_or(false);
+        (0..k)
+            .all(|i| (0..k).all(|j| !(finite(i) && finite(j)) || rows[i][j].is_finite()))
+            .then_some(rows)
     });
     fn scored<'a>(r: &Record<'a>) -> &'a [f64] {
         r.y.get(r.skip..).unwrap_or_default()
@@ -619,7 +624,20 @@ pub fn fit_records(
             }
         })
         .collect();
-    let warnings = diagnostics::warnings(&params, correlation.as_deref(), &weakest);
+    let mut warnings: Vec<_> = params
+        .iter()
+        .zip(&determined)
+        .filter(|(_, &d)| !d)
+        .map(|(p, _)| IdentifiabilityWarning::Undetermined {
+            name: p.label(),
+            value: p.value,
+        })
+        .collect();
+    warnings.extend(diagnostics::warnings(
+        &params,
+        correlation.as_deref(),
+        &weakest,
+    ));
     let mut fitted = dyn_clone::clone_box(model);
     fitted.set_params(&all_params).map_err(FitError::Start)?;
     let report = FitReport {
