@@ -18,11 +18,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-out/brfd-floor}
 mkdir -p "$out"
-cargo build --release -q -p hysteron-cli
-h=target/release/hysteron
-source scripts/brfd-records.sh
-common=(--output-column F --time-column t --skip 1 --no-progress)
-score=(--output-column F --time-column t --skip 1 --lowpass 10)
+source scripts/brfd-common.sh
 
 floor() { # floor START FREE CSV --data FILE ...
   local start=$1 free=$2 csv=$3

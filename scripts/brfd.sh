@@ -16,11 +16,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-out/brfd}
 mkdir -p "$out"
-cargo build --release -q -p hysteron-cli
-h=target/release/hysteron
-source scripts/brfd-records.sh
-common=(--output-column F --time-column t --skip 1 --no-progress)
-score=(--output-column F --time-column t --skip 1 --lowpass 10)
+source scripts/brfd-common.sh
 
 echo "== the device model: fit on ${train[*]}"
 $h fit --model examples/specs/brfd/start.json "${train[@]}" "${common[@]}" \
