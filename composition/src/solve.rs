@@ -10,7 +10,8 @@
 //! bracket (so an end that already is the root gets its bracket closed),
 //! and every fourth such step a bisection, counted since the last Newton
 //! step that halved the residual (a Newton step that did not is followed by
-//! a fallback, so the bracket at least halves every eight steps). The iteration stops when a step or the bracket is
+//! a fallback, so the bracket at least halves every eight steps). The
+//! iteration stops when a step or the bracket is
 //! smaller than `abs_tol + rel_tol · max(|x|, scale)`, or the residual is
 //! exactly zero, and otherwise fails with [`Error::NotConverged`]. The
 //! returned root is therefore within that tolerance of a sign change of the

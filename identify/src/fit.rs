@@ -181,7 +181,9 @@ pub struct FittedParam {
     /// Fitted value.
     pub value: f64,
     /// Standard error from the Gauss-Newton covariance (delta method
-    /// through the reparametrization); `None` where `JᵀJ` is singular.
+    /// through the reparametrization); `None` where `JᵀJ` is singular, and
+    /// for a parameter whose Jacobian column vanishes
+    /// ([`diagnostics::determined`](crate::diagnostics::determined)).
     pub std_error: Option<f64>,
     /// 95 % confidence interval: `θ ± 1.96 σ_θ` mapped through the
     /// reparametrization (so it respects the parameter's bounds).
@@ -248,15 +250,18 @@ pub struct FitReport {
     pub status: FitStatus,
     /// Correlation matrix of the free parameters (in the order of
     /// `params`), `ρ_ij = C_ij / √(C_ii C_jj)` from the Gauss-Newton
-    /// covariance `C = σ² (JᵀJ)⁻¹`; `None` where `JᵀJ` is singular. The
-    /// reparametrization of bounded parameters is monotone and increasing,
-    /// so to first order it leaves the correlations unchanged.
+    /// covariance `C = σ² (JᵀJ)⁻¹`; `None` where `JᵀJ` is singular, NaN in
+    /// the row and column of a parameter whose Jacobian column vanishes
+    /// ([`diagnostics::inverse_of_determined`](crate::diagnostics::inverse_of_determined)).
+    /// The reparametrization of bounded parameters is monotone and
+    /// increasing, so to first order it leaves the correlations unchanged.
     pub correlation: Option<Vec<Vec<f64>>>,
     /// Condition number `κ = λ_max/λ_min` of `JᵀJ` in the internal
     /// parameters ([`diagnostics::conditioning`](crate::diagnostics::conditioning));
     /// `None` where `JᵀJ` is singular.
     pub condition_number: Option<f64>,
-    /// Parameters the data do not pin down: wide intervals, correlated
+    /// Parameters the data do not pin down: parameters the output does not
+    /// depend on at the solution, wide intervals, correlated
     /// pairs, a singular `JᵀJ` ([`diagnostics::warnings`](crate::diagnostics::warnings)).
     pub warnings: Vec<IdentifiabilityWarning>,
     /// The costs of every start of a multi-start search and how many

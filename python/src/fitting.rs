@@ -151,21 +151,25 @@ impl FitResult {
         self.per_param(py, |p| p.start)
     }
 
-    /// Standard errors keyed by path (`None` where `JᵀJ` is singular).
+    /// Standard errors keyed by path (`None` where `JᵀJ` is singular, and
+    /// for a parameter the output does not depend on at the solution).
     #[getter]
     fn std_errors<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         self.per_param(py, |p| p.std_error)
     }
 
     /// 95 % confidence intervals `(lo, hi)` keyed by path (`None` where
-    /// `JᵀJ` is singular).
+    /// `JᵀJ` is singular, and for a parameter the output does not depend on
+    /// at the solution).
     #[getter]
     fn ci95<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         self.per_param(py, |p| p.ci95)
     }
 
     /// The free parameters' correlation matrix (rows and columns in the
-    /// order of `free`) as a 2-D array, or `None` where `JᵀJ` is singular.
+    /// order of `free`) as a 2-D array, or `None` where `JᵀJ` is singular
+    /// (NaN in the row and column of a parameter the output does not
+    /// depend on at the solution).
     #[getter]
     fn correlation<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyArray2<f64>>>> {
         match &self.report.correlation {
@@ -199,10 +203,12 @@ impl FitResult {
         Ok(Some(d))
     }
 
-    /// Identifiability warnings, one sentence each: every parameter whose
-    /// 95 % interval is wider than `|value|`, every pair correlated beyond
-    /// 0.99, or a singular `JᵀJ` (empty when the data pin every free
-    /// parameter down).
+    /// Identifiability warnings, one sentence each: every parameter the
+    /// output does not depend on at the solution (a vanishing Jacobian
+    /// column, such as a non-negative parameter driven to 0: no standard
+    /// error), every parameter whose 95 % interval is wider than
+    /// `|value|`, every pair correlated beyond 0.99, or a singular `JᵀJ`
+    /// (empty when the data pin every free parameter down).
     #[getter]
     fn warnings(&self) -> Vec<String> {
         self.report.warnings.iter().map(|w| w.to_string()).collect()
