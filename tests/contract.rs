@@ -58,6 +58,38 @@ fn check<T: Float, O: Operator<T> + Clone + 'static>(label: &str, op: O) {
         );
     }
 
+    // An operator that rests when held gives the committed output again at
+    // the committed input, and repeating trial + commit there leaves the
+    // state (probed by trials elsewhere) as one trial + commit left it: at
+    // a few points of the signal, at a reversal and mid-branch.
+    if fresh.rests_when_held() {
+        for at in [1, 2, 150, xs.len() / 3, xs.len() - 1] {
+            let mut once = fresh.clone();
+            once.run(&xs[..at]).unwrap();
+            let x = xs[at - 1];
+            let first = once.trial(x).unwrap();
+            once.commit();
+            let mut held = once.clone();
+            for _ in 0..3 {
+                let t = held.trial(x).unwrap();
+                assert_eq!(
+                    t.output.as_f64().to_bits(),
+                    first.output.as_f64().to_bits(),
+                    "{label}: rests when held, but the output moved at sample {at}"
+                );
+                held.commit();
+            }
+            for probe in [x, x + lit(0.3), x - lit(0.3)] {
+                let (a, b) = (once.trial(probe).unwrap(), held.trial(probe).unwrap());
+                assert_eq!(
+                    (a.output.as_f64().to_bits(), a.tangent.as_f64().to_bits()),
+                    (b.output.as_f64().to_bits(), b.tangent.as_f64().to_bits()),
+                    "{label}: rests when held, but holding changed the state (sample {at}, probe {probe})"
+                );
+            }
+        }
+    }
+
     // process_while == trial, keep, commit, stopping uncommitted at the
     // first sample `keep` refuses; `keep` sees each output once, in order
     for cut in [0, 1, 2, 100, 101, 102, xs.len() / 2, xs.len() - 1, xs.len()] {

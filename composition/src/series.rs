@@ -273,14 +273,26 @@ impl<T: Float, L: Operator<T>, R: Operator<T>> MechanicalSeries<T, L, R> {
         }
         let (left, right) = (&mut self.left, &mut self.right);
         let zero = T::zero();
+        // A left element that rests when held is trialled and committed at
+        // `xl` once; its output there then stands for every later sample
+        // of the stretch (the same bits a trial would give).
+        let rests = left.rests_when_held();
+        let mut held: Option<T> = None;
         let mut keep = |_: usize, force: T| {
-            let Ok(l) = left.trial(xl) else {
-                return false;
+            let l_out = match held {
+                Some(out) => out,
+                None => match left.trial(xl) {
+                    Ok(l) => l.output,
+                    Err(_) => return false,
+                },
             };
-            let res = l.output - force;
+            let res = l_out - force;
             let holds = (xl == hi && res < zero) || (xl == lo && res > zero);
-            if holds && force.is_finite() {
+            if holds && force.is_finite() && held.is_none() {
                 left.commit();
+                if rests {
+                    held = Some(l_out);
+                }
             }
             holds && force.is_finite()
         };

@@ -123,6 +123,8 @@ fn slip_step<T: Float>(r_pos: T, r_neg: T, q: T, x: T) -> (T, T, T) {
 
 impl<T: Float> StepLaw<T> for AsymmetricFrictionParams<T> {
     const KIND: &'static str = "asymmetric_friction";
+    // At an unchanged input the clamp that moves the state leaves it.
+    const RESTS_WHEN_HELD: bool = true;
     type State = T;
     type With<U: Float> = AsymmetricFrictionParams<U>;
 

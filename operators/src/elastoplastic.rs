@@ -70,6 +70,8 @@ impl<T: Float> ElastoPlastic<T> {
 
 impl<T: Float> StepLaw<T> for ElastoPlasticParams<T> {
     const KIND: &'static str = "elastoplastic";
+    // At an unchanged input the clamp that moves the state leaves it.
+    const RESTS_WHEN_HELD: bool = true;
     type State = T;
     type With<U: Float> = ElastoPlasticParams<U>;
 

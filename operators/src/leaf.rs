@@ -164,6 +164,11 @@ pub trait StepLaw<T: Float>: ParamSet<T> {
     /// The same law for another scalar type.
     type With<U: Float>: StepLaw<U> + 'static;
 
+    /// Whether a step at the state's own input keeps the state and gives
+    /// the committed output again, bit for bit (after one step there):
+    /// [`Operator::rests_when_held`]. `false` unless the law says so.
+    const RESTS_WHEN_HELD: bool = false;
+
     /// The same parameters over the scalar `U`, as constants (for a
     /// declared set: `CastScalar::cast_scalar(self)`).
     fn cast_law<U: Float>(&self) -> Self::With<U>;
@@ -310,6 +315,10 @@ impl<T: Float, L: StepLaw<T>> Operator<T> for Stepped<L, T> {
 
     fn set_sample_period(&mut self, dt: T) -> Result<()> {
         self.law.set_sample_period(dt)
+    }
+
+    fn rests_when_held(&self) -> bool {
+        L::RESTS_WHEN_HELD
     }
 
     crate::leaf_param_methods!(T);

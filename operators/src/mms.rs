@@ -180,6 +180,10 @@ fn on_branch<T: Float>(rise: T, target: T, y_r: T) -> T {
 
 impl<T: Float> StepLaw<T> for MmsParams<T> {
     const KIND: &'static str = "mms";
+    // At an unchanged input the branch and the direction stay, and the
+    // output is the committed one (over dual numbers: the branch value at
+    // that input, the same each time once committed).
+    const RESTS_WHEN_HELD: bool = true;
     type State = MmsState<T>;
     type With<U: Float> = MmsParams<U>;
 
@@ -236,11 +240,11 @@ impl<T: Float> StepLaw<T> for MmsParams<T> {
             // ... the rest of the run stays on that branch: the same
             // formula as `step`, with the branch constants hoisted, and no
             // dependency from one sample to the next. It runs in blocks of
-            // three loops: the exponent of every sample, the `expm1` calls
-            // alone (`exp` or `expm1`: a call clobbers every floating-point register, so with
-            // nothing else live around it nothing is spilled and reloaded
-            // per sample), and the outputs; the same operations on the same
-            // values as one loop.
+            // three loops: the exponent of every sample, the `exp` or
+            // `expm1` calls alone (a call clobbers every floating-point
+            // register, so with nothing else live around it nothing is
+            // spilled and reloaded per sample), and the outputs; the same
+            // operations on the same values as one loop.
             let up = s.dir > 0;
             let target = if up { self.f_c } else { -self.f_c };
             let (k, x_r, y_r) = (self.k, s.x_r, s.y_r);

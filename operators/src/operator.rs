@@ -117,6 +117,27 @@ pub trait Operator<T: Float>: DynClone + Debug + Send + Sync {
         process_while_by_trials(self, xs, ys, keep)
     }
 
+    /// Whether holding the input still changes nothing: after `trial(x)`
+    /// and `commit()`, every later `trial(x)` at the same `x` returns the
+    /// same output, bit for bit, and committing it leaves the state as it
+    /// is. Rate-independent operators whose step at an unchanged input
+    /// keeps their state have it; anything that integrates over time (a
+    /// damper, LuGre) does not. The default, `false`, is always safe.
+    ///
+    /// A combinator may then skip a child's trials while that child's
+    /// input stays put: a `MechanicalSeries` of the composition crate,
+    /// holding its left element at a travel limit, trials it once per
+    /// stretch instead of once per sample.
+    ///
+    /// ```
+    /// use hysteron_operators::{Mms, Operator, ViscousDamper};
+    /// assert!(Mms::new(1.0_f64, 5.0).unwrap().rests_when_held());
+    /// assert!(!ViscousDamper::new(2.0_f64, 0.1).unwrap().rests_when_held());
+    /// ```
+    fn rests_when_held(&self) -> bool {
+        false
+    }
+
     /// Runs `xs` through the operator from its current state and returns the
     /// outputs in a new vector.
     fn run(&mut self, xs: &[T]) -> Result<Vec<T>> {
@@ -254,6 +275,9 @@ impl<T: Float> Operator<T> for Box<dyn Operator<T>> {
     }
     fn run(&mut self, xs: &[T]) -> Result<Vec<T>> {
         (**self).run(xs)
+    }
+    fn rests_when_held(&self) -> bool {
+        (**self).rests_when_held()
     }
     fn set_sample_period(&mut self, dt: T) -> Result<()> {
         (**self).set_sample_period(dt)

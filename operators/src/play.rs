@@ -141,6 +141,8 @@ impl<T: Float> Play<T> {
 
 impl<T: Float> StepLaw<T> for PlayParams<T> {
     const KIND: &'static str = "play";
+    // At an unchanged input the clamp that moves the state leaves it.
+    const RESTS_WHEN_HELD: bool = true;
     type State = T;
     type With<U: Float> = PlayParams<U>;
 
