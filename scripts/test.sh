@@ -27,8 +27,10 @@ echo "== cargo test --workspace"
 cargo test --workspace
 
 echo "== the vector kernels' contract on AVX2 and without vector kernels (HYSTERON_ISA caps the dispatch)"
-HYSTERON_ISA=avx2 cargo test -q -p hysteron --test contract
-HYSTERON_ISA=portable cargo test -q -p hysteron --test contract
+for isa in avx2 portable; do
+    HYSTERON_ISA=$isa cargo test -q -p hysteron --test contract
+    HYSTERON_ISA=$isa cargo test -q -p hysteron-operators --lib exp_m1
+done
 
 echo "== the derivative property test at 10x its default cases (issue 16)"
 PROPTEST_CASES=2560 cargo test -q -p hysteron --test derivatives random_compositions

@@ -11,8 +11,8 @@
 
 #![cfg(target_arch = "x86_64")]
 
-use core::any::TypeId;
 use core::arch::x86_64::*;
+pub(crate) use hysteron_operators::simd::{as_f64, as_f64_mut, Isa};
 use hysteron_operators::{play_step, Error};
 
 /// The bank's slices, all of the same length.
@@ -36,45 +36,6 @@ impl Bank<'_> {
             .min(self.y.len())
             .min(self.pending.len())
     }
-}
-
-/// Which vector instructions to use, detected at run time.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Isa {
-    Avx2,
-    Avx512,
-}
-
-impl Isa {
-    /// The widest supported, if any, unless the environment variable
-    /// `HYSTERON_ISA` caps it (read once): `avx2` stops at AVX2, `portable`
-    /// uses no vector kernel. For measuring an AVX2-only machine on an
-    /// AVX-512 one, and for testing each kernel on any machine; the results
-    /// are the same bit for bit.
-    pub(crate) fn detect() -> Option<Isa> {
-        static CAP: std::sync::OnceLock<Option<String>> = std::sync::OnceLock::new();
-        let cap = CAP.get_or_init(|| std::env::var("HYSTERON_ISA").ok());
-        match cap.as_deref() {
-            Some("portable") => None,
-            Some("avx2") => std::arch::is_x86_feature_detected!("avx2").then_some(Isa::Avx2),
-            _ if std::arch::is_x86_feature_detected!("avx512f") => Some(Isa::Avx512),
-            _ => std::arch::is_x86_feature_detected!("avx2").then_some(Isa::Avx2),
-        }
-    }
-}
-
-/// `s` as a slice of `f64`, if `T` is `f64`.
-pub(crate) fn as_f64<T: 'static>(s: &[T]) -> Option<&[f64]> {
-    // SAFETY: `T` and `f64` are the same type (equal type ids).
-    (TypeId::of::<T>() == TypeId::of::<f64>())
-        .then(|| unsafe { &*(s as *const [T] as *const [f64]) })
-}
-
-/// `s` as a mutable slice of `f64`, if `T` is `f64`.
-pub(crate) fn as_f64_mut<T: 'static>(s: &mut [T]) -> Option<&mut [f64]> {
-    // SAFETY: `T` and `f64` are the same type (equal type ids).
-    (TypeId::of::<T>() == TypeId::of::<f64>())
-        .then(|| unsafe { &mut *(s as *mut [T] as *mut [f64]) })
 }
 
 /// Runs `xs` through the bank into `ys` (same lengths). Returns the

@@ -41,11 +41,13 @@ pub mod check;
 mod domain;
 mod dual;
 mod error;
+mod exp_m1;
 mod float;
 mod leaf;
 mod memoryless;
 mod operator;
 pub mod params;
+pub mod simd;
 
 mod flow_sensitivity;
 mod flow_table;
