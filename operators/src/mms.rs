@@ -145,20 +145,29 @@ fn rise<T: Float>(k: T, x: T, x_r: T) -> T {
 /// Over `f64` it is the branch-free kernel of [`crate::exp_m1`] (within
 /// about one ulp), which the batch loop runs four or eight samples per
 /// instruction, so that `step` and the batch loop give the same bits.
-/// Over other scalars (`f32`, dual numbers) the library's `expm1` near the
-/// reversal (`a ≤ ln 2`) and `exp` beyond, where `e^{−a} < 1/2` and the
-/// subtraction adds at most one rounding.
+/// Over other scalars the library's `expm1` near the reversal (`a ≤ ln 2`)
+/// and `exp` beyond, where `e^{−a} < 1/2` and the subtraction adds at most
+/// one rounding; over dual numbers these give the derivatives, and the
+/// value is the `f64` kernel's.
 #[inline(always)]
 fn exp_m1_of_negative<T: Float>(minus_a: T) -> T {
     if TypeId::of::<T>() == TypeId::of::<f64>() {
         // (`as_f64` and `lit` are the identity on `f64`)
         return T::lit(crate::exp_m1::exp_m1_nonpositive(minus_a.as_f64()));
     }
-    if minus_a < -T::LN_2() {
+    let v = if minus_a < -T::LN_2() {
         minus_a.exp() - T::one()
     } else {
         minus_a.exp_m1()
+    };
+    if T::CARRIES_DERIVATIVES {
+        // The value of the `f64` kernel, so that the dual twin's values are
+        // the `f64` model's bits: the two differ by an ulp or so, so the
+        // difference is exact, and so is the sum.
+        let kernel = T::lit(crate::exp_m1::exp_m1_nonpositive(minus_a.as_f64()));
+        return v + (kernel - v.without_derivatives());
     }
+    v
 }
 
 /// [`exp_m1_of_negative`] of every value of `v`, in place (over `f64`
@@ -336,6 +345,29 @@ mod tests {
             law.run(&mut s, &[0.1, 0.2, 0.3], &mut ys),
             Err(Error::LengthMismatch { .. })
         ));
+    }
+
+    /// The dual twin's values are the `f64` operator's bits (its
+    /// derivatives come from the library's `expm1`/`exp`), in `step` and in
+    /// the batch loop.
+    #[test]
+    fn dual_values_are_the_f64_values() {
+        use crate::{Dual, Operator};
+        let xs: Vec<f64> = (0..600)
+            .map(|i| 2.0 * (i as f64 * 0.05).sin() + 0.3 * (i as f64 * 0.71).sin())
+            .collect();
+        let mut f = Mms::new(1.5_f64, 7.0).unwrap();
+        let want = f.run(&xs).unwrap();
+        let mut d = Mms::new(Dual::variable(1.5, 0), Dual::variable(7.0, 1)).unwrap();
+        let dx: Vec<Dual> = xs.iter().map(|&x| Dual::constant(x)).collect();
+        let batch = d.run(&dx).unwrap();
+        d.reset();
+        for (k, (&x, y)) in dx.iter().zip(&want).enumerate() {
+            let t = d.trial(x).unwrap();
+            d.commit();
+            assert_eq!(t.output.re.to_bits(), y.to_bits(), "step at {k}");
+            assert_eq!(batch[k].re.to_bits(), y.to_bits(), "batch at {k}");
+        }
     }
 
     /// Over `f64` the branch is the vectorisable kernel, bit for bit;
