@@ -344,6 +344,11 @@ impl<'a> Record<'a> {
     pub fn new(x: &'a [f64], y: &'a [f64]) -> Self {
         Self { x, y, skip: 0 }
     }
+
+    /// The output samples compared: `y.len() − skip`.
+    pub(crate) fn scored(&self) -> usize {
+        self.y.len().saturating_sub(self.skip)
+    }
 }
 
 fn check_records(records: &[Record<'_>], stride: usize) -> Result<(), FitError> {

@@ -5,7 +5,7 @@
 
 use crate::fit::{FitOptions, Jacobian, Progress, Record};
 use crate::transform::Reparam;
-use hysteron_models::sensitivity::derivatives_at;
+use hysteron_models::sensitivity::visit_derivatives;
 use hysteron_operators::{Dual, Error, Operator, DUAL_WIDTH};
 use levenberg_marquardt::LeastSquaresProblem;
 use nalgebra::{DMatrix, DVector, Dyn, Owned};
@@ -13,6 +13,9 @@ use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
+
+/// Samples per block of a simulation (an output buffer of 32 KiB).
+const BLOCK: usize = 4096;
 
 /// Where the fit's parameters sit in the vector `θ` the solver moves: the
 /// shared free parameters first, then, record after record, each record's
@@ -112,23 +115,45 @@ impl Problem<'_> {
     }
 
     /// Residuals at `theta`, or the model's error there with its record.
+    ///
+    /// Each record runs in blocks of [`BLOCK`] samples through one small
+    /// buffer (the model resumes from its state at every block, as
+    /// `process` does): a fit simulates dozens of times, and an output
+    /// buffer as long as the record, allocated and freed each time, made
+    /// the allocator hand pages back to the system and fault them in again.
+    // `q < record.y.len()` is checked before `record.y[q]`.
+    #[allow(clippy::indexing_slicing)]
     pub fn simulate(&self, theta: &[f64]) -> Result<DVector<f64>, (usize, Error)> {
         self.evaluations.fetch_add(1, Ordering::Relaxed);
         let mut residuals = Vec::with_capacity(self.m);
+        let longest = self.records.iter().map(|r| r.x.len()).max().unwrap_or(0);
+        let mut out = vec![0.0; BLOCK.min(longest)];
         for (r, record) in self.records.iter().enumerate() {
             let mut model = self.template.clone();
             model
                 .set_params(&self.full_params(theta, r))
                 .map_err(|e| (r, e))?;
-            let mut out = vec![0.0; record.x.len()];
-            model.process(record.x, &mut out).map_err(|e| (r, e))?;
-            residuals.extend(
-                out.iter()
-                    .step_by(self.stride)
-                    .zip(record.y)
-                    .skip(record.skip)
-                    .map(|(m, d)| m - d),
-            );
+            for (b, xs) in record.x.chunks(BLOCK).enumerate() {
+                let offset = b * BLOCK;
+                let out = &mut out[..xs.len()];
+                model
+                    .process(xs, out)
+                    .map_err(|e| (r, e.offset_by(offset)))?;
+                for (i, m) in out.iter().enumerate() {
+                    let k = offset + i;
+                    if k % self.stride != 0 {
+                        continue;
+                    }
+                    let q = k / self.stride;
+                    if q < record.skip {
+                        continue;
+                    }
+                    if q >= record.y.len() {
+                        break;
+                    }
+                    residuals.push(m - record.y[q]);
+                }
+            }
         }
         Ok(DVector::from_vec(residuals))
     }
@@ -192,52 +217,88 @@ impl Problem<'_> {
     /// its own) seeded, [`DUAL_WIDTH`] at a time, and the chain rule of the
     /// reparametrization, `∂r/∂θ_j = (∂y/∂p_i) dφ/dθ_j`. `None` where a
     /// dual simulation fails or a derivative is not finite.
-    // Indices: `j < theta.len() = maps.len()`, layout indices `< base.len()`
-    // (checked by the caller), rows within the record's block of `m`.
+    // Rows: each record's block of `m` starts at the sum of the rows before.
     #[allow(clippy::indexing_slicing)]
     fn exact_jacobian(&self, dual: &(dyn Operator<Dual> + 'static)) -> Option<DMatrix<f64>> {
         self.evaluations
             .fetch_add(self.jacobian_cost(), Ordering::Relaxed);
-        let theta = self.theta.as_slice();
-        let k = self.layout.shared.len();
-        let n_own = self.layout.own.len();
-        let run = |r: usize| {
-            let record = &self.records[r];
-            // θ entries of record r, and their model indices
-            let entries: Vec<(usize, usize)> = (self.layout.shared.iter().enumerate())
-                .map(|(j, &i)| (j, i))
-                .chain((self.layout.own.iter().enumerate()).map(|(o, &i)| (k + r * n_own + o, i)))
+        let k = self.theta.len();
+        let rows: Vec<usize> = self.records.iter().map(Record::scored).collect();
+        let mut jac = DMatrix::zeros(self.m, k);
+        if self.parallel && self.records.len() > 1 {
+            // each record into a block of its own, in parallel, then copied
+            let blocks: Vec<Option<DMatrix<f64>>> = (0..self.records.len())
+                .into_par_iter()
+                .map(|r| {
+                    let mut b = DMatrix::zeros(rows[r], k);
+                    self.record_jacobian(dual, r, |row, j, d| b[(row, j)] = d)?;
+                    Some(b)
+                })
                 .collect();
-            let indices: Vec<usize> = entries.iter().map(|&(_, i)| i).collect();
-            let (_, columns) =
-                derivatives_at(dual, &self.full_params(theta, r), record.x, &indices).ok()?;
-            Some((r, entries, columns))
-        };
-        let done: Vec<_> = if self.parallel {
-            (0..self.records.len()).into_par_iter().map(run).collect()
-        } else {
-            (0..self.records.len()).map(run).collect()
-        };
-        let mut jac = DMatrix::zeros(self.m, theta.len());
-        let mut first_row = 0;
-        for pass in done {
-            let (r, entries, columns) = pass?;
-            let record = &self.records[r];
-            let rows = record.y.len().saturating_sub(record.skip);
-            for (&(j, _), column) in entries.iter().zip(&columns) {
-                let dp = self.maps[j].derivative(theta[j]);
-                let scored = column
-                    .iter()
-                    .step_by(self.stride)
-                    .skip(record.skip)
-                    .take(rows);
-                for (row, d) in scored.enumerate() {
-                    jac[(first_row + row, j)] = d * dp;
-                }
+            let mut first_row = 0;
+            for (b, &n) in blocks.into_iter().zip(&rows) {
+                jac.rows_mut(first_row, n).copy_from(&b?);
+                first_row += n;
             }
-            first_row += rows;
+        } else {
+            // straight into the Jacobian: no copy of the columns
+            let mut first_row = 0;
+            for (r, &n) in rows.iter().enumerate() {
+                self.record_jacobian(dual, r, |row, j, d| jac[(first_row + row, j)] = d)?;
+                first_row += n;
+            }
         }
         Some(jac)
+    }
+
+    /// The rows of record `r` in [`exact_jacobian`](Self::exact_jacobian):
+    /// `put(row, j, ∂r_row/∂θ_j)` for every scored sample (rows counted
+    /// from the record's first) and every `θ_j` the record depends on.
+    // Indices: `j < theta.len() = maps.len()`, layout indices `< base.len()`
+    // (checked by the caller), entry `first_column + slot < entries.len()`.
+    #[allow(clippy::indexing_slicing)]
+    fn record_jacobian(
+        &self,
+        dual: &(dyn Operator<Dual> + 'static),
+        r: usize,
+        mut put: impl FnMut(usize, usize, f64),
+    ) -> Option<()> {
+        let theta = self.theta.as_slice();
+        let record = &self.records[r];
+        let (k, n_own) = (self.layout.shared.len(), self.layout.own.len());
+        // θ entries of record r, and their model indices
+        let entries: Vec<(usize, usize)> = (self.layout.shared.iter().enumerate())
+            .map(|(j, &i)| (j, i))
+            .chain((self.layout.own.iter().enumerate()).map(|(o, &i)| (k + r * n_own + o, i)))
+            .collect();
+        let indices: Vec<usize> = entries.iter().map(|&(_, i)| i).collect();
+        let dp: Vec<f64> = entries
+            .iter()
+            .map(|&(j, _)| self.maps[j].derivative(theta[j]))
+            .collect();
+        let rows = record.scored();
+        let params = self.full_params(theta, r);
+        visit_derivatives(dual, &params, record.x, &indices, |block| {
+            for (i, y) in block.ys.iter().enumerate() {
+                let sample = block.offset + i;
+                if sample % self.stride != 0 {
+                    continue;
+                }
+                let q = sample / self.stride;
+                if q < record.skip {
+                    continue;
+                }
+                let row = q - record.skip;
+                if row >= rows {
+                    break;
+                }
+                for (slot, &d) in y.eps.iter().take(block.columns).enumerate() {
+                    let e = block.first_column + slot;
+                    put(row, entries[e].0, d * dp[e]);
+                }
+            }
+        })
+        .ok()
     }
 
     /// The Jacobian by central differences (`2k` simulations).
@@ -324,10 +385,7 @@ impl<'a> Problem<'a> {
             .iter()
             .flat_map(|r| r.y)
             .fold(1.0_f64, |a, v| a.max(v.abs()));
-        let m = records
-            .iter()
-            .map(|r| r.y.len().saturating_sub(r.skip))
-            .sum();
+        let m = records.iter().map(Record::scored).sum();
         let started = Instant::now();
         let deadline = opts
             .max_seconds

@@ -180,16 +180,62 @@ pub fn derivatives_at(
     input: &[f64],
     indices: &[usize],
 ) -> Result<(Vec<f64>, Vec<Vec<f64>>), Failure> {
+    let n = input.len();
+    let mut output = Vec::new();
+    let mut columns: Vec<Vec<f64>> = indices.iter().map(|_| Vec::with_capacity(n)).collect();
+    visit_derivatives(model, base, input, indices, |block| {
+        for (slot, col) in columns.iter_mut().skip(block.first_column).enumerate() {
+            if slot >= block.columns {
+                break;
+            }
+            col.extend(
+                block
+                    .ys
+                    .iter()
+                    .map(|y| y.eps.get(slot).copied().unwrap_or(0.0)),
+            );
+        }
+        if block.first_column == 0 {
+            output.extend(block.ys.iter().map(|y| y.re));
+        }
+    })?;
+    Ok((output, columns))
+}
+
+/// One block of a pass of [`visit_derivatives`]: the dual outputs of
+/// `input[offset..offset + ys.len()]`, whose derivative slot `s <
+/// columns` is the column `first_column + s`.
+#[derive(Debug)]
+pub struct Block<'a> {
+    /// The first column this pass seeds (an index into the parameters
+    /// asked for).
+    pub first_column: usize,
+    /// How many columns this pass seeds.
+    pub columns: usize,
+    /// The sample of `ys[0]`.
+    pub offset: usize,
+    /// The dual outputs.
+    pub ys: &'a [Dual],
+}
+
+/// The passes of [`derivatives_at`], handing each block of dual outputs to
+/// `visit` instead of collecting them (a fit writes its Jacobian from
+/// them, without a copy of every column). Fails on the model's error or at
+/// the first derivative that is not finite (after visiting its block).
+pub fn visit_derivatives(
+    model: &(dyn Operator<Dual> + 'static),
+    base: &[f64],
+    input: &[f64],
+    indices: &[usize],
+    mut visit: impl FnMut(Block<'_>),
+) -> Result<(), Failure> {
     if input.is_empty() {
         return Err(Failure::Empty);
     }
-    let n = input.len();
-    let mut output = Vec::new();
-    let mut columns = Vec::with_capacity(indices.len());
     // The record runs in blocks through buffers that stay in cache (the
     // model resumes from its state at every block, as `process` does).
-    let mut xs = Vec::with_capacity(BLOCK.min(n));
-    let mut ys = Vec::with_capacity(BLOCK.min(n));
+    let mut xs = Vec::with_capacity(BLOCK.min(input.len()));
+    let mut ys = Vec::with_capacity(BLOCK.min(input.len()));
     for (pass, chunk) in indices.chunks(DUAL_WIDTH).enumerate() {
         let mut p: Vec<Dual> = base.iter().map(|&v| Dual::constant(v)).collect();
         for (slot, &i) in chunk.iter().enumerate() {
@@ -199,38 +245,30 @@ pub fn derivatives_at(
         }
         let mut m = dyn_clone::clone_box(model);
         m.set_params(&p).map_err(Failure::Model)?;
-        let first = columns.len();
-        columns.extend((0..chunk.len()).map(|_| Vec::with_capacity(n)));
+        let first_column = pass * DUAL_WIDTH;
         for (b, block) in input.chunks(BLOCK).enumerate() {
             let offset = b * BLOCK;
             xs.clear();
             xs.extend(block.iter().map(|&x| Dual::constant(x)));
             ys.clear();
             ys.resize(block.len(), Dual::constant(0.0));
-            m.process(&xs, &mut ys).map_err(|e| {
-                Failure::Model(match e {
-                    Error::AtSample { index, source } => Error::AtSample {
-                        index: index + offset,
-                        source,
-                    },
-                    other => other,
-                })
-            })?;
-            for (slot, col) in columns.iter_mut().skip(first).enumerate() {
-                col.extend(ys.iter().map(|y| y.eps.get(slot).copied().unwrap_or(0.0)));
-            }
-            if pass == 0 {
-                output.extend(ys.iter().map(|y| y.re));
-            }
-        }
-        for (slot, col) in columns.iter().skip(first).enumerate() {
-            if let Some(sample) = col.iter().position(|d| !d.is_finite()) {
-                return Err(Failure::NonFinite {
-                    sample,
-                    column: pass * DUAL_WIDTH + slot,
-                });
+            m.process(&xs, &mut ys)
+                .map_err(|e| Failure::Model(e.offset_by(offset)))?;
+            visit(Block {
+                first_column,
+                columns: chunk.len(),
+                offset,
+                ys: &ys,
+            });
+            for (k, y) in ys.iter().enumerate() {
+                if let Some(slot) = y.eps.iter().take(chunk.len()).position(|d| !d.is_finite()) {
+                    return Err(Failure::NonFinite {
+                        sample: offset + k,
+                        column: first_column + slot,
+                    });
+                }
             }
         }
     }
-    Ok((output, columns))
+    Ok(())
 }

@@ -124,4 +124,17 @@ impl Error {
             source: Box::new(self),
         }
     }
+
+    /// The error of a block of samples that starts at sample `offset` of a
+    /// longer record, as that record's: its sample index moved by `offset`
+    /// (an error without one is returned as it is).
+    pub fn offset_by(self, offset: usize) -> Self {
+        match self {
+            Error::AtSample { index, source } => Error::AtSample {
+                index: index + offset,
+                source,
+            },
+            other => other,
+        }
+    }
 }
