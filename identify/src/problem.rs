@@ -141,7 +141,7 @@ impl Problem<'_> {
                     .map_err(|e| (r, e.offset_by(offset)))?;
                 for (i, m) in out.iter().enumerate() {
                     let k = offset + i;
-                    if k % self.stride != 0 {
+                    if !k.is_multiple_of(self.stride) {
                         continue;
                     }
                     let q = k / self.stride;
@@ -281,7 +281,7 @@ impl Problem<'_> {
         visit_derivatives(dual, &params, record.x, &indices, |block| {
             for (i, y) in block.ys.iter().enumerate() {
                 let sample = block.offset + i;
-                if sample % self.stride != 0 {
+                if !sample.is_multiple_of(self.stride) {
                     continue;
                 }
                 let q = sample / self.stride;
