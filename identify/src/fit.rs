@@ -1,6 +1,7 @@
 //! Fitting any model's parameters to one record or several with
 //! Levenberg-Marquardt.
 
+use crate::compressed::Compressed;
 use crate::diagnostics::{self, IdentifiabilityWarning};
 use crate::problem::{Layout, Problem};
 use hysteron_operators::{Error, Operator};
@@ -536,7 +537,8 @@ pub fn fit_records(
         .with_xtol(opts.xtol)
         .with_gtol(opts.gtol)
         .with_patience(opts.patience);
-    let (mut problem, lm_report) = lm.minimize(problem);
+    let (compressed, lm_report) = lm.minimize(Compressed::new(problem));
+    let mut problem = compressed.into_inner();
     // The budget ends the search at the last accepted point.
     let (theta, status) = match problem.stopped() {
         Some(why) => (problem.accepted(), FitStatus::NotConverged(why)),

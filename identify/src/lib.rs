@@ -23,6 +23,7 @@
 
 pub mod batch;
 pub mod benchmark;
+mod compressed;
 pub mod diagnostics;
 mod fit;
 pub mod metrics;
