@@ -150,6 +150,25 @@ fn inverse_outside_range_is_an_error() {
     ));
 }
 
+/// The inverse of a dead zone `[−0.5, 1]` at a target of `±1e-300`: the
+/// root is at the zone's edge, 300 decades beyond a first step as small as
+/// the target. Widening by ×4 alone gave up after 38 decades
+/// (`NoBracket`); the widening now speeds up after 16 steps and reaches
+/// it. The root is the edge within the solver's tolerance (`rel_tol = 16
+/// ε`, the default).
+#[test]
+fn inverse_finds_a_root_far_beyond_a_tiny_target() {
+    for (target, edge) in [(1e-300, 1.0), (-1e-300, -0.5)] {
+        let mut inv = DeadZone::new(-0.5, 1.0).unwrap().inverse();
+        let t = inv.trial(target).unwrap();
+        assert!(
+            close(t.output, edge, 16.0 * f64::EPSILON),
+            "{target:e}: {}",
+            t.output
+        );
+    }
+}
+
 #[test]
 fn friction_in_series_with_spring_plateaus_at_coulomb_level() {
     // A stiff spring behind MMS friction: the force follows the friction

@@ -29,7 +29,12 @@ pub struct SolverOptions<T> {
     pub abs_tol: T,
     /// Maximum Newton/bisection iterations once the root is bracketed.
     pub max_iter: usize,
-    /// Maximum widenings of the search interval (each ×4).
+    /// Maximum widenings of the search interval: ×4 each for the first
+    /// 16, then by factors that square up to `1e16` (16, 256, 65 536,
+    /// 4.3e9, then 1e16 each), so that 64 reach any finite distance from a
+    /// first step as small as the smallest normal number (×4 alone reaches
+    /// 38 decades: an inverse at a target of `1e-300` whose root lies at
+    /// unit scale found no bracket).
     pub max_expansions: usize,
 }
 
@@ -336,6 +341,7 @@ where
     // Side 0 is downhill for an increasing residual; side 1 (uphill) is
     // searched too from the third widening on, for residuals that decrease.
     let mut blocked = [false, false];
+    let mut growth = T::lit(4.0);
     for i in 0..opts.max_expansions {
         let sides = [preferred, -preferred].into_iter().zip(&mut blocked);
         for (k, (side, blocked)) in sides.enumerate() {
@@ -371,7 +377,10 @@ where
         if blocked[0] && blocked[1] {
             break;
         }
-        h = h * T::lit(4.0);
+        h = h * growth;
+        if i >= 15 {
+            growth = (growth * growth).min(T::lit(1e16));
+        }
         if !h.is_finite() {
             break;
         }
