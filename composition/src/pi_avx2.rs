@@ -7,7 +7,8 @@
 //! return their second operand when the comparison is false, exactly the
 //! compare-and-select of [`play_step`](hysteron_operators::play_step)), and
 //! `Σ w_j y_j` in eight interleaved partial sums (lane `l` sums the plays
-//! `j ≡ l mod 8`), multiply then add, no fused multiply-add.
+//! `j ≡ l mod 8`), each term added by a fused multiply-add (`vfmadd`, as
+//! `f64::mul_add` in the portable loop: one rounding per play).
 
 #![cfg(target_arch = "x86_64")]
 
@@ -86,7 +87,7 @@ fn resident_chunks(bank: &Bank<'_>) -> Option<usize> {
 /// [`process_avx512`], so the same bits. At the end the plays go to the
 /// buffer the caller expects (`y` after an even number of applied samples,
 /// `pending` after an odd one).
-#[target_feature(enable = "avx512f")]
+#[target_feature(enable = "avx512f,fma")]
 unsafe fn resident512<const C: usize>(
     bank: &mut Bank<'_>,
     xs: &[f64],
@@ -119,7 +120,7 @@ unsafe fn resident512<const C: usize>(
                 _mm512_min_pd(*yc, _mm512_add_pd(xv, rc)),
                 _mm512_sub_pd(xv, rc),
             );
-            sum = _mm512_add_pd(sum, _mm512_mul_pd(wc, *yc));
+            sum = _mm512_fmadd_pd(wc, *yc, sum);
         }
         let mut acc = [0.0; 8];
         // SAFETY: `acc` holds 8 values.
@@ -158,7 +159,7 @@ fn tail(r: &[f64], w: &[f64], prev: &[f64], next: &mut [f64], x: f64) -> f64 {
     let mut sum = 0.0;
     for (((&r, &w), &p), y) in r.iter().zip(w).zip(prev).zip(next) {
         *y = play_step(r, p, x);
-        sum += w * *y;
+        sum = w.mul_add(*y, sum);
     }
     sum
 }
@@ -237,15 +238,15 @@ fn tail_pair(r: &[f64], w: &[f64], y: &mut [f64], x0: f64, x1: f64) -> (f64, f64
         let a = play_step(r, *y, x0);
         let b = play_step(r, a, x1);
         *y = b;
-        s0 += w * a;
-        s1 += w * b;
+        s0 = w.mul_add(a, s0);
+        s1 = w.mul_add(b, s1);
     }
     (s0, s1)
 }
 
 /// One sample on AVX2: the plays of the full chunks of eight from `prev`
 /// to `next`, and the eight partial sums.
-#[target_feature(enable = "avx2")]
+#[target_feature(enable = "avx2,fma")]
 #[inline]
 fn avx2_step(x: f64, r: &[f64], w: &[f64], prev: &[f64], next: &mut [f64]) -> [f64; 8] {
     let m = r.len().min(w.len()).min(prev.len()).min(next.len()) / 8 * 8;
@@ -264,8 +265,8 @@ fn avx2_step(x: f64, r: &[f64], w: &[f64], prev: &[f64], next: &mut [f64]) -> [f
             let y1 = clamp4(p1, xv, r1);
             _mm256_storeu_pd(np, y0);
             _mm256_storeu_pd(np.add(4), y1);
-            acc0 = _mm256_add_pd(acc0, _mm256_mul_pd(_mm256_loadu_pd(wp), y0));
-            acc1 = _mm256_add_pd(acc1, _mm256_mul_pd(_mm256_loadu_pd(wp.add(4)), y1));
+            acc0 = _mm256_fmadd_pd(_mm256_loadu_pd(wp), y0, acc0);
+            acc1 = _mm256_fmadd_pd(_mm256_loadu_pd(wp.add(4)), y1, acc1);
         }
         j += 8;
     }
@@ -278,7 +279,7 @@ fn avx2_step(x: f64, r: &[f64], w: &[f64], prev: &[f64], next: &mut [f64]) -> [f
 }
 
 /// Four plays `max(min(p, x + r), x − r)`.
-#[target_feature(enable = "avx2")]
+#[target_feature(enable = "avx2,fma")]
 #[inline]
 fn clamp4(p: __m256d, xv: __m256d, r: __m256d) -> __m256d {
     _mm256_max_pd(_mm256_min_pd(p, _mm256_add_pd(xv, r)), _mm256_sub_pd(xv, r))
@@ -287,7 +288,7 @@ fn clamp4(p: __m256d, xv: __m256d, r: __m256d) -> __m256d {
 /// Two samples on AVX2 in one pass over the plays: each chunk of eight is
 /// loaded once, stepped by `x0` then `x1` in registers and stored once, in
 /// place; the two samples' partial sums, each in [`avx2_step`]'s order.
-#[target_feature(enable = "avx2")]
+#[target_feature(enable = "avx2,fma")]
 #[inline]
 fn avx2_pair(x0: f64, x1: f64, r: &[f64], w: &[f64], y: &mut [f64]) -> ([f64; 8], [f64; 8]) {
     let m = r.len().min(w.len()).min(y.len()) / 8 * 8;
@@ -307,10 +308,10 @@ fn avx2_pair(x0: f64, x1: f64, r: &[f64], w: &[f64], y: &mut [f64]) -> ([f64; 8]
             let (v0, v1) = (clamp4(u0, xb, r0), clamp4(u1, xb, r1));
             _mm256_storeu_pd(yp, v0);
             _mm256_storeu_pd(yp.add(4), v1);
-            a0 = _mm256_add_pd(a0, _mm256_mul_pd(w0, u0));
-            a1 = _mm256_add_pd(a1, _mm256_mul_pd(w1, u1));
-            b0 = _mm256_add_pd(b0, _mm256_mul_pd(w0, v0));
-            b1 = _mm256_add_pd(b1, _mm256_mul_pd(w1, v1));
+            a0 = _mm256_fmadd_pd(w0, u0, a0);
+            a1 = _mm256_fmadd_pd(w1, u1, a1);
+            b0 = _mm256_fmadd_pd(w0, v0, b0);
+            b1 = _mm256_fmadd_pd(w1, v1, b1);
         }
         j += 8;
     }
@@ -333,7 +334,7 @@ fn avx2_pair(x0: f64, x1: f64, r: &[f64], w: &[f64], y: &mut [f64]) -> ([f64; 8]
 // Hot loop, kept free of checks: `n` is the least of the four lengths,
 // `m = n / 8 * 8 ≤ n`, and `i + 1 < len ≤ xs.len(), ys.len()` for a pair.
 #[allow(clippy::indexing_slicing)]
-#[target_feature(enable = "avx2")]
+#[target_feature(enable = "avx2,fma")]
 unsafe fn process_avx2(bank: &mut Bank<'_>, xs: &[f64], ys: &mut [f64]) -> (usize, Option<Error>) {
     let n = bank.plays();
     let m = n / 8 * 8;
@@ -370,7 +371,7 @@ unsafe fn process_avx2(bank: &mut Bank<'_>, xs: &[f64], ys: &mut [f64]) -> (usiz
 }
 
 /// Eight plays per instruction, one register per chunk of eight.
-#[target_feature(enable = "avx512f")]
+#[target_feature(enable = "avx512f,fma")]
 unsafe fn process_avx512(
     bank: &mut Bank<'_>,
     xs: &[f64],
@@ -394,7 +395,7 @@ unsafe fn process_avx512(
                     _mm512_sub_pd(xv, r0),
                 );
                 _mm512_storeu_pd(np, y0);
-                acc0 = _mm512_add_pd(acc0, _mm512_mul_pd(_mm512_loadu_pd(wp), y0));
+                acc0 = _mm512_fmadd_pd(_mm512_loadu_pd(wp), y0, acc0);
             }
             j += 8;
         }

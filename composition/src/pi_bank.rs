@@ -116,8 +116,11 @@ impl<T: Float> PiBank<T> {
 const LANES: usize = 8;
 
 /// Advances every play from `prev` to `next` for input `x` and returns
-/// `Σ w_j next_j`, summed in `LANES` interleaved partial sums (a fixed
-/// order, so `trial` and `process` agree bit for bit).
+/// `Σ w_j next_j`, summed in `LANES` interleaved partial sums, each term
+/// added by a fused multiply-add (a fixed order and one rounding per play,
+/// so `trial` and `process` agree bit for bit, and the vector kernels do
+/// the same; where the CPU has no FMA, `mul_add` is the C library's exact
+/// `fma`, slower but the same bits).
 // Hot loop, kept free of checks: `n` is the least of the four lengths and
 // `m ≤ n`, so every `[..n]`, `[..m]`, `[m..]` is in range, and `l < LANES`
 // indexes the `[T; LANES]` arrays.
@@ -140,7 +143,7 @@ fn bank_step<T: Float>(r: &[T], w: &[T], prev: &[T], next: &mut [T], x: T) -> T 
         let w: [T; LANES] = w.try_into().unwrap_or([T::zero(); LANES]);
         let prev: [T; LANES] = prev.try_into().unwrap_or([T::zero(); LANES]);
         let y: [T; LANES] = core::array::from_fn(|l| play_step(r[l], prev[l], x));
-        acc = core::array::from_fn(|l| acc[l] + w[l] * y[l]);
+        acc = core::array::from_fn(|l| w[l].mul_add(y[l], acc[l]));
         next.copy_from_slice(&y);
     }
     let mut tail = T::zero();
@@ -151,9 +154,16 @@ fn bank_step<T: Float>(r: &[T], w: &[T], prev: &[T], next: &mut [T], x: T) -> T 
         .zip(&mut next[m..])
     {
         *next = play_step(r, prev, x);
-        tail = tail + w * *next;
+        tail = w.mul_add(*next, tail);
     }
     ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7])) + tail
+}
+
+/// [`bank_step`] over `f64` compiled for AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn bank_step_fma(r: &[f64], w: &[f64], prev: &[f64], next: &mut [f64], x: f64) -> f64 {
+    bank_step(r, w, prev, next, x)
 }
 
 impl<T: Float> PiBank<T> {
@@ -161,6 +171,24 @@ impl<T: Float> PiBank<T> {
     #[cfg(target_arch = "x86_64")]
     fn as_f64_mut(&mut self) -> Option<&mut PiBank<f64>> {
         (self as &mut dyn core::any::Any).downcast_mut::<PiBank<f64>>()
+    }
+
+    /// [`bank_step`] from the committed plays into `pending`; over `f64`
+    /// on a CPU with AVX2 and FMA compiled for them (the portable code
+    /// would call the C library's `fma` once per play).
+    fn bank_step(&mut self, x: T) -> T {
+        #[cfg(target_arch = "x86_64")]
+        if let (Some(_), Some(r), Some(w), Some(prev), Some(next)) = (
+            crate::pi_avx2::Isa::detect(),
+            crate::pi_avx2::as_f64(&self.p.r),
+            crate::pi_avx2::as_f64(&self.p.w),
+            crate::pi_avx2::as_f64(&self.y),
+            crate::pi_avx2::as_f64_mut(&mut self.pending),
+        ) {
+            // SAFETY: AVX2 and FMA were detected on this CPU (`Isa`).
+            return T::lit(unsafe { bank_step_fma(r, w, prev, next, x.as_f64()) });
+        }
+        bank_step(&self.p.r, &self.p.w, &self.y, &mut self.pending, x)
     }
 
     /// The portable batch loop (lengths checked by the caller).
@@ -188,7 +216,7 @@ impl<T: Float> Operator<T> for PiBank<T> {
     fn trial(&mut self, x: T) -> Result<Trial<T>> {
         self.has_pending = false;
         let x = check_input(x)?;
-        let output = self.p.a0 * x + bank_step(&self.p.r, &self.p.w, &self.y, &mut self.pending, x);
+        let output = self.p.a0 * x + self.bank_step(x);
         let mut tangent = self.p.a0;
         for ((&r, &w), &y) in self.p.r.iter().zip(&self.p.w).zip(&self.y) {
             tangent = tangent + w * play_tangent(r, y, x);

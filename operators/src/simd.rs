@@ -2,14 +2,15 @@
 //!
 //! The kernels written for several instruction sets (the Prandtl-Ishlinskii
 //! bank's, the MMS exponential's) give the same bits on each: they do the
-//! same operations in the same order, without fused multiply-adds.
+//! same operations in the same order (the bank's sums in fused
+//! multiply-adds everywhere, the exponential's in none).
 
 /// A vector instruction set a batch kernel has a version for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Isa {
-    /// AVX2: four `f64` per instruction.
+    /// AVX2 with FMA: four `f64` per instruction.
     Avx2,
-    /// AVX-512 (foundation): eight `f64` per instruction.
+    /// AVX-512 (foundation) with FMA: eight `f64` per instruction.
     Avx512,
 }
 
@@ -31,11 +32,19 @@ impl Isa {
 
     #[cfg(target_arch = "x86_64")]
     fn find(cap: Option<&str>) -> Option<Isa> {
+        // (every AVX-512 CPU has FMA; AVX2 ones nearly all, and the
+        // kernels use it)
+        let avx2 = std::arch::is_x86_feature_detected!("avx2")
+            && std::arch::is_x86_feature_detected!("fma");
         match cap {
             Some("portable") => None,
-            Some("avx2") => std::arch::is_x86_feature_detected!("avx2").then_some(Isa::Avx2),
-            _ if std::arch::is_x86_feature_detected!("avx512f") => Some(Isa::Avx512),
-            _ => std::arch::is_x86_feature_detected!("avx2").then_some(Isa::Avx2),
+            Some("avx2") => avx2.then_some(Isa::Avx2),
+            _ if std::arch::is_x86_feature_detected!("avx512f")
+                && std::arch::is_x86_feature_detected!("fma") =>
+            {
+                Some(Isa::Avx512)
+            }
+            _ => avx2.then_some(Isa::Avx2),
         }
     }
 
