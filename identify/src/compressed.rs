@@ -20,8 +20,9 @@
 //!
 //! The cost of the solver's own linear algebra (a pivoted QR of `J`, and
 //! `Qᵀ r`, in scalar loops) drops from `O(m k²)` per iteration to `O(k³)`,
-//! and the one QR of `[r J]` that replaces it runs in nalgebra's
-//! vectorised column operations. Problems with `m ≤ k + 1` residuals are
+//! and the one QR of `[r J]` that replaces it runs in nalgebra's column
+//! operations (`bouc_wen_fit_5`, 20 000 residuals and 5 parameters: 28 →
+//! 20–22 ms on the machine of the README's figures). Problems with `m ≤ k + 1` residuals are
 //! passed through as they are.
 //!
 //! # Reference
