@@ -144,6 +144,60 @@ impl<T: Float> TravelLimits<T> {
 struct State<T> {
     x: T,
     x_left: T,
+    /// How the split follows the input here, where it was a root inside
+    /// the limits (`None` at a limit, before any motion, or where the
+    /// tangents gave no finite share).
+    share: Option<Share<T>>,
+}
+
+/// How the split `x_L` of a [`MechanicalSeries`] follows its input at a
+/// committed root, for a first guess of the next root,
+/// `x_L + w Δx + ½ c Δx²`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Share<T> {
+    /// `w = dx_L/dx = R'/(L' + R')` from the tangents at the root.
+    w: T,
+    /// `c ≈ dw/dx`: the change of `w` over the increment that led here,
+    /// divided by it, where the one before went the same way (else 0).
+    c: T,
+    /// That increment.
+    dx: T,
+}
+
+impl<T: Float> State<T> {
+    /// At input `x` with the left element at `x_left`, no share known.
+    fn at(x: T, x_left: T) -> Self {
+        State {
+            x,
+            x_left,
+            share: None,
+        }
+    }
+}
+
+impl<T: Float> Share<T> {
+    /// The share at a root with tangents `l` and `r`, reached by the
+    /// increment `dx` from a state whose share was `prev`.
+    fn new(l: T, r: T, dx: T, prev: Option<Share<T>>) -> Option<Self> {
+        let w = r / (l + r);
+        if !w.is_finite() {
+            return None;
+        }
+        let c = match prev {
+            Some(p) if p.dx * dx > T::zero() => (w - p.w) / dx,
+            _ => T::zero(),
+        };
+        Some(Share {
+            w,
+            c: if c.is_finite() { c } else { T::zero() },
+            dx,
+        })
+    }
+
+    /// The guess for the split after the increment `dx` from `x_left`.
+    fn guess(&self, x_left: T, dx: T) -> T {
+        x_left + dx * (self.w + T::lit(0.5) * self.c * dx)
+    }
 }
 
 /// Mechanical series connection of two elements (`a.series(b)`): the same
@@ -199,10 +253,7 @@ impl<T: Float, L, R> MechanicalSeries<T, L, R> {
             right,
             limits: TravelLimits::None,
             opts: SolverOptions::default(),
-            s: State {
-                x: T::zero(),
-                x_left: T::zero(),
-            },
+            s: State::at(T::zero(), T::zero()),
             pending: None,
         }
     }
@@ -300,7 +351,7 @@ impl<T: Float, L: Operator<T>, R: Operator<T>> MechanicalSeries<T, L, R> {
         // foreign operator may break)
         let n = right.process_while(zs, ys, &mut keep).min(xs.len());
         if let Some(&x) = n.checked_sub(1).and_then(|k| xs.get(k)) {
-            self.s = State { x, x_left: xl };
+            self.s = State::at(x, xl);
         }
         n
     }
@@ -340,7 +391,7 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
                     let res = l.output - r.output;
                     let holds = (xl == hi && res < T::zero()) || (xl == lo && res > T::zero());
                     if holds && r.output.is_finite() {
-                        self.pending = Some(State { x, x_left: xl });
+                        self.pending = Some(State::at(x, xl));
                         return Ok(r);
                     }
                 }
@@ -364,6 +415,9 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
                 step: dx,
                 hint: Some(start + dx),
                 bounds: self.limits.bounds(),
+                // The committed split moved as its share says (second
+                // order in `dx`).
+                guess: self.s.share.map(|w| w.guess(start, dx)),
                 scale,
             },
             &self.opts,
@@ -401,9 +455,14 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
                 input: x.as_f64(),
             });
         }
+        let share = match root {
+            Root::Inside(_) => Share::new(l.tangent, r.tangent, dx, self.s.share),
+            Root::AtBound(_) => None,
+        };
         self.pending = Some(State {
             x,
             x_left: root.value(),
+            share,
         });
         Ok(Trial {
             output: force,
@@ -465,10 +524,7 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
     fn reset(&mut self) {
         self.left.reset();
         self.right.reset();
-        self.s = State {
-            x: T::zero(),
-            x_left: T::zero(),
-        };
+        self.s = State::at(T::zero(), T::zero());
         self.pending = None;
     }
 

@@ -1,21 +1,32 @@
-//! The scalar root finder behind every implicit combinator: bracket search
-//! followed by a safeguarded Newton iteration with bisection fallback.
+//! The scalar root finder behind every implicit combinator: Newton steps
+//! from a start (and from a predicted root, where the caller has one),
+//! then, if they stall, a bracket search followed by a safeguarded Newton
+//! iteration with bisection fallback.
 //!
-//! Hysteresis operators have kinks, so their tangents are only hints: a
-//! Newton step is taken when it lands strictly inside the current bracket
-//! and the previous Newton step at least halved the residual; otherwise a
+//! A combinator's root moves little between samples, so the search first
+//! takes plain Newton steps from the start, each of which must halve the
+//! residual and stay inside the bounds; the first one that changes the
+//! residual's sign gives the bracket. Only where they stall (a zero or
+//! non-finite tangent, a step that does not halve the residual) does the
+//! bracket search begin.
+//!
+//! Hysteresis operators have kinks, so their tangents are only hints: in a
+//! bracket, a Newton step is taken when it lands strictly inside it and the
+//! previous Newton step at least halved the residual; otherwise a
 //! regula falsi step with the Illinois modification (the residual kept at
 //! an end that survives twice in a row is halved), which converges
 //! superlinearly across kinks, kept at least one tolerance inside the
 //! bracket (so an end that already is the root gets its bracket closed),
 //! and every fourth such step a bisection, counted since the last Newton
 //! step that halved the residual (a Newton step that did not is followed by
-//! a fallback, so the bracket at least halves every eight steps). The
-//! iteration stops when a step or the bracket is
-//! smaller than `abs_tol + rel_tol · max(|x|, scale)`, or the residual is
-//! exactly zero, and otherwise fails with [`Error::NotConverged`]. The
-//! returned root is therefore within that tolerance of a sign change of the
-//! residual.
+//! a fallback, so the bracket at least halves every eight steps).
+//!
+//! The iteration stops at an evaluated point `x` whose Newton step `|r/d|`
+//! is at most `abs_tol + rel_tol · |x|` (the root to that tolerance of
+//! itself, without evaluating the step's end), when a Newton step or the
+//! bracket is smaller than `abs_tol + rel_tol · max(|x|, scale)`, or where
+//! the residual is exactly zero, and otherwise fails with
+//! [`Error::NotConverged`].
 
 use hysteron_operators::{CastScalar, Error, Float, Result};
 use serde::{Deserialize, Serialize};
@@ -135,6 +146,11 @@ pub(crate) struct Start<T> {
     pub step: T,
     /// A second point expected to bracket the root with `x0`.
     pub hint: Option<T>,
+    /// A prediction of the root (for example extrapolated from the
+    /// committed solution's tangents), tried first: Newton steps from it
+    /// are taken before anything is evaluated at `x0`, and only if they
+    /// stall does the search start again from `x0`.
+    pub guess: Option<T>,
     /// Optional `[lo, hi]`; a root beyond a bound is reported as
     /// [`Root::AtBound`] (the residual is assumed increasing there).
     pub bounds: Option<(T, T)>,
@@ -151,6 +167,7 @@ impl<T: Float> Start<T> {
             x0,
             step: (x - x_prev).abs(),
             hint: None,
+            guess: None,
             bounds: None,
             scale: x.abs().max(x0.abs()),
         }
@@ -221,12 +238,18 @@ where
         step,
         hint,
         bounds,
+        guess,
         scale,
     } = start;
     let clamp = |x: T| match bounds {
         Some((lo, hi)) => x.max(lo).min(hi),
         None => x,
     };
+    if let Some(g) = guess.map(clamp).filter(|g| g.is_finite()) {
+        if let Some(root) = from(f, g, bounds, scale, opts)? {
+            return Ok(root);
+        }
+    }
     let x0 = clamp(x0);
     let (r0, d0) = f.eval(x0)?;
     if r0 == T::zero() {
@@ -238,6 +261,12 @@ where
             return Ok(Root::AtBound(x0));
         }
     }
+    let (x0, r0, d0) = match newton(f, (x0, r0, d0), bounds, scale, opts)? {
+        Newton::Root(x) => return Ok(Root::Inside(x)),
+        Newton::AtBound(x) => return Ok(Root::AtBound(x)),
+        Newton::Bracket(b) => return finish(f, b, scale, opts),
+        Newton::Stalled(best) => best,
+    };
     let bracket = match find_bracket(f, x0, r0, d0, step, hint, bounds, scale, opts)? {
         Found::Bracket(b) => b,
         Found::AtBound(x) => {
@@ -247,11 +276,152 @@ where
             return Ok(Root::AtBound(x));
         }
     };
+    finish(f, bracket, scale, opts)
+}
+
+/// The root found by Newton steps from the guess `g` (inside the bounds),
+/// or `None` if they stall.
+fn from<T, F>(
+    f: &mut Tracked<F, T>,
+    g: T,
+    bounds: Option<(T, T)>,
+    scale: T,
+    opts: &SolverOptions<T>,
+) -> Result<Option<Root<T>>>
+where
+    T: Float,
+    F: FnMut(T) -> Result<Eval<T>>,
+{
+    let (r, d) = f.eval(g)?;
+    if r == T::zero() {
+        return Ok(Some(Root::Inside(g)));
+    }
+    if let Some((lo, hi)) = bounds {
+        if (g == hi && r < T::zero()) || (g == lo && r > T::zero()) {
+            return Ok(Some(Root::AtBound(g)));
+        }
+    }
+    Ok(match newton(f, (g, r, d), bounds, scale, opts)? {
+        Newton::Root(x) => Some(Root::Inside(x)),
+        Newton::AtBound(x) => Some(Root::AtBound(x)),
+        Newton::Bracket(b) => Some(finish(f, b, scale, opts)?),
+        Newton::Stalled(_) => None,
+    })
+}
+
+/// Refines `bracket` and leaves the last evaluation at the root.
+fn finish<T, F>(
+    f: &mut Tracked<F, T>,
+    bracket: Bracket<T>,
+    scale: T,
+    opts: &SolverOptions<T>,
+) -> Result<Root<T>>
+where
+    T: Float,
+    F: FnMut(T) -> Result<Eval<T>>,
+{
     let x = refine(f, bracket, scale, opts)?;
     if f.last != Some(x) {
         f.eval(x)?;
     }
     Ok(Root::Inside(x))
+}
+
+/// Newton steps taken from the start, before any bracket, at most this
+/// many.
+const NEWTON_STEPS: usize = 12;
+
+/// How the Newton steps of [`newton`] ended.
+enum Newton<T> {
+    /// A root inside the bounds, where the last evaluation was.
+    Root(T),
+    /// A bound beyond which the residual keeps its sign, where the last
+    /// evaluation was.
+    AtBound(T),
+    /// Two evaluated points with residuals of opposite signs.
+    Bracket(Bracket<T>),
+    /// No usable step: the tangent is zero or not finite, a step did not
+    /// halve the residual, or the steps ran out. The point with the
+    /// smallest residual so far, `(x, r, d)`, from which the bracket
+    /// search goes on.
+    Stalled((T, T, T)),
+}
+
+/// Newton steps `x ← x − r/d` from the start `(x, r, d)`, before any
+/// bracket: where the residual is smooth near the start (a combinator's
+/// root moves little from the committed one between samples) they
+/// converge without the evaluations a bracket costs.
+///
+/// Each step must halve the residual and stay inside the bounds; the first
+/// step that changes the residual's sign gives a bracket (refined by
+/// [`refine`]), and one that would cross a bound is evaluated at the
+/// bound, which either brackets the root or holds it there. The root is
+/// the current point once its Newton step is within `abs_tol + rel_tol ·
+/// |x|` (the refinement's stopping rule), or a point where the residual
+/// is exactly zero, reached by a step no longer than `max(|x|, scale)` or
+/// else confirmed by a sign change around it (as in the bracket search).
+fn newton<T, F>(
+    f: &mut Tracked<F, T>,
+    start: (T, T, T),
+    bounds: Option<(T, T)>,
+    scale: T,
+    opts: &SolverOptions<T>,
+) -> Result<Newton<T>>
+where
+    T: Float,
+    F: FnMut(T) -> Result<Eval<T>>,
+{
+    let (mut x, mut r, mut d) = start;
+    for _ in 0..NEWTON_STEPS {
+        if !(d.is_finite() && d != T::zero()) {
+            break;
+        }
+        let step = r / d;
+        if step.abs() <= opts.tol(x, T::zero()) {
+            return Ok(Newton::Root(x));
+        }
+        let mut next = x - step;
+        let mut at_bound = false;
+        if let Some((lo, hi)) = bounds {
+            if !(next > lo && next < hi) {
+                next = if next >= hi { hi } else { lo };
+                at_bound = true;
+            }
+        }
+        if !next.is_finite() || next == x {
+            break;
+        }
+        let (rn, dn) = f.eval(next)?;
+        if rn == T::zero() {
+            // A residual that only rounds to zero needs terms far beyond
+            // the problem's magnitude (see `genuine_zero`); a step within
+            // it cannot have reached such a point.
+            let small = step.abs() <= x.abs().max(scale.abs());
+            if small || genuine_zero(f, next, scale, opts)? {
+                if f.last != Some(next) {
+                    f.eval(next)?;
+                }
+                return Ok(Newton::Root(next));
+            }
+            break;
+        }
+        if rn.signum() != r.signum() {
+            return Ok(Newton::Bracket(Bracket::new((x, r, d), (next, rn, dn))));
+        }
+        if let (true, Some((lo, hi))) = (at_bound, bounds) {
+            // Increasing residual: still negative at hi, or still positive
+            // at lo, means the root lies beyond the bound.
+            if (next == hi && rn < T::zero()) || (next == lo && rn > T::zero()) {
+                return Ok(Newton::AtBound(next));
+            }
+            break;
+        }
+        if rn.abs() > r.abs() * T::lit(0.5) {
+            break;
+        }
+        (x, r, d) = (next, rn, dn);
+    }
+    Ok(Newton::Stalled((x, r, d)))
 }
 
 /// A bracket: points with negative and positive residual, and the one of
@@ -264,6 +434,23 @@ struct Bracket<T> {
     r_neg: T,
     r_pos: T,
     start: (T, T, T),
+}
+
+impl<T: Float> Bracket<T> {
+    /// The bracket of two evaluated points `(x, r, d)` whose residuals
+    /// have opposite signs (or one is zero), starting at the one with the
+    /// smaller residual.
+    fn new(a: (T, T, T), b: (T, T, T)) -> Self {
+        let start = if a.1.abs() <= b.1.abs() { a } else { b };
+        let (neg, pos) = if a.1 < T::zero() { (a, b) } else { (b, a) };
+        Bracket {
+            neg: neg.0,
+            pos: pos.0,
+            r_neg: neg.1,
+            r_pos: pos.1,
+            start,
+        }
+    }
 }
 
 enum Found<T> {
@@ -287,30 +474,6 @@ where
     T: Float,
     F: FnMut(T) -> Result<Eval<T>>,
 {
-    let make = |xa: T, ra: T, da: T, xb: T, rb: T, db: T| {
-        let start = if ra.abs() <= rb.abs() {
-            (xa, ra, da)
-        } else {
-            (xb, rb, db)
-        };
-        if ra < T::zero() {
-            Bracket {
-                neg: xa,
-                pos: xb,
-                r_neg: ra,
-                r_pos: rb,
-                start,
-            }
-        } else {
-            Bracket {
-                neg: xb,
-                pos: xa,
-                r_neg: rb,
-                r_pos: ra,
-                start,
-            }
-        }
-    };
     let clamp = |x: T| match bounds {
         Some((lo, hi)) => x.max(lo).min(hi),
         None => x,
@@ -319,7 +482,7 @@ where
         if h != x0 {
             let (rh, dh) = f.eval(h)?;
             if rh == T::zero() || rh.signum() != r0.signum() {
-                return Ok(Found::Bracket(make(x0, r0, d0, h, rh, dh)));
+                return Ok(Found::Bracket(Bracket::new((x0, r0, d0), (h, rh, dh))));
             }
         }
     }
@@ -361,7 +524,7 @@ where
                 continue;
             }
             if r == T::zero() || r.signum() != r0.signum() {
-                return Ok(Found::Bracket(make(x0, r0, d0, x, r, d)));
+                return Ok(Found::Bracket(Bracket::new((x0, r0, d0), (x, r, d))));
             }
             if let Some((lo, hi)) = bounds {
                 if x == lo || x == hi {
@@ -438,12 +601,15 @@ where
         if hi - lo <= tol {
             return Ok(x);
         }
+        let smooth = d.is_finite() && d != T::zero();
+        if smooth && (r / d).abs() <= opts.tol(x, T::zero()) {
+            // The Newton step from `x` is within the tolerance of `x`
+            // itself: `x` is the root to it, without evaluating the step's
+            // end.
+            return Ok(x);
+        }
         let newton = x - r / d;
-        let use_newton = d.is_finite()
-            && d != T::zero()
-            && newton > lo
-            && newton < hi
-            && r.abs() <= r_prev * half;
+        let use_newton = smooth && newton > lo && newton < hi && r.abs() <= r_prev * half;
         let x_next = if use_newton {
             newton
         } else {
@@ -511,6 +677,7 @@ mod tests {
             step,
             hint,
             bounds,
+            guess: None,
             scale: 1.0,
         }
     }
@@ -543,6 +710,7 @@ mod tests {
                 step: D::constant(0.5),
                 hint: None,
                 bounds: None,
+                guess: None,
                 scale: D::constant(1.0),
             };
             let root = solve("test", residual, start, &opts).unwrap().value();
@@ -675,6 +843,88 @@ mod tests {
             &opts(),
         );
         assert!(matches!(e, Err(Error::NoBracket { .. })));
+    }
+
+    /// From a start near the root, Newton steps converge without a
+    /// bracket: `x³ − 2` from 1.3 takes the start and four steps, the last
+    /// of which is within the tolerance of its own point (the old search
+    /// spent a bracket end and a confirming evaluation more).
+    #[test]
+    fn newton_from_a_close_start_needs_no_bracket() {
+        let mut evals = 0;
+        let root = solve(
+            "t",
+            |x: f64| {
+                evals += 1;
+                Ok((x * x * x - 2.0, 3.0 * x * x))
+            },
+            st(1.3, 0.1, Some(1.4), None),
+            &opts(),
+        )
+        .unwrap();
+        assert!((root.value() - 2f64.cbrt()).abs() <= 4.0 * f64::EPSILON);
+        assert!(evals <= 5, "{evals} evaluations");
+    }
+
+    /// A guess is tried first; where Newton steps from it stall (here on a
+    /// flat stretch of the residual) the search starts again from `x0`.
+    #[test]
+    fn a_guess_is_tried_first_and_a_bad_one_is_survived() {
+        let residual = |x: f64| {
+            Ok((
+                (x - 0.3).clamp(-1.0, 1.0),
+                if x.abs() < 1.3 { 1.0 } else { 0.0 },
+            ))
+        };
+        let from = |guess: f64| {
+            let mut evals = Vec::new();
+            let root = solve(
+                "t",
+                |x: f64| {
+                    evals.push(x);
+                    residual(x)
+                },
+                Start {
+                    guess: Some(guess),
+                    ..st(0.0, 0.1, None, None)
+                },
+                &opts(),
+            )
+            .unwrap();
+            (root.value(), evals)
+        };
+        // a good guess: the first evaluation, then the root
+        let (root, evals) = from(0.31);
+        assert!((root - 0.3).abs() < 1e-15, "{root}");
+        assert_eq!(evals.first(), Some(&0.31));
+        assert!(evals.len() <= 2, "{evals:?}");
+        // a guess on the flat stretch: Newton cannot start there
+        let (root, evals) = from(5.0);
+        assert!((root - 0.3).abs() < 1e-15, "{root}");
+        assert_eq!(evals.get(..2), Some(&[5.0, 0.0][..]));
+    }
+
+    /// A Newton step that would cross a bound is evaluated at the bound,
+    /// which holds the root when the residual keeps its sign there.
+    #[test]
+    fn a_newton_step_across_a_bound_stops_at_it() {
+        let b = Some((-1.0, 1.0));
+        let mut evals = 0;
+        let r = solve(
+            "t",
+            |x: f64| {
+                evals += 1;
+                Ok((x - 3.0, 1.0))
+            },
+            Start {
+                guess: Some(0.5),
+                ..st(0.0, 0.1, None, b)
+            },
+            &opts(),
+        )
+        .unwrap();
+        assert_eq!(r, Root::AtBound(1.0));
+        assert_eq!(evals, 2);
     }
 
     #[test]

@@ -382,8 +382,13 @@ mod tests {
         };
         let y0 = plain.run(&u).unwrap();
         let y1 = boucwen_system(&silent).unwrap().run(&u).unwrap();
+        // (the loop's root is the oscillator's output to the solver's
+        // stopping rule: a Newton step within `16 ε` of the root itself)
         for (a, b) in y0.iter().zip(&y1) {
-            assert!((a - b).abs() <= 1e-15 * a.abs().max(1e-9), "{a} {b}");
+            assert!(
+                (a - b).abs() <= 16.0 * f64::EPSILON * a.abs().max(1e-9),
+                "{a} {b}"
+            );
         }
         let linear = BoucWenBenchmarkParams {
             beta: 0.0,
