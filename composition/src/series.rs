@@ -219,7 +219,12 @@ impl<T: Float> Share<T> {
 /// increasing, the root lies between the previous split and the previous
 /// split plus the input increment, and is found by the safeguarded
 /// Newton/bisection of this crate to the tolerance of [`SolverOptions`];
-/// beyond a limit the split is clamped there. Where both elements are flat
+/// beyond a limit the split is clamped there. After a sample whose split
+/// was a root inside the limits, the solver starts from a predicted split,
+/// `x_L + w Δx + c Δx²/2` with `w = R'/(L' + R')` from the tangents at
+/// that root and `c` the change of `w` over the increment before it (the
+/// same direction only), which leaves two or three Newton steps to the
+/// tolerance on a smooth input. Where both elements are flat
 /// (two saturated friction elements) the split is not unique and the solver
 /// returns one point of the flat set.
 ///
