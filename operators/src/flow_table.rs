@@ -50,12 +50,35 @@
 //! accurately), states up to `u*` above zero where the upper side
 //! saturates, any state reached otherwise. Other parameter sets and states
 //! are integrated step by step (see `BoucWen`).
+//!
+//! Each thread keeps the last [`RECENT`] tables it built, keyed by the bits
+//! of `(α, β, γ, n, rtol)`, and hands out copies of them: a fit simulates a
+//! parameter set and then takes its derivatives there, which tabulates the
+//! same flow again for the derivative tables (`flow_sensitivity`). A table
+//! depends on nothing but those five numbers, and a copy is extended on
+//! demand exactly as the original would be (see above), so the memo changes
+//! no result, only the time.
 
 use crate::hysteretic_state::{Power, StateEquation};
 use crate::Float;
+use std::any::{Any, TypeId};
+use std::cell::RefCell;
+use std::collections::VecDeque;
 
 /// Knots per side at most; a parameter set needing more is not tabulated.
 const MAX_PIECES: usize = 4096;
+
+/// Tables each thread keeps of those it built last (see the module).
+const RECENT: usize = 4;
+
+/// A table built before: its scalar type, the bits of `(α, β, γ, n, rtol)`,
+/// and the table as built (not extended).
+type Remembered = (TypeId, [u64; 5], Box<dyn Any>);
+
+thread_local! {
+    static RECENT_TABLES: RefCell<VecDeque<Remembered>> =
+        const { RefCell::new(VecDeque::new()) };
+}
 
 /// Integrations of a candidate piece that may fail (run into the blow-up
 /// beyond a growing side's end) per side before the side is given up:
@@ -308,10 +331,43 @@ impl<T: Float> FlowTable<T> {
     /// tabulated (`α ≤ 0`, `β < γ`, `n = 1` held as [`Power::One`] (closed
     /// form), `n > 64`, or a table that would
     /// need more than 4096 pieces per side).
+    ///
+    /// A copy of the table this thread built last for the same `α, β, γ,
+    /// n, rtol`, where it keeps one (see the module).
     pub(crate) fn new(eq: &StateEquation<T>) -> Option<Self> {
         if eq.power == Power::One {
             return None;
         }
+        if T::CARRIES_DERIVATIVES {
+            // (the key holds values only; no such table is built)
+            return Self::build(eq);
+        }
+        let key = [eq.alpha, eq.beta, eq.gamma, eq.power.exponent(), eq.rtol]
+            .map(|v| v.as_f64().to_bits());
+        let id = TypeId::of::<T>();
+        let known = RECENT_TABLES.with(|recent| {
+            let recent = recent.borrow();
+            recent
+                .iter()
+                .find(|(t, k, _)| *t == id && *k == key)
+                .and_then(|(_, _, table)| table.downcast_ref::<Self>().cloned())
+        });
+        if known.is_some() {
+            return known;
+        }
+        let table = Self::build(eq)?;
+        RECENT_TABLES.with(|recent| {
+            let mut recent = recent.borrow_mut();
+            if recent.len() == RECENT {
+                recent.pop_front();
+            }
+            recent.push_back((id, key, Box::new(table.clone())));
+        });
+        Some(table)
+    }
+
+    /// Tabulates `eq`'s flow (see [`new`](Self::new)).
+    fn build(eq: &StateEquation<T>) -> Option<Self> {
         let n = eq.power.exponent();
         if n > T::lit(MAX_N) {
             return None;
@@ -765,6 +821,42 @@ mod tests {
         once.state_at_growing(399.0 * 0.003, &mut hint);
         assert!(steps.upper.pieces.len() > 20);
         assert_eq!(steps.upper.pieces, once.upper.pieces);
+    }
+
+    /// The per-thread memo hands out the table a fresh build gives, not
+    /// one a copy has extended since, and never one of other parameters
+    /// (down to the last bit of `n`).
+    #[test]
+    fn remembered_tables_are_fresh_builds() {
+        let eq = StateEquation::new(1.0, 0.5, -1.0, 1.7, 1e-10);
+        let fresh = FlowTable::build(&eq).unwrap();
+        let mut first = FlowTable::new(&eq).unwrap();
+        let remembered = |eq: &StateEquation<f64>| {
+            let key = [eq.alpha, eq.beta, eq.gamma, eq.power.exponent(), eq.rtol].map(f64::to_bits);
+            RECENT_TABLES.with(|r| r.borrow().iter().any(|(_, k, _)| *k == key))
+        };
+        assert!(remembered(&eq));
+        // a copy grown far beyond the first scale
+        first.state_at_growing(5.0, &mut Hint::default());
+        assert!(first.upper.pieces.len() > fresh.upper.pieces.len());
+        assert_eq!(FlowTable::new(&eq).unwrap(), fresh);
+        let next = StateEquation::new(1.0, 0.5, -1.0, f64::from_bits(1.7f64.to_bits() + 1), 1e-10);
+        assert!(!remembered(&next));
+        let other = FlowTable::new(&next).unwrap();
+        assert_eq!(other, FlowTable::build(&next).unwrap());
+        assert_ne!(other.upper.pieces, fresh.upper.pieces);
+        // the oldest is forgotten once RECENT others are built
+        for i in 0..RECENT {
+            FlowTable::new(&StateEquation::new(
+                1.0,
+                0.5,
+                -1.0,
+                2.5 + i as f64 * 0.1,
+                1e-10,
+            ));
+        }
+        assert!(!remembered(&eq));
+        assert_eq!(FlowTable::new(&eq).unwrap(), fresh);
     }
 
     #[test]
