@@ -755,7 +755,7 @@ mod tests {
         .unwrap();
         let records = [Record::new(&x, &y)];
         let layout = Layout {
-            shared: free,
+            shared: free.clone(),
             own: vec![],
             records: 1,
         };
@@ -776,9 +776,79 @@ mod tests {
             worst <= 1e-5 * scale,
             "max difference {worst:e} (scale {scale:e})"
         );
-        // and the serial path gives the same matrix bit for bit
-        problem.parallel = false;
+        // and the serial path gives the same matrix bit for bit (a new
+        // problem: this one would hand back the Jacobian it keeps)
+        let serial = FitOptions {
+            parallel: false,
+            ..FitOptions::default()
+        };
+        let layout = Layout {
+            shared: free,
+            own: vec![],
+            records: 1,
+        };
+        let problem = Problem::new(model.as_ref(), &records, layout, &serial, &|_| {}).unwrap();
+        assert!(!problem.parallel);
         assert_eq!(problem.jacobian().unwrap(), ours);
+    }
+
+    /// Coming back to the accepted point (after a rejected step, and for
+    /// the report) costs no simulation and no dual pass: the residuals and
+    /// the Jacobian there are those computed before, bit for bit, and a
+    /// new point is simulated.
+    #[test]
+    fn the_accepted_point_is_not_simulated_twice() {
+        let model = BoucWen::constant(10.0, 0.6, 1.0, 2.5, 1.5, 1.5)
+            .unwrap()
+            .boxed();
+        let x: Vec<f64> = (0..400).map(|i| 1.2 * (i as f64 * 0.05).sin()).collect();
+        let y: Vec<f64> = model
+            .clone()
+            .run(&x)
+            .unwrap()
+            .iter()
+            .map(|v| v * 1.02)
+            .collect();
+        let free = free_by_names(model.as_ref(), &["w", "beta", "n"]).unwrap();
+        let records = [Record::new(&x, &y)];
+        let layout = Layout {
+            shared: free,
+            own: vec![],
+            records: 1,
+        };
+        let mut problem = Problem::new(
+            model.as_ref(),
+            &records,
+            layout,
+            &FitOptions::default(),
+            &|_| {},
+        )
+        .unwrap();
+        let runs = |p: &Problem| p.evaluations.load(Ordering::Relaxed);
+        let accepted = problem.params();
+        let (r0, j0) = (problem.residuals().unwrap(), problem.jacobian().unwrap());
+        let after_jacobian = runs(&problem);
+        // a trial step elsewhere is simulated
+        let mut trial = accepted.clone();
+        trial[1] += 0.01;
+        problem.set_params(&trial);
+        assert_eq!(runs(&problem), after_jacobian + 1);
+        assert_ne!(problem.residuals().unwrap(), r0);
+        // back at the accepted point: nothing runs, the same bits
+        problem.set_params(&accepted);
+        problem.evaluate_at(&accepted);
+        assert_eq!(runs(&problem), after_jacobian + 1);
+        assert_eq!(problem.residuals().unwrap(), r0);
+        assert_eq!(problem.jacobian_matrix(), j0);
+        assert_eq!(runs(&problem), after_jacobian + 1);
+        // and they are what a simulation there gives
+        let fresh = problem.simulate(accepted.as_slice()).unwrap();
+        assert_eq!(fresh, r0);
+        // a Jacobian at another point is computed
+        problem.set_params(&trial);
+        let before = runs(&problem);
+        assert_ne!(problem.jacobian().unwrap(), j0);
+        assert!(runs(&problem) > before);
     }
 
     #[test]

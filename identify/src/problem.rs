@@ -66,6 +66,24 @@ impl Budget {
     }
 }
 
+/// A point the solver accepted, and its residuals (`None`: the penalty).
+///
+/// The solver comes back to it after a rejected trial step, and a fit's
+/// report evaluates it once more: those simulations would repeat this one
+/// bit for bit, so they are taken from here.
+struct Accepted {
+    theta: DVector<f64>,
+    residuals: Option<DVector<f64>>,
+}
+
+/// Whether two parameter vectors are the same bit for bit.
+fn same_point(a: &DVector<f64>, b: &DVector<f64>) -> bool {
+    a.len() == b.len()
+        && a.iter()
+            .zip(b.iter())
+            .all(|(x, y)| x.to_bits() == y.to_bits())
+}
+
 /// The least-squares problem: residuals over every record's scored samples.
 pub(crate) struct Problem<'a> {
     on_iteration: &'a (dyn Fn(Progress) + Sync),
@@ -89,8 +107,11 @@ pub(crate) struct Problem<'a> {
     /// Why the budget stopped the search (then `residuals` and `jacobian`
     /// answer `None`, which ends it).
     stopped: Mutex<Option<String>>,
-    /// The last point the solver accepted (where it asked for a Jacobian).
-    accepted: Mutex<DVector<f64>>,
+    /// The last point the solver accepted (where it asked for a Jacobian),
+    /// with its residuals.
+    accepted: Mutex<Accepted>,
+    /// The last Jacobian and the point it was taken at.
+    last_jacobian: Mutex<Option<(DVector<f64>, DMatrix<f64>)>>,
     pub evaluations: AtomicUsize,
     pub jacobians: AtomicUsize,
 }
@@ -181,14 +202,29 @@ impl Problem<'_> {
     /// The Jacobian at the current `θ`: exact through the dual twin where
     /// there is one (falling back to finite differences if a derivative is
     /// not finite), else [`fd_jacobian`](Self::fd_jacobian).
+    ///
+    /// Asked again at the point of the last Jacobian (a fit's report, after
+    /// a search that ended on a rejected step), it returns that Jacobian:
+    /// the model is deterministic, so computing it again would give the
+    /// same bits.
     pub fn jacobian_matrix(&self) -> DMatrix<f64> {
         self.jacobians.fetch_add(1, Ordering::Relaxed);
-        if let Some(dual) = &self.dual {
-            if let Some(j) = self.exact_jacobian(dual.as_ref()) {
-                return j;
+        if let Ok(last) = self.last_jacobian.lock() {
+            if let Some((theta, j)) = last.as_ref() {
+                if same_point(theta, &self.theta) {
+                    return j.clone();
+                }
             }
         }
-        self.fd_jacobian()
+        let j = self
+            .dual
+            .as_ref()
+            .and_then(|dual| self.exact_jacobian(dual.as_ref()))
+            .unwrap_or_else(|| self.fd_jacobian());
+        if let Ok(mut last) = self.last_jacobian.lock() {
+            *last = Some((self.theta.clone(), j.clone()));
+        }
+        j
     }
 
     /// Which Jacobian the problem computes.
@@ -332,8 +368,19 @@ impl Problem<'_> {
     /// The last point the solver accepted.
     pub fn accepted(&self) -> DVector<f64> {
         match self.accepted.lock() {
-            Ok(a) => a.clone(),
+            Ok(a) => a.theta.clone(),
             Err(_) => self.theta.clone(),
+        }
+    }
+
+    /// The residuals at `theta` if it is the accepted point (see
+    /// [`Accepted`]).
+    fn known_residuals(&self, theta: &DVector<f64>) -> Option<DVector<f64>> {
+        let a = self.accepted.lock().ok()?;
+        if same_point(&a.theta, theta) {
+            a.residuals.clone()
+        } else {
+            None
         }
     }
 
@@ -353,7 +400,9 @@ impl Problem<'_> {
     /// report at the end).
     pub fn evaluate_at(&mut self, theta: &DVector<f64>) {
         self.theta.copy_from(theta);
-        self.current = self.simulate(theta.as_slice()).ok();
+        self.current = self
+            .known_residuals(theta)
+            .or_else(|| self.simulate(theta.as_slice()).ok());
     }
 }
 
@@ -414,7 +463,11 @@ impl<'a> Problem<'a> {
                 deadline,
             },
             stopped: Mutex::new(None),
-            accepted: Mutex::new(theta0.clone()),
+            accepted: Mutex::new(Accepted {
+                theta: theta0.clone(),
+                residuals: None,
+            }),
+            last_jacobian: Mutex::new(None),
             evaluations: AtomicUsize::new(0),
             jacobians: AtomicUsize::new(0),
         };
@@ -430,6 +483,10 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
 
     fn set_params(&mut self, theta: &DVector<f64>) {
         self.theta.copy_from(theta);
+        if let Some(known) = self.known_residuals(theta) {
+            self.current = Some(known);
+            return;
+        }
         self.current = if self.allows(1) {
             self.simulate(theta.as_slice()).ok()
         } else {
@@ -455,7 +512,8 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
     fn jacobian(&self) -> Option<DMatrix<f64>> {
         // The solver asks for a Jacobian only at an accepted point.
         if let Ok(mut a) = self.accepted.lock() {
-            a.copy_from(&self.theta);
+            a.theta.copy_from(&self.theta);
+            a.residuals.clone_from(&self.current);
         }
         (self.on_iteration)(Progress {
             iteration: self.jacobians.load(Ordering::Relaxed),
