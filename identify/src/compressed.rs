@@ -20,10 +20,12 @@
 //!
 //! The cost of the solver's own linear algebra (a pivoted QR of `J`, and
 //! `Qᵀ r`, in scalar loops) drops from `O(m k²)` per iteration to `O(k³)`,
-//! and the one QR of `[r J]` that replaces it runs in nalgebra's column
-//! operations (`bouc_wen_fit_5`, 20 000 residuals and 5 parameters: 28 →
-//! 20–22 ms on the machine of the README's figures). Problems with `m ≤ k + 1` residuals are
-//! passed through as they are.
+//! and the one QR of `[r J]` that replaces it (`bouc_wen_fit_5`, 20 000
+//! residuals and 5 parameters: 28 → 20–22 ms on the machine of the
+//! README's figures) is folded block by block as the dual passes hand out
+//! the rows ([`Triangular`], `Problem::compressed_jacobian`): `J` is never
+//! held whole. Problems with `m ≤ k + 1` residuals are passed through as
+//! they are.
 //!
 //! # Reference
 //! J. J. Moré, "The Levenberg-Marquardt algorithm: implementation and
@@ -31,6 +33,7 @@
 //! Springer 1978 (the iteration depends on `J` through its QR alone).
 
 use crate::problem::Problem;
+use crate::triangular::Triangular;
 use levenberg_marquardt::LeastSquaresProblem;
 use nalgebra::{DMatrix, DVector, Dyn, Owned};
 
@@ -62,17 +65,18 @@ fn compress_residuals(r: &DVector<f64>, k: usize) -> DVector<f64> {
 }
 
 /// `Qᵀ J` for the QR `[r J] = Q R` with `R₀₀ ≥ 0`: the last `k` columns
-/// of `R`.
-fn compress_jacobian(r: &DVector<f64>, j: &DMatrix<f64>) -> DMatrix<f64> {
+/// of `R`, folded row by row ([`Triangular`]).
+pub(crate) fn compress_jacobian(r: &DVector<f64>, j: &DMatrix<f64>) -> DMatrix<f64> {
     let k = j.ncols();
-    let mut a = DMatrix::zeros(j.nrows(), k + 1);
-    a.set_column(0, r);
-    a.columns_mut(1, k).copy_from(j);
-    let mut big_r = a.qr().r();
-    if big_r.get((0, 0)).is_some_and(|&d| d < 0.0) {
-        big_r.row_mut(0).neg_mut();
+    let mut t = Triangular::new(k + 1);
+    let mut row = vec![0.0; k + 1];
+    for (ri, ji) in r.iter().zip(j.row_iter()) {
+        for (v, &x) in row.iter_mut().zip(std::iter::once(ri).chain(ji.iter())) {
+            *v = x;
+        }
+        t.push(&row);
     }
-    big_r.columns(1, k).into_owned()
+    t.finish().columns(1, k).into_owned()
 }
 
 impl LeastSquaresProblem<f64, Dyn, Dyn> for Compressed<'_> {
@@ -98,12 +102,12 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Compressed<'_> {
     }
 
     fn jacobian(&self) -> Option<DMatrix<f64>> {
-        let j = self.inner.jacobian()?;
-        Some(if self.on {
-            compress_jacobian(&self.inner.current_residuals(), &j)
-        } else {
-            j
-        })
+        if !self.on {
+            return self.inner.jacobian();
+        }
+        self.inner
+            .begin_jacobian()
+            .then(|| self.inner.compressed_jacobian())
     }
 }
 

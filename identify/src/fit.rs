@@ -549,9 +549,15 @@ pub fn fit_records(
     // covariance there.
     problem.evaluate_at(&theta);
     let residuals = problem.current_residuals();
-    let jac = problem.jacobian_matrix();
     let m = problem.len();
     let k = entries.len();
+    // `JᵀJ` and the column norms of `J` are all the report needs: the
+    // compressed Jacobian has them (and is the one the search kept).
+    let jac = if m > k + 1 {
+        problem.compressed_jacobian()
+    } else {
+        problem.jacobian_matrix()
+    };
     let ssr = residuals.norm_squared();
     let dof = m.saturating_sub(k).max(1) as f64;
     let jtj = jac.transpose() * &jac;
@@ -790,6 +796,71 @@ mod tests {
         let problem = Problem::new(model.as_ref(), &records, layout, &serial, &|_| {}).unwrap();
         assert!(!problem.parallel);
         assert_eq!(problem.jacobian().unwrap(), ours);
+    }
+
+    /// The compressed Jacobian folded from the dual passes keeps `JᵀJ`
+    /// and `Jᵀr` of the full one, for one record and for two with a
+    /// parameter of their own (folded in parallel, then together), and is
+    /// what folding the full Jacobian gives.
+    #[test]
+    fn streamed_compression_keeps_the_normal_equations() {
+        let model = BoucWen::constant(10.0, 0.6, 1.0, 2.5, 1.5, 1.5)
+            .unwrap()
+            .boxed();
+        let x: Vec<f64> = (0..1500).map(|i| 1.2 * (i as f64 * 0.013).sin()).collect();
+        let x2: Vec<f64> = (0..900).map(|i| 0.8 * (i as f64 * 0.021).cos()).collect();
+        let y: Vec<f64> = model
+            .clone()
+            .run(&x)
+            .unwrap()
+            .iter()
+            .map(|v| v * 1.02)
+            .collect();
+        let y2: Vec<f64> = model
+            .clone()
+            .run(&x2)
+            .unwrap()
+            .iter()
+            .map(|v| v + 0.01)
+            .collect();
+        let shared = free_by_names(model.as_ref(), &["w", "beta", "n"]).unwrap();
+        let own = free_by_names(model.as_ref(), &["h0"]).unwrap();
+        for (records, own) in [
+            (vec![Record::new(&x, &y)], vec![]),
+            (vec![Record::new(&x, &y), Record::new(&x2, &y2)], own),
+        ] {
+            let layout = Layout {
+                shared: shared.clone(),
+                records: records.len(),
+                own,
+            };
+            let problem = Problem::new(
+                model.as_ref(),
+                &records,
+                layout,
+                &FitOptions::default(),
+                &|_| {},
+            )
+            .unwrap();
+            let before = problem.evaluations.load(Ordering::Relaxed);
+            let jc = problem.compressed_jacobian();
+            // one dual pass per record, nothing else
+            assert_eq!(
+                problem.evaluations.load(Ordering::Relaxed) - before,
+                problem.jacobian_cost()
+            );
+            let (j, r) = (problem.jacobian_matrix(), problem.current_residuals());
+            let k = j.ncols();
+            assert_eq!((jc.nrows(), jc.ncols()), (k + 1, k));
+            let (a, b) = (jc.transpose() * &jc, j.transpose() * &j);
+            assert!((&a - &b).amax() <= 1e-12 * b.amax(), "JᵀJ");
+            let mut rc = nalgebra::DVector::zeros(k + 1);
+            rc[0] = r.norm();
+            let (ga, gb) = (jc.transpose() * rc, j.transpose() * &r);
+            assert!((&ga - &gb).amax() <= 1e-12 * gb.amax(), "Jᵀr");
+            let folded = crate::compressed::compress_jacobian(&r, &j);
+            assert!((&folded - &jc).amax() <= 1e-12 * jc.amax(), "{folded} {jc}");
+        }
     }
 
     /// Coming back to the accepted point (after a rejected step, and for

@@ -32,6 +32,7 @@ pub mod paper;
 mod problem;
 pub mod report;
 mod transform;
+mod triangular;
 
 pub use diagnostics::IdentifiabilityWarning;
 pub use fit::{

@@ -3,8 +3,10 @@
 //! Jacobian (forward-mode derivatives through the model's dual twin, or
 //! central finite differences), and the evaluation budget.
 
+use crate::compressed::compress_jacobian;
 use crate::fit::{FitOptions, Jacobian, Progress, Record};
 use crate::transform::Reparam;
+use crate::triangular::Triangular;
 use hysteron_models::sensitivity::visit_derivatives;
 use hysteron_operators::{Dual, Error, Operator, DUAL_WIDTH};
 use levenberg_marquardt::LeastSquaresProblem;
@@ -76,6 +78,10 @@ struct Accepted {
     residuals: Option<DVector<f64>>,
 }
 
+/// A Jacobian, the point it was taken at, and whether it is the
+/// compressed one.
+type KeptJacobian = (DVector<f64>, bool, DMatrix<f64>);
+
 /// Whether two parameter vectors are the same bit for bit.
 fn same_point(a: &DVector<f64>, b: &DVector<f64>) -> bool {
     a.len() == b.len()
@@ -110,8 +116,9 @@ pub(crate) struct Problem<'a> {
     /// The last point the solver accepted (where it asked for a Jacobian),
     /// with its residuals.
     accepted: Mutex<Accepted>,
-    /// The last Jacobian and the point it was taken at.
-    last_jacobian: Mutex<Option<(DVector<f64>, DMatrix<f64>)>>,
+    /// The last Jacobian, the point it was taken at, and whether it is
+    /// the compressed one.
+    last_jacobian: Mutex<Option<KeptJacobian>>,
     pub evaluations: AtomicUsize,
     pub jacobians: AtomicUsize,
 }
@@ -208,23 +215,118 @@ impl Problem<'_> {
     /// the model is deterministic, so computing it again would give the
     /// same bits.
     pub fn jacobian_matrix(&self) -> DMatrix<f64> {
+        self.kept_jacobian(false, || self.full_jacobian())
+    }
+
+    /// The Jacobian `J̃ = QᵀJ` of the compressed problem at the current
+    /// `θ`, for `[r J] = QR` with `r` the current residuals (see
+    /// `compressed`): the last `k` columns of `R`, `k + 1` rows, with
+    /// `J̃ᵀJ̃ = JᵀJ` and the column norms of `J`. Where one dual pass per
+    /// record gives every column, the rows are folded into `R` as the pass
+    /// hands them out, and `J` is never held whole; otherwise `[r J]` is
+    /// folded once computed. Kept like [`jacobian_matrix`](Self::jacobian_matrix)'s.
+    pub fn compressed_jacobian(&self) -> DMatrix<f64> {
+        self.kept_jacobian(true, || {
+            let r = self.current_residuals();
+            let k = self.theta.len();
+            let streamed =
+                (self.dual.as_ref()).and_then(|dual| self.exact_triangular(dual.as_ref(), &r));
+            match streamed {
+                Some(big_r) => big_r.columns(1, k).into_owned(),
+                None => compress_jacobian(&r, &self.full_jacobian()),
+            }
+        })
+    }
+
+    /// The Jacobian kept from the last call if it was taken at the current
+    /// `θ` (the model is deterministic: computing it again would give the
+    /// same bits), else `compute`'s, kept.
+    fn kept_jacobian(
+        &self,
+        compressed: bool,
+        compute: impl FnOnce() -> DMatrix<f64>,
+    ) -> DMatrix<f64> {
         self.jacobians.fetch_add(1, Ordering::Relaxed);
         if let Ok(last) = self.last_jacobian.lock() {
-            if let Some((theta, j)) = last.as_ref() {
-                if same_point(theta, &self.theta) {
+            if let Some((theta, c, j)) = last.as_ref() {
+                if *c == compressed && same_point(theta, &self.theta) {
                     return j.clone();
                 }
             }
         }
-        let j = self
-            .dual
-            .as_ref()
-            .and_then(|dual| self.exact_jacobian(dual.as_ref()))
-            .unwrap_or_else(|| self.fd_jacobian());
+        let j = compute();
         if let Ok(mut last) = self.last_jacobian.lock() {
-            *last = Some((self.theta.clone(), j.clone()));
+            *last = Some((self.theta.clone(), compressed, j.clone()));
         }
         j
+    }
+
+    /// The Jacobian, exact where the dual twin gives finite derivatives,
+    /// else by differences.
+    fn full_jacobian(&self) -> DMatrix<f64> {
+        self.dual
+            .as_ref()
+            .and_then(|dual| self.exact_jacobian(dual.as_ref()))
+            .unwrap_or_else(|| self.fd_jacobian())
+    }
+
+    /// `R` of `[r J]` by folding each record's rows as its dual pass hands
+    /// them out (records in parallel where the problem is), or `None` where
+    /// a record needs more than one pass ([`DUAL_WIDTH`] parameters), a
+    /// pass fails or a derivative is not finite.
+    // `first + row < r.len()`: each record's rows follow the rows before.
+    #[allow(clippy::indexing_slicing)]
+    fn exact_triangular(
+        &self,
+        dual: &(dyn Operator<Dual> + 'static),
+        r: &DVector<f64>,
+    ) -> Option<DMatrix<f64>> {
+        let k = self.theta.len();
+        let per_record = self.layout.shared.len() + self.layout.own.len();
+        if per_record > DUAL_WIDTH || per_record == 0 {
+            return None;
+        }
+        self.evaluations
+            .fetch_add(self.jacobian_cost(), Ordering::Relaxed);
+        let rows: Vec<usize> = self.records.iter().map(Record::scored).collect();
+        let firsts: Vec<usize> = rows
+            .iter()
+            .scan(0, |at, &n| {
+                let first = *at;
+                *at += n;
+                Some(first)
+            })
+            .collect();
+        let fold = |rec: usize| -> Option<Triangular> {
+            let mut t = Triangular::new(k + 1);
+            let mut at: Option<usize> = None;
+            let first = firsts[rec];
+            self.record_jacobian(dual, rec, |q, j, d| {
+                if at != Some(q) {
+                    if at.is_some() {
+                        t.end_row();
+                    }
+                    t.start_row(r[first + q]);
+                    at = Some(q);
+                }
+                t.set(j + 1, d);
+            })?;
+            if at.is_some() {
+                t.end_row();
+            }
+            // every scored row once (one pass, in order)
+            (t.pushed() == rows[rec]).then_some(t)
+        };
+        let parts: Vec<Option<Triangular>> = if self.parallel && self.records.len() > 1 {
+            (0..self.records.len()).into_par_iter().map(fold).collect()
+        } else {
+            (0..self.records.len()).map(fold).collect()
+        };
+        let mut all = Triangular::new(k + 1);
+        for part in parts {
+            all.absorb(part?);
+        }
+        Some(all.finish())
     }
 
     /// Which Jacobian the problem computes.
@@ -510,6 +612,15 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
     }
 
     fn jacobian(&self) -> Option<DMatrix<f64>> {
+        self.begin_jacobian().then(|| self.jacobian_matrix())
+    }
+}
+
+impl Problem<'_> {
+    /// What the solver's request for a Jacobian starts: the current point
+    /// becomes the accepted one, the progress callback hears of it, and
+    /// the budget is asked; `false` if it is spent.
+    pub fn begin_jacobian(&self) -> bool {
         // The solver asks for a Jacobian only at an accepted point.
         if let Ok(mut a) = self.accepted.lock() {
             a.theta.copy_from(&self.theta);
@@ -523,9 +634,6 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
                 .as_ref()
                 .map_or(f64::INFINITY, |r| 0.5 * r.norm_squared()),
         });
-        if !self.allows(self.jacobian_cost()) {
-            return None;
-        }
-        Some(self.jacobian_matrix())
+        self.allows(self.jacobian_cost())
     }
 }
