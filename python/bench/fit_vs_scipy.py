@@ -23,7 +23,8 @@ model that made the data (the "inverse crime"), hysteron the exact flow
 model's error; both are printed with the RMS residual (noise: 0.0110).
 Wall times are medians over ``--reps`` interleaved repetitions, each fit
 whole: ``hysteron_rs.fit``'s time includes the standard errors it reports
-at the end (one more Jacobian), scipy's does not compute them; hysteron's
+at the end (one more Jacobian, unless the search ended where it took its
+last), scipy's does not compute them; hysteron's
 finite-difference columns run on two threads (its default), scipy on one.
 ``OPENBLAS_NUM_THREADS`` is 1 unless set.
 
