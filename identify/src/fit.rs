@@ -760,19 +760,8 @@ mod tests {
         )
         .unwrap();
         let records = [Record::new(&x, &y)];
-        let layout = Layout {
-            shared: free.clone(),
-            own: vec![],
-            records: 1,
-        };
-        let mut problem = Problem::new(
-            model.as_ref(),
-            &records,
-            layout,
-            &FitOptions::default(),
-            &|_| {},
-        )
-        .unwrap();
+        let mut problem =
+            one_record_problem(model.as_ref(), &records, &free, &FitOptions::default());
         let ours = problem.jacobian().unwrap();
         // (the reference takes ~10⁴ model evaluations: keep the record short)
         let reference = levenberg_marquardt::differentiate_numerically(&mut problem).unwrap();
@@ -788,14 +777,41 @@ mod tests {
             parallel: false,
             ..FitOptions::default()
         };
+        let problem = one_record_problem(model.as_ref(), &records, &free, &serial);
+        assert!(!problem.parallel);
+        assert_eq!(problem.jacobian().unwrap(), ours);
+    }
+
+    /// The problem of fitting the `shared` parameters of `model` to one
+    /// record, with `opts`.
+    fn one_record_problem<'a>(
+        model: &(dyn Operator<f64> + 'static),
+        records: &'a [Record<'a>],
+        shared: &[usize],
+        opts: &FitOptions,
+    ) -> Problem<'a> {
         let layout = Layout {
-            shared: free,
+            shared: shared.to_vec(),
             own: vec![],
             records: 1,
         };
-        let problem = Problem::new(model.as_ref(), &records, layout, &serial, &|_| {}).unwrap();
-        assert!(!problem.parallel);
-        assert_eq!(problem.jacobian().unwrap(), ours);
+        Problem::new(model, records, layout, opts, &|_| {}).unwrap()
+    }
+
+    /// A Bouc-Wen spring with `n = 1.5`, and `f` of its response to
+    /// `x_i = a sin(w i)` (`len` samples).
+    fn spring_record(
+        len: usize,
+        a: f64,
+        w: f64,
+        f: impl Fn(f64) -> f64,
+    ) -> (Box<dyn Operator<f64>>, Vec<f64>, Vec<f64>) {
+        let model = BoucWen::constant(10.0, 0.6, 1.0, 2.5, 1.5, 1.5)
+            .unwrap()
+            .boxed();
+        let x: Vec<f64> = (0..len).map(|i| a * (i as f64 * w).sin()).collect();
+        let y = model.clone().run(&x).unwrap().into_iter().map(f).collect();
+        (model, x, y)
     }
 
     /// The compressed Jacobian folded from the dual passes keeps `JᵀJ`
@@ -804,25 +820,8 @@ mod tests {
     /// what folding the full Jacobian gives.
     #[test]
     fn streamed_compression_keeps_the_normal_equations() {
-        let model = BoucWen::constant(10.0, 0.6, 1.0, 2.5, 1.5, 1.5)
-            .unwrap()
-            .boxed();
-        let x: Vec<f64> = (0..1500).map(|i| 1.2 * (i as f64 * 0.013).sin()).collect();
-        let x2: Vec<f64> = (0..900).map(|i| 0.8 * (i as f64 * 0.021).cos()).collect();
-        let y: Vec<f64> = model
-            .clone()
-            .run(&x)
-            .unwrap()
-            .iter()
-            .map(|v| v * 1.02)
-            .collect();
-        let y2: Vec<f64> = model
-            .clone()
-            .run(&x2)
-            .unwrap()
-            .iter()
-            .map(|v| v + 0.01)
-            .collect();
+        let (model, x, y) = spring_record(1500, 1.2, 0.013, |v| v * 1.02);
+        let (_, x2, y2) = spring_record(900, 0.8, 0.021, |v| v + 0.01);
         let shared = free_by_names(model.as_ref(), &["w", "beta", "n"]).unwrap();
         let own = free_by_names(model.as_ref(), &["h0"]).unwrap();
         for (records, own) in [
@@ -869,32 +868,11 @@ mod tests {
     /// new point is simulated.
     #[test]
     fn the_accepted_point_is_not_simulated_twice() {
-        let model = BoucWen::constant(10.0, 0.6, 1.0, 2.5, 1.5, 1.5)
-            .unwrap()
-            .boxed();
-        let x: Vec<f64> = (0..400).map(|i| 1.2 * (i as f64 * 0.05).sin()).collect();
-        let y: Vec<f64> = model
-            .clone()
-            .run(&x)
-            .unwrap()
-            .iter()
-            .map(|v| v * 1.02)
-            .collect();
+        let (model, x, y) = spring_record(400, 1.2, 0.05, |v| v * 1.02);
         let free = free_by_names(model.as_ref(), &["w", "beta", "n"]).unwrap();
         let records = [Record::new(&x, &y)];
-        let layout = Layout {
-            shared: free,
-            own: vec![],
-            records: 1,
-        };
-        let mut problem = Problem::new(
-            model.as_ref(),
-            &records,
-            layout,
-            &FitOptions::default(),
-            &|_| {},
-        )
-        .unwrap();
+        let mut problem =
+            one_record_problem(model.as_ref(), &records, &free, &FitOptions::default());
         let runs = |p: &Problem| p.evaluations.load(Ordering::Relaxed);
         let accepted = problem.params();
         let (r0, j0) = (problem.residuals().unwrap(), problem.jacobian().unwrap());
