@@ -862,6 +862,90 @@ mod tests {
         }
     }
 
+    /// A gain whose dual twin reports a NaN derivative at every sample.
+    #[derive(Debug, Clone)]
+    struct NanTwin<T: hysteron_operators::Float>(hysteron_operators::Gain<T>);
+
+    /// The parameter methods of `NanTwin`, from its gain.
+    macro_rules! nan_twin_params {
+        ($t:ty) => {
+            fn name(&self) -> &'static str {
+                "nan_twin"
+            }
+            fn commit(&mut self) {
+                self.0.commit()
+            }
+            fn reset(&mut self) {
+                self.0.reset()
+            }
+            fn n_params(&self) -> usize {
+                self.0.n_params()
+            }
+            fn params_into(&self, out: &mut Vec<$t>) {
+                self.0.params_into(out)
+            }
+            fn param_names(&self) -> Vec<String> {
+                self.0.param_names()
+            }
+            fn set_params(&mut self, p: &[$t]) -> hysteron_operators::Result<()> {
+                self.0.set_params(p)
+            }
+        };
+    }
+
+    impl Operator<f64> for NanTwin<f64> {
+        nan_twin_params!(f64);
+        fn trial(&mut self, x: f64) -> hysteron_operators::Result<hysteron_operators::Trial<f64>> {
+            self.0.trial(x)
+        }
+        fn to_dual(&self) -> Option<Box<dyn Operator<hysteron_operators::Dual>>> {
+            let k = hysteron_operators::Dual::constant(self.0.gain());
+            Some(Box::new(NanTwin(hysteron_operators::Gain::new(k).ok()?)))
+        }
+    }
+
+    impl Operator<hysteron_operators::Dual> for NanTwin<hysteron_operators::Dual> {
+        nan_twin_params!(hysteron_operators::Dual);
+        fn trial(
+            &mut self,
+            x: hysteron_operators::Dual,
+        ) -> hysteron_operators::Result<hysteron_operators::Trial<hysteron_operators::Dual>>
+        {
+            let mut t = self.0.trial(x)?;
+            t.output.eps[0] = f64::NAN;
+            Ok(t)
+        }
+    }
+
+    /// Where the dual pass gives a derivative that is not finite, the
+    /// compressed Jacobian is that of central differences, and the failed
+    /// pass is not run a second time: one pass and two simulations.
+    #[test]
+    fn a_failed_dual_pass_falls_back_to_differences_once() {
+        let model: Box<dyn Operator<f64>> =
+            Box::new(NanTwin(hysteron_operators::Gain::new(2.0).unwrap()));
+        let x: Vec<f64> = (0..50).map(|i| (i as f64 * 0.3).sin()).collect();
+        let y: Vec<f64> = x.iter().map(|v| 2.5 * v).collect();
+        let records = [Record::new(&x, &y)];
+        let free = free_by_names(model.as_ref(), &["k"]).unwrap();
+        let problem = one_record_problem(model.as_ref(), &records, &free, &FitOptions::default());
+        let before = problem.evaluations.load(Ordering::Relaxed);
+        let jc = problem.compressed_jacobian();
+        assert_eq!(problem.evaluations.load(Ordering::Relaxed) - before, 1 + 2);
+        let fd = crate::compressed::compress_jacobian(
+            &problem.current_residuals(),
+            &problem.fd_jacobian(),
+        );
+        assert_eq!(jc, fd);
+        // and a fit through it finds the gain
+        let f = fit(model.as_ref(), &x, &y, &free, &FitOptions::default()).unwrap();
+        assert!(
+            (f.report.params[0].value - 2.5).abs() < 1e-8,
+            "{}",
+            f.report
+        );
+    }
+
     /// Coming back to the accepted point (after a rejected step, and for
     /// the report) costs no simulation and no dual pass: the residuals and
     /// the Jacobian there are those computed before, bit for bit, and a

@@ -229,12 +229,17 @@ impl Problem<'_> {
         self.kept_jacobian(true, || {
             let r = self.current_residuals();
             let k = self.theta.len();
-            let streamed =
-                (self.dual.as_ref()).and_then(|dual| self.exact_triangular(dual.as_ref(), &r));
-            match streamed {
-                Some(big_r) => big_r.columns(1, k).into_owned(),
-                None => compress_jacobian(&r, &self.full_jacobian()),
-            }
+            let j = match &self.dual {
+                Some(dual) if self.one_pass_per_record() => {
+                    match self.exact_triangular(dual.as_ref(), &r) {
+                        Some(big_r) => return big_r.columns(1, k).into_owned(),
+                        // (the same pass would fail again)
+                        None => self.fd_jacobian(),
+                    }
+                }
+                _ => self.full_jacobian(),
+            };
+            compress_jacobian(&r, &j)
         })
     }
 
@@ -270,9 +275,15 @@ impl Problem<'_> {
             .unwrap_or_else(|| self.fd_jacobian())
     }
 
+    /// Whether one dual pass gives every column a record has (at most
+    /// [`DUAL_WIDTH`] parameters, at least one).
+    fn one_pass_per_record(&self) -> bool {
+        (1..=DUAL_WIDTH).contains(&(self.layout.shared.len() + self.layout.own.len()))
+    }
+
     /// `R` of `[r J]` by folding each record's rows as its dual pass hands
-    /// them out (records in parallel where the problem is), or `None` where
-    /// a record needs more than one pass ([`DUAL_WIDTH`] parameters), a
+    /// them out (records in parallel where the problem is), for
+    /// [`one_pass_per_record`](Self::one_pass_per_record); `None` where a
     /// pass fails or a derivative is not finite.
     // `first + row < r.len()`: each record's rows follow the rows before.
     #[allow(clippy::indexing_slicing)]
@@ -282,10 +293,6 @@ impl Problem<'_> {
         r: &DVector<f64>,
     ) -> Option<DMatrix<f64>> {
         let k = self.theta.len();
-        let per_record = self.layout.shared.len() + self.layout.own.len();
-        if per_record > DUAL_WIDTH || per_record == 0 {
-            return None;
-        }
         self.evaluations
             .fetch_add(self.jacobian_cost(), Ordering::Relaxed);
         let rows: Vec<usize> = self.records.iter().map(Record::scored).collect();
@@ -506,6 +513,26 @@ impl Problem<'_> {
             .known_residuals(theta)
             .or_else(|| self.simulate(theta.as_slice()).ok());
     }
+
+    /// What the solver's request for a Jacobian starts: the current point
+    /// becomes the accepted one, the progress callback hears of it, and
+    /// the budget is asked; `false` if it is spent.
+    pub fn begin_jacobian(&self) -> bool {
+        // The solver asks for a Jacobian only at an accepted point.
+        if let Ok(mut a) = self.accepted.lock() {
+            a.theta.copy_from(&self.theta);
+            a.residuals.clone_from(&self.current);
+        }
+        (self.on_iteration)(Progress {
+            iteration: self.jacobians.load(Ordering::Relaxed),
+            evaluations: self.evaluations.load(Ordering::Relaxed),
+            cost: self
+                .current
+                .as_ref()
+                .map_or(f64::INFINITY, |r| 0.5 * r.norm_squared()),
+        });
+        self.allows(self.jacobian_cost())
+    }
 }
 
 impl<'a> Problem<'a> {
@@ -613,27 +640,5 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
 
     fn jacobian(&self) -> Option<DMatrix<f64>> {
         self.begin_jacobian().then(|| self.jacobian_matrix())
-    }
-}
-
-impl Problem<'_> {
-    /// What the solver's request for a Jacobian starts: the current point
-    /// becomes the accepted one, the progress callback hears of it, and
-    /// the budget is asked; `false` if it is spent.
-    pub fn begin_jacobian(&self) -> bool {
-        // The solver asks for a Jacobian only at an accepted point.
-        if let Ok(mut a) = self.accepted.lock() {
-            a.theta.copy_from(&self.theta);
-            a.residuals.clone_from(&self.current);
-        }
-        (self.on_iteration)(Progress {
-            iteration: self.jacobians.load(Ordering::Relaxed),
-            evaluations: self.evaluations.load(Ordering::Relaxed),
-            cost: self
-                .current
-                .as_ref()
-                .map_or(f64::INFINITY, |r| 0.5 * r.norm_squared()),
-        });
-        self.allows(self.jacobian_cost())
     }
 }

@@ -101,12 +101,12 @@ impl Triangular {
     /// both sets of rows).
     pub fn absorb(&mut self, mut other: Triangular) {
         other.fold();
-        let pushed = other.pushed;
+        let before = self.pushed;
         for row in other.r.chunks(other.c.max(1)) {
             self.push(row);
         }
         // its factor's rows stand for the rows it was given
-        self.pushed = self.pushed - other.c + pushed;
+        self.pushed = before + other.pushed;
     }
 
     /// Folds the pending rows into `R`: the Householder QR of `[R; B]`,
