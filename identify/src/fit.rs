@@ -350,6 +350,23 @@ impl<'a> Record<'a> {
     pub(crate) fn scored(&self) -> usize {
         self.y.len().saturating_sub(self.skip)
     }
+
+    /// The scored samples among the input samples `offset..offset + len`
+    /// for the stride `stride` (≥ 1): `(i, q)` where input sample
+    /// `offset + i` is output sample `q` (`skip ≤ q < y.len()`), in order.
+    /// One division per call, none per sample.
+    pub(crate) fn scored_in(
+        &self,
+        stride: usize,
+        offset: usize,
+        len: usize,
+    ) -> impl Iterator<Item = (usize, usize)> {
+        // input sample `q · stride` lies in the range iff
+        // `⌈offset/stride⌉ ≤ q < ⌈(offset + len)/stride⌉`
+        let first = offset.div_ceil(stride).max(self.skip);
+        let end = (offset + len).div_ceil(stride).min(self.y.len());
+        (first..end).map(move |q| (q * stride - offset, q))
+    }
 }
 
 fn check_records(records: &[Record<'_>], stride: usize) -> Result<(), FitError> {
@@ -982,6 +999,40 @@ mod tests {
         let before = runs(&problem);
         assert_ne!(problem.jacobian().unwrap(), j0);
         assert!(runs(&problem) > before);
+    }
+
+    /// `scored_in` picks, block by block, exactly the samples the plain
+    /// rule picks: every `stride`-th input sample, from output `skip` on,
+    /// up to `y.len()` (blocks of several lengths, including ones that
+    /// split a stride and ones past the end).
+    #[test]
+    fn scored_samples_are_those_of_the_plain_rule() {
+        let y = [0.0; 11];
+        for stride in 1..5 {
+            for skip in [0, 1, 4, 10] {
+                let record = Record {
+                    x: &[],
+                    y: &y,
+                    skip,
+                };
+                let plain: Vec<(usize, usize)> = (0..stride * y.len() + 7)
+                    .filter(|k| k % stride == 0 && k / stride >= skip && k / stride < y.len())
+                    .map(|k| (k, k / stride))
+                    .collect();
+                for len in [1, 2, 3, 5, 64] {
+                    let mut got = Vec::new();
+                    for offset in (0..stride * y.len() + 7).step_by(len) {
+                        got.extend(
+                            record
+                                .scored_in(stride, offset, len)
+                                .inspect(|&(i, _)| assert!(i < len))
+                                .map(|(i, q)| (offset + i, q)),
+                        );
+                    }
+                    assert_eq!(got, plain, "stride {stride} skip {skip} block {len}");
+                }
+            }
+        }
     }
 
     #[test]

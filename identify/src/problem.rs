@@ -149,7 +149,7 @@ impl Problem<'_> {
     /// `process` does): a fit simulates dozens of times, and an output
     /// buffer as long as the record, allocated and freed each time, made
     /// the allocator hand pages back to the system and fault them in again.
-    // `q < record.y.len()` is checked before `record.y[q]`.
+    // `scored_in` gives `i < out.len()` and `q < record.y.len()`.
     #[allow(clippy::indexing_slicing)]
     pub fn simulate(&self, theta: &[f64]) -> Result<DVector<f64>, (usize, Error)> {
         self.evaluations.fetch_add(1, Ordering::Relaxed);
@@ -167,19 +167,8 @@ impl Problem<'_> {
                 model
                     .process(xs, out)
                     .map_err(|e| (r, e.offset_by(offset)))?;
-                for (i, m) in out.iter().enumerate() {
-                    let k = offset + i;
-                    if !k.is_multiple_of(self.stride) {
-                        continue;
-                    }
-                    let q = k / self.stride;
-                    if q < record.skip {
-                        continue;
-                    }
-                    if q >= record.y.len() {
-                        break;
-                    }
-                    residuals.push(m - record.y[q]);
+                for (i, q) in record.scored_in(self.stride, offset, out.len()) {
+                    residuals.push(out[i] - record.y[q]);
                 }
             }
         }
@@ -306,21 +295,15 @@ impl Problem<'_> {
             .collect();
         let fold = |rec: usize| -> Option<Triangular> {
             let mut t = Triangular::new(k + 1);
-            let mut at: Option<usize> = None;
             let first = firsts[rec];
-            self.record_jacobian(dual, rec, |q, j, d| {
-                if at != Some(q) {
-                    if at.is_some() {
-                        t.end_row();
-                    }
-                    t.start_row(r[first + q]);
-                    at = Some(q);
+            // one pass: each row comes once, with all its entries
+            self.record_jacobian(dual, rec, |q, cols, ds| {
+                t.start_row(r[first + q]);
+                for (&j, &d) in cols.iter().zip(ds) {
+                    t.set(j + 1, d);
                 }
-                t.set(j + 1, d);
-            })?;
-            if at.is_some() {
                 t.end_row();
-            }
+            })?;
             // every scored row once (one pass, in order)
             (t.pushed() == rows[rec]).then_some(t)
         };
@@ -376,7 +359,11 @@ impl Problem<'_> {
                 .into_par_iter()
                 .map(|r| {
                     let mut b = DMatrix::zeros(rows[r], k);
-                    self.record_jacobian(dual, r, |row, j, d| b[(row, j)] = d)?;
+                    self.record_jacobian(dual, r, |row, cols, ds| {
+                        for (&j, &d) in cols.iter().zip(ds) {
+                            b[(row, j)] = d;
+                        }
+                    })?;
                     Some(b)
                 })
                 .collect();
@@ -389,7 +376,11 @@ impl Problem<'_> {
             // straight into the Jacobian: no copy of the columns
             let mut first_row = 0;
             for (r, &n) in rows.iter().enumerate() {
-                self.record_jacobian(dual, r, |row, j, d| jac[(first_row + row, j)] = d)?;
+                self.record_jacobian(dual, r, |row, cols, ds| {
+                    for (&j, &d) in cols.iter().zip(ds) {
+                        jac[(first_row + row, j)] = d;
+                    }
+                })?;
                 first_row += n;
             }
         }
@@ -397,16 +388,19 @@ impl Problem<'_> {
     }
 
     /// The rows of record `r` in [`exact_jacobian`](Self::exact_jacobian):
-    /// `put(row, j, ∂r_row/∂θ_j)` for every scored sample (rows counted
-    /// from the record's first) and every `θ_j` the record depends on.
+    /// `put(row, cols, ds)` with `ds[e] = ∂r_row/∂θ_{cols[e]}` for every
+    /// scored sample (rows counted from the record's first, in order) and
+    /// every pass, each pass giving up to [`DUAL_WIDTH`] of the `θ_j` the
+    /// record depends on.
     // Indices: `j < theta.len() = maps.len()`, layout indices `< base.len()`
-    // (checked by the caller), entry `first_column + slot < entries.len()`.
+    // (checked by the caller), `first_column + columns ≤ entries.len()`,
+    // `scored_in` gives `i < ys.len()`.
     #[allow(clippy::indexing_slicing)]
     fn record_jacobian(
         &self,
         dual: &(dyn Operator<Dual> + 'static),
         r: usize,
-        mut put: impl FnMut(usize, usize, f64),
+        mut put: impl FnMut(usize, &[usize], &[f64]),
     ) -> Option<()> {
         let theta = self.theta.as_slice();
         let record = &self.records[r];
@@ -417,30 +411,22 @@ impl Problem<'_> {
             .chain((self.layout.own.iter().enumerate()).map(|(o, &i)| (k + r * n_own + o, i)))
             .collect();
         let indices: Vec<usize> = entries.iter().map(|&(_, i)| i).collect();
+        let thetas: Vec<usize> = entries.iter().map(|&(j, _)| j).collect();
         let dp: Vec<f64> = entries
             .iter()
             .map(|&(j, _)| self.maps[j].derivative(theta[j]))
             .collect();
-        let rows = record.scored();
         let params = self.full_params(theta, r);
+        let mut ds = [0.0; DUAL_WIDTH];
         visit_derivatives(dual, &params, record.x, &indices, |block| {
-            for (i, y) in block.ys.iter().enumerate() {
-                let sample = block.offset + i;
-                if !sample.is_multiple_of(self.stride) {
-                    continue;
+            let columns = block.first_column..block.first_column + block.columns;
+            let (cols, dp) = (&thetas[columns.clone()], &dp[columns]);
+            let ds = &mut ds[..cols.len()];
+            for (i, q) in record.scored_in(self.stride, block.offset, block.ys.len()) {
+                for ((d, &e), &s) in ds.iter_mut().zip(&block.ys[i].eps).zip(dp) {
+                    *d = e * s;
                 }
-                let q = sample / self.stride;
-                if q < record.skip {
-                    continue;
-                }
-                let row = q - record.skip;
-                if row >= rows {
-                    break;
-                }
-                for (slot, &d) in y.eps.iter().take(block.columns).enumerate() {
-                    let e = block.first_column + slot;
-                    put(row, entries[e].0, d * dp[e]);
-                }
+                put(q - record.skip, cols, ds);
             }
         })
         .ok()
