@@ -638,13 +638,14 @@ impl<T: Float> BoucWen<T> {
                     let (d, seeded) = (self.d_params, self.seeded);
                     let sign = if self.s.dir < 0 { -T::one() } else { T::one() };
                     let mut hint = self.sensitive_hint;
+                    let mut ahead = Lookahead::new(position, sign, self.s.z_a, i);
                     let run = self.run_branch(
                         zs,
                         ys,
                         i,
                         |s, z| {
-                            let p = flow.lookup(position + s.as_f64(), &mut hint)?;
-                            Some(sensitive_state(&p, carry, sign, z, &d, seeded))
+                            let p = ahead.next(flow, &mut hint, zs, s)?;
+                            Some(sensitive_state(p, carry, sign, z, &d, seeded))
                         },
                         &mut keep,
                     );
@@ -740,6 +741,80 @@ fn flow_part<T: Float>(dp: [f64; 4], d: &[T; 4], seeded: bool) -> T {
     dp.iter()
         .zip(d)
         .fold(T::zero(), |acc, (&j, &dt)| acc + T::lit(j) * dt)
+}
+
+/// Samples whose flow points the batch loop of a tabulated branch over
+/// dual numbers looks up at once ([`SensitiveFlow::lookup_run`]).
+const AHEAD: usize = 32;
+
+/// The flow points of the batch loop along a tabulated branch over dual
+/// numbers, looked up [`AHEAD`] samples at a time while the input keeps its
+/// direction (as `run_branch` goes on), so that their rates' `|g|^n`
+/// overlap; the same points as one lookup per sample.
+struct Lookahead<T> {
+    /// The branch: its start's flow position, direction and input.
+    position: f64,
+    sign: T,
+    z_a: T,
+    /// The sample the next call is for.
+    asked: usize,
+    /// `points[..found]` are those of samples `from..from + found`.
+    from: usize,
+    found: usize,
+    points: [FlowPoint; AHEAD],
+    sigmas: [f64; AHEAD],
+}
+
+impl<T: Float> Lookahead<T> {
+    fn new(position: f64, sign: T, z_a: T, first: usize) -> Self {
+        Self {
+            position,
+            sign,
+            z_a,
+            asked: first,
+            from: first,
+            found: 0,
+            points: [FlowPoint::default(); AHEAD],
+            sigmas: [0.0; AHEAD],
+        }
+    }
+
+    /// The point of the next sample of `zs`, whose travel is `s = sgn(ż)
+    /// (z − z_a)` (samples asked one after the other, from `first` on);
+    /// `None` beyond the table.
+    #[inline(always)]
+    fn next(
+        &mut self,
+        flow: &SensitiveFlow,
+        hint: &mut SensitivityHint,
+        zs: &[T],
+        s: T,
+    ) -> Option<&FlowPoint> {
+        let k = self.asked;
+        self.asked += 1;
+        if k == self.from + self.found {
+            (self.from, self.found) = (k, 0);
+            let mut m = 0;
+            for (q, sigma) in self.sigmas.iter_mut().enumerate() {
+                let Some(&z) = zs.get(k + q) else { break };
+                let s = if q == 0 {
+                    s
+                } else {
+                    // `run_branch`'s condition to go on
+                    let before = zs.get(k + q - 1).copied().unwrap_or(z);
+                    if !(self.sign * (z - before) >= T::zero() && z.is_finite()) {
+                        break;
+                    }
+                    self.sign * (z - self.z_a)
+                };
+                *sigma = self.position + s.as_f64();
+                m += 1;
+            }
+            let sigmas = self.sigmas.get(..m).unwrap_or_default();
+            self.found = flow.lookup_run(sigmas, hint, &mut self.points);
+        }
+        self.points.get(k - self.from).filter(|_| k < self.from + self.found)
+    }
 }
 
 /// The state on a tabulated branch over dual numbers at the flow point

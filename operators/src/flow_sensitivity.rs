@@ -317,21 +317,16 @@ impl SideSensitivity {
     /// without a tail); `hint` is the piece to look at first.
     // `std::array::from_fn` indices are `< PARAMS`, the arrays' length;
     // `k` is checked against `pieces`.
+    // Inlined into the dual batch loop: returned through memory, the three
+    // values stalled the loads that read them back.
     #[allow(clippy::indexing_slicing)]
+    #[inline(always)]
     fn at(&self, tau: f64, hint: &mut usize) -> Option<[f64; PARAMS]> {
         if self.broken {
             return None;
         }
         if tau > self.end_tau {
-            return self.tail.map(|t| {
-                let d = tau - self.end_tau;
-                let e = (-(t.lambda * d)).exp();
-                if e == 0.0 {
-                    // (also at d = ∞, a state at saturation)
-                    return t.j_star;
-                }
-                std::array::from_fn(|i| t.j_star[i] + (t.e_t[i] - t.k[i] * d) * e)
-            });
+            return self.beyond(tau);
         }
         let s = &self.starts;
         let holds =
@@ -345,6 +340,25 @@ impl SideSensitivity {
         };
         *hint = k;
         self.pieces.get(k).map(|p| p.map(|q| q.eval(tau)))
+    }
+}
+
+impl SideSensitivity {
+    /// [`at`](Self::at) beyond the pieces: the tail towards saturation, if
+    /// any.
+    // `std::array::from_fn` indices are `< PARAMS`, the arrays' length.
+    #[allow(clippy::indexing_slicing)]
+    #[cold]
+    fn beyond(&self, tau: f64) -> Option<[f64; PARAMS]> {
+        self.tail.map(|t| {
+            let d = tau - self.end_tau;
+            let e = (-(t.lambda * d)).exp();
+            if e == 0.0 {
+                // (also at d = ∞, a state at saturation)
+                return t.j_star;
+            }
+            std::array::from_fn(|i| t.j_star[i] + (t.e_t[i] - t.k[i] * d) * e)
+        })
     }
 }
 
@@ -376,7 +390,7 @@ pub(crate) struct SensitiveFlow {
 
 /// The flow at a position: the state, its rate and the derivatives of the
 /// state reached from `g = 0` with respect to `α, β, γ, n`.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub(crate) struct FlowPoint {
     /// `g = G(σ)`.
     pub g: f64,
@@ -431,12 +445,38 @@ impl SensitiveFlow {
         self.lower.follow(self.table.lower());
     }
 
-    /// [`at`](Self::at) without extending the table: `None` beyond it too
-    /// (the same point where `at` gives one without extending).
+    /// [`at`](Self::at) of each of `sigmas` in turn into `out`, without
+    /// extending the table, up to the first that is beyond it (where `at`
+    /// would give a point without extending, so does this); how many were
+    /// found. The
+    /// rates come last, in a loop of their own: their `|g|^n` (the longest
+    /// computation of a point, a few dozen dependent operations) then
+    /// overlap from one point to the next, and the same bits come out as
+    /// from `at`.
+    // `out[..found]`, `found ≤ out.len()`.
+    #[allow(clippy::indexing_slicing)]
     #[inline]
-    pub(crate) fn lookup(&self, sigma: f64, hint: &mut SensitivityHint) -> Option<FlowPoint> {
-        let g = self.table.state_at(sigma, &mut hint.table)?;
-        self.point(sigma, g, hint)
+    pub(crate) fn lookup_run(
+        &self,
+        sigmas: &[f64],
+        hint: &mut SensitivityHint,
+        out: &mut [FlowPoint],
+    ) -> usize {
+        let mut found = 0;
+        for (&sigma, p) in sigmas.iter().zip(out.iter_mut()) {
+            let Some(g) = self.table.state_at(sigma, &mut hint.table) else {
+                break;
+            };
+            let Some(point) = self.point_without_rate(sigma, g, hint) else {
+                break;
+            };
+            *p = point;
+            found += 1;
+        }
+        for p in &mut out[..found] {
+            p.rate = self.eq.rate_inline(p.g);
+        }
+        found
     }
 
     /// The flow at position `σ` (extending a growing side to reach it), or
@@ -452,6 +492,21 @@ impl SensitiveFlow {
     /// The flow point at `σ` with state `g = G(σ)` (see [`at`](Self::at)).
     #[inline(always)]
     fn point(&self, sigma: f64, g: f64, hint: &mut SensitivityHint) -> Option<FlowPoint> {
+        let p = self.point_without_rate(sigma, g, hint)?;
+        Some(FlowPoint {
+            rate: self.eq.rate_inline(g),
+            ..p
+        })
+    }
+
+    /// [`point`](Self::point) with the rate left 0.
+    #[inline(always)]
+    fn point_without_rate(
+        &self,
+        sigma: f64,
+        g: f64,
+        hint: &mut SensitivityHint,
+    ) -> Option<FlowPoint> {
         let upper = sigma >= 0.0;
         let j = if upper {
             self.upper.at(sigma, &mut hint.upper)?
@@ -465,7 +520,7 @@ impl SensitiveFlow {
         };
         Some(FlowPoint {
             g,
-            rate: self.eq.rate(g),
+            rate: 0.0,
             d_params,
         })
     }

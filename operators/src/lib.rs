@@ -47,6 +47,7 @@ mod leaf;
 mod memoryless;
 mod operator;
 pub mod params;
+mod pow;
 pub mod simd;
 
 mod flow_sensitivity;
