@@ -13,9 +13,9 @@ use crate::simd::Isa;
 /// `ln 2` in two parts: the high part has 21 trailing zero bits, so
 /// `k · LN2_HI` is exact for `|k| < 2^21`, and `LN2_HI + LN2_LO` is `ln 2`
 /// to about `2^-86`.
-pub(crate) const LN2_HI: f64 = f64::from_bits(0x3FE6_2E42_FEE0_0000);
+const LN2_HI: f64 = f64::from_bits(0x3FE6_2E42_FEE0_0000);
 /// See [`LN2_HI`].
-pub(crate) const LN2_LO: f64 = f64::from_bits(0x3DEA_39EF_3579_3C76);
+const LN2_LO: f64 = f64::from_bits(0x3DEA_39EF_3579_3C76);
 /// `1.5 · 2^52`: adding it to `|v| < 2^51` rounds `v` to the nearest integer
 /// (ties to even), which then sits in the low bits of the sum's pattern.
 const SHIFTER: f64 = 6_755_399_441_055_744.0;
@@ -61,19 +61,10 @@ const C: [f64; 12] = [
 pub(crate) fn exp_m1_nonpositive(x: f64) -> f64 {
     // (a NaN fails the comparison and runs through as NaN)
     let x = if x < FLOOR { FLOOR } else { x };
-    let (scale, s) = exp_parts(x);
-    (scale - 1.0) + scale * s
-}
-
-/// `(2^k, e^r − 1)` with `e^x = 2^k (1 + (e^r − 1))`, `k = round(x / ln 2)`
-/// and `r = x − k ln 2` (see [`exp_m1_nonpositive`]), for `−1022 ≤ k ≤
-/// 1023`, that is `−708 ≤ x ≤ 709` (the caller clamps).
-#[inline(always)]
-pub(crate) fn exp_parts(x: f64) -> (f64, f64) {
     let t = x * core::f64::consts::LOG2_E + SHIFTER;
     let k = t - SHIFTER;
     let r = (x - k * LN2_HI) - k * LN2_LO;
-    // 2^k from the integer in `t`'s low bits: (k + 1023) << 52.
+    // 2^k from the integer in `t`'s low bits: (k + 1023) << 52, k ≥ −58.
     let biased = t
         .to_bits()
         .wrapping_sub(SHIFTER.to_bits())
@@ -85,7 +76,8 @@ pub(crate) fn exp_parts(x: f64) -> (f64, f64) {
     let [c0, c1, c2, c3, c4, c5, c6, c7, c8, c9, c10, c11] = C;
     let q = ((c0 + c1 * r) + (c2 + c3 * r) * r2) + ((c4 + c5 * r) + (c6 + c7 * r) * r2) * r4;
     let q = q + ((c8 + c9 * r) + (c10 + c11 * r) * r2) * r8;
-    (scale, r + r2 * q)
+    let s = r + r2 * q;
+    (scale - 1.0) + scale * s
 }
 
 /// [`exp_m1_nonpositive`] of every value of `v`, in place: four or eight

@@ -450,7 +450,7 @@ impl SensitiveFlow {
     /// would give a point without extending, so does this); how many were
     /// found. The
     /// rates come last, in a loop of their own: their `|g|^n` (the longest
-    /// computation of a point, a few dozen dependent operations) then
+    /// computation of a point, a call of the C library's `pow`) then
     /// overlap from one point to the next, and the same bits come out as
     /// from `at`.
     // `out[..found]`, `found ≤ out.len()`.
@@ -474,7 +474,7 @@ impl SensitiveFlow {
             found += 1;
         }
         for p in &mut out[..found] {
-            p.rate = self.eq.rate_inline(p.g);
+            p.rate = self.eq.rate(p.g);
         }
         found
     }
@@ -494,7 +494,7 @@ impl SensitiveFlow {
     fn point(&self, sigma: f64, g: f64, hint: &mut SensitivityHint) -> Option<FlowPoint> {
         let p = self.point_without_rate(sigma, g, hint)?;
         Some(FlowPoint {
-            rate: self.eq.rate_inline(g),
+            rate: self.eq.rate(g),
             ..p
         })
     }

@@ -40,7 +40,6 @@
 //! integrates the knots of the tabulated flow (`flow_table`) with it, once
 //! per parameter set.
 
-use crate::pow::pow_positive;
 use crate::{Error, Float, Result};
 
 /// `|g|^n` evaluated without `powf` for integer and half-integer `n`.
@@ -334,21 +333,6 @@ impl<T: Float> NearZero<T> {
 /// Sub-steps one input step may take before the integration gives up
 /// (only reached by a state that diverges).
 const MAX_SUBSTEPS: usize = 100_000;
-
-impl StateEquation<f64> {
-    /// [`rate`](Self::rate) with a real exponent's `|g|^n` by
-    /// [`pow_positive`] (inline, within `(3 + 2 |n ln |g||) ε` relative)
-    /// instead of the C library's `pow` (a call, near correctly rounded):
-    /// for the rate that scales the derivative parts of a tabulated branch
-    /// at every sample of a dual pass, where a few ulps do not matter.
-    #[inline(always)]
-    pub(crate) fn rate_inline(&self, g: f64) -> f64 {
-        match self.power {
-            Power::Real(n) => self.rate_with(|a| pow_positive(a, n), g),
-            _ => self.rate(g),
-        }
-    }
-}
 
 impl<T: Float> StateEquation<T> {
     /// The state equation with shape `α, β, γ, n` and tolerance `rtol`.

@@ -47,7 +47,6 @@ mod leaf;
 mod memoryless;
 mod operator;
 pub mod params;
-mod pow;
 pub mod simd;
 
 mod flow_sensitivity;
