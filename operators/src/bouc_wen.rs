@@ -740,7 +740,7 @@ fn flow_part<T: Float>(dp: [f64; 4], d: &[T; 4], seeded: bool) -> T {
     }
     dp.iter()
         .zip(d)
-        .fold(T::zero(), |acc, (&j, &dt)| acc + T::lit(j) * dt)
+        .fold(T::zero(), |acc, (&j, &dt)| acc + dt.mul_const(j))
 }
 
 /// Samples whose flow points the batch loop of a tabulated branch over
@@ -831,7 +831,7 @@ fn sensitive_state<T: Float>(
     seeded: bool,
 ) -> T {
     let dz = z - z.without_derivatives();
-    T::lit(p.g) + T::lit(p.rate) * (carry + sign * dz) + flow_part(p.d_params, d, seeded)
+    T::lit(p.g) + (carry + sign * dz).mul_const(p.rate) + flow_part(p.d_params, d, seeded)
 }
 
 impl<T: Float> Operator<T> for BoucWen<T> {

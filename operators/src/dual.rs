@@ -80,7 +80,7 @@ impl<const N: usize> DualN<N> {
     /// The value `re` with derivatives `slope · eps` (chain rule), keeping
     /// zero slots zero whatever the slope.
     #[inline(always)]
-    fn scaled(self, re: f64, slope: f64) -> Self {
+    fn with_slope(self, re: f64, slope: f64) -> Self {
         Self {
             re,
             eps: self.eps.map(|e| if e == 0.0 { 0.0 } else { e * slope }),
@@ -91,7 +91,7 @@ impl<const N: usize> DualN<N> {
     #[inline(always)]
     fn chain(self, f: impl FnOnce(Dual64) -> Dual64) -> Self {
         let d = f(Dual64::new(self.re, 1.0));
-        self.scaled(d.re, d.eps)
+        self.with_slope(d.re, d.eps)
     }
 
     /// `a · self.eps + b · other.eps`, slot by slot (zero slots stay zero).
@@ -480,10 +480,28 @@ pub trait Differentiable: Copy {
     fn without_derivatives(self) -> Self {
         self
     }
+
+    /// `c · self` for a constant `c` (value and derivatives scaled): the
+    /// product with `c` as a value without derivatives, in fewer operations
+    /// where derivatives are carried.
+    fn mul_const(self, c: f64) -> Self;
 }
 
-impl Differentiable for f64 {}
-impl Differentiable for f32 {}
+impl Differentiable for f64 {
+    #[inline(always)]
+    fn mul_const(self, c: f64) -> Self {
+        c * self
+    }
+}
+
+impl Differentiable for f32 {
+    /// (`c` rounded to `f32` first, as `f32::lit(c) * self`.)
+    #[inline(always)]
+    #[allow(clippy::cast_possible_truncation)]
+    fn mul_const(self, c: f64) -> Self {
+        (c as f32) * self
+    }
+}
 
 impl<const N: usize> Differentiable for DualN<N> {
     const CARRIES_DERIVATIVES: bool = true;
@@ -495,6 +513,14 @@ impl<const N: usize> Differentiable for DualN<N> {
     fn without_derivatives(self) -> Self {
         Self::constant(self.re)
     }
+
+    #[inline(always)]
+    fn mul_const(self, c: f64) -> Self {
+        Self {
+            re: c * self.re,
+            eps: self.eps.map(|e| c * e),
+        }
+    }
 }
 
 #[cfg(test)]
@@ -502,6 +528,24 @@ mod tests {
     use super::*;
 
     type D = DualN<2>;
+
+    /// `mul_const(c)` is the product with `c` as a constant, bit for bit, for
+    /// nonzero finite parts (signed zeros aside, where the product adds
+    /// `0 · re`), on each scalar.
+    #[test]
+    fn mul_const_is_the_product_with_a_constant() {
+        let mut x = D::variable(-1.75, 0);
+        x.eps[1] = 3.0e-7;
+        for c in [2.5, -0.3, 1e-300, 7.0] {
+            let (a, b) = (x.mul_const(c), D::constant(c) * x);
+            assert_eq!(a.re.to_bits(), b.re.to_bits(), "{c}");
+            for (p, q) in a.eps.iter().zip(b.eps) {
+                assert_eq!(p.to_bits(), q.to_bits(), "{c}");
+            }
+            assert_eq!((-1.75f64).mul_const(c), c * -1.75);
+            assert_eq!((-1.75f32).mul_const(c), (c as f32) * -1.75);
+        }
+    }
 
     /// `f` at `x` seeded in slot 0 against a central difference of its value.
     fn check(name: &str, f: impl Fn(D) -> D, x: f64) {
