@@ -543,7 +543,7 @@ impl<T: Float> BoucWen<T> {
             let z = zs[i];
             // A non-finite sample ends the run here and is reported by
             // `step`.
-            if !(sign * (z - z_prev) >= T::zero() && z.is_finite()) {
+            if !goes_on(sign, z_prev, z) {
                 break;
             }
             let Some(g) = at(sign * (z - z_a), z) else {
@@ -743,6 +743,15 @@ fn flow_part<T: Float>(dp: [f64; 4], d: &[T; 4], seeded: bool) -> T {
         .fold(T::zero(), |acc, (&j, &dt)| acc + dt.mul_const(j))
 }
 
+/// Whether a run along a branch of direction `sign` goes on from input
+/// `before` to `z`: `z` finite and not moving back (standing still goes on).
+/// `run_branch` and [`Lookahead`] share it, so that the points looked up
+/// ahead are those of the samples the run takes.
+#[inline(always)]
+fn goes_on<T: Float>(sign: T, before: T, z: T) -> bool {
+    sign * (z - before) >= T::zero() && z.is_finite()
+}
+
 /// Samples whose flow points the batch loop of a tabulated branch over
 /// dual numbers looks up at once ([`SensitiveFlow::lookup_run`]).
 const AHEAD: usize = 32;
@@ -800,9 +809,8 @@ impl<T: Float> Lookahead<T> {
                 let s = if q == 0 {
                     s
                 } else {
-                    // `run_branch`'s condition to go on
                     let before = zs.get(k + q - 1).copied().unwrap_or(z);
-                    if !(self.sign * (z - before) >= T::zero() && z.is_finite()) {
+                    if !goes_on(self.sign, before, z) {
                         break;
                     }
                     self.sign * (z - self.z_a)
