@@ -35,7 +35,10 @@
 //! where `A(σ) = Σ_θ ∂g/∂θ|_{from 0} dθ` is `±J` of the side `σ` is on
 //! (see [`SensitiveFlow::at`]). That is the derivative of the exact flow;
 //! the tables approximate it to about the table's tolerance (the tests
-//! measure it against closed forms and difference quotients).
+//! measure it against closed forms and difference quotients). The rate
+//! `f(g)` it takes at every point is held on the same pieces where a
+//! polynomial matches it to `rtol/4` of `|f| + α`, so that a point costs no
+//! `pow` there (see `SideSensitivity`).
 
 use crate::flow_table::{FlowTable, Hint, Piece, Side};
 use crate::hysteretic_state::StateEquation;
@@ -78,6 +81,15 @@ impl Law {
         let (c, n) = (self.c, self.n);
         let p = u.powf(n - 2.0);
         (-c * n * p * u, -c * n * (n - 1.0) * p)
+    }
+
+    /// `[f, df/dτ, d²f/dτ²]` along the flow at `u` (`du/dτ = f`): `f_u f`
+    /// and `f_uu f² + f_u (f_u f)`.
+    fn rate_jet(&self, u: f64) -> [f64; 3] {
+        let f = self.f(u);
+        let (fu, fuu) = self.f_u(u);
+        let d1 = fu * f;
+        [f, d1, fuu * f * f + fu * d1]
     }
 
     /// `[f_α, f_c, f_n]` and their `u`-derivatives. At `u = 0`, `f_cu` is
@@ -190,6 +202,13 @@ struct Tail {
 /// for `n` near 1, where the table's pieces are not graded. A piece that
 /// cannot be made so (20 halvings, 16 384 pieces, non-finite values) ends
 /// the side's use: lookups there return `None`.
+///
+/// The flow's rate `f(u(τ))` is held alongside, on the same pieces: a
+/// quintic Hermite piece through `f`, `df/dτ = f_u f` and `d²f/dτ² = f_uu f²
+/// + f_u² f` at the ends, kept where it matches `f` of the table's `u` at
+/// the midpoint to `rtol/4` of `|f| + α` (else `f` is computed there, by
+/// `pow`, as before). Pieces are not split for it: near `τ = 0`, where
+/// `f − α ∝ τ^n` is not smooth for `n < 2`, the rate is computed.
 #[derive(Debug, Clone, PartialEq)]
 struct SideSensitivity {
     law: Law,
@@ -200,6 +219,8 @@ struct SideSensitivity {
     scale: [f64; PARAMS],
     starts: Vec<f64>,
     pieces: Vec<[Piece<f64>; PARAMS]>,
+    /// The rate on each piece, where its polynomial is accurate.
+    rates: Vec<Option<Piece<f64>>>,
     /// Pieces of the table followed so far, and `τ`, `J_θ` at their end.
     followed: usize,
     end_tau: f64,
@@ -225,6 +246,7 @@ impl SideSensitivity {
             scale: [0.0; PARAMS],
             starts: Vec::new(),
             pieces: Vec::new(),
+            rates: Vec::new(),
             followed: 0,
             end_tau: 0.0,
             end: [0.0; PARAMS],
@@ -286,8 +308,18 @@ impl SideSensitivity {
                     self.broken = true;
                     return;
                 }
+                let rate = Piece::hermite(
+                    t0,
+                    w_now,
+                    self.law.rate_jet(p.eval(t0)),
+                    self.law.rate_jet(p.eval(t1)),
+                );
+                let f_mid = self.law.f(p.eval(mid));
+                let rate_fits =
+                    (rate.eval(mid) - f_mid).abs() <= self.tol * (f_mid.abs() + self.law.alpha);
                 self.starts.push(t0);
                 self.pieces.push(cand);
+                self.rates.push(rate_fits.then_some(rate));
                 self.end = j1;
                 t0 = t1;
                 w = 2.0 * w_now;
@@ -314,19 +346,20 @@ impl SideSensitivity {
     }
 
     /// `[J_α, J_c, J_n]` at `τ ≥ 0` (`None` beyond the pieces of a side
-    /// without a tail); `hint` is the piece to look at first.
+    /// without a tail), and the rate `f` there where its piece holds it
+    /// (see the type); `hint` is the piece to look at first.
     // `std::array::from_fn` indices are `< PARAMS`, the arrays' length;
     // `k` is checked against `pieces`.
     // Inlined into the dual batch loop: returned through memory, the three
     // values stalled the loads that read them back.
     #[allow(clippy::indexing_slicing)]
     #[inline(always)]
-    fn at(&self, tau: f64, hint: &mut usize) -> Option<[f64; PARAMS]> {
+    fn at(&self, tau: f64, hint: &mut usize) -> Option<([f64; PARAMS], Option<f64>)> {
         if self.broken {
             return None;
         }
         if tau > self.end_tau {
-            return self.beyond(tau);
+            return self.beyond(tau).map(|j| (j, None));
         }
         let s = &self.starts;
         let holds =
@@ -339,7 +372,9 @@ impl SideSensitivity {
             s.partition_point(|&start| start <= tau).max(1) - 1
         };
         *hint = k;
-        self.pieces.get(k).map(|p| p.map(|q| q.eval(tau)))
+        let j = self.pieces.get(k)?.map(|q| q.eval(tau));
+        let rate = self.rates.get(k).copied().flatten().map(|r| r.eval(tau));
+        Some((j, rate))
     }
 }
 
@@ -394,7 +429,8 @@ pub(crate) struct SensitiveFlow {
 pub(crate) struct FlowPoint {
     /// `g = G(σ)`.
     pub g: f64,
-    /// `f(g)`.
+    /// `f(g)`: its tabulated polynomial where that holds it (to `rtol/4`
+    /// of `|f| + α`, see `SideSensitivity`), else computed.
     pub rate: f64,
     /// `∂G(σ)/∂(α, β, γ, n)` at fixed `σ`, for the flow from `g = 0`.
     pub d_params: [f64; 4],
@@ -448,11 +484,10 @@ impl SensitiveFlow {
     /// [`at`](Self::at) of each of `sigmas` in turn into `out`, without
     /// extending the table, up to the first that is beyond it (where `at`
     /// would give a point without extending, so does this); how many were
-    /// found. The
-    /// rates come last, in a loop of their own: their `|g|^n` (the longest
-    /// computation of a point, a call of the C library's `pow`) then
-    /// overlap from one point to the next, and the same bits come out as
-    /// from `at`.
+    /// found. The rates that are not tabulated (see `SideSensitivity`) come
+    /// last, in a loop of their own: their `|g|^n` (the longest computation
+    /// of a point, a call of the C library's `pow`) then overlap from one
+    /// point to the next, and the same bits come out as from `at`.
     // `out[..found]`, `found ≤ out.len()`.
     #[allow(clippy::indexing_slicing)]
     #[inline]
@@ -474,7 +509,9 @@ impl SensitiveFlow {
             found += 1;
         }
         for p in &mut out[..found] {
-            p.rate = self.eq.rate(p.g);
+            if p.rate.is_nan() {
+                p.rate = self.eq.rate(p.g);
+            }
         }
         found
     }
@@ -493,13 +530,15 @@ impl SensitiveFlow {
     #[inline(always)]
     fn point(&self, sigma: f64, g: f64, hint: &mut SensitivityHint) -> Option<FlowPoint> {
         let p = self.point_without_rate(sigma, g, hint)?;
-        Some(FlowPoint {
-            rate: self.eq.rate(g),
-            ..p
-        })
+        let rate = if p.rate.is_nan() {
+            self.eq.rate(g)
+        } else {
+            p.rate
+        };
+        Some(FlowPoint { rate, ..p })
     }
 
-    /// [`point`](Self::point) with the rate left 0.
+    /// [`point`](Self::point) with the rate NaN where it is not tabulated.
     #[inline(always)]
     fn point_without_rate(
         &self,
@@ -508,7 +547,7 @@ impl SensitiveFlow {
         hint: &mut SensitivityHint,
     ) -> Option<FlowPoint> {
         let upper = sigma >= 0.0;
-        let j = if upper {
+        let (j, rate) = if upper {
             self.upper.at(sigma, &mut hint.upper)?
         } else {
             self.lower.at(-sigma, &mut hint.lower)?
@@ -520,7 +559,7 @@ impl SensitiveFlow {
         };
         Some(FlowPoint {
             g,
-            rate: 0.0,
+            rate: rate.unwrap_or(f64::NAN),
             d_params,
         })
     }
@@ -629,6 +668,53 @@ mod tests {
             // Difference quotients of tables at 2e-12 with h = 1e-5 θ: about
             // 2e-12/1e-5 of rounding and table error.
             assert!(worst <= 1e-6, "n = {n}: {worst}");
+        }
+    }
+
+    /// The tabulated rate is `f` of the table's state to the tolerance its
+    /// pieces are kept at (`rtol/4` of `|f| + α` at their midpoints, where
+    /// a quintic Hermite piece's error peaks; allowed here: `rtol/2`), on
+    /// saturating and growing sides and for `n` near 1, and it is the rate
+    /// of most points on the pieces (else they would not save the `pow`).
+    #[test]
+    fn tabulated_rates_are_the_flows_rate() {
+        let rtol = 1e-10;
+        for (n, beta, gamma) in [
+            (1.5, 0.7, 0.3),
+            (1.02, 0.6, 0.3),
+            (2.0, 0.6, 0.2),
+            (2.7, 0.55, 0.45),
+            (6.0, 0.4, 0.3),
+        ] {
+            let alpha = 1.3;
+            let eq = StateEquation::new(alpha, beta, gamma, n, rtol);
+            let mut fl = SensitiveFlow::new(eq).unwrap();
+            let mut hint = SensitivityHint::default();
+            let (mut tabulated, mut points, mut worst) = (0, 0, 0.0f64);
+            for i in -20_000..=60_000 {
+                let sigma = i as f64 * 1e-4;
+                let Some(p) = fl.at(sigma, &mut hint) else {
+                    continue;
+                };
+                // (beyond the pieces, towards saturation, it is computed)
+                let side = if sigma >= 0.0 { &fl.upper } else { &fl.lower };
+                if sigma.abs() <= side.end_tau {
+                    let mut table_hint = SensitivityHint::default();
+                    let plain = fl.point_without_rate(sigma, p.g, &mut table_hint).unwrap();
+                    points += 1;
+                    if !plain.rate.is_nan() {
+                        tabulated += 1;
+                    }
+                }
+                let f = eq.rate(p.g);
+                worst = worst.max((p.rate - f).abs() / (f.abs() + alpha));
+            }
+            let share = tabulated as f64 / points as f64;
+            println!(
+                "n = {n}: {share:.4} of {points} rates on pieces tabulated, all within {worst:.2e}"
+            );
+            assert!(worst <= 0.5 * rtol, "n = {n}: {worst}");
+            assert!(share >= 0.9, "n = {n}: only {share} tabulated");
         }
     }
 }
