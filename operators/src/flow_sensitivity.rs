@@ -204,11 +204,17 @@ struct Tail {
 /// the side's use: lookups there return `None`.
 ///
 /// The flow's rate `f(u(τ))` is held alongside, on the same pieces: a
-/// quintic Hermite piece through `f`, `df/dτ = f_u f` and `d²f/dτ² = f_uu f²
-/// + f_u² f` at the ends, kept where it matches `f` of the table's `u` at
-/// the midpoint to `rtol/4` of `|f| + α` (else `f` is computed there, by
-/// `pow`, as before). Pieces are not split for it: near `τ = 0`, where
-/// `f − α ∝ τ^n` is not smooth for `n < 2`, the rate is computed.
+/// quintic Hermite piece through `f`, `df/dτ = f_u f` and
+/// `d²f/dτ² = f_uu f² + f_u² f` at the ends, kept where it matches `f` of
+/// the table's `u` at the midpoint to `rtol/4` of `|f| + α` (else `f` is
+/// computed there, by `pow`, as before; beyond the pieces too). Pieces are
+/// not split for it;
+/// a few near saturation miss and compute it. On a saturating side the
+/// pieces end where `u* − u` falls to the tail's `v_T` (`u* √rtol`, or
+/// `u* √(rtol/(4(n − 1)))` above `n = 1.25`), so on them `f ≈ λ (u* − u) ≥
+/// λ v_T`, of order `α √rtol`: far above the tolerance, so the tabulated
+/// rate keeps its sign and most of its digits at a branch start, where it
+/// divides.
 #[derive(Debug, Clone, PartialEq)]
 struct SideSensitivity {
     law: Law,
