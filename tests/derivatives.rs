@@ -515,8 +515,9 @@ proptest::proptest! {
     /// error). 256 cases by default; `scripts/test.sh` also runs it with
     /// `PROPTEST_CASES=2560`. Its past failures were the differences' own
     /// error, not the derivatives': rounding on columns that are 0 (two
-    /// cascades into an elastoplastic element, now under the floor) and a tabulated
-    /// spring's values (`bouc_wen_n_derivative_through_mms_is_the_integrated_flows`).
+    /// cascades into an elastoplastic element, now under the floor) and a
+    /// tabulated spring's values
+    /// (`bouc_wen_n_derivative_through_mms_is_the_integrated_flows`).
     #[test]
     fn random_compositions_against_central_differences(
         form in 0u8..5,
