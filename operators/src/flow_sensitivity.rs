@@ -67,48 +67,61 @@ struct Law {
     n: f64,
 }
 
+/// `f`, its `u`-derivatives and its parameter derivatives at one `u`.
+#[derive(Debug, Clone, Copy)]
+struct Terms {
+    f: f64,
+    /// `f_u`, `f_uu`.
+    fu: f64,
+    fuu: f64,
+    /// `[f_α, f_c, f_n]` and their `u`-derivatives.
+    ft: [f64; PARAMS],
+    ftu: [f64; PARAMS],
+}
+
 impl Law {
     fn f(&self, u: f64) -> f64 {
         self.alpha - self.c * u.powf(self.n)
     }
 
-    /// `(f_u, f_uu)`; at `u = 0` `(0, 0)` for `n > 1` (where `f_uu J → 0`)
-    /// and `(−c, 0)` for `n = 1`.
-    fn f_u(&self, u: f64) -> (f64, f64) {
+    /// `f`, `f_u = −c n u^{n−1}`, `f_uu = −c n (n−1) u^{n−2}`, `f_θ =
+    /// [1, −u^n, −c u^n ln u]` and `f_θu = [0, −n u^{n−1}, −c u^{n−1} (n ln u
+    /// + 1)]` from one `pow` (`u^{n−1}`) and one `ln`.
+    ///
+    /// At `u = 0`: `f_u` is `−c` for `n = 1` and 0 above, `f_uu` is taken
+    /// as 0 (where `f_uu J → 0`), `f_cu` is `−1` for `n = 1` (0 above), and
+    /// `f_nu`, `−∞` there for `n = 1`, is taken as 0 (only the jet at the
+    /// first knot uses these; the refinement of the pieces makes up).
+    fn terms(&self, u: f64) -> Terms {
+        let (alpha, c, n) = (self.alpha, self.c, self.n);
         if u <= 0.0 {
-            return (if self.n == 1.0 { -self.c } else { 0.0 }, 0.0);
+            let linear = n == 1.0;
+            return Terms {
+                f: alpha,
+                fu: if linear { -c } else { 0.0 },
+                fuu: 0.0,
+                ft: [1.0, 0.0, 0.0],
+                ftu: [0.0, if linear { -1.0 } else { 0.0 }, 0.0],
+            };
         }
-        let (c, n) = (self.c, self.n);
-        let p = u.powf(n - 2.0);
-        (-c * n * p * u, -c * n * (n - 1.0) * p)
+        let ln = u.ln();
+        let un1 = u.powf(n - 1.0);
+        let un = un1 * u;
+        Terms {
+            f: alpha - c * un,
+            fu: -c * n * un1,
+            fuu: -c * n * (n - 1.0) * un1 / u,
+            ft: [1.0, -un, -c * un * ln],
+            ftu: [0.0, -n * un1, -c * un1 * (n * ln + 1.0)],
+        }
     }
 
     /// `[f, df/dτ, d²f/dτ²]` along the flow at `u` (`du/dτ = f`): `f_u f`
     /// and `f_uu f² + f_u (f_u f)`.
     fn rate_jet(&self, u: f64) -> [f64; 3] {
-        let f = self.f(u);
-        let (fu, fuu) = self.f_u(u);
+        let Terms { f, fu, fuu, .. } = self.terms(u);
         let d1 = fu * f;
         [f, d1, fuu * f * f + fu * d1]
-    }
-
-    /// `[f_α, f_c, f_n]` and their `u`-derivatives. At `u = 0`, `f_cu` is
-    /// `−1` for `n = 1` (0 above), and `f_nu = −c (n u^{n−1} ln u +
-    /// u^{n−1})`, `−∞` there for `n = 1`, is taken as 0 (only the jet at
-    /// the first knot uses it; the refinement of the pieces makes up).
-    fn f_theta(&self, u: f64) -> ([f64; PARAMS], [f64; PARAMS]) {
-        if u <= 0.0 {
-            let f_cu = if self.n == 1.0 { -1.0 } else { 0.0 };
-            return ([1.0, 0.0, 0.0], [0.0, f_cu, 0.0]);
-        }
-        let (c, n) = (self.c, self.n);
-        let ln = u.ln();
-        let un1 = u.powf(n - 1.0);
-        let un = un1 * u;
-        (
-            [1.0, -un, -c * un * ln],
-            [0.0, -n * un1, -c * un1 * (n * ln + 1.0)],
-        )
     }
 
     /// `[J, J', J'']` of each parameter at `u` with `J = j`:
@@ -116,9 +129,13 @@ impl Law {
     // `std::array::from_fn` indices are `< PARAMS`, the arrays' length.
     #[allow(clippy::indexing_slicing)]
     fn jets(&self, u: f64, j: [f64; PARAMS]) -> [[f64; 3]; PARAMS] {
-        let f = self.f(u);
-        let (fu, fuu) = self.f_u(u);
-        let (ft, ftu) = self.f_theta(u);
+        let Terms {
+            f,
+            fu,
+            fuu,
+            ft,
+            ftu,
+        } = self.terms(u);
         std::array::from_fn(|k| {
             let d1 = fu * j[k] + ft[k];
             [j[k], d1, fuu * f * j[k] + fu * d1 + ftu[k] * f]
@@ -138,8 +155,8 @@ impl Law {
         let mut ft = [[0.0; PARAMS]; 8];
         for ((&(x, _), a), ft) in GAUSS.iter().zip(&mut a).zip(&mut ft) {
             let u = piece.eval(t0 + x * w);
-            *a = self.f_u(u).0;
-            *ft = self.f_theta(u).0;
+            let t = self.terms(u);
+            (*a, *ft) = (t.fu, t.ft);
         }
         let a_w = w * GAUSS
             .iter()
@@ -336,9 +353,10 @@ impl SideSensitivity {
         if self.tail.is_none() && self.followed == table.len() {
             if let Some(t) = side.tail() {
                 let law = self.law;
-                let (fu, fuu) = law.f_u(t.u_star);
+                let Terms {
+                    fu, fuu, ft, ftu, ..
+                } = law.terms(t.u_star);
                 let lambda = -fu;
-                let (ft, ftu) = law.f_theta(t.u_star);
                 let at_end = self.end;
                 let j_star = ft.map(|f| f / lambda);
                 self.tail = Some(Tail {
