@@ -84,9 +84,10 @@ impl Law {
         self.alpha - self.c * u.powf(self.n)
     }
 
-    /// `f`, `f_u = −c n u^{n−1}`, `f_uu = −c n (n−1) u^{n−2}`, `f_θ =
-    /// [1, −u^n, −c u^n ln u]` and `f_θu = [0, −n u^{n−1}, −c u^{n−1} (n ln u
-    /// + 1)]` from one `pow` (`u^{n−1}`) and one `ln`.
+    /// `f`, `f_u = −c n u^{n−1}`, `f_uu = −c n (n−1) u^{n−2}`,
+    /// `f_θ = [1, −u^n, −c u^n ln u]` and
+    /// `f_θu = [0, −n u^{n−1}, −c u^{n−1} (n ln u + 1)]`, from one `pow`
+    /// (`u^{n−1}`) and one `ln`.
     ///
     /// At `u = 0`: `f_u` is `−c` for `n = 1` and 0 above, `f_uu` is taken
     /// as 0 (where `f_uu J → 0`), `f_cu` is `−1` for `n = 1` (0 above), and
