@@ -226,8 +226,8 @@ struct Tail {
 /// `d²f/dτ² = f_uu f² + f_u² f` at the ends, kept where it matches `f` of
 /// the table's `u` at the midpoint to `rtol/4` of `|f| + α` (else `f` is
 /// computed there, by `pow`, as before; beyond the pieces too). Pieces are
-/// not split for it;
-/// a few near saturation miss and compute it. On a saturating side the
+/// not split for it; a few near saturation miss and compute it. On a
+/// saturating side the
 /// pieces end where `u* − u` falls to the tail's `v_T` (`u* √rtol`, or
 /// `u* √(rtol/(4(n − 1)))` above `n = 1.25`), so on them `f ≈ λ (u* − u) ≥
 /// λ v_T`, of order `α √rtol`: far above the tolerance, so the tabulated
@@ -534,9 +534,7 @@ impl SensitiveFlow {
             found += 1;
         }
         for p in &mut out[..found] {
-            if p.rate.is_nan() {
-                p.rate = self.eq.rate(p.g);
-            }
+            *p = self.with_rate(*p);
         }
         found
     }
@@ -554,13 +552,21 @@ impl SensitiveFlow {
     /// The flow point at `σ` with state `g = G(σ)` (see [`at`](Self::at)).
     #[inline(always)]
     fn point(&self, sigma: f64, g: f64, hint: &mut SensitivityHint) -> Option<FlowPoint> {
-        let p = self.point_without_rate(sigma, g, hint)?;
-        let rate = if p.rate.is_nan() {
-            self.eq.rate(g)
+        self.point_without_rate(sigma, g, hint)
+            .map(|p| self.with_rate(p))
+    }
+
+    /// `p` with its rate computed (`pow`) where the tables left it NaN.
+    #[inline(always)]
+    fn with_rate(&self, p: FlowPoint) -> FlowPoint {
+        if p.rate.is_nan() {
+            FlowPoint {
+                rate: self.eq.rate(p.g),
+                ..p
+            }
         } else {
-            p.rate
-        };
-        Some(FlowPoint { rate, ..p })
+            p
+        }
     }
 
     /// [`point`](Self::point) with the rate NaN where it is not tabulated.
