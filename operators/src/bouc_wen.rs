@@ -388,7 +388,7 @@ impl<T: Float> BoucWen<T> {
             let (z_a, sigma_a) = match c.branch {
                 BranchStart::Flow(sa) if dir == c.dir => (c.z_a, Some(sa)),
                 _ if dir == 0 => return Ok(*c),
-                _ => (c.z, table.position_growing(sign * c.h)),
+                _ => (c.z, table.position_growing(sign * c.h, &mut self.hint)),
             };
             if let Some(sa) = sigma_a {
                 if let Some(g) = table.state_at_growing(sa + sign * (z - z_a), &mut self.hint) {

@@ -496,7 +496,7 @@ impl SensitiveFlow {
     /// The position `σ(g)` (extending a growing side to hold `g`), or
     /// `None` outside the table.
     pub(crate) fn position(&mut self, g: f64) -> Option<f64> {
-        let sigma = self.table.position_growing(g)?;
+        let sigma = self.table.position_growing(g, &mut Hint::default())?;
         self.follow();
         Some(sigma)
     }

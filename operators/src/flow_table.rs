@@ -279,8 +279,10 @@ impl<T: Float> Side<T> {
     }
 
     /// `τ(u)`, the inverse of [`at`](Self::at), for `0 ≤ u` within the
-    /// side's range (`None` outside).
-    fn position(&self, u: T) -> Option<T> {
+    /// side's range (`None` outside); the piece found is left in `hint`,
+    /// where the lookups along the branch that starts there begin (and the
+    /// piece in `hint`, and the one after it, are tried first).
+    fn position(&self, u: T, hint: &mut usize) -> Option<T> {
         if u <= T::zero() {
             return (u == T::zero()).then_some(T::zero());
         }
@@ -294,13 +296,24 @@ impl<T: Float> Side<T> {
             }
             return Some(self.end + (t.v_t / (t.u_star - u)).ln() / t.lambda);
         }
-        // The pieces are increasing: the last piece starting at or below u.
-        let k = self
-            .pieces
-            .partition_point(|q| q.b[0] <= u)
-            .max(1)
-            .min(self.pieces.len())
-            .checked_sub(1)?;
+        // The pieces are increasing: the last piece starting at or below u
+        // (0 < u ≤ u_end here).
+        let p = &self.pieces;
+        let holds = |j: usize| {
+            p.get(j).is_some_and(|q| q.b[0] <= u) && p.get(j + 1).is_none_or(|next| u < next.b[0])
+        };
+        let next = hint.wrapping_add(1);
+        let k = if holds(*hint) {
+            *hint
+        } else if holds(next) {
+            next
+        } else {
+            p.partition_point(|q| q.b[0] <= u)
+                .max(1)
+                .min(p.len())
+                .checked_sub(1)?
+        };
+        *hint = k;
         let piece = self.pieces.get(k)?;
         let hi = self.pieces.get(k + 1).map_or(self.end, |q| q.start);
         // Newton on the piece, kept inside it, from the secant guess.
@@ -420,12 +433,14 @@ impl<T: Float> FlowTable<T> {
         Some(FlowTable { upper, lower })
     }
 
-    /// The position `σ(g)`, or `None` for a state outside the table.
-    pub(crate) fn position(&self, g: T) -> Option<T> {
+    /// The position `σ(g)`, or `None` for a state outside the table; the
+    /// piece is looked for first at `hint` and left there (the same
+    /// position whatever the hint).
+    pub(crate) fn position(&self, g: T, hint: &mut Hint) -> Option<T> {
         if g < T::zero() {
-            self.lower.position(-g).map(|t| -t)
+            self.lower.position(-g, &mut hint.lower).map(|t| -t)
         } else {
-            self.upper.position(g)
+            self.upper.position(g, &mut hint.upper)
         }
     }
 
@@ -440,8 +455,9 @@ impl<T: Float> FlowTable<T> {
     }
 
     /// [`position`](Self::position), a growing side extended first to
-    /// hold `g` (on demand, so hardening springs need no range up front).
-    pub(crate) fn position_growing(&mut self, g: T) -> Option<T> {
+    /// hold `g` (on demand, so hardening springs need no range up front);
+    /// `hint` as for [`state_at`](Self::state_at), left at the piece found.
+    pub(crate) fn position_growing(&mut self, g: T, hint: &mut Hint) -> Option<T> {
         let side = if g < T::zero() {
             &mut self.lower
         } else {
@@ -450,7 +466,7 @@ impl<T: Float> FlowTable<T> {
         if g.abs() > side.u_end {
             side.extend(g.abs(), T::zero());
         }
-        self.position(g)
+        self.position(g, hint)
     }
 
     /// [`state_at`](Self::state_at), a growing side extended first to reach
@@ -804,7 +820,7 @@ mod tests {
             let u_star = (1.0 / (beta + gamma)).powf(1.0 / n);
             let mut worst = 0.0f64;
             for g_a in [-u_star, -0.5 * u_star, -1e-4, 0.0, 0.3 * u_star] {
-                let sigma_a = t.position(g_a).unwrap();
+                let sigma_a = t.position(g_a, &mut Hint::default()).unwrap();
                 let mut hint = Hint::default();
                 let (mut g, mut s_prev) = (g_a, 0.0);
                 for i in 1..=600 {
@@ -873,7 +889,7 @@ mod tests {
         let t = table(1.0, 0.7, 0.3, 1.5, 1e-10);
         let mut hint = Hint::default();
         for g in [-1.0, -0.73, -1e-3, -1e-9, 0.0, 1e-9, 0.2, 0.9, 0.99999, 1.0] {
-            let sigma = t.position(g).unwrap();
+            let sigma = t.position(g, &mut Hint::default()).unwrap();
             let back = t.state_at(sigma, &mut hint).unwrap();
             assert!(
                 (back - g).abs() <= 8.0 * f64::EPSILON * g.abs(),
@@ -881,8 +897,8 @@ mod tests {
             );
         }
         // Beyond saturation above; far beyond the lower side's range.
-        assert_eq!(t.position(1.0 + 1e-9), None);
-        assert_eq!(t.position(-10.0), None);
+        assert_eq!(t.position(1.0 + 1e-9, &mut Hint::default()), None);
+        assert_eq!(t.position(-10.0, &mut Hint::default()), None);
     }
 
     /// The hint only speeds the lookup up: every hint gives the same bits,
@@ -910,6 +926,36 @@ mod tests {
                     want,
                     "tau {tau}, hint {hint}"
                 );
+            }
+        }
+    }
+
+    /// The position of a state is the same bits whatever the hint, and
+    /// leaves the hint at the piece holding the state.
+    #[test]
+    fn positions_do_not_depend_on_the_hint() {
+        let t = table(1.0, 0.7, 0.3, 1.5, 1e-10);
+        for side in [&t.upper, &t.lower] {
+            let mut us: Vec<f64> = side.pieces.iter().map(|p| p.b[0]).collect();
+            us.extend(side.pieces.iter().map(|p| p.b[0] * 1.0001 + 1e-12));
+            us.extend([side.u_end, side.u_end * (1.0 + 1e-9), 0.0, 1e-12]);
+            for &u in &us {
+                let mut first = 0;
+                let want = side.position(u, &mut first).map(f64::to_bits);
+                let n = side.pieces.len();
+                for hint in [0, 1, 7, n - 1, n, usize::MAX - 1, usize::MAX] {
+                    let mut h = hint;
+                    assert_eq!(
+                        side.position(u, &mut h).map(f64::to_bits),
+                        want,
+                        "u {u}, hint {hint}"
+                    );
+                    if u > 0.0 && u <= side.u_end {
+                        assert_eq!(h, first, "u {u}, hint {hint}");
+                        let q = &side.pieces[h];
+                        assert!(q.b[0] <= u && side.pieces.get(h + 1).is_none_or(|p| u < p.b[0]));
+                    }
+                }
             }
         }
     }
