@@ -21,17 +21,28 @@
 //!   sampled at 250 Hz (a 0.5 Hz major loop, 2 cycles, 2001 samples; the
 //!   5 → 0.1 Hz down-chirp over 20 s, 5001 samples), with the truth's
 //!   spring `n = 1.5`, `h0 = 0.1` and a start 20 % off in backlash, `F_c`
-//!   and `K` (throughput: samples of both records).
+//!   and `K` (throughput: samples of both records);
+//! * `benchmark_system_eval` and `benchmark_system_dual_pass`: the
+//!   Bouc-Wen benchmark system (`feedback` of `mass_spring_damper` and
+//!   `bouc_wen`) at the start the benchmark identification takes from
+//!   `train_multisine` (`start_from_data`, `n = 1.5`), run over the
+//!   record's first period (8192 samples at 750 Hz) upsampled 20× to
+//!   15 kHz: one simulation, and the derivatives with respect to the seven
+//!   parameters the identification fits (the two units its cost is made
+//!   of; throughput: samples at 15 kHz).
 //!
 //! Small sample sizes and short measurement times keep the whole run
 //! within a few minutes. Run with `cargo bench --bench identify`.
 
 use criterion::measurement::WallTime;
 use criterion::{criterion_group, criterion_main, BenchmarkGroup, Criterion, Throughput};
+use hysteron::identify::benchmark::{start_from_data, FREE as BENCHMARK_FREE};
 use hysteron::identify::paper::{identify_paper, PaperOptions};
 use hysteron::identify::{fit, free_by_names, FitOptions};
+use hysteron::models::benchmark::boucwen_system;
 use hysteron::models::experiments::{chirp, sine, DRIVE};
 use hysteron::models::sensitivity::derivatives_at;
+use hysteron::models::signal::fft_upsample;
 use hysteron::models::TransmissionParams;
 use hysteron::prelude::*;
 use rand::rngs::StdRng;
@@ -223,5 +234,50 @@ fn paper_two_stages(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, paper_model_eval, bouc_wen_fit, paper_two_stages);
+/// Columns `u` and `y` of `data/boucwen-benchmark/train_multisine.csv`.
+fn train_multisine() -> (Vec<f64>, Vec<f64>) {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/data/boucwen-benchmark/train_multisine.csv"
+    );
+    let text = std::fs::read_to_string(path).expect("train_multisine.csv");
+    let (mut u, mut y) = (Vec::new(), Vec::new());
+    // header `t,u,y`, then numbers
+    for line in text.lines().skip(1) {
+        let cols: Vec<f64> = line
+            .split(',')
+            .map(|v| v.trim().parse().expect("a number"))
+            .collect();
+        u.push(cols[1]);
+        y.push(cols[2]);
+    }
+    (u, y)
+}
+
+fn benchmark_system(c: &mut Criterion) {
+    let (u, y) = train_multisine();
+    let start = start_from_data(&u, &y, 750.0, 20).expect("data start");
+    // the multisine's period is 8192 samples
+    let fine = fft_upsample(&u[..8192], start.upsample).expect("upsampled period");
+    let model = boucwen_system(&start).expect("benchmark system").boxed();
+    let free = free_by_names(model.as_ref(), &BENCHMARK_FREE).expect("the seven names");
+    let mut g = group(c, 0.5, 5, fine.len());
+    bench_eval(&mut g, "benchmark_system_eval", &mut model.clone(), &fine);
+    bench_dual_pass(
+        &mut g,
+        "benchmark_system_dual_pass",
+        model.as_ref(),
+        &fine,
+        &free,
+    );
+    g.finish();
+}
+
+criterion_group!(
+    benches,
+    paper_model_eval,
+    bouc_wen_fit,
+    paper_two_stages,
+    benchmark_system
+);
 criterion_main!(benches);
