@@ -1,8 +1,8 @@
 //! Feedback: `y = A[x − B[y]]`, solved implicitly every sample.
 
-use crate::solve::{solve, SolverOptions, Start};
+use crate::solve::{at_root, solve, SolverOptions, Start};
 use crate::Child;
-use hysteron_operators::{check_input, CastScalar, Dual, Float, Operator, Result, Trial};
+use hysteron_operators::{check_input, CastScalar, Dual, Error, Float, Operator, Result, Trial};
 
 /// Negative feedback loop `y = A[x − B[y]]` (`a.feedback(b)`), with `A`
 /// in the forward path and `B` in the return path.
@@ -13,6 +13,14 @@ use hysteron_operators::{check_input, CastScalar, Dual, Float, Operator, Result,
 /// the root is unique and is bracketed). The tolerance is that of
 /// [`SolverOptions`]; a loop without a solution is an error, never a guess.
 /// Tangent: `dy/dx = A' / (1 + A'·B')`.
+///
+/// Over dual numbers, where both children have a value path
+/// ([`Operator::trial_value`]), the root is searched on values (the steps
+/// the search over dual numbers would take, bit for bit) and the children
+/// are evaluated over dual numbers twice, at the root: once for `∂R/∂p`,
+/// once with the implicit function theorem's `∂y/∂p = −(∂R/∂p)/(∂R/∂y)`.
+/// Elsewhere the search runs over dual numbers (one evaluation per step and
+/// one more at the root).
 ///
 /// ```
 /// use hysteron_composition::OperatorExt;
@@ -68,15 +76,41 @@ impl<T: Float, A: Child<T>, B: Child<T>> Operator<T> for Feedback<T, A, B> {
         self.pending = None;
         let x = check_input(x)?;
         let (forward, back) = (&mut self.forward, &mut self.back);
+        // Over dual numbers, the root is searched on values where both
+        // children have a value path (`trial_value`), and the children are
+        // evaluated over dual numbers at the root only; any failure of
+        // that search leaves the solve to the dual numbers from the start.
+        let by_value = if T::CARRIES_DERIVATIVES {
+            let xv = x.as_f64();
+            let values = |y: f64| -> Result<(f64, f64)> {
+                let no_path = || Error::NonFiniteInput { value: y };
+                let b = back.trial_value(y).ok_or_else(no_path)??;
+                let a = forward.trial_value(xv - b.output).ok_or_else(no_path)??;
+                Ok((y - a.output, 1.0 + a.tangent * b.tangent))
+            };
+            let start = Start::at_committed(self.y.as_f64(), self.x.as_f64(), xv);
+            solve("feedback", values, start, &self.opts.cast_scalar()).ok()
+        } else {
+            None
+        };
         let mut tangents = (T::zero(), T::zero());
-        let residual = |y: T| -> Result<(T, T)> {
+        let mut residual = |y: T| -> Result<(T, T)> {
             let b = back.trial(y)?;
             let a = forward.trial(x - b.output)?;
             tangents = (a.tangent, b.tangent);
             Ok((y - a.output, T::one() + a.tangent * b.tangent))
         };
-        let start = Start::at_committed(self.y, self.x, x);
-        let y = solve("feedback", residual, start, &self.opts)?.value();
+        let root = match by_value {
+            Some(root) => at_root("feedback", &mut residual, root, None)?,
+            None => None,
+        };
+        let y = match root {
+            Some(root) => root.value(),
+            None => {
+                let start = Start::at_committed(self.y, self.x, x);
+                solve("feedback", &mut residual, start, &self.opts)?.value()
+            }
+        };
         let (ta, tb) = tangents;
         let loop_gain = T::one() + ta * tb;
         let tangent = if ta.is_infinite() {

@@ -227,6 +227,56 @@ where
     })
 }
 
+/// The root `root` of `f`'s values, found by [`solve`] over `f64` on them
+/// (the children's [`trial_value`](hysteron_operators::Operator::trial_value)),
+/// over the scalar `T` with its derivatives: `f` is evaluated at the root
+/// with no derivatives, which gives `∂r/∂p` there, then once more at the
+/// root with the implicit function theorem's `∂x/∂p = −(∂r/∂p)/(∂r/∂x)`,
+/// so the children's pending trials carry them (what [`solve`] does after
+/// its own search). A root at a bound takes the bound's derivatives
+/// (`bounds` over `T`, whose values the search was given). `None` where
+/// `∂r/∂x` at the root is zero or not finite: there [`solve`] keeps the
+/// derivatives its iterates carried, which a search on values has not
+/// got, so the caller solves over `T`.
+pub(crate) fn at_root<T, F>(
+    solver: &'static str,
+    f: F,
+    root: Root<f64>,
+    bounds: Option<(T, T)>,
+) -> Result<Option<Root<T>>>
+where
+    T: Float,
+    F: FnMut(T) -> Result<Eval<T>>,
+{
+    let mut f = Tracked {
+        f,
+        last: None,
+        last_eval: None,
+        solver,
+    };
+    Ok(Some(match root {
+        Root::Inside(x) => {
+            let x = T::lit(x);
+            let (r, d) = f.eval(x)?;
+            if !(d != T::zero() && d.is_finite()) {
+                return Ok(None);
+            }
+            let x = x - (r - r.without_derivatives()) / d.without_derivatives();
+            f.eval(x)?;
+            Root::Inside(x)
+        }
+        Root::AtBound(x) => {
+            let x = match bounds {
+                Some((_, hi)) if hi.as_f64() == x => hi,
+                Some((lo, _)) if lo.as_f64() == x => lo,
+                _ => return Ok(None),
+            };
+            f.eval(x)?;
+            Root::AtBound(x)
+        }
+    }))
+}
+
 /// The search of [`solve`].
 fn search<T, F>(f: &mut Tracked<F, T>, start: Start<T>, opts: &SolverOptions<T>) -> Result<Root<T>>
 where

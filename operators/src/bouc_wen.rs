@@ -52,6 +52,34 @@ struct State<T> {
     branch: BranchStart<T>,
 }
 
+/// A step on the derivatives' table ([`BoucWen::step_sensitive`]): the
+/// parts of the new state it computes, and the rate `f(g)` there.
+#[derive(Debug, Clone, Copy)]
+struct SensitiveStep<T> {
+    h: T,
+    z_a: T,
+    position: f64,
+    carry: T,
+    rate: f64,
+}
+
+impl<T: Float> SensitiveStep<T> {
+    /// The state at input `z`, moving in direction `dir`.
+    #[inline(always)]
+    fn state(self, z: T, dir: i64) -> State<T> {
+        State {
+            z,
+            h: self.h,
+            dir,
+            z_a: self.z_a,
+            branch: BranchStart::Sensitive {
+                position: self.position,
+                carry: self.carry,
+            },
+        }
+    }
+}
+
 /// The branch the state moves on, from its start at `z_a` (in the
 /// direction frame `g = sgn(ż) h`).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -376,10 +404,46 @@ impl<T: Float> BoucWen<T> {
             if dir == 0 {
                 return Ok(self.at_rest(z));
             }
-            if let Some(next) = self.step_sensitive(z, dir, sign) {
-                return Ok(next);
+            if let Some(t) = self.step_sensitive(z, dir, sign) {
+                return Ok(t.state(z, dir));
             }
         }
+        self.step_integrated(z, dir, sign)
+    }
+
+    /// [`step`](Self::step) into the pending state, returning its `h`, its
+    /// direction and the rate `f(g)` where the derivatives' table gave it
+    /// (over dual numbers on the tabulated flow: the rate the derivatives
+    /// were carried with, see [`step_sensitive`](Self::step_sensitive)).
+    /// The state is written where it stays: over dual numbers it is
+    /// hundreds of bytes, and each copy of it cost a trial a tenth of its
+    /// time.
+    #[inline]
+    fn step_pending(&mut self, z: T) -> Result<(T, i64, Option<f64>)> {
+        let (dir, sign) = self.direction(z);
+        if self.sensitive.is_some() {
+            if dir == 0 {
+                let next = self.at_rest(z);
+                let (h, dir) = (next.h, next.dir);
+                self.pending = Some(next);
+                return Ok((h, dir, None));
+            }
+            if let Some(t) = self.step_sensitive(z, dir, sign) {
+                let (h, rate) = (t.h, t.rate);
+                self.pending = Some(t.state(z, dir));
+                return Ok((h, dir, Some(rate)));
+            }
+        }
+        let next = self.step_integrated(z, dir, sign)?;
+        let (h, dir) = (next.h, next.dir);
+        self.pending = Some(next);
+        Ok((h, dir, None))
+    }
+
+    /// [`step`](Self::step) on the `f64` table, by the integration or in
+    /// closed form.
+    #[inline(always)]
+    fn step_integrated(&mut self, z: T, dir: i64, sign: T) -> Result<State<T>> {
         let c = &self.s;
         if let Some(table) = &mut self.table {
             // Tabulated flow: the state at position σ_a + travel, from the
@@ -448,7 +512,7 @@ impl<T: Float> BoucWen<T> {
     /// with `s = sgn(ż)(z − z_a)` and `A(σ) = Σ ∂G(σ)/∂θ dθ` over
     /// `θ = (α, β, γ, n)` (the flow from 0, tabulated). The branch start's
     /// part is computed once per branch (the `carry`).
-    fn step_sensitive(&mut self, z: T, dir: i64, sign: T) -> Option<State<T>> {
+    fn step_sensitive(&mut self, z: T, dir: i64, sign: T) -> Option<SensitiveStep<T>> {
         let flow = self.sensitive.as_deref_mut()?;
         let hint = &mut self.sensitive_hint;
         let (d, seeded) = (&self.d_params, self.seeded);
@@ -471,13 +535,12 @@ impl<T: Float> BoucWen<T> {
         };
         let travel = (sign * (z - z_a)).as_f64();
         let p = flow.at(position + travel, hint)?;
-        let g = sensitive_state(&p, carry, sign, z, d, seeded);
-        Some(State {
-            z,
-            h: sign * g,
-            dir,
+        Some(SensitiveStep {
+            h: sign * sensitive_state(&p, carry, sign, z, d, seeded),
             z_a,
-            branch: BranchStart::Sensitive { position, carry },
+            position,
+            carry,
+            rate: p.rate,
         })
     }
 
@@ -850,17 +913,74 @@ impl<T: Float> Operator<T> for BoucWen<T> {
         }
         self.pending = None;
         let z = check_input(z)?;
-        let next = self.step(z)?;
-        let sign = if next.dir < 0 { -T::one() } else { T::one() };
+        let (h, dir, rate) = self.step_pending(z)?;
+        let sign = if dir < 0 { -T::one() } else { T::one() };
         let (s, ds) = self.p.stiffness.eval_with(&self.slopes, z);
         let w = self.p.w;
         let one_w = T::one() - w;
-        let h = next.h;
         let output = self.force(s, z, h);
-        let tangent = w * (s + ds * z) + one_w * (ds * h + s * self.slope(h, sign));
-        let t = check_output(Self::KIND, z, Trial { output, tangent })?;
-        self.pending = Some(next);
-        Ok(t)
+        // dh/dz = f(g): over dual numbers on the tabulated flow, the rate
+        // the state's derivatives were carried with (a constant: the
+        // tangent's derivative parts leave out those of f)
+        let slope = match rate {
+            Some(f) => T::lit(f),
+            None => self.slope(h, sign),
+        };
+        let tangent = w * (s + ds * z) + one_w * (ds * h + s * slope);
+        let t = check_output(Self::KIND, z, Trial { output, tangent });
+        if t.is_err() {
+            self.pending = None;
+        }
+        t
+    }
+
+    /// Over dual numbers on the tabulated flow: the state from the table
+    /// alone, at the position and travel `trial` takes, with the rate
+    /// `trial` takes there; `None` where `trial` is not on that table (at a
+    /// start at rest, for `n = 1`, for a state or a travel beyond it).
+    fn trial_value(&mut self, z: f64) -> Option<Result<Trial<f64>>> {
+        self.pending = None;
+        if self.closed_form || !(crate::float::values_are_f64::<T>() && z.is_finite()) {
+            return None;
+        }
+        let flow = self.sensitive.as_deref_mut()?;
+        let hint = &mut self.sensitive_hint;
+        let c = &self.s;
+        // `direction`, on values
+        let dz = z - c.z.as_f64();
+        let dir = if dz > 0.0 {
+            1
+        } else if dz < 0.0 {
+            -1
+        } else {
+            c.dir
+        };
+        if dir == 0 {
+            return None;
+        }
+        let sign = if dir < 0 { -1.0 } else { 1.0 };
+        let (z_a, position) = match c.branch {
+            BranchStart::Sensitive { position, .. } if dir == c.dir => (c.z_a.as_f64(), position),
+            _ => {
+                let position = flow.position(sign * c.h.as_f64())?;
+                let start = flow.at(position, hint)?;
+                if !(position.is_finite() && start.rate != 0.0) {
+                    return None;
+                }
+                (c.z.as_f64(), position)
+            }
+        };
+        let (g, rate) = flow.value_at(position + sign * (z - z_a), hint)?;
+        // `trial`'s output and tangent, on constants
+        let (z, h) = (T::lit(z), T::lit(sign * g));
+        let (s, ds) = self.p.stiffness.eval_with(&self.slopes, z);
+        let w = self.p.w;
+        let output = self.force(s, z, h);
+        let tangent = w * (s + ds * z) + (T::one() - w) * (ds * h + s * T::lit(rate));
+        Some(check_output(Self::KIND, z, Trial { output, tangent }).map(|t| Trial {
+            output: t.output.as_f64(),
+            tangent: t.tangent.as_f64(),
+        }))
     }
 
     fn process(&mut self, zs: &[T], ys: &mut [T]) -> Result<()> {

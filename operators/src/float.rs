@@ -49,3 +49,12 @@ impl<T> Float for T where
         + 'static
 {
 }
+
+/// Whether the values of `T` are `f64` values, computed in `f64`
+/// arithmetic (`f64` and the dual numbers over it): where
+/// [`Operator::trial_value`](crate::Operator::trial_value) gives the values
+/// of `trial` bit for bit.
+#[inline(always)]
+pub(crate) fn values_are_f64<T: Float>() -> bool {
+    T::epsilon().as_f64() == f64::EPSILON && T::max_value().as_f64() == f64::MAX
+}

@@ -388,6 +388,32 @@ impl SideSensitivity {
         if tau > self.end_tau {
             return self.beyond(tau).map(|j| (j, None));
         }
+        let k = self.piece(tau, hint);
+        let j = self.pieces.get(k)?.map(|q| q.eval(tau));
+        let rate = self.rates.get(k).copied().flatten().map(|r| r.eval(tau));
+        Some((j, rate))
+    }
+
+    /// The rate of [`at`](Self::at) alone: `Some(rate)` where `at` gives a
+    /// point, `None` where it gives none.
+    #[inline(always)]
+    fn rate_at(&self, tau: f64, hint: &mut usize) -> Option<Option<f64>> {
+        if self.broken {
+            return None;
+        }
+        if tau > self.end_tau {
+            return self.tail.map(|_| None);
+        }
+        let k = self.piece(tau, hint);
+        self.pieces.get(k)?;
+        Some(self.rates.get(k).copied().flatten().map(|r| r.eval(tau)))
+    }
+
+    /// The piece of `τ ≤ end_tau` (the hint's, the next one, or found by
+    /// a binary search), left in `hint`.
+    #[allow(clippy::indexing_slicing)]
+    #[inline(always)]
+    fn piece(&self, tau: f64, hint: &mut usize) -> usize {
         let s = &self.starts;
         let holds =
             |k: usize| k < s.len() && s[k] <= tau && s.get(k + 1).is_none_or(|&next| tau < next);
@@ -399,9 +425,7 @@ impl SideSensitivity {
             s.partition_point(|&start| start <= tau).max(1) - 1
         };
         *hint = k;
-        let j = self.pieces.get(k)?.map(|q| q.eval(tau));
-        let rate = self.rates.get(k).copied().flatten().map(|r| r.eval(tau));
-        Some((j, rate))
+        k
     }
 }
 
@@ -549,6 +573,25 @@ impl SensitiveFlow {
         let g = self.table.state_at_growing(sigma, &mut hint.table)?;
         self.follow();
         self.point(sigma, g, hint)
+    }
+
+    /// The state `g` and rate `f(g)` of [`at`](Self::at), without the
+    /// derivatives: `None` where `at` gives `None`, and the same bits
+    /// where it gives a point.
+    pub(crate) fn value_at(
+        &mut self,
+        sigma: f64,
+        hint: &mut SensitivityHint,
+    ) -> Option<(f64, f64)> {
+        let g = self.table.state_at_growing(sigma, &mut hint.table)?;
+        self.follow();
+        let rate = if sigma >= 0.0 {
+            self.upper.rate_at(sigma, &mut hint.upper)?
+        } else {
+            self.lower.rate_at(-sigma, &mut hint.lower)?
+        };
+        let rate = rate.unwrap_or(f64::NAN);
+        Some((g, if rate.is_nan() { self.eq.rate(g) } else { rate }))
     }
 
     /// The flow point at `σ` with state `g = G(σ)` (see [`at`](Self::at)).

@@ -179,6 +179,14 @@ pub trait StepLaw<T: Float>: ParamSet<T> {
     /// the output with its tangent.
     fn step(&self, s: &Self::State, x: T) -> Result<(Self::State, Trial<T>)>;
 
+    /// The output and tangent of [`step`](StepLaw::step) at an input of
+    /// value `x`, on values alone ([`Operator::trial_value`]), or `None`
+    /// (the default: the operator has no such path).
+    fn step_value(&self, s: &Self::State, x: f64) -> Option<Result<Trial<f64>>> {
+        let _ = (s, x);
+        None
+    }
+
     /// Runs `xs` from state `s`, writing `ys` (equal lengths, checked by the
     /// driver). The default steps sample by sample; an error at sample `i`
     /// leaves `s` after sample `i − 1` and is returned with
@@ -275,6 +283,16 @@ impl<T: Float, L: StepLaw<T>> Operator<T> for Stepped<L, T> {
         let (next, t) = checked_step(&self.law, &self.s, x)?;
         self.pending = Some(next);
         Ok(t)
+    }
+
+    #[inline]
+    fn trial_value(&mut self, x: f64) -> Option<Result<Trial<f64>>> {
+        self.pending = None;
+        if !(crate::float::values_are_f64::<T>() && x.is_finite()) {
+            return None;
+        }
+        let t = self.law.step_value(&self.s, x)?;
+        Some(t.and_then(|t| check_output(L::KIND, x, t)))
     }
 
     #[inline]

@@ -138,6 +138,41 @@ pub trait Operator<T: Float>: DynClone + Debug + Send + Sync {
         false
     }
 
+    /// The output and tangent of [`trial`](Operator::trial) at an input of
+    /// value `x`, computed on values alone, or `None` where the operator has
+    /// no such path (the default) or not at this input.
+    ///
+    /// Over a scalar that carries derivatives ([`Dual`]) a trial computes
+    /// every derivative along with the value. An implicit combinator
+    /// (`feedback` of the composition crate) searches its root with this
+    /// method and evaluates its children over dual numbers only at the
+    /// root, where the implicit function theorem gives the root's
+    /// derivatives: two trials over dual numbers per sample instead of one
+    /// per step of the search and one more.
+    ///
+    /// # Requirements
+    /// * `Some(Ok(t))`: `t.output` and `t.tangent` are the values of the
+    ///   output and tangent of `trial(x')` for every `x'` of value `x`, bit
+    ///   for bit (so a search on them takes the steps a search over `T`
+    ///   takes);
+    /// * `Some(Err(_))` where `trial` fails, and `None`: the caller goes
+    ///   back to `trial`;
+    /// * it leaves no pending trial: a [`commit`](Operator::commit) right
+    ///   after it changes nothing.
+    ///
+    /// ```
+    /// use hysteron_operators::{Dual, MassSpringDamper, Operator};
+    /// let mut msd = MassSpringDamper::new(Dual::variable(2.0, 0), Dual::constant(10.0),
+    ///     Dual::constant(5e4), Dual::constant(1e-3)).unwrap();
+    /// let v = msd.trial_value(3.0).unwrap().unwrap();
+    /// let t = msd.trial(Dual::constant(3.0)).unwrap();
+    /// assert_eq!((v.output, v.tangent), (t.output.re, t.tangent.re));
+    /// ```
+    fn trial_value(&mut self, x: f64) -> Option<Result<Trial<f64>>> {
+        let _ = x;
+        None
+    }
+
     /// Runs `xs` through the operator from its current state and returns the
     /// outputs in a new vector.
     fn run(&mut self, xs: &[T]) -> Result<Vec<T>> {
@@ -278,6 +313,10 @@ impl<T: Float> Operator<T> for Box<dyn Operator<T>> {
     }
     fn rests_when_held(&self) -> bool {
         (**self).rests_when_held()
+    }
+    #[inline]
+    fn trial_value(&mut self, x: f64) -> Option<Result<Trial<f64>>> {
+        (**self).trial_value(x)
     }
     fn set_sample_period(&mut self, dt: T) -> Result<()> {
         (**self).set_sample_period(dt)

@@ -1,0 +1,216 @@
+//! `Operator::trial_value`, the value path an implicit combinator searches
+//! its root on over dual numbers, against `trial`: the same values bit for
+//! bit, for every leaf of the registry; and a feedback loop over dual
+//! numbers that searches on values against the same loop searching over
+//! dual numbers.
+
+use hysteron::composition::Feedback;
+use hysteron::models::benchmark::BoucWenBenchmarkParams;
+use hysteron::models::spec::registry::LEAVES;
+use hysteron::operators::{Dual, Keep, DUAL_WIDTH};
+use hysteron::prelude::*;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Arc;
+
+/// A walk with reversals of every size and stretches held still, scaled
+/// to `a`.
+fn walk(n: usize, a: f64) -> Vec<f64> {
+    let mut x = 0.0;
+    (0..n)
+        .map(|i| {
+            let t = i as f64;
+            if i % 37 < 3 {
+                return x; // held
+            }
+            x = a * ((0.031 * t).sin() + 0.4 * (0.17 * t).cos() * (0.007 * t).sin());
+            x
+        })
+        .collect()
+}
+
+/// `op` with every parameter seeded (parameter `i` in slot `i mod N`).
+fn seeded(mut op: Box<dyn Operator<Dual>>) -> Box<dyn Operator<Dual>> {
+    let p: Vec<Dual> = (op.params().iter().enumerate())
+        .map(|(i, v)| Dual::variable(v.re, i % DUAL_WIDTH))
+        .collect();
+    op.set_params(&p).expect("its own values");
+    op
+}
+
+/// Drives `op` along `xs` (inputs seeded in the last slot, as a dual pass
+/// through a combinator hands them on). Before each sample, where
+/// `trial_value` gives a value it must be `trial`'s, bit for bit, and a
+/// commit right after it must change nothing. Returns how many samples had
+/// a value path.
+fn check(label: &str, mut op: Box<dyn Operator<Dual>>, xs: &[f64]) -> usize {
+    let mut with_path = 0;
+    for (i, &x) in xs.iter().enumerate() {
+        let mut twin = op.clone();
+        let value = op.trial_value(x);
+        op.commit();
+        let input = Dual::variable(x, DUAL_WIDTH - 1);
+        let (t, expected) = (op.trial(input), twin.trial(input));
+        match (&t, &expected) {
+            (Ok(t), Ok(e)) => {
+                assert_eq!(t.output.re.to_bits(), e.output.re.to_bits(), "{label} {i}");
+                assert_eq!(
+                    t.output.eps, e.output.eps,
+                    "{label} {i}: a commit after trial_value moved the state"
+                );
+            }
+            (Err(_), Err(_)) => {}
+            _ => panic!("{label} {i}: {t:?} against {expected:?}"),
+        }
+        match (value, &t) {
+            (Some(Ok(v)), Ok(t)) => {
+                with_path += 1;
+                assert_eq!(
+                    (v.output.to_bits(), v.tangent.to_bits()),
+                    (t.output.re.to_bits(), t.tangent.re.to_bits()),
+                    "{label} {i}: {v:?} against {t:?}"
+                );
+            }
+            (Some(Ok(v)), Err(e)) => panic!("{label} {i}: {v:?} where trial fails: {e}"),
+            _ => {}
+        }
+        if t.is_ok() {
+            op.commit();
+        }
+    }
+    with_path
+}
+
+#[test]
+fn every_leaf_gives_the_values_of_its_trials() {
+    let xs = walk(600, 1.3);
+    for leaf in LEAVES {
+        let spec = leaf.example_spec();
+        let op = seeded(spec.build_dual().expect("example builds over dual numbers"));
+        check(leaf.kind(), op, &xs);
+    }
+}
+
+/// The two leaves with a value path, where it must be taken: the
+/// oscillator always, the Bouc-Wen spring on its table (`n ≠ 1`) away from
+/// a start at rest.
+#[test]
+fn the_oscillator_and_the_tabulated_spring_have_value_paths() {
+    let p = BoucWenBenchmarkParams {
+        n: 1.5,
+        ..BoucWenBenchmarkParams::published()
+    };
+    // displacements of the benchmark's size (its output RMS is 6.7e-4 m)
+    let xs = walk(2000, 6e-4);
+    let msd = seeded(p.oscillator().unwrap().to_dual().unwrap());
+    assert_eq!(check("mass_spring_damper", msd, &xs), xs.len());
+    let bw = seeded(p.spring().unwrap().to_dual().unwrap());
+    let found = check("bouc_wen", bw, &xs);
+    // (none at the samples held at the start, at rest: there `trial` takes
+    // the rest state, not the table)
+    let at_rest = xs.iter().take_while(|&&x| x == 0.0).count();
+    assert!(at_rest > 0);
+    assert_eq!(found, xs.len() - at_rest, "{found} of {}", xs.len());
+}
+
+/// An operator as it is, counting its trials over dual numbers, with its
+/// value path or without it.
+#[derive(Debug, Clone)]
+struct Counted {
+    op: Box<dyn Operator<Dual>>,
+    value_path: bool,
+    trials: Arc<AtomicUsize>,
+}
+
+impl Operator<Dual> for Counted {
+    fn name(&self) -> &'static str {
+        self.op.name()
+    }
+    fn trial(&mut self, x: Dual) -> Result<Trial<Dual>> {
+        self.trials.fetch_add(1, Ordering::Relaxed);
+        self.op.trial(x)
+    }
+    fn trial_value(&mut self, x: f64) -> Option<Result<Trial<f64>>> {
+        if self.value_path {
+            self.op.trial_value(x)
+        } else {
+            None
+        }
+    }
+    fn commit(&mut self) {
+        self.op.commit()
+    }
+    fn reset(&mut self) {
+        self.op.reset()
+    }
+    fn process_while(&mut self, xs: &[Dual], ys: &mut [Dual], keep: &mut Keep<'_, Dual>) -> usize {
+        self.op.process_while(xs, ys, keep)
+    }
+    fn n_params(&self) -> usize {
+        self.op.n_params()
+    }
+    fn params_into(&self, out: &mut Vec<Dual>) {
+        self.op.params_into(out)
+    }
+    fn param_names(&self) -> Vec<String> {
+        self.op.param_names()
+    }
+    fn set_params(&mut self, p: &[Dual]) -> Result<()> {
+        self.op.set_params(p)
+    }
+}
+
+/// The benchmark's loop (`n = 1.5`) over dual numbers, with every
+/// parameter seeded, run with and without its children's value paths:
+/// two trials of each child over dual numbers per sample with them (more
+/// without), the same roots bit for bit (the search on values takes the
+/// steps of the search over dual numbers), and the same derivatives to
+/// rounding (the implicit function theorem at the same root).
+#[test]
+fn a_loop_searched_on_values_has_the_roots_and_derivatives_of_one_searched_on_duals() {
+    let p = BoucWenBenchmarkParams {
+        n: 1.5,
+        ..BoucWenBenchmarkParams::published()
+    };
+    // a force of 60 N, 25 Hz at 15 kHz, rising from rest
+    let xs: Vec<Dual> = (0..6000)
+        .map(|i| {
+            let t = i as f64 * p.dt();
+            Dual::constant(
+                60.0 * (1.0 - (-40.0 * t).exp()) * (25.0 * std::f64::consts::TAU * t).sin(),
+            )
+        })
+        .collect();
+    let run = |value_path: bool| {
+        let trials = Arc::new(AtomicUsize::new(0));
+        let child = |op: Box<dyn Operator<Dual>>| Counted {
+            op: seeded(op),
+            value_path,
+            trials: trials.clone(),
+        };
+        let mut fb = Feedback::new(
+            child(p.oscillator().unwrap().to_dual().unwrap()),
+            child(p.spring().unwrap().to_dual().unwrap()),
+        );
+        let ys = fb.run(&xs).expect("the loop runs");
+        (ys, trials.load(Ordering::Relaxed) as f64 / xs.len() as f64)
+    };
+    let ((by_value, per_sample), (by_duals, per_sample_duals)) = (run(true), run(false));
+    eprintln!(
+        "trials of both children per sample: {per_sample} on values, {per_sample_duals} on duals"
+    );
+    assert!(per_sample < 4.01, "{per_sample}");
+    assert!(per_sample_duals > 5.0, "{per_sample_duals}");
+    let scale: Vec<f64> = (0..DUAL_WIDTH)
+        .map(|k| by_duals.iter().fold(0.0f64, |m, y| m.max(y.eps[k].abs())))
+        .collect();
+    assert!(scale.iter().take(6).all(|&s| s > 0.0), "{scale:?}");
+    for (i, (a, b)) in by_value.iter().zip(&by_duals).enumerate() {
+        assert_eq!(a.re.to_bits(), b.re.to_bits(), "sample {i}");
+        for (k, ((p, q), s)) in a.eps.iter().zip(&b.eps).zip(&scale).enumerate() {
+            assert!(
+                (p - q).abs() <= 1e-9 * s,
+                "sample {i}, slot {k}: {p} against {q}"
+            );
+        }
+    }
+}
