@@ -644,3 +644,35 @@ fn models_composed_in_rust_have_the_derivatives_of_their_specs() {
         assert!(moving >= 3, "{label}: {moving} columns move");
     }
 }
+
+/// A spring starting at `h = 0` with `n = 3/2` not seeded: `|h|^{3/2}` is
+/// `h √h`, whose derivative at 0 is 0, not `0 · ∞`. The derivatives with
+/// respect to the initial state and the shape stay finite from the first
+/// sample, at rest and moving (they were NaN at rest).
+#[test]
+fn a_half_integer_power_at_zero_state_has_finite_derivatives() {
+    use hysteron::operators::{BoucWen, Dual, Operator, DUAL_WIDTH};
+    let p = hysteron::operators::BoucWenParams {
+        h0: 0.0,
+        z0: 0.0,
+        ..spring_params(0.6, 0.4, 1.5)
+    };
+    let mut bw = BoucWen::from_params(p).unwrap().to_dual().unwrap();
+    let names = bw.param_names();
+    let mut q = bw.params();
+    for (i, v) in q.iter_mut().enumerate() {
+        if names[i] != "n" {
+            *v = Dual::variable(v.re, i % DUAL_WIDTH);
+        }
+    }
+    bw.set_params(&q).unwrap();
+    let xs: Vec<Dual> = [0.0, 0.0, 0.1, 0.3, 0.2, -0.1]
+        .iter()
+        .map(|&x| Dual::constant(x))
+        .collect();
+    let ys = bw.run(&xs).unwrap();
+    for (i, y) in ys.iter().enumerate() {
+        assert!(y.derivatives_finite(), "sample {i}: {y:?}");
+    }
+    assert!(ys[3].eps.iter().any(|&e| e != 0.0));
+}

@@ -90,6 +90,10 @@ impl<T: Float> Power<T> {
             Power::One => a,
             Power::Two => a * a,
             Power::Int(k) => a.powi(k),
+            // Over dual numbers at a = 0, `√a` has an infinite derivative
+            // and `a^{k+½}` (k ≥ 1) a zero one: the product would make it
+            // 0·∞ = NaN.
+            Power::HalfInt(_) if T::CARRIES_DERIVATIVES && a == T::zero() => T::zero(),
             Power::HalfInt(1) => a * a.sqrt(),
             Power::HalfInt(k) => a.powi(k) * a.sqrt(),
             Power::Real(n) => a.powf(n),
@@ -154,6 +158,24 @@ pub(crate) struct Branch<T> {
 }
 
 impl<T: Float> Branch<T> {
+    /// The branch's values (its terms without their derivatives): over
+    /// `f64`, [`at`](Self::at) gives the values of `at` over `T`, bit for
+    /// bit.
+    pub(crate) fn value(&self) -> Branch<f64> {
+        let v = |t: T| t.as_f64();
+        Branch {
+            g_a: v(self.g_a),
+            f_a: v(self.f_a),
+            c_a: v(self.c_a),
+            fc_a: v(self.fc_a),
+            inf_a: v(self.inf_a),
+            s0: v(self.s0),
+            f_0: v(self.f_0),
+            c_0: v(self.c_0),
+            fc_0: v(self.fc_0),
+        }
+    }
+
     /// The state after travel `s ≥ 0` along the branch.
     #[inline(always)]
     pub(crate) fn at(&self, s: T) -> T {
