@@ -4,10 +4,11 @@
 //! numbers that searches on values against the same loop searching over
 //! dual numbers.
 
-use hysteron::composition::Feedback;
+use hysteron::composition::{Feedback, TravelLimits};
 use hysteron::models::benchmark::BoucWenBenchmarkParams;
 use hysteron::models::spec::registry::LEAVES;
-use hysteron::operators::{Dual, Keep, DUAL_WIDTH};
+use hysteron::models::TransmissionParams;
+use hysteron::operators::{BoucWen, Dual, Keep, Mms, DUAL_WIDTH};
 use hysteron::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
@@ -53,8 +54,10 @@ fn check(label: &str, mut op: Box<dyn Operator<Dual>>, xs: &[f64]) -> usize {
         match (&t, &expected) {
             (Ok(t), Ok(e)) => {
                 assert_eq!(t.output.re.to_bits(), e.output.re.to_bits(), "{label} {i}");
+                // (bits: a NaN derivative equals itself here)
                 assert_eq!(
-                    t.output.eps, e.output.eps,
+                    t.output.eps.map(f64::to_bits),
+                    e.output.eps.map(f64::to_bits),
                     "{label} {i}: a commit after trial_value moved the state"
                 );
             }
@@ -90,9 +93,9 @@ fn every_leaf_gives_the_values_of_its_trials() {
     }
 }
 
-/// The two leaves with a value path, where it must be taken: the
-/// oscillator always, the Bouc-Wen spring on its table (`n ≠ 1`) away from
-/// a start at rest.
+/// Leaves with a value path, where it must be taken: the oscillator
+/// always, the Bouc-Wen spring on its table (`n ≠ 1`) and in closed form
+/// (`n = 1`) away from a start at rest.
 #[test]
 fn the_oscillator_and_the_tabulated_spring_have_value_paths() {
     let p = BoucWenBenchmarkParams {
@@ -103,13 +106,30 @@ fn the_oscillator_and_the_tabulated_spring_have_value_paths() {
     let xs = walk(2000, 6e-4);
     let msd = seeded(p.oscillator().unwrap().to_dual().unwrap());
     assert_eq!(check("mass_spring_damper", msd, &xs), xs.len());
-    let bw = seeded(p.spring().unwrap().to_dual().unwrap());
-    let found = check("bouc_wen", bw, &xs);
     // (none at the samples held at the start, at rest: there `trial` takes
-    // the rest state, not the table)
+    // the rest state, not the table or the closed form)
     let at_rest = xs.iter().take_while(|&&x| x == 0.0).count();
     assert!(at_rest > 0);
-    assert_eq!(found, xs.len() - at_rest, "{found} of {}", xs.len());
+    // on the table (n = 1.5), and in closed form (n = 1, not seeded: with
+    // `n` seeded the general power is tabulated)
+    for (label, n) in [("bouc_wen n = 1.5", 1.5), ("bouc_wen n = 1", 1.0)] {
+        let spring = BoucWenBenchmarkParams { n, ..p }.spring().unwrap();
+        let mut bw = spring.to_dual().unwrap();
+        let mut q = bw.params();
+        for (i, v) in q.iter_mut().enumerate() {
+            if bw.param_names()[i] != "n" {
+                *v = Dual::variable(v.re, i % DUAL_WIDTH);
+            }
+        }
+        bw.set_params(&q).unwrap();
+        let found = check(label, bw, &xs);
+        assert_eq!(
+            found,
+            xs.len() - at_rest,
+            "{label}: {found} of {}",
+            xs.len()
+        );
+    }
 }
 
 /// An operator as it is, counting its trials over dual numbers, with its
@@ -159,12 +179,54 @@ impl Operator<Dual> for Counted {
     }
 }
 
-/// The benchmark's loop (`n = 1.5`) over dual numbers, with every
-/// parameter seeded, run with and without its children's value paths:
-/// two trials of each child over dual numbers per sample with them (more
-/// without), the same roots bit for bit (the search on values takes the
-/// steps of the search over dual numbers), and the same derivatives to
-/// rounding (the implicit function theorem at the same root).
+/// Runs `xs` through the model `build` makes of its two children (each
+/// seeded, counted, with or without its value path); returns the outputs
+/// and the trials over dual numbers per sample.
+fn counted_run<M: Operator<Dual>>(
+    xs: &[Dual],
+    children: (Box<dyn Operator<Dual>>, Box<dyn Operator<Dual>>),
+    build: impl Fn(Counted, Counted) -> M,
+    value_path: bool,
+) -> (Vec<Dual>, f64) {
+    let trials = Arc::new(AtomicUsize::new(0));
+    let child = |op: Box<dyn Operator<Dual>>| Counted {
+        op: seeded(op),
+        value_path,
+        trials: trials.clone(),
+    };
+    let mut model = build(child(children.0), child(children.1));
+    let ys = model.run(xs).expect("the model runs");
+    (ys, trials.load(Ordering::Relaxed) as f64 / xs.len() as f64)
+}
+
+/// The outputs with the value paths and without: the same values bit for
+/// bit (the search on values takes the steps of the search over dual
+/// numbers), the same derivatives to 1e-9 of each column (the implicit
+/// function theorem at the same root), in the first `seeded` slots not all
+/// zero.
+fn assert_same_outputs(label: &str, by_value: &[Dual], by_duals: &[Dual], seeded: usize) {
+    let scale: Vec<f64> = (0..DUAL_WIDTH)
+        .map(|k| by_duals.iter().fold(0.0f64, |m, y| m.max(y.eps[k].abs())))
+        .collect();
+    assert!(
+        scale.iter().take(seeded).all(|&s| s > 0.0),
+        "{label}: {scale:?}"
+    );
+    for (i, (a, b)) in by_value.iter().zip(by_duals).enumerate() {
+        assert_eq!(a.re.to_bits(), b.re.to_bits(), "{label}: sample {i}");
+        for (k, ((p, q), s)) in a.eps.iter().zip(&b.eps).zip(&scale).enumerate() {
+            assert!(
+                (p - q).abs() <= 1e-9 * s,
+                "{label}: sample {i}, slot {k}: {p} against {q}"
+            );
+        }
+    }
+}
+
+/// The benchmark's loop (`n = 1.5`) over dual numbers, every parameter
+/// seeded, with and without its children's value paths: two trials of
+/// each child over dual numbers per sample with them (four without: two
+/// Newton steps and two at the root), and the same outputs.
 #[test]
 fn a_loop_searched_on_values_has_the_roots_and_derivatives_of_one_searched_on_duals() {
     let p = BoucWenBenchmarkParams {
@@ -175,42 +237,59 @@ fn a_loop_searched_on_values_has_the_roots_and_derivatives_of_one_searched_on_du
     let xs: Vec<Dual> = (0..6000)
         .map(|i| {
             let t = i as f64 * p.dt();
-            Dual::constant(
-                60.0 * (1.0 - (-40.0 * t).exp()) * (25.0 * std::f64::consts::TAU * t).sin(),
-            )
+            let f = 60.0 * (1.0 - (-40.0 * t).exp()) * (25.0 * std::f64::consts::TAU * t).sin();
+            Dual::constant(f)
         })
         .collect();
-    let run = |value_path: bool| {
-        let trials = Arc::new(AtomicUsize::new(0));
-        let child = |op: Box<dyn Operator<Dual>>| Counted {
-            op: seeded(op),
-            value_path,
-            trials: trials.clone(),
-        };
-        let mut fb = Feedback::new(
-            child(p.oscillator().unwrap().to_dual().unwrap()),
-            child(p.spring().unwrap().to_dual().unwrap()),
-        );
-        let ys = fb.run(&xs).expect("the loop runs");
-        (ys, trials.load(Ordering::Relaxed) as f64 / xs.len() as f64)
+    let children = || {
+        (
+            p.oscillator().unwrap().to_dual().unwrap(),
+            p.spring().unwrap().to_dual().unwrap(),
+        )
     };
+    let run = |value_path| counted_run(&xs, children(), Feedback::new, value_path);
     let ((by_value, per_sample), (by_duals, per_sample_duals)) = (run(true), run(false));
-    eprintln!(
-        "trials of both children per sample: {per_sample} on values, {per_sample_duals} on duals"
-    );
+    eprintln!("feedback: trials per sample {per_sample} on values, {per_sample_duals} on duals");
     assert!(per_sample < 4.01, "{per_sample}");
     assert!(per_sample_duals > 5.0, "{per_sample_duals}");
-    let scale: Vec<f64> = (0..DUAL_WIDTH)
-        .map(|k| by_duals.iter().fold(0.0f64, |m, y| m.max(y.eps[k].abs())))
+    assert_same_outputs("feedback", &by_value, &by_duals, 6);
+}
+
+/// The paper's model (friction and spring `n = 1.5` in series in the gap)
+/// the same way: fewer trials over dual numbers with the value paths, and
+/// the same outputs.
+#[test]
+fn a_series_searched_on_values_has_the_splits_and_derivatives_of_one_searched_on_duals() {
+    let mut p = TransmissionParams::default();
+    p.spring.n = 1.5;
+    p.spring.h0 = 0.1;
+    let n = 4000;
+    let xs: Vec<Dual> = (0..n)
+        .map(|i| {
+            let t = i as f64 / n as f64;
+            Dual::constant(1.5 * (-3.0 * t).exp() * (std::f64::consts::TAU * 6.0 * t).sin())
+        })
         .collect();
-    assert!(scale.iter().take(6).all(|&s| s > 0.0), "{scale:?}");
-    for (i, (a, b)) in by_value.iter().zip(&by_duals).enumerate() {
-        assert_eq!(a.re.to_bits(), b.re.to_bits(), "sample {i}");
-        for (k, ((p, q), s)) in a.eps.iter().zip(&b.eps).zip(&scale).enumerate() {
-            assert!(
-                (p - q).abs() <= 1e-9 * s,
-                "sample {i}, slot {k}: {p} against {q}"
-            );
-        }
-    }
+    let children = || {
+        (
+            Mms::from_params(p.friction).unwrap().to_dual().unwrap(),
+            BoucWen::from_params(p.spring_params())
+                .unwrap()
+                .to_dual()
+                .unwrap(),
+        )
+    };
+    let limits = TravelLimits::Gap {
+        b: Dual::variable(p.backlash, DUAL_WIDTH - 1),
+        r0: Dual::constant(p.slider0),
+    };
+    let build = |l: Counted, r: Counted| l.series(r).with_limits(limits).unwrap();
+    let run = |value_path| counted_run(&xs, children(), build, value_path);
+    let ((by_value, per_sample), (by_duals, per_sample_duals)) = (run(true), run(false));
+    eprintln!("series: trials per sample {per_sample} on values, {per_sample_duals} on duals");
+    assert!(
+        per_sample < per_sample_duals,
+        "{per_sample} against {per_sample_duals}"
+    );
+    assert_same_outputs("series", &by_value, &by_duals, DUAL_WIDTH);
 }

@@ -1,7 +1,7 @@
 //! Mechanical series connection: equal force, displacements add.
 
 use crate::pair::{pair_domains, pair_names, set_pair};
-use crate::solve::{solve, Root, SolverOptions, Start};
+use crate::solve::{at_root, solve, Root, SolverOptions, Start};
 use crate::Child;
 use hysteron_operators::{
     check, check_input, check_lengths, CastScalar, Domain, Dual, Error, Float, Operator, Result,
@@ -402,31 +402,59 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
                 }
             }
         }
+        let dx = x - self.s.x;
+        let start = self.s.x_left;
+        let scale = x.abs().max(start.abs());
+        let bounds = self.limits.bounds();
+        let from = Start {
+            x0: start,
+            step: dx,
+            hint: Some(start + dx),
+            bounds,
+            // The committed split moved as its share says (second
+            // order in `dx`).
+            guess: self.s.share.map(|w| w.guess(start, dx)),
+            scale,
+        };
+        // Over dual numbers, the split is searched on values where both
+        // elements have a value path (see `Feedback`), and any failure of
+        // that search leaves it to the dual numbers from the start.
+        let by_value = if T::CARRIES_DERIVATIVES {
+            let (xv, r0v) = (x.as_f64(), r0.as_f64());
+            let values = |xl: f64| -> Result<(f64, f64)> {
+                let no_path = || Error::NonFiniteInput { value: xl };
+                let l = left.trial_value(xl).ok_or_else(no_path)??;
+                let r = right.trial_value(xv - r0v - xl).ok_or_else(no_path)??;
+                Ok((l.output - r.output, l.tangent + r.tangent))
+            };
+            let v = |t: T| t.as_f64();
+            let from = Start {
+                x0: v(from.x0),
+                step: v(from.step),
+                hint: from.hint.map(v),
+                bounds: from.bounds.map(|(lo, hi)| (v(lo), v(hi))),
+                guess: from.guess.map(v),
+                scale: v(from.scale),
+            };
+            solve("series", values, from, &self.opts.cast_scalar()).ok()
+        } else {
+            None
+        };
         let mut last = (Trial::default(), Trial::default());
-        let residual = |xl: T| -> Result<(T, T)> {
+        let mut residual = |xl: T| -> Result<(T, T)> {
             let l = left.trial(xl)?;
             let r = right.trial(x - r0 - xl)?;
             last = (l, r);
             Ok((l.output - r.output, l.tangent + r.tangent))
         };
-        let dx = x - self.s.x;
-        let start = self.s.x_left;
-        let scale = x.abs().max(start.abs());
-        let root = solve(
-            "series",
-            residual,
-            Start {
-                x0: start,
-                step: dx,
-                hint: Some(start + dx),
-                bounds: self.limits.bounds(),
-                // The committed split moved as its share says (second
-                // order in `dx`).
-                guess: self.s.share.map(|w| w.guess(start, dx)),
-                scale,
-            },
-            &self.opts,
-        )?;
+        let root = match by_value {
+            Some(root) => at_root("series", &mut residual, root, bounds)?,
+            None => None,
+        };
+        let root = match root {
+            Some(root) => root,
+            None => solve("series", &mut residual, from, &self.opts)?,
+        };
         let (l, r) = last;
         let (force, tangent) = match root {
             Root::AtBound(_) => (r.output, r.tangent),

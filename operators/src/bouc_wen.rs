@@ -787,6 +787,57 @@ impl<T: Float> BoucWen<T> {
         Ok(t)
     }
 
+    /// [`trial_value`](Operator::trial_value) for `n = 1`: the values of
+    /// [`trial_closed_form`](Self::trial_closed_form), the branch's terms
+    /// taken as values (a new branch is made over `T` at the value of its
+    /// start); `None` before any motion.
+    fn trial_value_closed_form(&self, z: f64) -> Option<Result<Trial<f64>>> {
+        let c = &self.s;
+        let dz = z - c.z.as_f64();
+        let dir = if dz > 0.0 {
+            1
+        } else if dz < 0.0 {
+            -1
+        } else {
+            c.dir
+        };
+        let sign = if dir < 0 { -1.0 } else { 1.0 };
+        let h = match &c.branch {
+            BranchStart::Linear(b) if dir == c.dir => {
+                sign * b.value().at(sign * (z - c.z_a.as_f64()))
+            }
+            _ if dir == 0 => return None,
+            _ => {
+                let b = self.eq.branch(T::lit(sign * c.h.as_f64())).value();
+                sign * b.at(sign * (z - c.z.as_f64()))
+            }
+        };
+        if !h.is_finite() {
+            return Some(Err(crate::Error::NonFiniteOutput {
+                operator: Self::KIND,
+                input: z,
+            }));
+        }
+        // `trial_closed_form`'s output and tangent, on constants
+        let (z, h) = (T::lit(z), T::lit(h));
+        let (s, ds) = self.p.stiffness.eval_with(&self.slopes, z);
+        let w = self.p.w;
+        let output = self.force(s, z, h);
+        let g = T::lit(sign) * h;
+        let eq = &self.eq;
+        let c_g = if g < T::zero() {
+            eq.gamma - eq.beta
+        } else {
+            eq.beta + eq.gamma
+        };
+        let slope = eq.alpha - g.abs() * c_g;
+        let tangent = w * (s + ds * z) + (T::one() - w) * (ds * h + s * slope);
+        Some(check_output(Self::KIND, z, Trial { output, tangent }).map(|t| Trial {
+            output: t.output.as_f64(),
+            tangent: t.tangent.as_f64(),
+        }))
+    }
+
     /// `dh/dz` at state `h` moving in direction `dir`.
     #[inline(always)]
     fn slope(&self, h: T, sign: T) -> T {
@@ -940,8 +991,11 @@ impl<T: Float> Operator<T> for BoucWen<T> {
     /// start at rest, for `n = 1`, for a state or a travel beyond it).
     fn trial_value(&mut self, z: f64) -> Option<Result<Trial<f64>>> {
         self.pending = None;
-        if self.closed_form || !(crate::float::values_are_f64::<T>() && z.is_finite()) {
+        if !(crate::float::values_are_f64::<T>() && z.is_finite()) {
             return None;
+        }
+        if self.closed_form {
+            return self.trial_value_closed_form(z);
         }
         let flow = self.sensitive.as_deref_mut()?;
         let hint = &mut self.sensitive_hint;

@@ -230,6 +230,27 @@ impl<T: Float> StepLaw<T> for MmsParams<T> {
         Ok((s, Trial { output, tangent }))
     }
 
+    /// [`step`](StepLaw::step) over `f64` on the values of the parameters
+    /// and the state (over dual numbers the values are the `f64` kernel's,
+    /// see `exp_m1_of_negative`).
+    fn step_value(&self, s: &MmsState<T>, x: f64) -> Option<Result<Trial<f64>>> {
+        let v = |t: T| t.as_f64();
+        let law = MmsParams {
+            f_c: v(self.f_c),
+            k: v(self.k),
+            y0: v(self.y0),
+        };
+        let s = MmsState {
+            x: v(s.x),
+            y: v(s.y),
+            x_r: v(s.x_r),
+            y_r: v(s.y_r),
+            dir: s.dir,
+            decay: v(s.decay),
+        };
+        Some(law.step(&s, x).map(|(_, t)| t))
+    }
+
     /// Monotone runs with the branch constants hoisted, in blocks of three
     /// loops (see the comments); bit for bit the loop of `step`.
     // Hot loop, kept free of checks: `i < xs.len() = ys.len()` (checked once
