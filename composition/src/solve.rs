@@ -95,6 +95,16 @@ struct Tracked<F, T> {
 }
 
 impl<T: Float, F: FnMut(T) -> Result<Eval<T>>> Tracked<F, T> {
+    /// `f`, not evaluated yet, for the solver named `solver`.
+    fn new(f: F, solver: &'static str) -> Self {
+        Tracked {
+            f,
+            last: None,
+            last_eval: None,
+            solver,
+        }
+    }
+
     fn eval(&mut self, x: T) -> Result<Eval<T>> {
         self.last = Some(x);
         // A child rejecting a non-finite input here was handed an
@@ -199,12 +209,7 @@ where
     T: Float,
     F: FnMut(T) -> Result<Eval<T>>,
 {
-    let mut f = Tracked {
-        f,
-        last: None,
-        last_eval: None,
-        solver,
-    };
+    let mut f = Tracked::new(f, solver);
     let root = search(&mut f, start, opts)?;
     if !T::CARRIES_DERIVATIVES {
         return Ok(root);
@@ -248,12 +253,7 @@ where
     T: Float,
     F: FnMut(T) -> Result<Eval<T>>,
 {
-    let mut f = Tracked {
-        f,
-        last: None,
-        last_eval: None,
-        solver,
-    };
+    let mut f = Tracked::new(f, solver);
     Ok(Some(match root {
         Root::Inside(x) => {
             let x = T::lit(x);

@@ -792,16 +792,8 @@ impl<T: Float> BoucWen<T> {
     /// taken as values (a new branch is made over `T` at the value of its
     /// start); `None` before any motion.
     fn trial_value_closed_form(&self, z: f64) -> Option<Result<Trial<f64>>> {
+        let (dir, sign) = self.direction_value(z);
         let c = &self.s;
-        let dz = z - c.z.as_f64();
-        let dir = if dz > 0.0 {
-            1
-        } else if dz < 0.0 {
-            -1
-        } else {
-            c.dir
-        };
-        let sign = if dir < 0 { -1.0 } else { 1.0 };
         let h = match &c.branch {
             BranchStart::Linear(b) if dir == c.dir => {
                 sign * b.value().at(sign * (z - c.z_a.as_f64()))
@@ -818,24 +810,43 @@ impl<T: Float> BoucWen<T> {
                 input: z,
             }));
         }
-        // `trial_closed_form`'s output and tangent, on constants
-        let (z, h) = (T::lit(z), T::lit(h));
-        let (s, ds) = self.p.stiffness.eval_with(&self.slopes, z);
-        let w = self.p.w;
-        let output = self.force(s, z, h);
-        let g = T::lit(sign) * h;
+        // `trial_closed_form`'s rate, on constants
+        let g = T::lit(sign * h);
         let eq = &self.eq;
         let c_g = if g < T::zero() {
             eq.gamma - eq.beta
         } else {
             eq.beta + eq.gamma
         };
-        let slope = eq.alpha - g.abs() * c_g;
+        Some(self.value_trial(z, h, eq.alpha - g.abs() * c_g))
+    }
+
+    /// `direction` on values: the direction of motion to `z` and its sign.
+    fn direction_value(&self, z: f64) -> (i64, f64) {
+        let dz = z - self.s.z.as_f64();
+        let dir = if dz > 0.0 {
+            1
+        } else if dz < 0.0 {
+            -1
+        } else {
+            self.s.dir
+        };
+        (dir, if dir < 0 { -1.0 } else { 1.0 })
+    }
+
+    /// `trial`'s output and tangent at input `z`, state `h` and rate
+    /// `slope`, computed over `T` on constants (the same operations on the
+    /// same values), as values.
+    fn value_trial(&self, z: f64, h: f64, slope: T) -> Result<Trial<f64>> {
+        let (z, h) = (T::lit(z), T::lit(h));
+        let (s, ds) = self.p.stiffness.eval_with(&self.slopes, z);
+        let w = self.p.w;
+        let output = self.force(s, z, h);
         let tangent = w * (s + ds * z) + (T::one() - w) * (ds * h + s * slope);
-        Some(check_output(Self::KIND, z, Trial { output, tangent }).map(|t| Trial {
+        check_output(Self::KIND, z, Trial { output, tangent }).map(|t| Trial {
             output: t.output.as_f64(),
             tangent: t.tangent.as_f64(),
-        }))
+        })
     }
 
     /// `dh/dz` at state `h` moving in direction `dir`.
@@ -997,22 +1008,13 @@ impl<T: Float> Operator<T> for BoucWen<T> {
         if self.closed_form {
             return self.trial_value_closed_form(z);
         }
-        let flow = self.sensitive.as_deref_mut()?;
-        let hint = &mut self.sensitive_hint;
-        let c = &self.s;
-        // `direction`, on values
-        let dz = z - c.z.as_f64();
-        let dir = if dz > 0.0 {
-            1
-        } else if dz < 0.0 {
-            -1
-        } else {
-            c.dir
-        };
+        let (dir, sign) = self.direction_value(z);
         if dir == 0 {
             return None;
         }
-        let sign = if dir < 0 { -1.0 } else { 1.0 };
+        let flow = self.sensitive.as_deref_mut()?;
+        let hint = &mut self.sensitive_hint;
+        let c = &self.s;
         let (z_a, position) = match c.branch {
             BranchStart::Sensitive { position, .. } if dir == c.dir => (c.z_a.as_f64(), position),
             _ => {
@@ -1025,16 +1027,7 @@ impl<T: Float> Operator<T> for BoucWen<T> {
             }
         };
         let (g, rate) = flow.value_at(position + sign * (z - z_a), hint)?;
-        // `trial`'s output and tangent, on constants
-        let (z, h) = (T::lit(z), T::lit(sign * g));
-        let (s, ds) = self.p.stiffness.eval_with(&self.slopes, z);
-        let w = self.p.w;
-        let output = self.force(s, z, h);
-        let tangent = w * (s + ds * z) + (T::one() - w) * (ds * h + s * T::lit(rate));
-        Some(check_output(Self::KIND, z, Trial { output, tangent }).map(|t| Trial {
-            output: t.output.as_f64(),
-            tangent: t.tangent.as_f64(),
-        }))
+        Some(self.value_trial(z, sign * g, T::lit(rate)))
     }
 
     fn process(&mut self, zs: &[T], ys: &mut [T]) -> Result<()> {
