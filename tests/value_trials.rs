@@ -8,7 +8,7 @@ use hysteron::composition::{Feedback, TravelLimits};
 use hysteron::models::benchmark::BoucWenBenchmarkParams;
 use hysteron::models::spec::registry::LEAVES;
 use hysteron::models::TransmissionParams;
-use hysteron::operators::{BoucWen, Dual, Keep, Mms, DUAL_WIDTH};
+use hysteron::operators::{BoucWen, Differentiable, Dual, Keep, Mms, DUAL_WIDTH};
 use hysteron::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
@@ -30,9 +30,14 @@ fn walk(n: usize, a: f64) -> Vec<f64> {
 }
 
 /// `op` with every parameter seeded (parameter `i` in slot `i mod N`).
-fn seeded(mut op: Box<dyn Operator<Dual>>) -> Box<dyn Operator<Dual>> {
+fn seeded(op: Box<dyn Operator<Dual>>) -> Box<dyn Operator<Dual>> {
+    seeded_in(op, DUAL_WIDTH)
+}
+
+/// `op` with parameter `i` seeded in slot `i mod slots`.
+fn seeded_in(mut op: Box<dyn Operator<Dual>>, slots: usize) -> Box<dyn Operator<Dual>> {
     let p: Vec<Dual> = (op.params().iter().enumerate())
-        .map(|(i, v)| Dual::variable(v.re, i % DUAL_WIDTH))
+        .map(|(i, v)| Dual::variable(v.re, i % slots))
         .collect();
     op.set_params(&p).expect("its own values");
     op
@@ -133,7 +138,7 @@ fn the_oscillator_and_the_tabulated_spring_have_value_paths() {
 }
 
 /// An operator as it is, counting its trials over dual numbers, with its
-/// value path or without it.
+/// value path or without it (and then without its fold of the probe slot).
 #[derive(Debug, Clone)]
 struct Counted {
     op: Box<dyn Operator<Dual>>,
@@ -155,6 +160,9 @@ impl Operator<Dual> for Counted {
         } else {
             None
         }
+    }
+    fn fold_probe(&mut self, along: &Dual) -> bool {
+        self.value_path && self.op.fold_probe(along)
     }
     fn commit(&mut self) {
         self.op.commit()
@@ -180,17 +188,18 @@ impl Operator<Dual> for Counted {
 }
 
 /// Runs `xs` through the model `build` makes of its two children (each
-/// seeded, counted, with or without its value path); returns the outputs
-/// and the trials over dual numbers per sample.
+/// seeded in `slots` slots, counted, with or without its value path);
+/// returns the outputs and the trials over dual numbers per sample.
 fn counted_run<M: Operator<Dual>>(
     xs: &[Dual],
     children: (Box<dyn Operator<Dual>>, Box<dyn Operator<Dual>>),
     build: impl Fn(Counted, Counted) -> M,
     value_path: bool,
+    slots: usize,
 ) -> (Vec<Dual>, f64) {
     let trials = Arc::new(AtomicUsize::new(0));
     let child = |op: Box<dyn Operator<Dual>>| Counted {
-        op: seeded(op),
+        op: seeded_in(op, slots),
         value_path,
         trials: trials.clone(),
     };
@@ -247,12 +256,103 @@ fn a_loop_searched_on_values_has_the_roots_and_derivatives_of_one_searched_on_du
             p.spring().unwrap().to_dual().unwrap(),
         )
     };
-    let run = |value_path| counted_run(&xs, children(), Feedback::new, value_path);
-    let ((by_value, per_sample), (by_duals, per_sample_duals)) = (run(true), run(false));
-    eprintln!("feedback: trials per sample {per_sample} on values, {per_sample_duals} on duals");
-    assert!(per_sample < 4.01, "{per_sample}");
-    assert!(per_sample_duals > 5.0, "{per_sample_duals}");
-    assert_same_outputs("feedback", &by_value, &by_duals, 6);
+    // every slot seeded: the probe slot is taken, two evaluations at the
+    // root; one slot free: one evaluation, probed and folded
+    for (slots, most) in [(DUAL_WIDTH, 4.01), (DUAL_WIDTH - 1, 2.01)] {
+        let run = |value_path| counted_run(&xs, children(), Feedback::new, value_path, slots);
+        let ((by_value, per_sample), (by_duals, per_sample_duals)) = (run(true), run(false));
+        eprintln!("feedback, {slots} slots: trials per sample {per_sample} on values, {per_sample_duals} on duals");
+        assert!(per_sample < most, "{per_sample}");
+        assert!(per_sample_duals > 5.0, "{per_sample_duals}");
+        assert_same_outputs("feedback", &by_value, &by_duals, 6);
+    }
+}
+
+/// A sample period carrying a derivative in the probe slot (it is not a
+/// parameter, so the loop cannot see it): the oscillator refuses to fold,
+/// the loop evaluates at its root twice, and the derivatives with respect
+/// to the period are those of the search over dual numbers.
+#[test]
+fn a_probe_slot_taken_by_a_sample_period_is_not_folded() {
+    let p = BoucWenBenchmarkParams {
+        n: 1.5,
+        ..BoucWenBenchmarkParams::published()
+    };
+    let xs: Vec<Dual> = (0..3000)
+        .map(|i| Dual::constant(60.0 * (25.0 * std::f64::consts::TAU * i as f64 * p.dt()).sin()))
+        .collect();
+    let run = |value_path| {
+        let trials = Arc::new(AtomicUsize::new(0));
+        let child = |op| Counted {
+            op: seeded_in(op, DUAL_WIDTH - 1),
+            value_path,
+            trials: trials.clone(),
+        };
+        let mut msd = child(p.oscillator().unwrap().to_dual().unwrap());
+        msd.op
+            .set_sample_period(Dual::variable(p.dt(), DUAL_WIDTH - 1))
+            .unwrap();
+        let spring = child(p.spring().unwrap().to_dual().unwrap());
+        let ys = Feedback::new(msd, spring).run(&xs).unwrap();
+        (ys, trials.load(Ordering::Relaxed) as f64 / xs.len() as f64)
+    };
+    let ((by_value, per_sample), (by_duals, _)) = (run(true), run(false));
+    assert!(per_sample > 3.0, "{per_sample}");
+    assert_same_outputs("feedback, dt seeded", &by_value, &by_duals, DUAL_WIDTH);
+}
+
+/// Every leaf that folds its pending trial's probe slot: a trial at a
+/// probed input, folded with some derivatives, leaves the state a trial at
+/// an input carrying them leaves, to rounding; the oscillator, the
+/// friction element and the spring (on its table and in closed form) fold
+/// at every sample.
+#[test]
+fn a_folded_probe_is_a_trial_at_the_derivatives() {
+    let folders = ["mass_spring_damper", "mms", "bouc_wen"];
+    for leaf in LEAVES {
+        let spec = leaf.example_spec();
+        let mut op = seeded_in(spec.build_dual().unwrap(), DUAL_WIDTH - 1);
+        let xs = walk(400, 1.3);
+        let mut folded = 0;
+        for (i, &x) in xs.iter().enumerate() {
+            let mut along = Dual::constant(x);
+            for (k, e) in along.eps.iter_mut().take(DUAL_WIDTH - 1).enumerate() {
+                *e = 0.3 * (k as f64 + 1.0) * (0.1 * i as f64).cos();
+            }
+            let mut direct = op.clone();
+            let Ok(t) = direct.trial(along) else {
+                break;
+            };
+            op.trial(Dual::constant(x).probe()).unwrap();
+            if op.fold_probe(&along) {
+                folded += 1;
+                op.commit();
+            } else {
+                op = direct.clone();
+                op.commit();
+            }
+            direct.commit();
+            // the next trial from both states
+            let next = Dual::constant(x + 0.01);
+            let (a, b) = (op.clone().trial(next), direct.trial(next));
+            let (a, b) = (a.unwrap().output, b.unwrap().output);
+            assert_eq!(a.re.to_bits(), b.re.to_bits(), "{} {i}", leaf.kind());
+            let scale = b
+                .eps
+                .iter()
+                .fold(t.output.re.abs().max(1.0), |m, e| m.max(e.abs()));
+            for (k, (p, q)) in a.eps.iter().zip(&b.eps).enumerate() {
+                assert!(
+                    (p - q).abs() <= 1e-12 * scale,
+                    "{} {i} slot {k}: {p} against {q}",
+                    leaf.kind()
+                );
+            }
+        }
+        if folders.contains(&leaf.kind()) {
+            assert_eq!(folded, xs.len(), "{}", leaf.kind());
+        }
+    }
 }
 
 /// The paper's model (friction and spring `n = 1.5` in series in the gap)
@@ -284,7 +384,7 @@ fn a_series_searched_on_values_has_the_splits_and_derivatives_of_one_searched_on
         r0: Dual::constant(p.slider0),
     };
     let build = |l: Counted, r: Counted| l.series(r).with_limits(limits).unwrap();
-    let run = |value_path| counted_run(&xs, children(), build, value_path);
+    let run = |value_path| counted_run(&xs, children(), build, value_path, DUAL_WIDTH);
     let ((by_value, per_sample), (by_duals, per_sample_duals)) = (run(true), run(false));
     eprintln!("series: trials per sample {per_sample} on values, {per_sample_duals} on duals");
     assert!(
@@ -292,4 +392,19 @@ fn a_series_searched_on_values_has_the_splits_and_derivatives_of_one_searched_on
         "{per_sample} against {per_sample_duals}"
     );
     assert_same_outputs("series", &by_value, &by_duals, DUAL_WIDTH);
+    // the backlash in slot 0 instead: the probe slot is free, the moving
+    // samples take one evaluation at the split instead of two
+    let limits = TravelLimits::Gap {
+        b: Dual::variable(p.backlash, 0),
+        r0: Dual::constant(p.slider0),
+    };
+    let build = |l: Counted, r: Counted| l.series(r).with_limits(limits).unwrap();
+    let run = |value_path| counted_run(&xs, children(), build, value_path, DUAL_WIDTH - 1);
+    let ((probed, probed_per_sample), (by_duals, _)) = (run(true), run(false));
+    eprintln!("series, probe slot free: trials per sample {probed_per_sample}");
+    assert!(
+        probed_per_sample < per_sample,
+        "{probed_per_sample} against {per_sample}"
+    );
+    assert_same_outputs("series, probed", &probed, &by_duals, DUAL_WIDTH - 1);
 }

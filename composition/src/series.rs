@@ -1,11 +1,11 @@
 //! Mechanical series connection: equal force, displacements add.
 
 use crate::pair::{pair_domains, pair_names, set_pair};
-use crate::solve::{at_root, solve, Root, SolverOptions, Start};
+use crate::solve::{root_from_values, solve, Residual, Root, SolverOptions, Start};
 use crate::Child;
 use hysteron_operators::{
-    check, check_input, check_lengths, CastScalar, Domain, Dual, Error, Float, Operator, Result,
-    Trial,
+    check, check_input, check_lengths, CastScalar, Differentiable, Domain, Dual, Error, Float,
+    Operator, Result, Trial,
 };
 use serde::{Deserialize, Serialize};
 
@@ -247,6 +247,10 @@ pub struct MechanicalSeries<T, L, R> {
     limits: TravelLimits<T>,
     opts: SolverOptions<T>,
     s: State<T>,
+    /// Whether no parameter carries anything in the probe slot (found at
+    /// the first trial after construction, new limits or `reset`, which
+    /// `set_params` calls).
+    params_probe_free: Option<bool>,
     pending: Option<State<T>>,
 }
 
@@ -259,6 +263,7 @@ impl<T: Float, L, R> MechanicalSeries<T, L, R> {
             limits: TravelLimits::None,
             opts: SolverOptions::default(),
             s: State::at(T::zero(), T::zero()),
+            params_probe_free: None,
             pending: None,
         }
     }
@@ -267,6 +272,7 @@ impl<T: Float, L, R> MechanicalSeries<T, L, R> {
     pub fn with_limits(mut self, limits: TravelLimits<T>) -> Result<Self> {
         limits.validate()?;
         self.limits = limits;
+        self.params_probe_free = None;
         Ok(self)
     }
 
@@ -294,6 +300,50 @@ impl<T: Float, L, R> MechanicalSeries<T, L, R> {
     /// The travel limits.
     pub fn limits(&self) -> TravelLimits<T> {
         self.limits
+    }
+}
+
+impl<T: Float, L: Child<T>, R: Child<T>> MechanicalSeries<T, L, R> {
+    /// Whether no parameter (the limits' and the elements') carries
+    /// anything in the probe slot ([`Differentiable::probe_free`]), once
+    /// per parameter set.
+    fn params_probe_free(&mut self) -> bool {
+        if let Some(free) = self.params_probe_free {
+            return free;
+        }
+        let free = self.params().iter().all(Differentiable::probe_free);
+        self.params_probe_free = Some(free);
+        free
+    }
+}
+
+/// The series' residual `L[x_l] − R[x − r0 − x_l]` with both elements
+/// trialled, and their trials at the last evaluation.
+struct SplitResidual<'a, T, L, R> {
+    left: &'a mut L,
+    right: &'a mut R,
+    x: T,
+    r0: T,
+    last: (Trial<T>, Trial<T>),
+}
+
+impl<T: Float, L: Child<T>, R: Child<T>> Residual<T> for SplitResidual<'_, T, L, R> {
+    fn eval(&mut self, xl: T) -> Result<(T, T)> {
+        let l = self.left.trial(xl)?;
+        let r = self.right.trial(self.x - self.r0 - xl)?;
+        self.last = (l, r);
+        Ok((l.output - r.output, l.tangent + r.tangent))
+    }
+
+    fn fold_probe(&mut self, along: &T) -> bool {
+        let folded = self.left.fold_probe(along) && self.right.fold_probe(along);
+        if folded {
+            let (l, r) = &mut self.last;
+            for v in [&mut l.output, &mut l.tangent, &mut r.output, &mut r.tangent] {
+                v.fold_probe(along);
+            }
+        }
+        folded
     }
 }
 
@@ -386,6 +436,8 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
     fn trial(&mut self, x: T) -> Result<Trial<T>> {
         self.pending = None;
         let x = check_input(x)?;
+        // (see `Feedback`)
+        let probe_free = T::CARRIES_DERIVATIVES && x.probe_free() && self.params_probe_free();
         let (left, right) = (&mut self.left, &mut self.right);
         let r0 = self.limits.start();
         if let Some((lo, hi)) = self.limits.bounds() {
@@ -440,22 +492,19 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
         } else {
             None
         };
-        let mut last = (Trial::default(), Trial::default());
-        let mut residual = |xl: T| -> Result<(T, T)> {
-            let l = left.trial(xl)?;
-            let r = right.trial(x - r0 - xl)?;
-            last = (l, r);
-            Ok((l.output - r.output, l.tangent + r.tangent))
+        let mut residual = SplitResidual {
+            left: &mut self.left,
+            right: &mut self.right,
+            x,
+            r0,
+            last: (Trial::default(), Trial::default()),
         };
-        let root = match by_value {
-            Some(root) => at_root("series", &mut residual, root, bounds)?,
-            None => None,
-        };
+        let root = root_from_values("series", &mut residual, by_value, bounds, probe_free)?;
         let root = match root {
             Some(root) => root,
-            None => solve("series", &mut residual, from, &self.opts)?,
+            None => solve("series", |xl| residual.eval(xl), from, &self.opts)?,
         };
-        let (l, r) = last;
+        let (l, r) = residual.last;
         let (force, tangent) = match root {
             Root::AtBound(_) => (r.output, r.tangent),
             Root::Inside(_) => {
@@ -558,6 +607,7 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
         self.left.reset();
         self.right.reset();
         self.s = State::at(T::zero(), T::zero());
+        self.params_probe_free = None;
         self.pending = None;
     }
 

@@ -182,6 +182,14 @@ impl<T: Float> Start<T> {
             scale: x.abs().max(x0.abs()),
         }
     }
+
+    /// This start with the prediction `guess` of the root.
+    pub(crate) fn with_guess(self, guess: T) -> Self {
+        Start {
+            guess: Some(guess),
+            ..self
+        }
+    }
 }
 
 /// Solves `f(x) = 0` from `start`.
@@ -243,12 +251,23 @@ where
 /// `∂r/∂x` at the root is zero or not finite: there [`solve`] keeps the
 /// derivatives its iterates carried, which a search on values has not
 /// got, so the caller solves over `T`.
+///
+/// With `probe` (the caller has checked that nothing it is given carries
+/// anything in the probe slot, [`Differentiable::probe`](hysteron_operators::Differentiable::probe)),
+/// the first evaluation inside the bounds is at the root seeded in the
+/// probe slot, and there is no second: the answer is then
+/// [`AtRoot::Probed`], and the caller folds the children's pending trials
+/// ([`Operator::fold_probe`](hysteron_operators::Operator::fold_probe))
+/// or, where one cannot fold, asks again without `probe`. The other slots
+/// of that evaluation are those of the evaluation without the probe, bit
+/// for bit (each slot is computed from the values and itself only).
 pub(crate) fn at_root<T, F>(
     solver: &'static str,
     f: F,
     root: Root<f64>,
     bounds: Option<(T, T)>,
-) -> Result<Option<Root<T>>>
+    probe: bool,
+) -> Result<Option<AtRoot<T>>>
 where
     T: Float,
     F: FnMut(T) -> Result<Eval<T>>,
@@ -257,13 +276,21 @@ where
     Ok(Some(match root {
         Root::Inside(x) => {
             let x = T::lit(x);
-            let (r, d) = f.eval(x)?;
+            let (r, d) = f.eval(if probe { x.probe() } else { x })?;
             if !(d != T::zero() && d.is_finite()) {
                 return Ok(None);
             }
-            let x = x - (r - r.without_derivatives()) / d.without_derivatives();
+            let mut dr = r - r.without_derivatives();
+            if probe {
+                // (the probe slot holds ∂r/∂x; the theorem takes `d`'s value)
+                dr.fold_probe(&T::zero());
+            }
+            let x = x - dr / d.without_derivatives();
+            if probe {
+                return Ok(Some(AtRoot::Probed(x)));
+            }
             f.eval(x)?;
-            Root::Inside(x)
+            AtRoot::Evaluated(Root::Inside(x))
         }
         Root::AtBound(x) => {
             let x = match bounds {
@@ -272,9 +299,57 @@ where
                 _ => return Ok(None),
             };
             f.eval(x)?;
-            Root::AtBound(x)
+            AtRoot::Evaluated(Root::AtBound(x))
         }
     }))
+}
+
+/// An implicit combinator's residual over its children, for
+/// [`root_from_values`].
+pub(crate) trait Residual<T> {
+    /// The residual and its derivative at `x`, each child trialled there.
+    fn eval(&mut self, x: T) -> Result<Eval<T>>;
+    /// Folds the probe slot of the children's pending trials and of what
+    /// [`eval`](Self::eval) keeps ([`Operator::fold_probe`](hysteron_operators::Operator::fold_probe));
+    /// `false` where a child cannot.
+    fn fold_probe(&mut self, along: &T) -> bool;
+}
+
+/// The root over `T` of a residual whose values' root `by_value` a search
+/// on values found ([`at_root`], probing where `probe` says the probe slot
+/// is free, and folding; where a child cannot fold, the two evaluations
+/// without the probe); `None` where there is none or [`at_root`] has none.
+pub(crate) fn root_from_values<T: Float, R: Residual<T>>(
+    solver: &'static str,
+    residual: &mut R,
+    by_value: Option<Root<f64>>,
+    bounds: Option<(T, T)>,
+    probe: bool,
+) -> Result<Option<Root<T>>> {
+    let Some(root) = by_value else {
+        return Ok(None);
+    };
+    match at_root(solver, |x| residual.eval(x), root, bounds, probe)? {
+        None => Ok(None),
+        Some(AtRoot::Evaluated(root)) => Ok(Some(root)),
+        Some(AtRoot::Probed(x)) if residual.fold_probe(&x) => Ok(Some(Root::Inside(x))),
+        Some(AtRoot::Probed(_)) => Ok(
+            match at_root(solver, |x| residual.eval(x), root, bounds, false)? {
+                Some(AtRoot::Evaluated(root)) => Some(root),
+                _ => None,
+            },
+        ),
+    }
+}
+
+/// What [`at_root`] found.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum AtRoot<T> {
+    /// The root with its derivatives, where `f` was evaluated last.
+    Evaluated(Root<T>),
+    /// The root (inside the bounds) with its derivatives; `f` was
+    /// evaluated last at its value seeded in the probe slot.
+    Probed(T),
 }
 
 /// The search of [`solve`].

@@ -98,6 +98,19 @@ enum BranchStart<T> {
 }
 
 impl<T: Float> State<T> {
+    /// Folds the probe slot of every scalar ([`Operator::fold_probe`]).
+    fn fold_probe(&mut self, along: &T) {
+        for v in [&mut self.z, &mut self.h, &mut self.z_a] {
+            v.fold_probe(along);
+        }
+        match &mut self.branch {
+            BranchStart::Unknown => {}
+            BranchStart::Flow(position) => position.fold_probe(along),
+            BranchStart::Linear(b) => b.fold_probe(along),
+            BranchStart::Sensitive { carry, .. } => carry.fold_probe(along),
+        }
+    }
+
     fn initial(p: &BoucWenParams<T>) -> Self {
         State {
             z: p.z0,
@@ -1052,6 +1065,19 @@ impl<T: Float> Operator<T> for BoucWen<T> {
         }
         let n = zs.len().min(ys.len());
         self.run_batch(&zs[..n], &mut ys[..n], keep).0
+    }
+
+    /// The pending state's scalars, folded (its parameters and tables
+    /// come from the parameters, which carry nothing in the probe slot
+    /// where a combinator probes).
+    fn fold_probe(&mut self, along: &T) -> bool {
+        match self.pending.as_mut() {
+            Some(s) => {
+                s.fold_probe(along);
+                true
+            }
+            None => false,
+        }
     }
 
     #[inline]

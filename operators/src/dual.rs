@@ -485,6 +485,28 @@ pub trait Differentiable: Copy {
     /// product with `c` as a value without derivatives, in fewer operations
     /// where derivatives are carried.
     fn mul_const(self, c: f64) -> Self;
+
+    /// Whether the probe slot is zero: the last derivative slot, which an
+    /// implicit combinator may borrow at its root for the derivative with
+    /// respect to the root itself (see [`probe`](Self::probe)). `true` for
+    /// a scalar without derivatives.
+    fn probe_free(&self) -> bool {
+        true
+    }
+
+    /// This value without derivatives but a 1 in the probe slot: `x + ε_N`
+    /// for `x` the value (over a scalar without derivatives, `self`).
+    fn probe(self) -> Self {
+        self
+    }
+
+    /// Folds the probe slot into the others: with `d = ∂self/∂x` in the
+    /// probe slot and `∂x/∂p_i` in `along`'s slots (the chain rule
+    /// `∂self/∂p_i += ∂self/∂x · ∂x/∂p_i`), then clears the probe slot.
+    /// A scalar without derivatives is left as it is.
+    fn fold_probe(&mut self, along: &Self) {
+        let _ = along;
+    }
 }
 
 impl Differentiable for f64 {
@@ -519,6 +541,30 @@ impl<const N: usize> Differentiable for DualN<N> {
         Self {
             re: c * self.re,
             eps: self.eps.map(|e| c * e),
+        }
+    }
+
+    #[inline(always)]
+    fn probe_free(&self) -> bool {
+        self.eps.last().is_none_or(|&e| e == 0.0)
+    }
+
+    #[inline(always)]
+    fn probe(self) -> Self {
+        Self::variable(self.re, N.wrapping_sub(1))
+    }
+
+    #[inline(always)]
+    fn fold_probe(&mut self, along: &Self) {
+        if let Some(&d) = self.eps.last() {
+            if d != 0.0 {
+                for (e, a) in self.eps.iter_mut().zip(&along.eps) {
+                    *e += d * a;
+                }
+            }
+            if let Some(last) = self.eps.last_mut() {
+                *last = 0.0;
+            }
         }
     }
 }

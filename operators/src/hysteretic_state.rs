@@ -158,6 +158,23 @@ pub(crate) struct Branch<T> {
 }
 
 impl<T: Float> Branch<T> {
+    /// Folds the probe slot of every term ([`Operator::fold_probe`](crate::Operator::fold_probe)).
+    pub(crate) fn fold_probe(&mut self, along: &T) {
+        for v in [
+            &mut self.g_a,
+            &mut self.f_a,
+            &mut self.c_a,
+            &mut self.fc_a,
+            &mut self.inf_a,
+            &mut self.s0,
+            &mut self.f_0,
+            &mut self.c_0,
+            &mut self.fc_0,
+        ] {
+            v.fold_probe(along);
+        }
+    }
+
     /// The branch's values (its terms without their derivatives): over
     /// `f64`, [`at`](Self::at) gives the values of `at` over `T`, bit for
     /// bit.

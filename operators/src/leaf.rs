@@ -187,6 +187,16 @@ pub trait StepLaw<T: Float>: ParamSet<T> {
         None
     }
 
+    /// Folds the probe slot of every scalar of the state `s` a step left
+    /// ([`Operator::fold_probe`]) and says so; `false` (the default): the
+    /// law does not, and the caller steps again. A law must also answer
+    /// `false` where a scalar of its own that is not a parameter (a sample
+    /// period) carries anything in the probe slot.
+    fn fold_probe(&self, s: &mut Self::State, along: &T) -> bool {
+        let _ = (s, along);
+        false
+    }
+
     /// Runs `xs` from state `s`, writing `ys` (equal lengths, checked by the
     /// driver). The default steps sample by sample; an error at sample `i`
     /// leaves `s` after sample `i − 1` and is returned with
@@ -293,6 +303,13 @@ impl<T: Float, L: StepLaw<T>> Operator<T> for Stepped<L, T> {
         }
         let t = self.law.step_value(&self.s, x)?;
         Some(t.and_then(|t| check_output(L::KIND, x, t)))
+    }
+
+    #[inline]
+    fn fold_probe(&mut self, along: &T) -> bool {
+        self.pending
+            .as_mut()
+            .is_some_and(|s| self.law.fold_probe(s, along))
     }
 
     #[inline]

@@ -144,6 +144,16 @@ impl<T: Float> StepLaw<T> for MassSpringDamperParams<T> {
         Some(law.step(&s, x).map(|(_, t)| t))
     }
 
+    fn fold_probe(&self, s: &mut MsdState<T>, along: &T) -> bool {
+        if !self.dt.probe_free() {
+            return false;
+        }
+        for v in [&mut s.y, &mut s.v, &mut s.a] {
+            v.fold_probe(along);
+        }
+        true
+    }
+
     fn set_sample_period(&mut self, dt: T) -> Result<()> {
         check::positive("dt", dt)?;
         self.dt = dt;

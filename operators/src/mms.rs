@@ -233,6 +233,13 @@ impl<T: Float> StepLaw<T> for MmsParams<T> {
     /// [`step`](StepLaw::step) over `f64` on the values of the parameters
     /// and the state (over dual numbers the values are the `f64` kernel's,
     /// see `exp_m1_of_negative`).
+    fn fold_probe(&self, s: &mut MmsState<T>, along: &T) -> bool {
+        for v in [&mut s.x, &mut s.y, &mut s.x_r, &mut s.y_r, &mut s.decay] {
+            v.fold_probe(along);
+        }
+        true
+    }
+
     fn step_value(&self, s: &MmsState<T>, x: f64) -> Option<Result<Trial<f64>>> {
         let v = |t: T| t.as_f64();
         let law = MmsParams {

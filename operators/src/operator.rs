@@ -173,6 +173,54 @@ pub trait Operator<T: Float>: DynClone + Debug + Send + Sync {
         None
     }
 
+    /// Folds the probe slot of the pending trial's state into its other
+    /// derivative slots ([`Differentiable::fold_probe`](crate::Differentiable::fold_probe)
+    /// on every scalar of it, with `along` the input's derivatives), and
+    /// says whether it did; `false` (the default) where the operator cannot
+    /// or there is no pending trial.
+    ///
+    /// An implicit combinator over dual numbers evaluates its children at
+    /// the root once, with the root seeded in the probe slot (the last
+    /// derivative slot, where no parameter and no input carries anything),
+    /// so the pending states carry their derivatives at the root held
+    /// fixed and with respect to the root. Once the implicit function
+    /// theorem gives the root's derivatives `along`, folding gives the
+    /// states those of a trial at the root with them, without a second
+    /// trial. Where a child answers `false`, the combinator trials it again.
+    ///
+    /// # Requirements
+    /// * every scalar the pending state holds is folded, so a
+    ///   [`commit`](Operator::commit) after it commits what a trial at an
+    ///   input carrying `along`'s derivatives would have left, to rounding
+    ///   (the chain rule applied after the step instead of within it);
+    /// * the values are not changed.
+    ///
+    /// ```
+    /// use hysteron_operators::{Differentiable, DualN, MassSpringDamper, Operator};
+    /// type D = DualN<2>;
+    /// let msd = |m| MassSpringDamper::new(m, D::constant(10.0), D::constant(5e4),
+    ///     D::constant(1e-3)).unwrap();
+    /// // a trial at an input seeded in slot 0, and one at a probed input folded
+    /// let mut direct = msd(D::variable(2.0, 0));
+    /// let along = D { re: 3.0, eps: [0.5, 0.0] };
+    /// let y = direct.trial(along).unwrap().output;
+    /// let mut probed = msd(D::variable(2.0, 0));
+    /// probed.trial(D::constant(3.0).probe()).unwrap();
+    /// assert!(probed.fold_probe(&along));
+    /// probed.commit();
+    /// direct.commit();
+    /// let (a, b) = (direct.trial(D::constant(3.0)).unwrap().output,
+    ///               probed.trial(D::constant(3.0)).unwrap().output);
+    /// assert_eq!(a.re, b.re);
+    /// assert!((a.eps[0] - b.eps[0]).abs() <= 1e-15 * a.eps[0].abs());
+    /// assert_eq!(b.eps[1], 0.0);
+    /// # let _ = y;
+    /// ```
+    fn fold_probe(&mut self, along: &T) -> bool {
+        let _ = along;
+        false
+    }
+
     /// Runs `xs` through the operator from its current state and returns the
     /// outputs in a new vector.
     fn run(&mut self, xs: &[T]) -> Result<Vec<T>> {
@@ -317,6 +365,10 @@ impl<T: Float> Operator<T> for Box<dyn Operator<T>> {
     #[inline]
     fn trial_value(&mut self, x: f64) -> Option<Result<Trial<f64>>> {
         (**self).trial_value(x)
+    }
+    #[inline]
+    fn fold_probe(&mut self, along: &T) -> bool {
+        (**self).fold_probe(along)
     }
     fn set_sample_period(&mut self, dt: T) -> Result<()> {
         (**self).set_sample_period(dt)
