@@ -106,7 +106,13 @@ pub struct FitOptions {
     pub step: f64,
     /// How the Jacobian is computed; [`Jacobian::Exact`] by default.
     pub jacobian: Jacobian,
-    /// Compute the Jacobian's columns in parallel (rayon).
+    /// Use a second core: the finite-difference columns and several
+    /// records' dual passes run in parallel (rayon), and a fit of one
+    /// record whose exact Jacobian is one dual pass starts that pass at
+    /// each trial point beside its simulation, on a thread of its own
+    /// (stopped when the point is rejected; the results are the same bit
+    /// for bit, see `speculation`), unless the fit itself runs in rayon's
+    /// pool (the starts of a multistart fit).
     pub parallel: bool,
     /// Compare every `stride`-th model output with the record: the model
     /// runs on `x` (for example an input upsampled `stride` times for a
@@ -752,6 +758,7 @@ mod tests {
     use hysteron_composition::{OperatorExt, TravelLimits};
     use hysteron_operators::{BoucWen, ElastoPlastic, Mms};
     use levenberg_marquardt::LeastSquaresProblem;
+    use std::sync::atomic::Ordering;
 
     /// The parallel central-difference Jacobian agrees with the
     /// levenberg-marquardt crate's own numerical differentiation.
@@ -829,6 +836,62 @@ mod tests {
         let x: Vec<f64> = (0..len).map(|i| a * (i as f64 * w).sin()).collect();
         let y = model.clone().run(&x).unwrap().into_iter().map(f).collect();
         (model, x, y)
+    }
+
+    /// A fit of one record with the dual pass started beside each trial
+    /// simulation (`parallel`, the default) and without it: the same report,
+    /// bit for bit, with a stride and a skip; and a problem's speculated
+    /// compressed Jacobian is the one computed on the caller's thread.
+    #[test]
+    fn the_pass_beside_the_simulation_changes_no_bit() {
+        let (model, x, y) = spring_record(3000, 1.2, 0.011, |v| v * 1.03 + 0.002);
+        let free = free_by_names(model.as_ref(), &["w", "beta", "gamma", "n"]).unwrap();
+        let y3: Vec<f64> = y.iter().step_by(3).copied().collect();
+        let x3 = &x[..3 * y3.len()];
+        let record = [Record {
+            x: x3,
+            y: &y3,
+            skip: 40,
+        }];
+        let opts = |parallel| FitOptions {
+            parallel,
+            stride: 3,
+            ..FitOptions::default()
+        };
+        let with = fit_records(model.as_ref(), &record, &free, &[], &opts(true), &|_| {}).unwrap();
+        let without =
+            fit_records(model.as_ref(), &record, &free, &[], &opts(false), &|_| {}).unwrap();
+        assert!(with.report.iterations > 2, "{}", with.report.iterations);
+        // (all but the wall time)
+        let mut with = with.report;
+        with.wall_time = without.report.wall_time;
+        assert_eq!(with, without.report);
+        let layout = Layout {
+            shared: free.clone(),
+            own: vec![],
+            records: 1,
+        };
+        let mut problem =
+            Problem::new(model.as_ref(), &record, layout, &opts(true), &|_| {}).unwrap();
+        assert!(problem.speculator.is_some());
+        let theta = problem.theta.map(|t| t * 1.01 + 0.001);
+        problem.set_params(&theta);
+        let speculated = problem.compressed_jacobian();
+        let taken = problem
+            .speculator
+            .as_ref()
+            .map(|s| s.taken.load(Ordering::Relaxed));
+        assert_eq!(taken, Some(1));
+        let layout = Layout {
+            shared: free.clone(),
+            own: vec![],
+            records: 1,
+        };
+        let mut serial =
+            Problem::new(model.as_ref(), &record, layout, &opts(false), &|_| {}).unwrap();
+        assert!(serial.speculator.is_none());
+        serial.set_params(&theta);
+        assert_eq!(speculated, serial.compressed_jacobian());
     }
 
     /// The compressed Jacobian folded from the dual passes keeps `JᵀJ`

@@ -31,6 +31,7 @@ pub mod multistart;
 pub mod paper;
 mod problem;
 pub mod report;
+mod speculation;
 mod transform;
 mod triangular;
 

@@ -229,6 +229,23 @@ pub fn visit_derivatives(
     indices: &[usize],
     mut visit: impl FnMut(Block<'_>),
 ) -> Result<(), Failure> {
+    visit_derivatives_while(model, base, input, indices, |block| {
+        visit(block);
+        true
+    })
+    .map(|_| ())
+}
+
+/// [`visit_derivatives`] for as long as `visit` answers `true`: `Ok(false)`
+/// where it answered `false` (the passes stop after that block; a fit
+/// computing a Jacobian it no longer needs stops so).
+pub fn visit_derivatives_while(
+    model: &(dyn Operator<Dual> + 'static),
+    base: &[f64],
+    input: &[f64],
+    indices: &[usize],
+    mut visit: impl FnMut(Block<'_>) -> bool,
+) -> Result<bool, Failure> {
     if input.is_empty() {
         return Err(Failure::Empty);
     }
@@ -254,7 +271,7 @@ pub fn visit_derivatives(
             ys.resize(block.len(), Dual::constant(0.0));
             m.process(&xs, &mut ys)
                 .map_err(|e| Failure::Model(e.offset_by(offset)))?;
-            visit(Block {
+            let go_on = visit(Block {
                 first_column,
                 columns: chunk.len(),
                 offset,
@@ -268,7 +285,10 @@ pub fn visit_derivatives(
                     });
                 }
             }
+            if !go_on {
+                return Ok(false);
+            }
         }
     }
-    Ok(())
+    Ok(true)
 }
