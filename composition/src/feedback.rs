@@ -1,10 +1,8 @@
 //! Feedback: `y = A[x − B[y]]`, solved implicitly every sample.
 
-use crate::solve::{root_from_values, solve, Residual, SolverOptions, Start};
+use crate::solve::{params_probe_free, root_from_values, solve, Residual, SolverOptions, Start};
 use crate::Child;
-use hysteron_operators::{
-    check_input, CastScalar, Differentiable, Dual, Error, Float, Operator, Result, Trial,
-};
+use hysteron_operators::{check_input, CastScalar, Dual, Error, Float, Operator, Result, Trial};
 
 /// Negative feedback loop `y = A[x − B[y]]` (`a.feedback(b)`), with `A`
 /// in the forward path and `B` in the return path.
@@ -89,19 +87,6 @@ impl<T: Float, A, B> Feedback<T, A, B> {
     }
 }
 
-impl<T: Float, A: Child<T>, B: Child<T>> Feedback<T, A, B> {
-    /// Whether no parameter of the children carries anything in the probe
-    /// slot ([`Differentiable::probe_free`]), once per parameter set.
-    fn params_probe_free(&mut self) -> bool {
-        if let Some(free) = self.params_probe_free {
-            return free;
-        }
-        let free = self.params().iter().all(Differentiable::probe_free);
-        self.params_probe_free = Some(free);
-        free
-    }
-}
-
 /// The loop's residual `R(y) = y − A[x − B[y]]` with both children
 /// trialled, and their tangents at the last evaluation.
 struct LoopResidual<'a, T, A, B> {
@@ -148,7 +133,11 @@ impl<T: Float, A: Child<T>, B: Child<T>> Operator<T> for Feedback<T, A, B> {
         // (the probe slot is free where the input and the parameters carry
         // nothing in it; a child with a scalar of its own there refuses to
         // fold)
-        let probe_free = T::CARRIES_DERIVATIVES && x.probe_free() && self.params_probe_free();
+        let probe_free = T::CARRIES_DERIVATIVES && x.probe_free() && {
+            let free = params_probe_free(self.params_probe_free, &*self);
+            self.params_probe_free = Some(free);
+            free
+        };
         let (forward, back) = (&mut self.forward, &mut self.back);
         // Over dual numbers, the root is searched on values where both
         // children have a value path (`trial_value`), and the children are

@@ -1,11 +1,13 @@
 //! Mechanical series connection: equal force, displacements add.
 
 use crate::pair::{pair_domains, pair_names, set_pair};
-use crate::solve::{root_from_values, solve, Residual, Root, SolverOptions, Start};
+use crate::solve::{
+    params_probe_free, root_from_values, solve, Residual, Root, SolverOptions, Start,
+};
 use crate::Child;
 use hysteron_operators::{
-    check, check_input, check_lengths, CastScalar, Differentiable, Domain, Dual, Error, Float,
-    Operator, Result, Trial,
+    check, check_input, check_lengths, CastScalar, Domain, Dual, Error, Float, Operator, Result,
+    Trial,
 };
 use serde::{Deserialize, Serialize};
 
@@ -303,20 +305,6 @@ impl<T: Float, L, R> MechanicalSeries<T, L, R> {
     }
 }
 
-impl<T: Float, L: Child<T>, R: Child<T>> MechanicalSeries<T, L, R> {
-    /// Whether no parameter (the limits' and the elements') carries
-    /// anything in the probe slot ([`Differentiable::probe_free`]), once
-    /// per parameter set.
-    fn params_probe_free(&mut self) -> bool {
-        if let Some(free) = self.params_probe_free {
-            return free;
-        }
-        let free = self.params().iter().all(Differentiable::probe_free);
-        self.params_probe_free = Some(free);
-        free
-    }
-}
-
 /// The series' residual `L[x_l] − R[x − r0 − x_l]` with both elements
 /// trialled, and their trials at the last evaluation.
 struct SplitResidual<'a, T, L, R> {
@@ -437,7 +425,11 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
         self.pending = None;
         let x = check_input(x)?;
         // (see `Feedback`)
-        let probe_free = T::CARRIES_DERIVATIVES && x.probe_free() && self.params_probe_free();
+        let probe_free = T::CARRIES_DERIVATIVES && x.probe_free() && {
+            let free = params_probe_free(self.params_probe_free, &*self);
+            self.params_probe_free = Some(free);
+            free
+        };
         let (left, right) = (&mut self.left, &mut self.right);
         let r0 = self.limits.start();
         if let Some((lo, hi)) = self.limits.bounds() {

@@ -28,7 +28,7 @@
 //! the residual is exactly zero, and otherwise fails with
 //! [`Error::NotConverged`].
 
-use hysteron_operators::{CastScalar, Error, Float, Result};
+use hysteron_operators::{CastScalar, Error, Float, Operator, Result};
 use serde::{Deserialize, Serialize};
 
 /// Tolerances and limits of an implicit solve.
@@ -340,6 +340,16 @@ pub(crate) fn root_from_values<T: Float, R: Residual<T>>(
             },
         ),
     }
+}
+
+/// Whether no parameter of `op` carries anything in the probe slot
+/// ([`Differentiable::probe_free`](hysteron_operators::Differentiable::probe_free)),
+/// `known` where the combinator has found it already for its parameter set.
+pub(crate) fn params_probe_free<T: Float, O: Operator<T> + ?Sized>(
+    known: Option<bool>,
+    op: &O,
+) -> bool {
+    known.unwrap_or_else(|| op.params().iter().all(|p| p.probe_free()))
 }
 
 /// What [`at_root`] found.

@@ -558,8 +558,12 @@ impl<const N: usize> Differentiable for DualN<N> {
     fn fold_probe(&mut self, along: &Self) {
         if let Some(&d) = self.eps.last() {
             if d != 0.0 {
-                for (e, a) in self.eps.iter_mut().zip(&along.eps) {
-                    *e += d * a;
+                // (a slot `along` leaves at zero stays as it is, even where
+                // `d` is infinite: see "Behaviour at kinks" above)
+                for (e, &a) in self.eps.iter_mut().zip(&along.eps) {
+                    if a != 0.0 {
+                        *e += d * a;
+                    }
                 }
             }
             if let Some(last) = self.eps.last_mut() {
@@ -572,6 +576,32 @@ impl<const N: usize> Differentiable for DualN<N> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Folding applies the chain rule through the probe slot, clears it,
+    /// and leaves a slot whose derivative in `along` is zero as it is, even
+    /// where the probe's derivative is infinite.
+    #[test]
+    fn fold_probe_is_the_chain_rule_through_the_last_slot() {
+        let mut v = DualN::<3> {
+            re: 2.0,
+            eps: [1.0, 5.0, 3.0],
+        };
+        let along = DualN::<3> {
+            re: 7.0,
+            eps: [0.5, 0.0, 0.0],
+        };
+        v.fold_probe(&along);
+        assert_eq!((v.re, v.eps), (2.0, [2.5, 5.0, 0.0]));
+        let mut w = DualN::<3> {
+            re: 2.0,
+            eps: [1.0, 5.0, f64::INFINITY],
+        };
+        w.fold_probe(&along);
+        assert_eq!(w.eps, [f64::INFINITY, 5.0, 0.0]);
+        assert!(DualN::<3>::constant(1.0).probe().eps == [0.0, 0.0, 1.0]);
+        assert!(!DualN::<3>::constant(1.0).probe().probe_free());
+        assert!(v.probe_free());
+    }
 
     type D = DualN<2>;
 
