@@ -866,13 +866,7 @@ mod tests {
         let mut with = with.report;
         with.wall_time = without.report.wall_time;
         assert_eq!(with, without.report);
-        let layout = Layout {
-            shared: free.clone(),
-            own: vec![],
-            records: 1,
-        };
-        let mut problem =
-            Problem::new(model.as_ref(), &record, layout, &opts(true), &|_| {}).unwrap();
+        let mut problem = one_record_problem(model.as_ref(), &record, &free, &opts(true));
         assert!(problem.speculator.is_some());
         let theta = problem.theta.map(|t| t * 1.01 + 0.001);
         problem.set_params(&theta);
@@ -882,13 +876,7 @@ mod tests {
             .as_ref()
             .map(|s| s.taken.load(Ordering::Relaxed));
         assert_eq!(taken, Some(1));
-        let layout = Layout {
-            shared: free.clone(),
-            own: vec![],
-            records: 1,
-        };
-        let mut serial =
-            Problem::new(model.as_ref(), &record, layout, &opts(false), &|_| {}).unwrap();
+        let mut serial = one_record_problem(model.as_ref(), &record, &free, &opts(false));
         assert!(serial.speculator.is_none());
         serial.set_params(&theta);
         assert_eq!(speculated, serial.compressed_jacobian());
