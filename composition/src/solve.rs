@@ -105,6 +105,7 @@ impl<T: Float, F: FnMut(T) -> Result<Eval<T>>> Tracked<F, T> {
         }
     }
 
+    #[inline(always)]
     fn eval(&mut self, x: T) -> Result<Eval<T>> {
         self.last = Some(x);
         // A child rejecting a non-finite input here was handed an
@@ -416,6 +417,7 @@ where
 
 /// The root found by Newton steps from the guess `g` (inside the bounds),
 /// or `None` if they stall.
+#[inline(always)]
 fn from<T, F>(
     f: &mut Tracked<F, T>,
     g: T,
@@ -445,6 +447,7 @@ where
 }
 
 /// Refines `bracket` and leaves the last evaluation at the root.
+#[inline(always)]
 fn finish<T, F>(
     f: &mut Tracked<F, T>,
     bracket: Bracket<T>,
@@ -495,6 +498,7 @@ enum Newton<T> {
 /// |x|` (the refinement's stopping rule), or a point where the residual
 /// is exactly zero, reached by a step no longer than `max(|x|, scale)` or
 /// else confirmed by a sign change around it (as in the bracket search).
+#[inline(always)]
 fn newton<T, F>(
     f: &mut Tracked<F, T>,
     start: (T, T, T),
@@ -712,6 +716,7 @@ where
     Ok((below < zero && above > zero) || (below > zero && above < zero))
 }
 
+#[inline(always)]
 fn refine<T, F>(
     f: &mut Tracked<F, T>,
     b: Bracket<T>,

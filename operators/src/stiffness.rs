@@ -5,6 +5,10 @@ use crate::{
 };
 use serde::{Deserialize, Serialize};
 
+/// Maps with at most this many knots are searched by counting (see
+/// `StiffnessMap::eval_by`).
+const LINEAR_SEARCH_KNOTS: usize = 16;
+
 /// Symmetric stiffness map `S(z) = σ(|z|)`, with `σ` piecewise linear
 /// through knots `(z_i, s_i)` (linear interpolation, constant below the
 /// first and beyond the last knot). One knot is a constant stiffness.
@@ -125,7 +129,14 @@ impl<T: Float> StiffnessMap<T> {
             return (s, T::zero());
         }
         let a = z.abs();
-        let i = self.z.partition_point(|&zi| zi <= a);
+        // The number of knots at or below `|z|` (the partition point of the
+        // increasing knots): for a few knots counted without branches,
+        // which costs less than a binary search's mispredictions.
+        let i = if self.z.len() <= LINEAR_SEARCH_KNOTS {
+            self.z.iter().fold(0, |n, &zi| n + usize::from(zi <= a))
+        } else {
+            self.z.partition_point(|&zi| zi <= a)
+        };
         let Some(k) = i.checked_sub(1) else {
             let s0 = self.s.first().copied().unwrap_or_else(T::nan);
             return (s0, T::zero());
@@ -253,5 +264,41 @@ mod tests {
         assert!(map.eval(1.5).0.is_nan());
         assert!(map.eval(2.5).0.is_nan());
         assert!(map.slopes()[1].is_nan());
+    }
+
+    /// Counting the knots at or below `|z|` (small maps) finds the segment
+    /// that a binary search finds: the values and slopes are those of the
+    /// interpolation on that segment, at knots, between them, below the
+    /// first and beyond the last, on maps with fewer and more knots than
+    /// [`LINEAR_SEARCH_KNOTS`].
+    #[test]
+    fn eval_is_the_interpolation_on_the_segment_of_z() {
+        for n in [1, 2, 6, LINEAR_SEARCH_KNOTS, LINEAR_SEARCH_KNOTS + 1, 40] {
+            let z: Vec<f64> = (0..n).map(|i| 0.1 + 0.3 * i as f64).collect();
+            let s: Vec<f64> = (0..n).map(|i| 10.0 + (i * i) as f64).collect();
+            let map = StiffnessMap::new(z.clone(), s.clone()).unwrap();
+            let slopes = map.slopes();
+            let mut probes = vec![0.0, 0.05, 1e9];
+            for &zi in &z {
+                probes.extend([zi, zi + 0.1, f64::from_bits(zi.to_bits() - 1)]);
+            }
+            for a in probes {
+                let k = z.partition_point(|&zi| zi <= a);
+                let want = match k {
+                    0 => (s[0], 0.0),
+                    k if k == n => (s[n - 1], 0.0),
+                    k => {
+                        let slope = (s[k] - s[k - 1]) / (z[k] - z[k - 1]);
+                        (s[k - 1] + slope * (a - z[k - 1]), slope)
+                    }
+                };
+                for x in [a, -a] {
+                    let sign = if x < 0.0 { -1.0 } else { 1.0 };
+                    let want = (want.0, want.1 * sign);
+                    assert_eq!(map.eval(x), want, "{n} knots, z = {x}");
+                    assert_eq!(map.eval_with(&slopes, x), want, "{n} knots, z = {x}");
+                }
+            }
+        }
     }
 }
