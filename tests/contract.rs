@@ -6,7 +6,7 @@
 
 use hysteron::models::spec::registry::LEAVES;
 use hysteron::models::Spec;
-use hysteron::operators::{Domain, Dual};
+use hysteron::operators::{Beyond, Domain, Dual};
 use hysteron::prelude::*;
 
 mod common;
@@ -116,6 +116,33 @@ fn check<T: Float, O: Operator<T> + Clone + 'static>(label: &str, op: O) {
             bits(&reference[n..]),
             "{label}: process_while refused sample left a trace (cut {cut})"
         );
+    }
+    // process_while_beyond == process_while with `Beyond::admits` as keep:
+    // bounds at a few outputs of the reference, from above and below
+    for at in [0, 1, 100, xs.len() / 2, xs.len() - 1] {
+        for beyond in [Beyond::Above(reference[at]), Beyond::Below(reference[at])] {
+            let cut = reference
+                .iter()
+                .position(|&y| !beyond.admits(y))
+                .unwrap_or(xs.len());
+            let mut p = fresh.clone();
+            let mut ys = vec![T::nan(); xs.len()];
+            let n = p.process_while_beyond(&xs, &mut ys, beyond);
+            assert_eq!(
+                n, cut,
+                "{label}: process_while_beyond({beyond:?}) stopped at {n}, not {cut}"
+            );
+            assert_eq!(
+                bits(&ys[..n]),
+                bits(&reference[..n]),
+                "{label}: process_while_beyond outputs ({beyond:?})"
+            );
+            assert_eq!(
+                bits(&p.run(&xs[n..]).unwrap()),
+                bits(&reference[n..]),
+                "{label}: process_while_beyond refused sample left a trace ({beyond:?})"
+            );
+        }
     }
     // ... and a failing sample ends it there, uncommitted, without an error
     let mut p = fresh.clone();

@@ -6,8 +6,8 @@ use crate::solve::{
 };
 use crate::Child;
 use hysteron_operators::{
-    check, check_input, check_lengths, CastScalar, Domain, Dual, Error, Float, Operator, Result,
-    Trial,
+    check, check_input, check_lengths, Beyond, CastScalar, Domain, Dual, Error, Float, Operator,
+    Result, Trial,
 };
 use serde::{Deserialize, Serialize};
 
@@ -350,11 +350,13 @@ impl<T: Float, L: Operator<T>, R: Operator<T>> MechanicalSeries<T, L, R> {
     /// left element at `xl` and the right one at `x − r0 − xl`; if the
     /// residual `L − R` keeps its sign into the limit (negative at `hi`,
     /// positive at `lo`) the root is [`Root::AtBound`] there and the force
-    /// is `R`. The right element runs the stretch through
-    /// [`Operator::process_while`] (its batch loop), asked before each
-    /// commit whether the contact holds, which trials and commits the left
-    /// element; the first sample where it does not (or any error) is left
-    /// uncommitted for `trial` to take over.
+    /// is `R`. The right element runs the stretch in its batch loop, which
+    /// tests before each commit whether the contact holds: through
+    /// [`Operator::process_while_beyond`] with the left element's force
+    /// where that element rests when held (trialled once), else through
+    /// [`Operator::process_while`], which trials and commits the left
+    /// element per sample. The first sample where the contact does not
+    /// hold (or any error) is left uncommitted for `trial` to take over.
     // `xs.len() ≤ HOLD_CHUNK`: the only caller, `process`, passes at most
     // `HOLD_CHUNK` samples.
     #[allow(clippy::indexing_slicing)]
@@ -366,37 +368,64 @@ impl<T: Float, L: Operator<T>, R: Operator<T>> MechanicalSeries<T, L, R> {
             *z = x - r0 - xl;
         }
         let (left, right) = (&mut self.left, &mut self.right);
-        let zero = T::zero();
-        // A left element that rests when held is trialled and committed at
-        // `xl` once; its output there then stands for every later sample
-        // of the stretch (the same bits a trial would give).
+        // A left element that rests when held is trialled at `xl` once (and
+        // committed if the contact holds for a sample): its output there
+        // stands for every sample of the stretch (the same bits a trial
+        // would give), and the contact holds while the force stays beyond
+        // it, which the right element tests in its batch loop.
         let rests = left.rests_when_held();
-        let mut held: Option<T> = None;
-        let mut keep = |_: usize, force: T| {
-            let l_out = match held {
-                Some(out) => out,
-                None => match left.trial(xl) {
-                    Ok(l) => l.output,
-                    Err(_) => return false,
-                },
+        let n = if rests {
+            let Ok(l) = left.trial(xl) else {
+                return 0;
             };
-            let res = l_out - force;
-            let holds = (xl == hi && res < zero) || (xl == lo && res > zero);
-            if holds && force.is_finite() && held.is_none() {
+            let beyond = if xl == hi {
+                Beyond::Above(l.output)
+            } else {
+                Beyond::Below(l.output)
+            };
+            // (`min`: the contract of `process_while_beyond`, which a
+            // foreign operator may break)
+            let n = right.process_while_beyond(zs, ys, beyond).min(xs.len());
+            if n > 0 {
                 left.commit();
-                if rests {
-                    held = Some(l_out);
-                }
             }
-            holds && force.is_finite()
+            n
+        } else {
+            Self::hold_by_trials(left, right, zs, ys, xl, lo, hi)
         };
-        // (`min`: `n ≤ xs.len()` is the contract of `process_while`, which a
-        // foreign operator may break)
-        let n = right.process_while(zs, ys, &mut keep).min(xs.len());
         if let Some(&x) = n.checked_sub(1).and_then(|k| xs.get(k)) {
             self.s = State::at(x, xl);
         }
         n
+    }
+
+    /// The stretch of [`hold_run`](Self::hold_run) for a left element that
+    /// does not rest when held: trialled at `xl` for each sample, and
+    /// committed while the contact pushes into the limit.
+    fn hold_by_trials(
+        left: &mut L,
+        right: &mut R,
+        zs: &[T],
+        ys: &mut [T],
+        xl: T,
+        lo: T,
+        hi: T,
+    ) -> usize {
+        let zero = T::zero();
+        let mut keep = |_: usize, force: T| {
+            let Ok(l) = left.trial(xl) else {
+                return false;
+            };
+            let res = l.output - force;
+            let holds = ((xl == hi && res < zero) || (xl == lo && res > zero)) && force.is_finite();
+            if holds {
+                left.commit();
+            }
+            holds
+        };
+        // (`min`: `n ≤ zs.len()` is the contract of `process_while`, which a
+        // foreign operator may break)
+        right.process_while(zs, ys, &mut keep).min(zs.len())
     }
 }
 

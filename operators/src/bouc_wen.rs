@@ -5,7 +5,7 @@ use crate::flow_table::{FlowTable, Hint};
 use crate::hysteretic_state::{Branch, Power, StateEquation};
 use crate::{
     check, check_input, check_lengths, check_output, declare_params, process_by_trials,
-    process_while_by_trials, Float, Keep, Leaf, Operator, Result, StiffnessMap, Trial,
+    process_while_by_trials, Beyond, Float, Keep, Leaf, Operator, Result, StiffnessMap, Trial,
 };
 
 declare_params! {
@@ -650,6 +650,21 @@ impl<T: Float> BoucWen<T> {
         }
     }
 
+    /// [`Operator::process_while`] with any condition `keep`: the batch
+    /// loop where there is one (inlining `keep` where it is a closure),
+    /// else trial by trial.
+    // `n` is the shorter of the two lengths.
+    #[allow(clippy::indexing_slicing)]
+    #[inline(always)]
+    fn run_while(&mut self, zs: &[T], ys: &mut [T], mut keep: impl FnMut(usize, T) -> bool) -> usize {
+        self.pending = None;
+        if !self.closed_form && self.table.is_none() && self.sensitive.is_none() {
+            return process_while_by_trials(self, zs, ys, &mut keep);
+        }
+        let n = zs.len().min(ys.len());
+        self.run_batch(&zs[..n], &mut ys[..n], keep).0
+    }
+
     /// The batch loop of [`process`](Operator::process) (closed form, or
     /// tabulated flow, with or without its derivatives): the first sample
     /// of each monotone run goes through [`step`](Self::step) (which starts
@@ -1056,15 +1071,12 @@ impl<T: Float> Operator<T> for BoucWen<T> {
     /// The batch loop of [`process`](Operator::process) (`n = 1`, or the
     /// tabulated flow) with `keep` consulted on each output before it is
     /// committed; otherwise the default trial, `keep`, commit loop.
-    // `n` is the shorter of the two lengths.
-    #[allow(clippy::indexing_slicing)]
     fn process_while(&mut self, zs: &[T], ys: &mut [T], keep: &mut Keep<'_, T>) -> usize {
-        self.pending = None;
-        if !self.closed_form && self.table.is_none() && self.sensitive.is_none() {
-            return process_while_by_trials(self, zs, ys, keep);
-        }
-        let n = zs.len().min(ys.len());
-        self.run_batch(&zs[..n], &mut ys[..n], keep).0
+        self.run_while(zs, ys, keep)
+    }
+
+    fn process_while_beyond(&mut self, zs: &[T], ys: &mut [T], beyond: Beyond<T>) -> usize {
+        self.run_while(zs, ys, |_, y| beyond.admits(y))
     }
 
     /// The pending state's scalars, folded (its parameters and tables

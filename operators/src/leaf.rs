@@ -3,7 +3,8 @@
 //! pure step function ([`StepLaw`]) the whole [`Operator`] protocol.
 
 use crate::{
-    check_input, check_lengths, check_output, Float, Keep, Operator, ParamSet, Result, Trial,
+    check_input, check_lengths, check_output, Beyond, Float, Keep, Operator, ParamSet, Result,
+    Trial,
 };
 use core::fmt::Debug;
 
@@ -261,6 +262,32 @@ impl<T: Float, L: StepLaw<T>> Stepped<L, T> {
     pub fn state(&self) -> &L::State {
         &self.s
     }
+
+    /// [`Operator::process_while`] with any condition `keep` (inlined into
+    /// the loop where it is a closure).
+    #[inline(always)]
+    fn run_while(
+        &mut self,
+        xs: &[T],
+        ys: &mut [T],
+        mut keep: impl FnMut(usize, T) -> bool,
+    ) -> usize {
+        self.pending = None;
+        for (i, (&x, y)) in xs.iter().zip(ys.iter_mut()).enumerate() {
+            match checked_step(&self.law, &self.s, x) {
+                Ok((next, t)) if keep(i, t.output) => {
+                    self.s = next;
+                    *y = t.output;
+                }
+                Ok((next, _)) => {
+                    self.pending = Some(next);
+                    return i;
+                }
+                Err(_) => return i,
+            }
+        }
+        xs.len().min(ys.len())
+    }
 }
 
 impl<T: Float, L: StepLaw<T>> Leaf<T> for Stepped<L, T> {
@@ -331,21 +358,11 @@ impl<T: Float, L: StepLaw<T>> Operator<T> for Stepped<L, T> {
     }
 
     fn process_while(&mut self, xs: &[T], ys: &mut [T], keep: &mut Keep<'_, T>) -> usize {
-        self.pending = None;
-        for (i, (&x, y)) in xs.iter().zip(ys.iter_mut()).enumerate() {
-            match checked_step(&self.law, &self.s, x) {
-                Ok((next, t)) if keep(i, t.output) => {
-                    self.s = next;
-                    *y = t.output;
-                }
-                Ok((next, _)) => {
-                    self.pending = Some(next);
-                    return i;
-                }
-                Err(_) => return i,
-            }
-        }
-        xs.len().min(ys.len())
+        self.run_while(xs, ys, keep)
+    }
+
+    fn process_while_beyond(&mut self, xs: &[T], ys: &mut [T], beyond: Beyond<T>) -> usize {
+        self.run_while(xs, ys, |_, y| beyond.admits(y))
     }
 
     fn set_sample_period(&mut self, dt: T) -> Result<()> {

@@ -61,8 +61,8 @@ pub use error::{Error, Result};
 pub use float::Float;
 pub use leaf::{checked_step, Leaf, StepLaw, Stepped};
 pub use operator::{
-    check_input, check_lengths, check_output, process_by_trials, process_while_by_trials, Keep,
-    Operator, Trial,
+    check_input, check_lengths, check_output, process_by_trials, process_while_by_trials, Beyond,
+    Keep, Operator, Trial,
 };
 pub use params::{CastScalar, FieldInfo, FieldKind, ParamField, ParamSet};
 pub use stiffness::StiffnessMap;

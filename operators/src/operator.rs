@@ -117,6 +117,28 @@ pub trait Operator<T: Float>: DynClone + Debug + Send + Sync {
         process_while_by_trials(self, xs, ys, keep)
     }
 
+    /// [`process_while`](Operator::process_while) with the condition
+    /// `beyond` ([`Beyond::admits`]): runs while each output is finite and
+    /// strictly beyond a bound. The same samples and bits as
+    /// `process_while` with that condition as `keep` (the default does just
+    /// that); an operator with a batch loop overrides it to test the bound
+    /// inside the loop, without a call through `keep` per sample.
+    ///
+    /// A `MechanicalSeries` of the composition crate runs its right element
+    /// with it while the left one rests at a travel limit: the contact holds
+    /// while the force stays beyond the left element's force.
+    ///
+    /// ```
+    /// use hysteron_operators::{Beyond, Operator, Play};
+    /// let mut play = Play::new(0.5_f64).unwrap();
+    /// let mut ys = [0.0; 4];
+    /// let n = play.process_while_beyond(&[1.0, 1.25, 1.5, 0.0], &mut ys, Beyond::Below(0.9));
+    /// assert_eq!((n, ys[0], ys[1]), (2, 0.5, 0.75));
+    /// ```
+    fn process_while_beyond(&mut self, xs: &[T], ys: &mut [T], beyond: Beyond<T>) -> usize {
+        self.process_while(xs, ys, &mut |_, y| beyond.admits(y))
+    }
+
     /// Whether holding the input still changes nothing: after `trial(x)`
     /// and `commit()`, every later `trial(x)` at the same `x` returns the
     /// same output, bit for bit, and committing it leaves the state as it
@@ -315,6 +337,37 @@ pub fn process_by_trials<T: Float, O: Operator<T> + ?Sized>(
 /// index and the trial output, it says whether to commit the sample.
 pub type Keep<'a, T> = dyn FnMut(usize, T) -> bool + 'a;
 
+/// The condition of [`Operator::process_while_beyond`]: an output strictly
+/// beyond a bound, and finite.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Beyond<T> {
+    /// `y > bound`.
+    Above(T),
+    /// `y < bound`.
+    Below(T),
+}
+
+impl<T: Float> Beyond<T> {
+    /// Whether `y` is finite and strictly beyond the bound (never where the
+    /// bound is NaN).
+    ///
+    /// ```
+    /// use hysteron_operators::Beyond;
+    /// assert!(Beyond::Above(1.0).admits(1.5) && !Beyond::Above(1.0).admits(1.0));
+    /// assert!(Beyond::Below(1.0).admits(-3.0) && !Beyond::Below(1.0).admits(1.0));
+    /// assert!(!Beyond::Above(1.0).admits(f64::INFINITY) && !Beyond::Below(1.0).admits(f64::NAN));
+    /// assert!(!Beyond::Above(f64::NAN).admits(2.0) && Beyond::Above(f64::NEG_INFINITY).admits(2.0));
+    /// ```
+    #[inline(always)]
+    pub fn admits(self, y: T) -> bool {
+        y.is_finite()
+            && match self {
+                Beyond::Above(bound) => y > bound,
+                Beyond::Below(bound) => y < bound,
+            }
+    }
+}
+
 /// The default [`Operator::process_while`]: `trial`, `keep`, `commit` per
 /// sample (for overrides that fall back to it).
 pub fn process_while_by_trials<T: Float, O: Operator<T> + ?Sized>(
@@ -355,6 +408,9 @@ impl<T: Float> Operator<T> for Box<dyn Operator<T>> {
     }
     fn process_while(&mut self, xs: &[T], ys: &mut [T], keep: &mut Keep<'_, T>) -> usize {
         (**self).process_while(xs, ys, keep)
+    }
+    fn process_while_beyond(&mut self, xs: &[T], ys: &mut [T], beyond: Beyond<T>) -> usize {
+        (**self).process_while_beyond(xs, ys, beyond)
     }
     fn run(&mut self, xs: &[T]) -> Result<Vec<T>> {
         (**self).run(xs)

@@ -2,7 +2,7 @@
 //! which gives its twin over dual numbers.
 
 use super::Spec;
-use hysteron_operators::{Domain, Dual, Keep, Operator, Result, Trial};
+use hysteron_operators::{Beyond, Domain, Dual, Keep, Operator, Result, Trial};
 use std::sync::Arc;
 
 /// What [`Spec::build`] returns: the built operator, which it runs, and the
@@ -46,6 +46,9 @@ impl Operator<f64> for SpecModel {
     }
     fn process_while(&mut self, xs: &[f64], ys: &mut [f64], keep: &mut Keep<'_, f64>) -> usize {
         self.op.process_while(xs, ys, keep)
+    }
+    fn process_while_beyond(&mut self, xs: &[f64], ys: &mut [f64], beyond: Beyond<f64>) -> usize {
+        self.op.process_while_beyond(xs, ys, beyond)
     }
     fn run(&mut self, xs: &[f64]) -> Result<Vec<f64>> {
         self.op.run(xs)
