@@ -283,7 +283,9 @@ fn argument_errors_exit_with_1_help_and_version_with_0() {
 /// lines the second time), and a third time when the series' solver took
 /// Newton steps from a predicted split and stopped at the first point whose
 /// Newton step is within its tolerance, one evaluation before it used to
-/// (240 lines, by at most 2.7e-15 of max |y|).
+/// (240 lines, by at most 2.7e-15 of max |y|), and a fourth when the
+/// series' predicted split became the cubic through the last two roots
+/// with their slopes (128 lines, by at most 2.0e-16 of max |y|).
 #[test]
 fn simulate_output_is_unchanged_by_streaming() {
     let tmp = TempDir::new().unwrap();

@@ -153,16 +153,20 @@ struct State<T> {
 }
 
 /// How the split `x_L` of a [`MechanicalSeries`] follows its input at a
-/// committed root, for a first guess of the next root,
-/// `x_L + w Δx + ½ c Δx²`.
+/// committed root, for a first guess of the next root: the cubic
+/// `x_L + w Δx + a Δx² + b Δx³` that has the split and its slope
+/// `w = dx_L/dx` at this root and at the one before (cubic Hermite
+/// extrapolation, error `O(h⁴)` in the increments `h`), where the increment
+/// before went the same way (else the tangent line, `a = b = 0`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Share<T> {
     /// `w = dx_L/dx = R'/(L' + R')` from the tangents at the root.
     w: T,
-    /// `c ≈ dw/dx`: the change of `w` over the increment that led here,
-    /// divided by it, where the one before went the same way (else 0).
-    c: T,
-    /// That increment.
+    /// The quadratic coefficient `a`.
+    a: T,
+    /// The cubic coefficient `b`.
+    b: T,
+    /// The increment that led here.
     dx: T,
 }
 
@@ -179,26 +183,35 @@ impl<T: Float> State<T> {
 
 impl<T: Float> Share<T> {
     /// The share at a root with tangents `l` and `r`, reached by the
-    /// increment `dx` from a state whose share was `prev`.
-    fn new(l: T, r: T, dx: T, prev: Option<Share<T>>) -> Option<Self> {
+    /// increment `h = dx` of the input that moved the split by `dxl`, from
+    /// a state whose share was `prev` (slope `w₀`). With `Δ = dxl`, the
+    /// cubic through both roots with both slopes has
+    /// `b = (w₀ + w − 2Δ/h)/h²` and `a = (w h − Δ)/h² + b h`; terms that are
+    /// not finite leave the tangent line.
+    fn new(l: T, r: T, dx: T, dxl: T, prev: Option<Share<T>>) -> Option<Self> {
         let w = r / (l + r);
         if !w.is_finite() {
             return None;
         }
-        let c = match prev {
-            Some(p) if p.dx * dx > T::zero() => (w - p.w) / dx,
-            _ => T::zero(),
+        let (a, b) = match prev {
+            Some(p) if p.dx * dx > T::zero() => {
+                let h2 = dx * dx;
+                let b = (p.w + w - T::lit(2.0) * dxl / dx) / h2;
+                let a = (w * dx - dxl) / h2 + b * dx;
+                if a.is_finite() && b.is_finite() {
+                    (a, b)
+                } else {
+                    (T::zero(), T::zero())
+                }
+            }
+            _ => (T::zero(), T::zero()),
         };
-        Some(Share {
-            w,
-            c: if c.is_finite() { c } else { T::zero() },
-            dx,
-        })
+        Some(Share { w, a, b, dx })
     }
 
     /// The guess for the split after the increment `dx` from `x_left`.
     fn guess(&self, x_left: T, dx: T) -> T {
-        x_left + dx * (self.w + T::lit(0.5) * self.c * dx)
+        x_left + dx * (self.w + dx * (self.a + self.b * dx))
     }
 }
 
@@ -223,10 +236,10 @@ impl<T: Float> Share<T> {
 /// Newton/bisection of this crate to the tolerance of [`SolverOptions`];
 /// beyond a limit the split is clamped there. After a sample whose split
 /// was a root inside the limits, the solver starts from a predicted split,
-/// `x_L + w Δx + c Δx²/2` with `w = R'/(L' + R')` from the tangents at
-/// that root and `c` the change of `w` over the increment before it (the
-/// same direction only), which leaves two or three Newton steps to the
-/// tolerance on a smooth input. Where both elements are flat
+/// the cubic in `Δx` with the split and its slope `w = R'/(L' + R')`
+/// (from the tangents) at that root and at the one before (the same
+/// direction only; else the tangent line), which leaves two or three
+/// Newton steps to the tolerance on a smooth input. Where both elements are flat
 /// (two saturated friction elements) the split is not unique and the solver
 /// returns one point of the flat set.
 ///
@@ -484,8 +497,8 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
             step: dx,
             hint: Some(start + dx),
             bounds,
-            // The committed split moved as its share says (second
-            // order in `dx`).
+            // The committed split moved as its share says (cubic in
+            // `dx`).
             guess: self.s.share.map(|w| w.guess(start, dx)),
             scale,
         };
@@ -559,7 +572,7 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
             });
         }
         let share = match root {
-            Root::Inside(_) => Share::new(l.tangent, r.tangent, dx, self.s.share),
+            Root::Inside(xl) => Share::new(l.tangent, r.tangent, dx, xl - start, self.s.share),
             Root::AtBound(_) => None,
         };
         self.pending = Some(State {
