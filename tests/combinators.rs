@@ -314,3 +314,36 @@ fn series_moving_samples_start_from_a_predicted_split() {
         "{per_sample} evaluations per moving sample"
     );
 }
+
+/// Tiny input increments give the series' predicted split (a cubic through
+/// the last two roots) coefficients that are mostly rounding; a large
+/// increment after them must not extrapolate that cubic into a wild guess
+/// (one far beyond where an element's output is finite would end the
+/// sample in an error). The outputs match the same path without the tiny
+/// steps (both elements are rate-independent and barely move over them).
+#[test]
+fn series_after_tiny_increments_takes_a_large_one() {
+    let model = || {
+        Mms::new(1.5, 30.0)
+            .unwrap()
+            .series(Gain::new(1e20).unwrap())
+    };
+    let start: Vec<f64> = (0..40).map(|i| 0.01 * i as f64).collect();
+    let last = start[start.len() - 1];
+    for (tiny, jump) in [(1e-13, 50.0), (1e-15, 1e3), (1e-15, 1e90), (1e-15, 1e100)] {
+        let mut xs = start.clone();
+        xs.extend((1..=8).map(|i| last + tiny * i as f64));
+        xs.extend([last + jump, last + 2.0 * jump]);
+        let y = model().run(&xs).unwrap();
+        let mut direct = start.clone();
+        direct.extend([last + jump, last + 2.0 * jump]);
+        let y_direct = model().run(&direct).unwrap();
+        for k in 1..=2 {
+            let (a, b) = (y[y.len() - k], y_direct[y_direct.len() - k]);
+            assert!(
+                close(a, b, 1e-9),
+                "steps {tiny:e}, jump {jump:e}: {a} vs {b}"
+            );
+        }
+    }
+}

@@ -209,9 +209,20 @@ impl<T: Float> Share<T> {
         Some(Share { w, a, b, dx })
     }
 
-    /// The guess for the split after the increment `dx` from `x_left`.
+    /// The guess for the split after the increment `dx` from `x_left`:
+    /// `x_left + dx (w + bend)` with the cubic's `bend = dx (a + b dx)`.
+    /// For non-decreasing elements the split's mean slope over the step,
+    /// `w + bend`, lies in `[0, 1]`, so a bend beyond `±1` is extrapolation
+    /// of rounding (coefficients from tiny increments, then a large one),
+    /// and the guess is the tangent line's.
     fn guess(&self, x_left: T, dx: T) -> T {
-        x_left + dx * (self.w + dx * (self.a + self.b * dx))
+        let bend = dx * (self.a + self.b * dx);
+        let bend = if bend.abs() <= T::one() {
+            bend
+        } else {
+            T::zero()
+        };
+        x_left + dx * (self.w + bend)
     }
 }
 
