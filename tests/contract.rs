@@ -398,11 +398,19 @@ fn every_registered_leaf_in_f64_and_f32() {
             leaf.equation().chars().count() > 5,
             "{kind}: declare the equation it implements (Leaf::EQUATION)"
         );
+        let rests = op.rests_when_held();
         check(&format!("{kind} (f64)"), op);
         let op32 = leaf
             .example_f32()
             .unwrap_or_else(|e| panic!("{kind} f32: {e}"));
         assert_eq!(op32.name(), kind);
+        // the built spec says what its operator says (a series holding it
+        // at a stop relies on it)
+        assert_eq!(
+            rests,
+            op32.rests_when_held(),
+            "{kind}: rests_when_held through the spec"
+        );
         check(&format!("{kind} (f32)"), op32);
     }
 }

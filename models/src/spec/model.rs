@@ -50,6 +50,12 @@ impl Operator<f64> for SpecModel {
     fn process_while_beyond(&mut self, xs: &[f64], ys: &mut [f64], beyond: Beyond<f64>) -> usize {
         self.op.process_while_beyond(xs, ys, beyond)
     }
+    fn rests_when_held(&self) -> bool {
+        self.op.rests_when_held()
+    }
+    fn trial_value(&mut self, x: f64) -> Option<Result<Trial<f64>>> {
+        self.op.trial_value(x)
+    }
     fn run(&mut self, xs: &[f64]) -> Result<Vec<f64>> {
         self.op.run(xs)
     }
