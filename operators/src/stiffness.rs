@@ -106,9 +106,13 @@ impl<T: Float> StiffnessMap<T> {
     /// [`slopes`](Self::slopes) (the same values, without a division).
     #[inline]
     pub fn eval_with(&self, slopes: &[T], z: T) -> (T, T) {
-        self.eval_by(z, |i| {
-            slopes.get(i).copied().unwrap_or_else(|| self.slope(i))
-        })
+        // (inlined, closure included: a call here made the Bouc-Wen trial
+        // spill its live registers around it)
+        self.eval_by(
+            z,
+            #[inline(always)]
+            |i| slopes.get(i).copied().unwrap_or_else(|| self.slope(i)),
+        )
     }
 
     // The map is public and `Deserialize` (unvalidated: `z` and `s` may
