@@ -581,10 +581,13 @@ impl<T: Float> BoucWen<T> {
         w * s * z + (T::one() - w) * s * h
     }
 
-    /// [`force`](Self::force) at sample `i`, an error if not finite.
+    /// [`force`](Self::force) at sample `i`, an error if not finite; the
+    /// stiffness map's segment tried first is `*segment` (see
+    /// [`StiffnessMap::eval_from`]).
     #[inline(always)]
-    fn checked_force(&self, z: T, h: T, i: usize) -> Result<T> {
-        let y = self.force(self.p.stiffness.eval_with(&self.slopes, z).0, z, h);
+    fn checked_force(&self, z: T, h: T, i: usize, segment: &mut usize) -> Result<T> {
+        let s = self.p.stiffness.eval_from(&self.slopes, z, segment).0;
+        let y = self.force(s, z, h);
         if y.is_finite() {
             Ok(y)
         } else {
@@ -611,6 +614,7 @@ impl<T: Float> BoucWen<T> {
         mut i: usize,
         mut at: impl FnMut(T, T) -> Option<T>,
         keep: &mut impl FnMut(usize, T) -> bool,
+        segment: &mut usize,
     ) -> Run<T> {
         let c = &self.s;
         let sign = if c.dir < 0 { -T::one() } else { T::one() };
@@ -626,7 +630,7 @@ impl<T: Float> BoucWen<T> {
                 break;
             };
             let h = sign * g;
-            match self.checked_force(z, h, i) {
+            match self.checked_force(z, h, i, segment) {
                 Ok(y) if keep(i, y) => ys[i] = y,
                 y => {
                     return Run {
@@ -686,6 +690,8 @@ impl<T: Float> BoucWen<T> {
         mut keep: impl FnMut(usize, T) -> bool,
     ) -> (usize, Result<()>) {
         let mut i = 0;
+        // The stiffness map's segment at the last sample.
+        let mut segment = 0;
         while i < zs.len() {
             let z = zs[i];
             let next = check_input(z).and_then(|z| self.step(z));
@@ -693,7 +699,7 @@ impl<T: Float> BoucWen<T> {
                 Ok(next) => next,
                 Err(e) => return (i, Err(e.at_sample(i))),
             };
-            let y = match self.checked_force(next.z, next.h, i) {
+            let y = match self.checked_force(next.z, next.h, i, &mut segment) {
                 Ok(y) => y,
                 Err(e) => return (i, Err(e)),
             };
@@ -705,7 +711,14 @@ impl<T: Float> BoucWen<T> {
             i += 1;
             let run = match (self.s.branch, &self.table) {
                 (BranchStart::Linear(branch), _) => {
-                    self.run_branch(zs, ys, i, |s, _| Some(branch.at(s)), &mut keep)
+                    self.run_branch(
+                    zs,
+                    ys,
+                    i,
+                    |s, _| Some(branch.at(s)),
+                    &mut keep,
+                    &mut segment,
+                )
                 }
                 (BranchStart::Flow(sa), Some(table)) => {
                     let mut hint = self.hint;
@@ -715,6 +728,7 @@ impl<T: Float> BoucWen<T> {
                         i,
                         |s, _| table.state_at(sa + s, &mut hint),
                         &mut keep,
+                        &mut segment,
                     );
                     self.hint = hint;
                     run
@@ -739,6 +753,7 @@ impl<T: Float> BoucWen<T> {
                             Some(sensitive_state(p, carry, sign, z, &d, seeded))
                         },
                         &mut keep,
+                        &mut segment,
                     );
                     self.sensitive_hint = hint;
                     run

@@ -127,20 +127,72 @@ impl<T: Float> StiffnessMap<T> {
         }
     }
 
+    /// [`eval_with`](Self::eval_with), trying first the segment `*segment`
+    /// (the number of knots at or below `|z|` at the call before, which
+    /// it sets): consecutive samples mostly stay on one segment, and two
+    /// comparisons confirm it where counting the knots takes one per
+    /// knot. The same segment, so the same values.
+    ///
+    /// ```
+    /// use hysteron_operators::StiffnessMap;
+    /// let map = StiffnessMap::new(vec![0.0, 1.0, 2.0], vec![10.0, 20.0, 40.0]).unwrap();
+    /// let slopes = map.slopes();
+    /// let mut segment = 0; // any start gives the same values
+    /// assert_eq!(map.eval_from(&slopes, -1.5, &mut segment), map.eval(-1.5));
+    /// assert_eq!(segment, 2); // two knots at or below 1.5
+    /// ```
+    #[inline(always)]
+    pub fn eval_from(&self, slopes: &[T], z: T, segment: &mut usize) -> (T, T) {
+        if let [s] = self.s[..] {
+            return (s, T::zero());
+        }
+        let a = z.abs();
+        let i = *segment;
+        // `i` knots at or below `a` (increasing knots): the one before it
+        // at or below, the one at it (if any) not.
+        let below = i
+            .checked_sub(1)
+            .is_none_or(|k| self.z.get(k).is_some_and(|&zk| zk <= a));
+        // (`!(zi <= a)`: what the count does not count, NaN included)
+        #[allow(clippy::neg_cmp_op_on_partial_ord)]
+        let above = self.z.get(i).is_none_or(|&zi| !(zi <= a));
+        let i = if below && above {
+            i
+        } else {
+            self.knots_at_or_below(a)
+        };
+        *segment = i;
+        self.on_segment(z, a, i, |k| {
+            slopes.get(k).copied().unwrap_or_else(|| self.slope(k))
+        })
+    }
+
+    /// The number of knots at or below `a` (the partition point of the
+    /// increasing knots): for a few knots counted without branches, which
+    /// costs less than a binary search's mispredictions.
+    #[inline(always)]
+    fn knots_at_or_below(&self, a: T) -> usize {
+        if self.z.len() <= LINEAR_SEARCH_KNOTS {
+            self.z.iter().fold(0, |n, &zi| n + usize::from(zi <= a))
+        } else {
+            self.z.partition_point(|&zi| zi <= a)
+        }
+    }
+
     #[inline(always)]
     fn eval_by(&self, z: T, slope_of: impl Fn(usize) -> T) -> (T, T) {
         if let [s] = self.s[..] {
             return (s, T::zero());
         }
         let a = z.abs();
-        // The number of knots at or below `|z|` (the partition point of the
-        // increasing knots): for a few knots counted without branches,
-        // which costs less than a binary search's mispredictions.
-        let i = if self.z.len() <= LINEAR_SEARCH_KNOTS {
-            self.z.iter().fold(0, |n, &zi| n + usize::from(zi <= a))
-        } else {
-            self.z.partition_point(|&zi| zi <= a)
-        };
+        let i = self.knots_at_or_below(a);
+        self.on_segment(z, a, i, slope_of)
+    }
+
+    /// `(S, dS/dz)` at `z` (`a = |z|`) on the segment after the first `i`
+    /// knots.
+    #[inline(always)]
+    fn on_segment(&self, z: T, a: T, i: usize, slope_of: impl Fn(usize) -> T) -> (T, T) {
         let Some(k) = i.checked_sub(1) else {
             let s0 = self.s.first().copied().unwrap_or_else(T::nan);
             return (s0, T::zero());
@@ -301,8 +353,32 @@ mod tests {
                     let want = (want.0, want.1 * sign);
                     assert_eq!(map.eval(x), want, "{n} knots, z = {x}");
                     assert_eq!(map.eval_with(&slopes, x), want, "{n} knots, z = {x}");
+                    // From every segment, the right one or not (and one
+                    // past the knots), and then from the one it set.
+                    for start in 0..=n + 1 {
+                        let mut segment = start;
+                        let got = map.eval_from(&slopes, x, &mut segment);
+                        assert_eq!(got, want, "{n} knots, z = {x}, from segment {start}");
+                        if n > 1 {
+                            assert_eq!(segment, k, "{n} knots, z = {x}, from segment {start}");
+                        }
+                        assert_eq!(map.eval_from(&slopes, x, &mut segment), want);
+                    }
                 }
             }
+        }
+    }
+
+    /// A NaN input gives what `eval` gives from any segment tried first.
+    #[test]
+    fn eval_from_a_segment_keeps_nan_as_eval_does() {
+        let map = StiffnessMap::new(vec![0.0, 0.5, 1.0], vec![1.0, 2.0, 4.0]).unwrap();
+        let slopes = map.slopes();
+        let (s, ds) = map.eval(f64::NAN);
+        for start in 0..5 {
+            let mut segment = start;
+            let (t, dt) = map.eval_from(&slopes, f64::NAN, &mut segment);
+            assert_eq!((t.to_bits(), dt.to_bits()), (s.to_bits(), ds.to_bits()));
         }
     }
 }
