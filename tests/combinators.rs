@@ -239,6 +239,8 @@ fn series_reversal_from_stop_waits_for_spring_to_relax_to_friction() {
 struct Counted<O> {
     inner: O,
     trials: Arc<AtomicUsize>,
+    /// Whether the second derivative is passed on.
+    curvature: bool,
 }
 
 impl<O: Operator<f64> + Clone + std::fmt::Debug> Operator<f64> for Counted<O> {
@@ -267,21 +269,40 @@ impl<O: Operator<f64> + Clone + std::fmt::Debug> Operator<f64> for Counted<O> {
     fn set_params(&mut self, p: &[f64]) -> Result<()> {
         self.inner.set_params(p)
     }
+    fn trial_curvature(&self) -> Option<f64> {
+        self.inner.trial_curvature().filter(|_| self.curvature)
+    }
 }
 
 /// Where the slider of the paper's model moves, the series starts each
-/// solve from the split its committed tangents predict, and Newton steps
-/// take it to the tolerance: 3.24 element evaluations per moving sample on
-/// this input (6.85 when every solve began with a bracket search), with
-/// the same outputs as the uncounted model to the solver's tolerance.
+/// solve from the split its committed tangents predict, refined by a
+/// Halley step with the elements' second derivatives, and Newton steps
+/// take it to the tolerance: 2.38 element evaluations per moving sample on
+/// this input, 3.00 without the Halley step (the left element's second
+/// derivative hidden), 6.85 when every solve began with a bracket search;
+/// the same outputs as the uncounted model, bit for bit.
 #[test]
 fn series_moving_samples_start_from_a_predicted_split() {
+    let with = evaluations_per_moving_sample(true);
+    assert!(with <= 2.6, "{with} evaluations per moving sample");
+    let without = evaluations_per_moving_sample(false);
+    assert!(without <= 3.5, "{without} evaluations per moving sample");
+    assert!(
+        with < without - 0.4,
+        "{with} with Halley, {without} without"
+    );
+}
+
+/// [`series_moving_samples_start_from_a_predicted_split`] with or without
+/// the left element's second derivative.
+fn evaluations_per_moving_sample(curvature: bool) -> f64 {
     let p = hysteron::models::TransmissionParams::default();
     let model = p.build().unwrap();
     let trials = Arc::new(AtomicUsize::new(0));
     let counted = |o| Counted {
         inner: o,
         trials: trials.clone(),
+        curvature,
     };
     let mut m = counted(model.left().clone())
         .series(model.right().clone())
@@ -301,18 +322,18 @@ fn series_moving_samples_start_from_a_predicted_split() {
         m.commit();
         let yp = plain.trial(x).unwrap().output;
         plain.commit();
-        assert_eq!(y.to_bits(), yp.to_bits(), "sample {i}");
+        if curvature {
+            assert_eq!(y.to_bits(), yp.to_bits(), "sample {i}");
+        } else {
+            assert!((y - yp).abs() <= 1e-13 * yp.abs().max(1.0), "sample {i}");
+        }
         if !((held == lo || held == hi) && m.left_displacement() == held) {
             moving += 1;
             evaluations += trials.load(Ordering::Relaxed) - before;
         }
     }
-    let per_sample = evaluations as f64 / moving as f64;
     assert!(moving > 1000, "{moving} moving samples");
-    assert!(
-        per_sample <= 3.5,
-        "{per_sample} evaluations per moving sample"
-    );
+    evaluations as f64 / moving as f64
 }
 
 /// Tiny input increments give the series' predicted split (a cubic through

@@ -58,6 +58,37 @@ fn check<T: Float, O: Operator<T> + Clone + 'static>(label: &str, op: O) {
         );
     }
 
+    // An operator that gives its second derivative gives the derivative of
+    // its tangent (central differences on the pending trial's branch, over
+    // f64, at a few points of the signal), to rounding: the differences'
+    // error is about ε times the largest tangent on the way over `h`.
+    if T::epsilon().as_f64() < 1e-10 {
+        for at in [150, xs.len() / 3, xs.len() - 2] {
+            let mut op = fresh.clone();
+            let mut t_max = 0.0_f64;
+            for &x in &xs[..at] {
+                t_max = t_max.max(op.trial(x).unwrap().tangent.as_f64().abs());
+                op.commit();
+            }
+            let (from, x) = (xs[at - 1], xs[at]);
+            let c = {
+                op.trial(x).unwrap();
+                op.trial_curvature()
+            };
+            let Some(c) = c else { continue };
+            let h = (x - from).abs() * lit(1e-3);
+            let up = op.trial(x + h).unwrap().tangent;
+            let down = op.trial(x - h).unwrap().tangent;
+            let fd = ((up - down) / (h + h)).as_f64();
+            let rounding = 64.0 * f64::EPSILON * t_max / h.as_f64();
+            assert!(
+                (c.as_f64() - fd).abs() <= 1e-4 * fd.abs() + rounding,
+                "{label}: curvature {} against {fd} at sample {at}",
+                c.as_f64()
+            );
+        }
+    }
+
     // An operator that rests when held gives the committed output again at
     // the committed input, and repeating trial + commit there leaves the
     // state (probed by trials elsewhere) as one trial + commit left it: at

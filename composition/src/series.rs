@@ -250,7 +250,10 @@ impl<T: Float> Share<T> {
 /// the cubic in `Δx` with the split and its slope `w = R'/(L' + R')`
 /// (from the tangents) at that root and at the one before (the same
 /// direction only; else the tangent line), which leaves two or three
-/// Newton steps to the tolerance on a smooth input. Where both elements are flat
+/// Newton steps to the tolerance on a smooth input; where both elements
+/// give their second derivatives ([`Operator::trial_curvature`]) and the
+/// predicted split lies inside the limits, one Halley step from it
+/// (both elements trialled there) leaves one or two. Where both elements are flat
 /// (two saturated friction elements) the split is not unique and the solver
 /// returns one point of the flat set.
 ///
@@ -277,6 +280,10 @@ pub struct MechanicalSeries<T, L, R> {
     /// the first trial after construction, new limits or `reset`, which
     /// `set_params` calls).
     params_probe_free: Option<bool>,
+    /// Whether both elements give their second derivative
+    /// ([`Operator::trial_curvature`]), found at the first predicted split
+    /// after construction or `reset`.
+    curvature: Option<bool>,
     pending: Option<State<T>>,
 }
 
@@ -290,6 +297,7 @@ impl<T: Float, L, R> MechanicalSeries<T, L, R> {
             opts: SolverOptions::default(),
             s: State::at(T::zero(), T::zero()),
             params_probe_free: None,
+            curvature: None,
             pending: None,
         }
     }
@@ -363,6 +371,47 @@ impl<T: Float, L: Child<T>, R: Child<T>> Residual<T> for SplitResidual<'_, T, L,
         }
         folded
     }
+}
+
+/// The split after one Halley step from the predicted split `g` on the
+/// residual `r(x_L) = L[x_L] − R[x_r − x_L]` (`x_r = x − r0`), with both
+/// elements trialled at `g`:
+///
+/// `g − 2 r r' / (2 r'² − r r'')`,  `r' = L' + R'`,  `r'' = L'' − R''`,
+///
+/// whose error is `O(e³)` for a guess `e` off (Newton's is `O(e²)`), so
+/// that the root finder, started there, mostly stops after one more
+/// evaluation. Where the step is not finite, its denominator not
+/// positive, or it is longer than twice Newton's, Newton's; where a trial
+/// fails, `g` (the root finder reports it). The second value says whether
+/// both elements gave their second derivatives (`None`: not known, a
+/// trial failed).
+///
+/// # Reference
+/// J. F. Traub, *Iterative Methods for the Solution of Equations*,
+/// Prentice-Hall 1964, §5.2 (Halley's iteration).
+#[inline(always)]
+fn halley<T: Float, L: Operator<T>, R: Operator<T>>(
+    left: &mut L,
+    right: &mut R,
+    x_r: T,
+    g: T,
+) -> (T, Option<bool>) {
+    // (the right element first, as in `SplitResidual::eval`)
+    let (Ok(rt), Ok(lt)) = (right.trial(x_r - g), left.trial(g)) else {
+        return (g, None);
+    };
+    let (Some(lc), Some(rc)) = (left.trial_curvature(), right.trial_curvature()) else {
+        return (g, Some(false));
+    };
+    let two = T::lit(2.0);
+    let (res, d, c) = (lt.output - rt.output, lt.tangent + rt.tangent, lc - rc);
+    let newton = res / d;
+    let denominator = two * d * d - res * c;
+    let step = two * res * d / denominator;
+    let halley_ok = step.is_finite() && denominator > T::zero() && step.abs() <= two * newton.abs();
+    let next = g - if halley_ok { step } else { newton };
+    (if next.is_finite() { next } else { g }, Some(true))
 }
 
 /// Samples per stretch that [`MechanicalSeries::process`] hands to the
@@ -509,14 +558,30 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
         let start = self.s.x_left;
         let scale = x.abs().max(start.abs());
         let bounds = self.limits.bounds();
+        // The committed split moved as its share says (cubic in `dx`),
+        // refined by one third-order step where the elements give their
+        // second derivatives.
+        let guess = match self.s.share.map(|w| w.guess(start, dx)) {
+            // (a guess at or beyond a limit is left to the root finder,
+            // which holds the split there in one evaluation if the contact
+            // pushes)
+            Some(g)
+                if !T::CARRIES_DERIVATIVES
+                    && self.curvature != Some(false)
+                    && bounds.is_none_or(|(lo, hi)| g > lo && g < hi) =>
+            {
+                let (g, known) = halley(left, right, x - r0, g);
+                self.curvature = known.or(self.curvature);
+                Some(g)
+            }
+            guess => guess,
+        };
         let from = Start {
             x0: start,
             step: dx,
             hint: Some(start + dx),
             bounds,
-            // The committed split moved as its share says (cubic in
-            // `dx`).
-            guess: self.s.share.map(|w| w.guess(start, dx)),
+            guess,
             scale,
         };
         // Over dual numbers, the split is searched on values where both
@@ -659,6 +724,7 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
         self.right.reset();
         self.s = State::at(T::zero(), T::zero());
         self.params_probe_free = None;
+        self.curvature = None;
         self.pending = None;
     }
 

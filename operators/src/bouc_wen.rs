@@ -1039,6 +1039,30 @@ impl<T: Float> Operator<T> for BoucWen<T> {
         t
     }
 
+    /// For `n = 1` (closed form): with `S' = dS/dz` (the map is linear on
+    /// its segment, `S'' = 0`), `h' = α − c |g|` and `g = sgn(ż) h`,
+    ///
+    /// `H'' = 2 w S' + (1 − w)(2 S' h' + S h'')`,  `h'' = −c sgn(g) sgn(ż) h'`,
+    ///
+    /// with `c = β + γ` for `g ≥ 0`, `γ − β` below; `None` for other `n`.
+    fn trial_curvature(&self) -> Option<T> {
+        let p = self.pending.as_ref().filter(|_| self.closed_form)?;
+        let sign = if p.dir < 0 { -T::one() } else { T::one() };
+        let (s, ds) = self.p.stiffness.eval_with(&self.slopes, p.z);
+        let eq = &self.eq;
+        let g = sign * p.h;
+        let (c_g, sign_g) = if g < T::zero() {
+            (eq.gamma - eq.beta, -T::one())
+        } else {
+            (eq.beta + eq.gamma, T::one())
+        };
+        let slope = eq.alpha - g.abs() * c_g;
+        let bend = -c_g * sign_g * sign * slope;
+        let two = T::lit(2.0);
+        let w = self.p.w;
+        Some(two * w * ds + (T::one() - w) * (two * ds * slope + s * bend))
+    }
+
     /// Over dual numbers on the tabulated flow: the state from the table
     /// alone, at the position and travel `trial` takes, with the rate
     /// `trial` takes there; `None` where `trial` is not on that table (at a

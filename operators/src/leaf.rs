@@ -188,6 +188,13 @@ pub trait StepLaw<T: Float>: ParamSet<T> {
         None
     }
 
+    /// The second derivative of the output at the state `s` a step left
+    /// ([`Operator::trial_curvature`]), or `None` (the default).
+    fn curvature(&self, s: &Self::State) -> Option<T> {
+        let _ = s;
+        None
+    }
+
     /// Folds the probe slot of every scalar of the state `s` a step left
     /// ([`Operator::fold_probe`]) and says so; `false` (the default): the
     /// law does not, and the caller steps again. A law must also answer
@@ -371,6 +378,10 @@ impl<T: Float, L: StepLaw<T>> Operator<T> for Stepped<L, T> {
 
     fn rests_when_held(&self) -> bool {
         L::RESTS_WHEN_HELD
+    }
+
+    fn trial_curvature(&self) -> Option<T> {
+        self.pending.as_ref().and_then(|s| self.law.curvature(s))
     }
 
     crate::leaf_param_methods!(T);

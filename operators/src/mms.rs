@@ -230,6 +230,15 @@ impl<T: Float> StepLaw<T> for MmsParams<T> {
         Ok((s, Trial { output, tangent }))
     }
 
+    /// On the branch, `y'' = −sgn(ẋ) K y'`: the tangent decays with the
+    /// branch's exponential.
+    fn curvature(&self, s: &MmsState<T>) -> Option<T> {
+        let sign = if s.dir < 0 { -T::one() } else { T::one() };
+        let target = sign * self.f_c;
+        let tangent = sign * (s.decay * target - s.decay * s.y_r) * self.k;
+        Some(-sign * self.k * tangent)
+    }
+
     /// [`step`](StepLaw::step) over `f64` on the values of the parameters
     /// and the state (over dual numbers the values are the `f64` kernel's,
     /// see `exp_m1_of_negative`).

@@ -160,6 +160,34 @@ pub trait Operator<T: Float>: DynClone + Debug + Send + Sync {
         false
     }
 
+    /// The second derivative `d²y/dx²` of the output at the pending trial,
+    /// on the branch that trial took (the derivative of its tangent), or
+    /// `None` where the operator does not give it (the default) or there
+    /// is no pending trial.
+    ///
+    /// An implicit combinator may take a third-order (Halley) step with it
+    /// from its predicted root: a `MechanicalSeries` of the composition
+    /// crate does, from its predicted split, where both its elements give
+    /// it.
+    ///
+    /// # Requirements
+    /// * where the tangent is differentiable at the pending trial's input,
+    ///   the derivative of the tangent along the branch that trial took
+    ///   (to rounding); at a kink, a one-sided one;
+    /// * it changes nothing: no state, no pending trial.
+    ///
+    /// ```
+    /// use hysteron_operators::{Mms, Operator};
+    /// let mut f = Mms::new(2.0_f64, 50.0).unwrap();
+    /// let (x, h) = (0.01, 1e-6);
+    /// let c = { f.trial(x).unwrap(); f.trial_curvature().unwrap() };
+    /// let fd = (f.trial(x + h).unwrap().tangent - f.trial(x - h).unwrap().tangent) / (2.0 * h);
+    /// assert!((c - fd).abs() < 1e-6 * c.abs());
+    /// ```
+    fn trial_curvature(&self) -> Option<T> {
+        None
+    }
+
     /// The output and tangent of [`trial`](Operator::trial) at an input of
     /// value `x`, computed on values alone, or `None` where the operator has
     /// no such path (the default) or not at this input.
@@ -417,6 +445,10 @@ impl<T: Float> Operator<T> for Box<dyn Operator<T>> {
     }
     fn rests_when_held(&self) -> bool {
         (**self).rests_when_held()
+    }
+    #[inline]
+    fn trial_curvature(&self) -> Option<T> {
+        (**self).trial_curvature()
     }
     #[inline]
     fn trial_value(&mut self, x: f64) -> Option<Result<Trial<f64>>> {

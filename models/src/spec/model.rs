@@ -53,6 +53,9 @@ impl Operator<f64> for SpecModel {
     fn rests_when_held(&self) -> bool {
         self.op.rests_when_held()
     }
+    fn trial_curvature(&self) -> Option<f64> {
+        self.op.trial_curvature()
+    }
     fn trial_value(&mut self, x: f64) -> Option<Result<Trial<f64>>> {
         self.op.trial_value(x)
     }
