@@ -253,7 +253,10 @@ impl<T: Float> Share<T> {
 /// Newton steps to the tolerance on a smooth input; where both elements
 /// give their second derivatives ([`Operator::trial_curvature`]) and the
 /// predicted split lies inside the limits, one Halley step from it
-/// (both elements trialled there) leaves one or two. Where both elements are flat
+/// (both elements trialled there) leaves one or two; where the contact at
+/// a limit lets go, the Halley step is taken from just inside the limit
+/// (`2^-30` of the travel), where the left element's tangent is the one
+/// away from it. Where both elements are flat
 /// (two saturated friction elements) the split is not unique and the solver
 /// returns one point of the flat set.
 ///
@@ -414,6 +417,10 @@ fn halley<T: Float, L: Operator<T>, R: Operator<T>>(
     (if next.is_finite() { next } else { g }, Some(true))
 }
 
+/// How far inside a travel limit, as a fraction of the travel, the
+/// series starts its search where the contact there lets go.
+const LEAVING: f64 = 1.0 / (1u64 << 30) as f64;
+
 /// Samples per stretch that [`MechanicalSeries::process`] hands to the
 /// right element at a travel limit.
 const HOLD_CHUNK: usize = 256;
@@ -540,6 +547,9 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
         };
         let (left, right) = (&mut self.left, &mut self.right);
         let r0 = self.limits.start();
+        // Where the contact at a limit lets go: a point just inside it,
+        // on the branch the left element takes away from the limit.
+        let mut leaving = None;
         if let Some((lo, hi)) = self.limits.bounds() {
             // The solver's start, clamped as it clamps it.
             let xl = self.s.x_left.max(lo).min(hi);
@@ -551,6 +561,8 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
                         self.pending = Some(State::at(x, xl));
                         return Ok(r);
                     }
+                    let inside = (hi - lo) * T::lit(LEAVING);
+                    leaving = Some(if xl == hi { xl - inside } else { xl + inside });
                 }
             }
         }
@@ -574,6 +586,14 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
                 self.curvature = known.or(self.curvature);
                 Some(g)
             }
+            // Leaving a limit: the Halley step from just inside it, where
+            // the left element's tangent is the one away from the limit
+            // (at the limit it is the one into it).
+            None if !T::CARRIES_DERIVATIVES && self.curvature != Some(false) => leaving.map(|p| {
+                let (g, known) = halley(left, right, x - r0, p);
+                self.curvature = known.or(self.curvature);
+                g
+            }),
             guess => guess,
         };
         let from = Start {
