@@ -573,28 +573,24 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
         // The committed split moved as its share says (cubic in `dx`),
         // refined by one third-order step where the elements give their
         // second derivatives.
-        let guess = match self.s.share.map(|w| w.guess(start, dx)) {
-            // (a guess at or beyond a limit is left to the root finder,
-            // which holds the split there in one evaluation if the contact
-            // pushes)
-            Some(g)
-                if !T::CARRIES_DERIVATIVES
-                    && self.curvature != Some(false)
-                    && bounds.is_none_or(|(lo, hi)| g > lo && g < hi) =>
-            {
-                let (g, known) = halley(left, right, x - r0, g);
+        let guess = self.s.share.map(|w| w.guess(start, dx));
+        // Where the Halley step starts: the predicted split strictly inside
+        // the limits (one at or beyond a limit is left to the root finder,
+        // which holds the split there in one evaluation if the contact
+        // pushes), or, leaving a limit, just inside it, where the left
+        // element's tangent is the one away from the limit (at the limit
+        // it is the one into it).
+        let halley_from = match guess {
+            Some(g) => Some(g).filter(|&g| bounds.is_none_or(|(lo, hi)| g > lo && g < hi)),
+            None => leaving,
+        };
+        let guess = match halley_from {
+            Some(p) if !T::CARRIES_DERIVATIVES && self.curvature != Some(false) => {
+                let (g, known) = halley(left, right, x - r0, p);
                 self.curvature = known.or(self.curvature);
                 Some(g)
             }
-            // Leaving a limit: the Halley step from just inside it, where
-            // the left element's tangent is the one away from the limit
-            // (at the limit it is the one into it).
-            None if !T::CARRIES_DERIVATIVES && self.curvature != Some(false) => leaving.map(|p| {
-                let (g, known) = halley(left, right, x - r0, p);
-                self.curvature = known.or(self.curvature);
-                g
-            }),
-            guess => guess,
+            _ => guess,
         };
         let from = Start {
             x0: start,
