@@ -2,12 +2,12 @@
 
 use crate::pair::{pair_domains, pair_names, set_pair};
 use crate::solve::{
-    params_probe_free, root_from_values, solve, Residual, Root, SolverOptions, Start,
+    params_probe_free, root_at_guess, root_from_values, solve, Residual, Root, SolverOptions, Start,
 };
 use crate::Child;
 use hysteron_operators::{
     check, check_input, check_lengths, Beyond, CastScalar, Domain, Dual, Error, Float, Operator,
-    Result, Trial,
+    Result, Staged, Trial,
 };
 use serde::{Deserialize, Serialize};
 
@@ -278,7 +278,8 @@ pub struct MechanicalSeries<T, L, R> {
     right: R,
     limits: TravelLimits<T>,
     opts: SolverOptions<T>,
-    s: State<T>,
+    /// The committed split and the pending one of a trial.
+    s: Staged<State<T>>,
     /// Whether no parameter carries anything in the probe slot (found at
     /// the first trial after construction, new limits or `reset`, which
     /// `set_params` calls).
@@ -287,7 +288,6 @@ pub struct MechanicalSeries<T, L, R> {
     /// ([`Operator::trial_curvature`]), found at the first predicted split
     /// after construction or `reset`.
     curvature: Option<bool>,
-    pending: Option<State<T>>,
 }
 
 impl<T: Float, L, R> MechanicalSeries<T, L, R> {
@@ -298,10 +298,9 @@ impl<T: Float, L, R> MechanicalSeries<T, L, R> {
             right,
             limits: TravelLimits::None,
             opts: SolverOptions::default(),
-            s: State::at(T::zero(), T::zero()),
+            s: Staged::new(State::at(T::zero(), T::zero())),
             params_probe_free: None,
             curvature: None,
-            pending: None,
         }
     }
 
@@ -321,7 +320,7 @@ impl<T: Float, L, R> MechanicalSeries<T, L, R> {
 
     /// The committed displacement of the left element.
     pub fn left_displacement(&self) -> T {
-        self.s.x_left
+        self.s.committed().x_left
     }
 
     /// The left element.
@@ -350,18 +349,40 @@ struct SplitResidual<'a, T, L, R> {
     last: (Trial<T>, Trial<T>),
 }
 
+/// The residual `L − R` and its slope at a split, and the left and right
+/// elements' trials there.
+type SplitEval<T> = ((T, T), (Trial<T>, Trial<T>));
+
+/// The left element trialled at the split `xl` and the right one at
+/// `x_r − xl` (`x_r = x − r0`): their trials, and the residual `L − R`
+/// with its slope `L' + R'`.
+///
+/// The two trials are independent; the right element (in the paper's
+/// model the spring, with the longer chain of dependent operations) is
+/// trialled first so that the left one's instructions fit in the
+/// processor's window while it waits: Bouc-Wen then MMS in a Newton loop
+/// took 36.8 ns per step, MMS then Bouc-Wen 48.9 ns (Zen 5, scratch loop).
+/// Inlined, so that the trials' values stay in registers: returned through
+/// memory, they were written as two 8-byte stores and read back as one
+/// 16-byte load, which the processor cannot forward (it waits for the
+/// stores to reach the cache).
+#[inline(always)]
+fn trial_split<T: Float, L: Operator<T>, R: Operator<T>>(
+    left: &mut L,
+    right: &mut R,
+    x_r: T,
+    xl: T,
+) -> Result<SplitEval<T>> {
+    let r = right.trial(x_r - xl)?;
+    let l = left.trial(xl)?;
+    Ok(((l.output - r.output, l.tangent + r.tangent), (l, r)))
+}
+
 impl<T: Float, L: Child<T>, R: Child<T>> Residual<T> for SplitResidual<'_, T, L, R> {
     fn eval(&mut self, xl: T) -> Result<(T, T)> {
-        // The two trials are independent; the right element (in the
-        // paper's model the spring, with the longer chain of dependent
-        // operations) is trialled first so that the left one's
-        // instructions fit in the processor's window while it waits:
-        // Bouc-Wen then MMS in a Newton loop took 36.8 ns per step, MMS
-        // then Bouc-Wen 48.9 ns (Zen 5, scratch loop).
-        let r = self.right.trial(self.x - self.r0 - xl)?;
-        let l = self.left.trial(xl)?;
-        self.last = (l, r);
-        Ok((l.output - r.output, l.tangent + r.tangent))
+        let (e, last) = trial_split(self.left, self.right, self.x - self.r0, xl)?;
+        self.last = last;
+        Ok(e)
     }
 
     fn fold_probe(&mut self, along: &T) -> bool {
@@ -400,15 +421,14 @@ fn halley<T: Float, L: Operator<T>, R: Operator<T>>(
     x_r: T,
     g: T,
 ) -> (T, Option<bool>) {
-    // (the right element first, as in `SplitResidual::eval`)
-    let (Ok(rt), Ok(lt)) = (right.trial(x_r - g), left.trial(g)) else {
+    let Ok(((res, d), _)) = trial_split(left, right, x_r, g) else {
         return (g, None);
     };
     let (Some(lc), Some(rc)) = (left.trial_curvature(), right.trial_curvature()) else {
         return (g, Some(false));
     };
     let two = T::lit(2.0);
-    let (res, d, c) = (lt.output - rt.output, lt.tangent + rt.tangent, lc - rc);
+    let c = lc - rc;
     let newton = res / d;
     let denominator = two * d * d - res * c;
     let step = two * res * d / denominator;
@@ -480,7 +500,7 @@ impl<T: Float, L: Operator<T>, R: Operator<T>> MechanicalSeries<T, L, R> {
             Self::hold_by_trials(left, right, zs, ys, xl, lo, hi)
         };
         if let Some(&x) = n.checked_sub(1).and_then(|k| xs.get(k)) {
-            self.s = State::at(x, xl);
+            self.s.set(State::at(x, xl));
         }
         n
     }
@@ -537,7 +557,7 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
     /// makes single steps at a stop cheap; anything else goes to the
     /// solver, which starts with that same evaluation.
     fn trial(&mut self, x: T) -> Result<Trial<T>> {
-        self.pending = None;
+        self.s.discard();
         let x = check_input(x)?;
         // (see `Feedback`)
         let probe_free = T::CARRIES_DERIVATIVES && x.probe_free() && {
@@ -552,13 +572,13 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
         let mut leaving = None;
         if let Some((lo, hi)) = self.limits.bounds() {
             // The solver's start, clamped as it clamps it.
-            let xl = self.s.x_left.max(lo).min(hi);
+            let xl = self.s.committed().x_left.max(lo).min(hi);
             if xl == hi || xl == lo {
                 if let (Ok(l), Ok(r)) = (left.trial(xl), right.trial(x - r0 - xl)) {
                     let res = l.output - r.output;
                     let holds = (xl == hi && res < T::zero()) || (xl == lo && res > T::zero());
                     if holds && r.output.is_finite() {
-                        self.pending = Some(State::at(x, xl));
+                        self.s.stage(State::at(x, xl));
                         return Ok(r);
                     }
                     let inside = (hi - lo) * T::lit(LEAVING);
@@ -566,14 +586,15 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
                 }
             }
         }
-        let dx = x - self.s.x;
-        let start = self.s.x_left;
+        let s = *self.s.committed();
+        let dx = x - s.x;
+        let start = s.x_left;
         let scale = x.abs().max(start.abs());
         let bounds = self.limits.bounds();
         // The committed split moved as its share says (cubic in `dx`),
         // refined by one third-order step where the elements give their
         // second derivatives.
-        let guess = self.s.share.map(|w| w.guess(start, dx));
+        let guess = s.share.map(|w| w.guess(start, dx));
         // Where the Halley step starts: the predicted split strictly inside
         // the limits (one at or beyond a limit is left to the root finder,
         // which holds the split there in one evaluation if the contact
@@ -584,10 +605,22 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
             Some(g) => Some(g).filter(|&g| bounds.is_none_or(|(lo, hi)| g > lo && g < hi)),
             None => leaving,
         };
+        // The evaluation at the Halley step's end, made here: where it is
+        // the root by the root finder's rule, the root finder is skipped,
+        // else it starts from that evaluation.
+        let mut evaluated = None;
         let guess = match halley_from {
             Some(p) if !T::CARRIES_DERIVATIVES && self.curvature != Some(false) => {
                 let (g, known) = halley(left, right, x - r0, p);
                 self.curvature = known.or(self.curvature);
+                let inside = g.is_finite() && bounds.is_none_or(|(lo, hi)| g > lo && g < hi);
+                if known == Some(true) && inside {
+                    // (a failed trial or a NaN residual is left to the
+                    // root finder, which reports it)
+                    evaluated = trial_split(left, right, x - r0, g)
+                        .ok()
+                        .filter(|(e, _)| !e.0.is_nan());
+                }
                 Some(g)
             }
             _ => guess,
@@ -598,6 +631,7 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
             hint: Some(start + dx),
             bounds,
             guess,
+            evaluated: evaluated.map(|(e, _)| e),
             scale,
         };
         // Over dual numbers, the split is searched on values where both
@@ -618,6 +652,7 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
                 hint: from.hint.map(v),
                 bounds: from.bounds.map(|(lo, hi)| (v(lo), v(hi))),
                 guess: from.guess.map(v),
+                evaluated: None,
                 scale: v(from.scale),
             };
             solve("series", values, from, &self.opts.cast_scalar()).ok()
@@ -629,9 +664,12 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
             right: &mut self.right,
             x,
             r0,
-            last: (Trial::default(), Trial::default()),
+            last: evaluated.map_or((Trial::default(), Trial::default()), |(_, last)| last),
         };
-        let root = root_from_values("series", &mut residual, by_value, bounds, probe_free)?;
+        let root = match (evaluated, from.guess) {
+            (Some((e, _)), Some(g)) if root_at_guess(g, e, &self.opts) => Some(Root::Inside(g)),
+            _ => root_from_values("series", &mut residual, by_value, bounds, probe_free)?,
+        };
         let root = match root {
             Some(root) => root,
             None => solve("series", |xl| residual.eval(xl), from, &self.opts)?,
@@ -670,10 +708,10 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
             });
         }
         let share = match root {
-            Root::Inside(xl) => Share::new(l.tangent, r.tangent, dx, xl - start, self.s.share),
+            Root::Inside(xl) => Share::new(l.tangent, r.tangent, dx, xl - start, s.share),
             Root::AtBound(_) => None,
         };
-        self.pending = Some(State {
+        self.s.stage(State {
             x,
             x_left: root.value(),
             share,
@@ -702,14 +740,14 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
     #[allow(clippy::indexing_slicing)]
     fn process(&mut self, xs: &[T], ys: &mut [T]) -> Result<()> {
         check_lengths(xs, ys)?;
-        self.pending = None;
+        self.s.discard();
         let bounds = self.limits.bounds();
         let r0 = self.limits.start();
         let mut i = 0;
         while i < xs.len() {
             if let Some((lo, hi)) = bounds {
                 // The solver's start, clamped as it clamps it.
-                let xl = self.s.x_left.max(lo).min(hi);
+                let xl = self.s.committed().x_left.max(lo).min(hi);
                 if xl == hi || xl == lo {
                     let m = (xs.len() - i).min(HOLD_CHUNK);
                     let n = self.hold_run(&xs[i..i + m], &mut ys[i..i + m], xl, lo, hi, r0);
@@ -728,20 +766,18 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
     }
 
     fn commit(&mut self) {
-        if let Some(s) = self.pending.take() {
+        if self.s.commit() {
             self.left.commit();
             self.right.commit();
-            self.s = s;
         }
     }
 
     fn reset(&mut self) {
         self.left.reset();
         self.right.reset();
-        self.s = State::at(T::zero(), T::zero());
+        self.s.set(State::at(T::zero(), T::zero()));
         self.params_probe_free = None;
         self.curvature = None;
-        self.pending = None;
     }
 
     fn set_sample_period(&mut self, dt: T) -> Result<()> {

@@ -162,6 +162,11 @@ pub(crate) struct Start<T> {
     /// are taken before anything is evaluated at `x0`, and only if they
     /// stall does the search start again from `x0`.
     pub guess: Option<T>,
+    /// The residual and its slope at `guess`, where the caller has
+    /// evaluated it last (its children's pending trials are there), so
+    /// that the search does not evaluate there again. Only for a guess
+    /// that is finite and inside the bounds.
+    pub evaluated: Option<Eval<T>>,
     /// Optional `[lo, hi]`; a root beyond a bound is reported as
     /// [`Root::AtBound`] (the residual is assumed increasing there).
     pub bounds: Option<(T, T)>,
@@ -179,6 +184,7 @@ impl<T: Float> Start<T> {
             step: (x - x_prev).abs(),
             hint: None,
             guess: None,
+            evaluated: None,
             bounds: None,
             scale: x.abs().max(x0.abs()),
         }
@@ -188,6 +194,7 @@ impl<T: Float> Start<T> {
     pub(crate) fn with_guess(self, guess: T) -> Self {
         Start {
             guess: Some(guess),
+            evaluated: None,
             ..self
         }
     }
@@ -375,6 +382,7 @@ where
         hint,
         bounds,
         guess,
+        evaluated,
         scale,
     } = start;
     let clamp = |x: T| match bounds {
@@ -382,7 +390,13 @@ where
         None => x,
     };
     if let Some(g) = guess.map(clamp).filter(|g| g.is_finite()) {
-        if let Some(root) = from(f, g, bounds, scale, opts)? {
+        // (the caller's evaluation counts where it was at this very point)
+        let evaluated = evaluated.filter(|_| guess == Some(g)).map(|e| {
+            f.last = Some(g);
+            f.last_eval = Some(e);
+            e
+        });
+        if let Some(root) = from(f, g, evaluated, bounds, scale, opts)? {
             return Ok(root);
         }
     }
@@ -416,11 +430,13 @@ where
 }
 
 /// The root found by Newton steps from the guess `g` (inside the bounds),
-/// or `None` if they stall.
+/// or `None` if they stall; `evaluated`: the residual and slope at `g`
+/// where they are known already.
 #[inline(always)]
 fn from<T, F>(
     f: &mut Tracked<F, T>,
     g: T,
+    evaluated: Option<Eval<T>>,
     bounds: Option<(T, T)>,
     scale: T,
     opts: &SolverOptions<T>,
@@ -429,7 +445,10 @@ where
     T: Float,
     F: FnMut(T) -> Result<Eval<T>>,
 {
-    let (r, d) = f.eval(g)?;
+    let (r, d) = match evaluated {
+        Some(e) => e,
+        None => f.eval(g)?,
+    };
     if r == T::zero() {
         return Ok(Some(Root::Inside(g)));
     }
@@ -516,7 +535,7 @@ where
             break;
         }
         let step = r / d;
-        if step.abs() <= opts.tol(x, T::zero()) {
+        if newton_done(x, step, opts) {
             return Ok(Newton::Root(x));
         }
         let mut next = x - step;
@@ -561,6 +580,23 @@ where
         (x, r, d) = (next, rn, dn);
     }
     Ok(Newton::Stalled((x, r, d)))
+}
+
+/// The stopping rule of [`newton`] at `x`, whose Newton step is `step`:
+/// `|step| ≤ abs_tol + rel_tol · |x|`.
+#[inline(always)]
+fn newton_done<T: Float>(x: T, step: T, opts: &SolverOptions<T>) -> bool {
+    step.abs() <= opts.tol(x, T::zero())
+}
+
+/// Whether a search from the guess `x` (inside the bounds, not at one),
+/// where the residual and its slope are `(r, d)`, returns `x` as the root
+/// at once: the residual is zero there, or the slope is finite and
+/// non-zero and the Newton step is within the tolerance ([`newton`]'s
+/// rule). A caller that evaluated its guess can skip the search then.
+#[inline(always)]
+pub(crate) fn root_at_guess<T: Float>(x: T, (r, d): Eval<T>, opts: &SolverOptions<T>) -> bool {
+    r == T::zero() || (d.is_finite() && d != T::zero() && newton_done(x, r / d, opts))
 }
 
 /// A bracket: points with negative and positive residual, and the one of
@@ -818,6 +854,7 @@ mod tests {
             hint,
             bounds,
             guess: None,
+            evaluated: None,
             scale: 1.0,
         }
     }
@@ -851,6 +888,7 @@ mod tests {
                 hint: None,
                 bounds: None,
                 guess: None,
+                evaluated: None,
                 scale: D::constant(1.0),
             };
             let root = solve("test", residual, start, &opts).unwrap().value();
@@ -1026,6 +1064,7 @@ mod tests {
                 },
                 Start {
                     guess: Some(guess),
+                    evaluated: None,
                     ..st(0.0, 0.1, None, None)
                 },
                 &opts(),
@@ -1044,6 +1083,46 @@ mod tests {
         assert_eq!(evals.get(..2), Some(&[5.0, 0.0][..]));
     }
 
+    /// A guess the caller evaluated is not evaluated again: the search
+    /// goes on from the given residual (the same root as without it), and
+    /// [`root_at_guess`] says when the guess is the root already.
+    #[test]
+    fn an_evaluated_guess_is_not_evaluated_again() {
+        let residual = |x: f64| Ok((x * x * x + x - 0.5, 3.0 * x * x + 1.0));
+        let run = |guess: f64, evaluated: Option<Eval<f64>>| {
+            let mut evals = Vec::new();
+            let root = solve(
+                "t",
+                |x: f64| {
+                    evals.push(x);
+                    residual(x)
+                },
+                Start {
+                    guess: Some(guess),
+                    evaluated,
+                    ..st(0.0, 0.1, None, Some((-1.0, 1.0)))
+                },
+                &opts(),
+            )
+            .unwrap();
+            (root, evals)
+        };
+        let guess = 0.45;
+        let at_guess = residual(guess).unwrap();
+        let (plain, plain_evals) = run(guess, None);
+        let (given, given_evals) = run(guess, Some(at_guess));
+        assert_eq!(plain, given);
+        assert_eq!(plain_evals.first(), Some(&guess));
+        assert_eq!(given_evals, plain_evals[1..]);
+        assert!(!root_at_guess(guess, at_guess, &opts()));
+        // at the root (to the tolerance), the guess is the answer
+        let root = plain.value();
+        assert!(root_at_guess(root, residual(root).unwrap(), &opts()));
+        assert!(root_at_guess(0.7, (0.0, 0.0), &opts())); // a zero residual
+        assert!(!root_at_guess(root, (1e-300, 0.0), &opts())); // no slope
+        assert!(!root_at_guess(root, (f64::NAN, 1.0), &opts()));
+    }
+
     /// A Newton step that would cross a bound is evaluated at the bound,
     /// which holds the root when the residual keeps its sign there.
     #[test]
@@ -1058,6 +1137,7 @@ mod tests {
             },
             Start {
                 guess: Some(0.5),
+                evaluated: None,
                 ..st(0.0, 0.1, None, b)
             },
             &opts(),

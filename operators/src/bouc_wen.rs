@@ -1011,7 +1011,13 @@ fn sensitive_state<T: Float>(
 }
 
 impl<T: Float> Operator<T> for BoucWen<T> {
-    #[inline]
+    // Always inlined where the type is known (a combinator's child), so
+    // that the trial's output and tangent reach the caller in registers:
+    // through memory they were written as two 8-byte stores and read back
+    // as one 16-byte load, which the processor cannot forward; in the
+    // paper's model that wait was on the critical path of every root
+    // search step (see `trial_split` in `hysteron-composition`).
+    #[inline(always)]
     fn trial(&mut self, z: T) -> Result<Trial<T>> {
         if self.closed_form {
             return self.trial_closed_form(z);

@@ -48,6 +48,7 @@ mod memoryless;
 mod operator;
 pub mod params;
 pub mod simd;
+mod staged;
 
 mod flow_sensitivity;
 mod flow_table;
@@ -65,6 +66,7 @@ pub use operator::{
     Keep, Operator, Trial,
 };
 pub use params::{CastScalar, FieldInfo, FieldKind, ParamField, ParamSet};
+pub use staged::Staged;
 pub use stiffness::StiffnessMap;
 
 /// Declares the leaf operators of this crate: each line is a module (its
