@@ -859,6 +859,20 @@ mod tests {
         }
     }
 
+    /// `solve` with the default options, and where it evaluated, in order.
+    fn solve_recording(
+        f: impl Fn(f64) -> Result<Eval<f64>>,
+        start: Start<f64>,
+    ) -> (Root<f64>, Vec<f64>) {
+        let mut evals = Vec::new();
+        let recording = |x: f64| {
+            evals.push(x);
+            f(x)
+        };
+        let root = solve("t", recording, start, &opts()).unwrap();
+        (root, evals)
+    }
+
     /// The root's derivatives come from the implicit function theorem, not
     /// from the iterate: a start already at the root (in value) whose
     /// derivative is stale (as a committed solution's is when a parameter
@@ -1055,21 +1069,11 @@ mod tests {
             ))
         };
         let from = |guess: f64| {
-            let mut evals = Vec::new();
-            let root = solve(
-                "t",
-                |x: f64| {
-                    evals.push(x);
-                    residual(x)
-                },
-                Start {
-                    guess: Some(guess),
-                    evaluated: None,
-                    ..st(0.0, 0.1, None, None)
-                },
-                &opts(),
-            )
-            .unwrap();
+            let start = Start {
+                guess: Some(guess),
+                ..st(0.0, 0.1, None, None)
+            };
+            let (root, evals) = solve_recording(residual, start);
             (root.value(), evals)
         };
         // a good guess: the first evaluation, then the root
@@ -1090,22 +1094,12 @@ mod tests {
     fn an_evaluated_guess_is_not_evaluated_again() {
         let residual = |x: f64| Ok((x * x * x + x - 0.5, 3.0 * x * x + 1.0));
         let run = |guess: f64, evaluated: Option<Eval<f64>>| {
-            let mut evals = Vec::new();
-            let root = solve(
-                "t",
-                |x: f64| {
-                    evals.push(x);
-                    residual(x)
-                },
-                Start {
-                    guess: Some(guess),
-                    evaluated,
-                    ..st(0.0, 0.1, None, Some((-1.0, 1.0)))
-                },
-                &opts(),
-            )
-            .unwrap();
-            (root, evals)
+            let start = Start {
+                guess: Some(guess),
+                evaluated,
+                ..st(0.0, 0.1, None, Some((-1.0, 1.0)))
+            };
+            solve_recording(residual, start)
         };
         let guess = 0.45;
         let at_guess = residual(guess).unwrap();
