@@ -321,12 +321,8 @@ impl<T: Float, L: StepLaw<T>> Leaf<T> for Stepped<L, T> {
 }
 
 impl<T: Float, L: StepLaw<T>> Operator<T> for Stepped<L, T> {
-    // Always inlined where the type is known (a combinator's child), so
-    // that the trial's output and tangent reach the caller in registers:
-    // through memory they were written as two 8-byte stores and read back
-    // as one 16-byte load, which the processor cannot forward; in the
-    // paper's model that wait was on the critical path of every root
-    // search step (see `trial_split` in `hysteron-composition`).
+    // Always inlined, as `BoucWen::trial` is and for the same reason (its
+    // comment: a `Trial` returned through memory stalls the caller).
     #[inline(always)]
     fn trial(&mut self, x: T) -> Result<Trial<T>> {
         self.pending = None;
