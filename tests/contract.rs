@@ -784,37 +784,52 @@ fn nested_and_boxed() {
     );
 }
 
-/// A bank whose output overflows at one sample stops there on every kernel
-/// path (AVX-512 with plays in registers, AVX2 in pairs of samples, the
-/// portable loop; `scripts/test.sh` runs this file under each): the error
-/// names the sample, the outputs before it are those of trial + commit, and
-/// the bank is left as after the last good sample, so it goes on from
-/// there as a bank that never saw the bad sample.
+/// A bank whose output overflows, or whose input is not finite, at one
+/// sample stops there on every kernel path (AVX-512 with plays in
+/// registers, in blocks of eight samples or one by one; AVX2 in pairs of
+/// samples; the portable loop; `scripts/test.sh` runs this file under
+/// each): the error names the sample, the outputs before it are those of
+/// trial + commit, and the bank is left as after the last good sample, so
+/// it goes on from there as a bank that never saw the bad sample. The bad
+/// sample is placed in the first block of eight, inside a later one, at a
+/// block's end and in the samples after the last full block.
 #[test]
-fn an_overflowing_output_stops_the_batch_at_its_sample() {
+fn a_bad_sample_stops_the_batch_at_its_sample() {
+    let bank = |n| {
+        let r: Vec<f64> = (0..n).map(|j| 0.1 * j as f64).collect();
+        PiBank::new(1e10, r, vec![1e9; n]).unwrap()
+    };
+    // 1e299 · (1e10 + n · 1e9) overflows; 1e290 does not
+    let good: Vec<f64> = (0..27)
+        .map(|i| match i % 5 {
+            2 => 1e290,
+            _ => (0.37 * i as f64).sin(),
+        })
+        .collect();
     for n in [8, 37, 64] {
-        let bank = |n| {
-            let r: Vec<f64> = (0..n).map(|j| 0.1 * j as f64).collect();
-            PiBank::new(1e10, r, vec![1e9; n]).unwrap()
-        };
-        // 1e299 · (1e10 + n · 1e9) overflows; 1e290 does not
-        let xs = [0.5, -0.25, 1e290, 0.75, 1e299, 0.1, 0.2];
-        let mut p = bank(n);
-        let mut ys = vec![0.0; xs.len()];
-        let err = p.process(&xs, &mut ys).unwrap_err();
-        assert!(
-            matches!(err, hysteron::operators::Error::AtSample { index: 4, .. }),
-            "{n} plays: {err}"
-        );
-        let mut reference = bank(n);
-        let expected = trial_commit_loop(&mut reference, &xs[..4]);
-        assert_eq!(bits(&ys[..4]), bits(&expected), "{n} plays");
-        // after the error the bank goes on from sample 3
-        let after = p.run(&xs[5..]).unwrap();
-        assert_eq!(
-            bits(&after),
-            bits(&reference.run(&xs[5..]).unwrap()),
-            "{n} plays"
-        );
+        for at in [4, 13, 15, 25] {
+            for bad in [1e299, f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+                let case = format!("{n} plays, {bad:e} at sample {at}");
+                let mut xs = good.clone();
+                xs[at] = bad;
+                let mut p = bank(n);
+                let mut ys = vec![0.0; xs.len()];
+                let err = p.process(&xs, &mut ys).unwrap_err();
+                assert!(
+                    matches!(err, hysteron::operators::Error::AtSample { index, .. } if index == at),
+                    "{case}: {err}"
+                );
+                let mut reference = bank(n);
+                let expected = trial_commit_loop(&mut reference, &xs[..at]);
+                assert_eq!(bits(&ys[..at]), bits(&expected), "{case}");
+                // after the error the bank goes on from sample at − 1
+                let after = p.run(&xs[at + 1..]).unwrap();
+                assert_eq!(
+                    bits(&after),
+                    bits(&reference.run(&xs[at + 1..]).unwrap()),
+                    "{case}"
+                );
+            }
+        }
     }
 }

@@ -84,9 +84,19 @@ fn resident_chunks(bank: &Bank<'_>) -> Option<usize> {
 /// The AVX-512 batch loop for a bank of exactly `8·C` plays with the plays
 /// kept in registers from sample to sample (no store and reload of each
 /// play per sample): the same operations in the same order as
-/// [`process_avx512`], so the same bits. At the end the plays go to the
-/// buffer the caller expects (`y` after an even number of applied samples,
-/// `pending` after an odd one).
+/// [`process_avx512`], so the same bits.
+///
+/// Samples go in blocks of eight: the plays are updated in place, the
+/// eight samples' partial sums are reduced together ([`totals8`], one lane
+/// per sample) and the eight outputs are checked and stored at once. A
+/// non-finite input always gives a non-finite output (`x ± r_j` and then
+/// every play is NaN or infinite, and so is `a0 x + Σ`, `a0 x` included),
+/// so a block whose outputs are all finite had finite inputs too. A block
+/// with a non-finite output stores nothing and is run again one sample at
+/// a time from the plays before it, which stops at its first bad sample.
+///
+/// At the end the plays go to the buffer the caller expects (`y` after an
+/// even number of applied samples, `pending` after an odd one).
 #[target_feature(enable = "avx512f,fma")]
 unsafe fn resident512<const C: usize>(
     bank: &mut Bank<'_>,
@@ -101,27 +111,49 @@ unsafe fn resident512<const C: usize>(
     let r: [__m512d; C] = core::array::from_fn(|c| load(bank.r, c));
     let w: [__m512d; C] = core::array::from_fn(|c| load(bank.w, c));
     let mut y: [__m512d; C] = core::array::from_fn(|c| load(bank.y, c));
-    let mut applied = 0;
-    let mut error = None;
-    for (&x, out) in xs.iter().zip(ys.iter_mut()) {
-        if !x.is_finite() {
-            error = Some(Error::NonFiniteInput { value: x });
-            break;
-        }
+    // one sample: the plays in place, and the eight partial sums
+    let step = |y: &mut [__m512d; C], x: f64| -> __m512d {
         let xv = _mm512_set1_pd(x);
         let mut sum = _mm512_setzero_pd();
-        let mut next = y;
-        for c in 0..C {
-            let (rc, wc) = (r.get(c).copied(), w.get(c).copied());
-            let (Some(rc), Some(wc), Some(yc)) = (rc, wc, next.get_mut(c)) else {
-                continue;
-            };
+        for ((yc, &rc), &wc) in y.iter_mut().zip(&r).zip(&w) {
             *yc = _mm512_max_pd(
                 _mm512_min_pd(*yc, _mm512_add_pd(xv, rc)),
                 _mm512_sub_pd(xv, rc),
             );
             sum = _mm512_fmadd_pd(wc, *yc, sum);
         }
+        sum
+    };
+    let a0 = _mm512_set1_pd(bank.a0);
+    let mut applied = 0;
+    for (xb, yb) in xs.chunks_exact(8).zip(ys.chunks_exact_mut(8)) {
+        let before = y;
+        let sums: [__m512d; 8] =
+            core::array::from_fn(|k| step(&mut y, xb.get(k).copied().unwrap_or(0.0)));
+        // SAFETY: `xb` and `yb` hold 8 values.
+        let xv = unsafe { _mm512_loadu_pd(xb.as_ptr()) };
+        // `a0 x + (Σ + 0)`, as `output(a0, x, total(&acc, 0.0))`
+        let out = _mm512_add_pd(
+            _mm512_mul_pd(a0, xv),
+            _mm512_add_pd(totals8(sums), _mm512_setzero_pd()),
+        );
+        let finite = _mm512_cmp_pd_mask::<_CMP_LE_OQ>(_mm512_abs_pd(out), _mm512_set1_pd(f64::MAX));
+        if finite != 0xff {
+            y = before;
+            break;
+        }
+        // SAFETY: as above.
+        unsafe { _mm512_storeu_pd(yb.as_mut_ptr(), out) };
+        applied += 8;
+    }
+    let mut error = None;
+    for (&x, out) in xs.iter().zip(ys.iter_mut()).skip(applied) {
+        if !x.is_finite() {
+            error = Some(Error::NonFiniteInput { value: x });
+            break;
+        }
+        let mut next = y;
+        let sum = step(&mut next, x);
         let mut acc = [0.0; 8];
         // SAFETY: `acc` holds 8 values.
         unsafe { _mm512_storeu_pd(acc.as_mut_ptr(), sum) };
@@ -145,6 +177,36 @@ unsafe fn resident512<const C: usize>(
         unsafe { _mm512_storeu_pd(dest.as_mut_ptr().add(8 * c), *yc) };
     }
     (applied, error)
+}
+
+/// The eight samples' totals, lane `k` of the result from `sums[k]`, each
+/// summed in [`total`]'s order, `((s0 + s1) + (s2 + s3)) + ((s4 + s5) +
+/// (s6 + s7))`: the pairs within each register, then the pairs of pairs,
+/// then the halves, each level shuffling two registers into two and adding
+/// them (an addition's operands commute exactly, so a pair may come in
+/// either order).
+#[target_feature(enable = "avx512f")]
+#[inline]
+fn totals8(s: [__m512d; 8]) -> __m512d {
+    // lane 2i (2i + 1) of `pairs(a, b)` is a's (b's) pair i
+    let pairs = |a, b| _mm512_add_pd(_mm512_unpacklo_pd(a, b), _mm512_unpackhi_pd(a, b));
+    let [s0, s1, s2, s3, s4, s5, s6, s7] = s;
+    let (p01, p23, p45, p67) = (pairs(s0, s1), pairs(s2, s3), pairs(s4, s5), pairs(s6, s7));
+    // 128-bit blocks: `0x88` takes blocks 0 and 2 of each operand, `0xdd`
+    // blocks 1 and 3. From p01 and p23: [s0, s1 low half | s0, s1 high
+    // half | s2, s3 low | s2, s3 high].
+    let halves = |a, b| {
+        _mm512_add_pd(
+            _mm512_shuffle_f64x2::<0x88>(a, b),
+            _mm512_shuffle_f64x2::<0xdd>(a, b),
+        )
+    };
+    let (h03, h47) = (halves(p01, p23), halves(p45, p67));
+    // from h03 and h47: [s0..s3 low halves, s4..s7 low] + [the high halves]
+    _mm512_add_pd(
+        _mm512_shuffle_f64x2::<0x88>(h03, h47),
+        _mm512_shuffle_f64x2::<0xdd>(h03, h47),
+    )
 }
 
 /// `Σ` of the eight partial sums and the tail, in the portable loop's order.
