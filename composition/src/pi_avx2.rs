@@ -349,12 +349,13 @@ fn clamp4(p: __m256d, xv: __m256d, r: __m256d) -> __m256d {
 
 /// Two samples on AVX2 in one pass over the plays: each chunk of eight is
 /// loaded once, stepped by `x0` then `x1` in registers and stored once, in
-/// place; the two samples' partial sums, each in [`avx2_step`]'s order.
+/// place; the two samples' sums over the full chunks, each in
+/// [`avx2_step`]'s lanes and [`total`]'s order (lane 0 for `x0`, lane 1
+/// for `x1`; [`pair_totals`]).
 #[target_feature(enable = "avx2,fma")]
 #[inline]
-fn avx2_pair(x0: f64, x1: f64, r: &[f64], w: &[f64], y: &mut [f64]) -> ([f64; 8], [f64; 8]) {
+fn avx2_pair(x0: f64, x1: f64, r: &[f64], w: &[f64], y: &mut [f64]) -> __m128d {
     let m = r.len().min(w.len()).min(y.len()) / 8 * 8;
-    let (mut first, mut second) = ([0.0; 8], [0.0; 8]);
     let (xa, xb) = (_mm256_set1_pd(x0), _mm256_set1_pd(x1));
     let (mut a0, mut a1) = (_mm256_setzero_pd(), _mm256_setzero_pd());
     let (mut b0, mut b1) = (_mm256_setzero_pd(), _mm256_setzero_pd());
@@ -377,14 +378,31 @@ fn avx2_pair(x0: f64, x1: f64, r: &[f64], w: &[f64], y: &mut [f64]) -> ([f64; 8]
         }
         j += 8;
     }
-    // SAFETY: each array holds 8 values.
-    unsafe {
-        _mm256_storeu_pd(first.as_mut_ptr(), a0);
-        _mm256_storeu_pd(first.as_mut_ptr().add(4), a1);
-        _mm256_storeu_pd(second.as_mut_ptr(), b0);
-        _mm256_storeu_pd(second.as_mut_ptr().add(4), b1);
-    }
-    (first, second)
+    pair_totals([a0, a1], [b0, b1])
+}
+
+/// Two samples' totals of their eight partial sums (lanes 0–3 of `a[0]`,
+/// 4–7 of `a[1]`, and the same for `b`), lane 0 from `a` and lane 1 from
+/// `b`, each summed in [`total`]'s order without its tail, `((s0 + s1) +
+/// (s2 + s3)) + ((s4 + s5) + (s6 + s7))`: the pairs within each register,
+/// then the pairs of pairs, then the halves, each level shuffling two
+/// registers into two and adding them (an addition's operands commute
+/// exactly, so a pair may come in either order).
+#[target_feature(enable = "avx2")]
+#[inline]
+fn pair_totals(a: [__m256d; 2], b: [__m256d; 2]) -> __m128d {
+    // [a01, b01, a23, b23] and [a45, b45, a67, b67]
+    let pairs = |a, b| _mm256_add_pd(_mm256_unpacklo_pd(a, b), _mm256_unpackhi_pd(a, b));
+    let (low, high) = (pairs(a[0], b[0]), pairs(a[1], b[1]));
+    // [a0123, b0123, a4567, b4567]
+    let halves = _mm256_add_pd(
+        _mm256_permute2f128_pd::<0x20>(low, high),
+        _mm256_permute2f128_pd::<0x31>(low, high),
+    );
+    _mm_add_pd(
+        _mm256_castpd256_pd128(halves),
+        _mm256_extractf128_pd::<1>(halves),
+    )
 }
 
 /// Four plays per instruction, two registers per chunk of eight; two
@@ -410,10 +428,16 @@ unsafe fn process_avx2(bank: &mut Bank<'_>, xs: &[f64], ys: &mut [f64]) -> (usiz
         let x0 = xs[i];
         if i + 1 < len && x0.abs() <= limit && xs[i + 1].abs() <= limit {
             let x1 = xs[i + 1];
-            let (p, q) = avx2_pair(x0, x1, &r[..m], &w[..m], &mut prev[..m]);
+            let sums = avx2_pair(x0, x1, &r[..m], &w[..m], &mut prev[..m]);
             let (t0, t1) = tail_pair(&r[m..], &w[m..], &mut prev[m..], x0, x1);
-            ys[i] = a0 * x0 + total(&p, t0);
-            ys[i + 1] = a0 * x1 + total(&q, t1);
+            // `a0 x + total(.., t)` for both samples at once
+            let xv = _mm_set_pd(x1, x0);
+            let out = _mm_add_pd(
+                _mm_mul_pd(_mm_set1_pd(a0), xv),
+                _mm_add_pd(sums, _mm_set_pd(t1, t0)),
+            );
+            // SAFETY: i + 1 < len ≤ ys.len().
+            unsafe { _mm_storeu_pd(ys.as_mut_ptr().add(i), out) };
             i += 2;
             continue;
         }
