@@ -469,7 +469,8 @@ fn pi() -> PiBank<f64> {
 }
 
 /// `n` plays with thresholds from 0 to about 1.1 (8 to 64 plays in
-/// multiples of 8: the AVX-512 kernel keeps them in registers).
+/// multiples of 8: the AVX-512 kernel keeps them in registers; other
+/// lengths go through its blocks with the plays in memory).
 fn pi_of(n: usize) -> PiBank<f64> {
     let r: Vec<f64> = (0..n).map(|j| 1.1 * j as f64 / n as f64).collect();
     let w: Vec<f64> = r.iter().map(|r| (-r).exp() / 4.0).collect();
@@ -514,6 +515,10 @@ fn leaves() {
     check("pi bank", pi());
     check("pi bank of 64", pi_of(64));
     check("pi bank of 8", pi_of(8));
+    // banks the AVX-512 kernel does not keep in registers: scalar plays
+    // only, and more chunks than registers with a tail
+    check("pi bank of 5", pi_of(5));
+    check("pi bank of 100", pi_of(100));
     check(
         "mass-spring-damper",
         MassSpringDamper::new(2.0, 10.0, 5e4, 1.0 / 750.0).unwrap(),

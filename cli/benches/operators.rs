@@ -86,7 +86,7 @@ fn benches(c: &mut Criterion) {
     {
         let mut g = c.benchmark_group("pi_size");
         g.throughput(elements.clone());
-        for m in [16, 64, 256, 1024] {
+        for m in [10, 16, 37, 64, 256, 1024] {
             let bank = pi_bank(m).expect("pi bank");
             bench_op(&mut g, &format!("m={m}"), bank, &x, &mut y);
         }

@@ -137,8 +137,7 @@ unsafe fn resident512<const C: usize>(
             _mm512_mul_pd(a0, xv),
             _mm512_add_pd(totals8(sums), _mm512_setzero_pd()),
         );
-        let finite = _mm512_cmp_pd_mask::<_CMP_LE_OQ>(_mm512_abs_pd(out), _mm512_set1_pd(f64::MAX));
-        if finite != 0xff {
+        if !all_finite(out) {
             y = before;
             break;
         }
@@ -456,37 +455,125 @@ unsafe fn process_avx2(bank: &mut Bank<'_>, xs: &[f64], ys: &mut [f64]) -> (usiz
     (len, None)
 }
 
-/// Eight plays per instruction, one register per chunk of eight.
+/// Eight plays per instruction, for a bank of any length: samples in
+/// blocks of eight, each chunk of eight plays loaded once per block,
+/// stepped by the block's eight samples in turn in a register and stored
+/// once, in place (so after a block the plays are in `y`, as the parity of
+/// its eight samples asks); each sample's partial sums in a register of
+/// its own, chunk after chunk as in [`drive`], and the scalar tail plays
+/// stepped the same way ([`tail`]'s order for each sample). The eight
+/// totals are reduced together ([`totals8`]) and the eight outputs checked
+/// and stored at once, as in [`resident512`]: a block with a non-finite
+/// output takes the plays back from their copy in `pending` and stores
+/// nothing, and the samples from it on go one at a time ([`drive`]), which
+/// stops at the first bad one. The same operations in the same order as
+/// [`drive`] with [`process_avx512_step`], so the same bits.
+// Hot loop, kept free of checks: `n` is the least of the four lengths,
+// `m = n / 8 * 8 ≤ n`, `j + 8 ≤ m` in the chunk loop and `k < 8` for a
+// block of eight.
+#[allow(clippy::indexing_slicing)]
 #[target_feature(enable = "avx512f,fma")]
 unsafe fn process_avx512(
     bank: &mut Bank<'_>,
     xs: &[f64],
     ys: &mut [f64],
 ) -> (usize, Option<Error>) {
-    drive(bank, xs, ys, |x, r, w, prev, next| {
-        let m = r.len().min(w.len()).min(prev.len()).min(next.len()) / 8 * 8;
-        let mut acc = [0.0; 8];
-        let xv = _mm512_set1_pd(x);
-        let mut acc0 = _mm512_setzero_pd();
-        let mut j = 0;
-        while j < m {
-            // SAFETY: j + 8 ≤ m, the least length of the four slices.
-            unsafe {
-                let (rp, wp) = (r.as_ptr().add(j), w.as_ptr().add(j));
-                let (yp, np) = (prev.as_ptr().add(j), next.as_mut_ptr().add(j));
-                let r0 = _mm512_loadu_pd(rp);
-                let p0 = _mm512_loadu_pd(yp);
-                let y0 = _mm512_max_pd(
-                    _mm512_min_pd(p0, _mm512_add_pd(xv, r0)),
-                    _mm512_sub_pd(xv, r0),
-                );
-                _mm512_storeu_pd(np, y0);
-                acc0 = _mm512_fmadd_pd(_mm512_loadu_pd(wp), y0, acc0);
+    let n = bank.plays();
+    let m = n / 8 * 8;
+    let (r, w) = (&bank.r[..n], &bank.w[..n]);
+    let a0 = _mm512_set1_pd(bank.a0);
+    let mut applied = 0;
+    {
+        let (y, saved) = (&mut bank.y[..n], &mut bank.pending[..n]);
+        for (xb, yb) in xs.chunks_exact(8).zip(ys.chunks_exact_mut(8)) {
+            saved.copy_from_slice(y);
+            let x: [__m512d; 8] = core::array::from_fn(|k| _mm512_set1_pd(xb[k]));
+            let mut sums = [_mm512_setzero_pd(); 8];
+            let mut j = 0;
+            while j < m {
+                // SAFETY: j + 8 ≤ m ≤ n, the length of `r`, `w` and `y`.
+                unsafe {
+                    let (rc, wc) = (
+                        _mm512_loadu_pd(r.as_ptr().add(j)),
+                        _mm512_loadu_pd(w.as_ptr().add(j)),
+                    );
+                    let mut yc = _mm512_loadu_pd(y.as_ptr().add(j));
+                    for (s, &xv) in sums.iter_mut().zip(&x) {
+                        yc = _mm512_max_pd(
+                            _mm512_min_pd(yc, _mm512_add_pd(xv, rc)),
+                            _mm512_sub_pd(xv, rc),
+                        );
+                        *s = _mm512_fmadd_pd(wc, yc, *s);
+                    }
+                    _mm512_storeu_pd(y.as_mut_ptr().add(j), yc);
+                }
+                j += 8;
             }
-            j += 8;
+            let mut tails = [0.0; 8];
+            for ((&r, &w), y) in r[m..].iter().zip(&w[m..]).zip(&mut y[m..]) {
+                for (t, &x) in tails.iter_mut().zip(xb) {
+                    *y = play_step(r, *y, x);
+                    *t = w.mul_add(*y, *t);
+                }
+            }
+            // SAFETY: `xb`, `yb` and `tails` hold 8 values.
+            let (xv, tv) = unsafe {
+                (
+                    _mm512_loadu_pd(xb.as_ptr()),
+                    _mm512_loadu_pd(tails.as_ptr()),
+                )
+            };
+            // `a0 x + total(.., t)` for the eight samples
+            let out = _mm512_add_pd(_mm512_mul_pd(a0, xv), _mm512_add_pd(totals8(sums), tv));
+            if !all_finite(out) {
+                y.copy_from_slice(saved);
+                break;
+            }
+            // SAFETY: as above.
+            unsafe { _mm512_storeu_pd(yb.as_mut_ptr(), out) };
+            applied += 8;
         }
-        // SAFETY: `acc` holds 8 values.
-        unsafe { _mm512_storeu_pd(acc.as_mut_ptr(), acc0) };
-        acc
-    })
+    }
+    let (rest, error) = drive(bank, &xs[applied..], &mut ys[applied..], |x, r, w, p, n| {
+        process_avx512_step(x, r, w, p, n)
+    });
+    (applied + rest, error)
+}
+
+/// Whether all eight values are finite.
+#[target_feature(enable = "avx512f")]
+#[inline]
+fn all_finite(v: __m512d) -> bool {
+    _mm512_cmp_pd_mask::<_CMP_LE_OQ>(_mm512_abs_pd(v), _mm512_set1_pd(f64::MAX)) == 0xff
+}
+
+/// One sample on AVX-512 for [`drive`]: the plays of the full chunks of
+/// eight from `prev` to `next`, and the eight partial sums.
+#[target_feature(enable = "avx512f,fma")]
+#[inline]
+fn process_avx512_step(x: f64, r: &[f64], w: &[f64], prev: &[f64], next: &mut [f64]) -> [f64; 8] {
+    let m = r.len().min(w.len()).min(prev.len()).min(next.len()) / 8 * 8;
+    let mut acc = [0.0; 8];
+    let xv = _mm512_set1_pd(x);
+    let mut acc0 = _mm512_setzero_pd();
+    let mut j = 0;
+    while j < m {
+        // SAFETY: j + 8 ≤ m, the least length of the four slices.
+        unsafe {
+            let (rp, wp) = (r.as_ptr().add(j), w.as_ptr().add(j));
+            let (yp, np) = (prev.as_ptr().add(j), next.as_mut_ptr().add(j));
+            let r0 = _mm512_loadu_pd(rp);
+            let p0 = _mm512_loadu_pd(yp);
+            let y0 = _mm512_max_pd(
+                _mm512_min_pd(p0, _mm512_add_pd(xv, r0)),
+                _mm512_sub_pd(xv, r0),
+            );
+            _mm512_storeu_pd(np, y0);
+            acc0 = _mm512_fmadd_pd(_mm512_loadu_pd(wp), y0, acc0);
+        }
+        j += 8;
+    }
+    // SAFETY: `acc` holds 8 values.
+    unsafe { _mm512_storeu_pd(acc.as_mut_ptr(), acc0) };
+    acc
 }
