@@ -722,8 +722,15 @@ fn malformed_json_names_the_path() {
         "?",
         "trailing comma at line 1 column 25",
     );
-    json_error(r#"{"type": "gain", "k": 1} x"#, ".", "trailing characters");
-    json_error("", ".", "EOF while parsing");
+    // the root has no readable `type` yet: it is called `spec`, never `.`
+    json_error(
+        r#"{"type": "gain", "k": 1} x"#,
+        "spec",
+        "trailing characters",
+    );
+    json_error("", "spec", "EOF while parsing");
+    json_error("[1, 2]", "spec", "invalid type: sequence, expected a spec");
+    json_error(r#"{"type": "play"}"#, "play", "missing field `r`");
     json_error(
         r#"{"type": "gain", "k": 1e400}"#,
         "k",
@@ -1354,17 +1361,29 @@ fn rate_dependent_errors_name_the_path() {
         },
         "oversample.q: must lie in [1, 100000] (got 1000000)",
     );
-    // JSON errors: dt is required, fields are strict, q is a count
-    json_error(
-        r#"{"type": "mass_spring_damper", "m": 1, "c": 0, "k": 1}"#,
-        ".",
-        "missing field `dt`",
-    );
-    json_error(
-        r#"{"type": "viscous_damper", "c": 1}"#,
-        ".",
-        "missing field `dt`",
-    );
+    // a rate-dependent leaf may leave dt out (it reads), but does not build
+    // until the period is given; fields are strict, q is a count
+    for (text, path) in [
+        (
+            r#"{"type": "mass_spring_damper", "m": 1, "c": 0, "k": 1}"#,
+            "mass_spring_damper.dt",
+        ),
+        (
+            r#"{"type": "scaled", "w": 2, "inner": {"type": "viscous_damper", "c": 1}}"#,
+            "scaled.inner.viscous_damper.dt",
+        ),
+    ] {
+        let spec = Spec::from_json(text).unwrap();
+        let err = spec.build().unwrap_err();
+        assert!(matches!(err, SpecError::MissingPeriod { .. }), "{err:?}");
+        assert_eq!(err.path(), path);
+        assert!(
+            err.to_string()
+                .starts_with(&format!("{path}: the sample period is not given")),
+            "{err}"
+        );
+        assert!(spec.with_dt(0.1).build().is_ok());
+    }
     json_error(
         r#"{"type": "viscous_damper", "c": 1, "dt": 0.1, "k": 2}"#,
         "k",

@@ -22,11 +22,62 @@ const LINEAR_SEARCH_KNOTS: usize = 16;
 /// assert_eq!(s.eval(-0.5_f64).0, 15.0); // symmetric in z
 /// assert_eq!(s.eval(3.0).0, 20.0);      // constant beyond the last knot
 /// ```
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+///
+/// Serialized as its knots, `{"z": [...], "s": [...]}`; a constant
+/// stiffness `k` may also be read from a bare number, the map with the one
+/// knot `(0, k)`:
+///
+/// ```
+/// use hysteron_operators::StiffnessMap;
+/// let k: StiffnessMap<f64> = serde_json::from_str("5.0").unwrap();
+/// assert_eq!(k, StiffnessMap::constant(5.0).unwrap());
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct StiffnessMap<T> {
     z: Vec<T>,
     s: Vec<T>,
+}
+
+/// The knots as they are written.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Knots<T> {
+    z: Vec<T>,
+    s: Vec<T>,
+}
+
+impl<'de, T: Deserialize<'de>> Deserialize<'de> for StiffnessMap<T> {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        use serde::de::{self, IntoDeserializer};
+        struct Visit<T>(std::marker::PhantomData<T>);
+        impl<'de, T: Deserialize<'de>> de::Visitor<'de> for Visit<T> {
+            type Value = StiffnessMap<T>;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("a constant stiffness (a number) or knots {\"z\": [...], \"s\": [...]}")
+            }
+            fn visit_f64<E: de::Error>(self, k: f64) -> std::result::Result<Self::Value, E> {
+                Ok(StiffnessMap {
+                    z: vec![T::deserialize(0.0_f64.into_deserializer())?],
+                    s: vec![T::deserialize(k.into_deserializer())?],
+                })
+            }
+            fn visit_i64<E: de::Error>(self, k: i64) -> std::result::Result<Self::Value, E> {
+                self.visit_f64(k as f64)
+            }
+            fn visit_u64<E: de::Error>(self, k: u64) -> std::result::Result<Self::Value, E> {
+                self.visit_f64(k as f64)
+            }
+            fn visit_map<A: de::MapAccess<'de>>(
+                self,
+                map: A,
+            ) -> std::result::Result<Self::Value, A::Error> {
+                let Knots { z, s } =
+                    Knots::deserialize(de::value::MapAccessDeserializer::new(map))?;
+                Ok(StiffnessMap { z, s })
+            }
+        }
+        d.deserialize_any(Visit(std::marker::PhantomData))
+    }
 }
 
 impl<T: Float> StiffnessMap<T> {

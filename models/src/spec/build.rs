@@ -128,6 +128,11 @@ impl Spec {
             })
         };
         Ok(match self {
+            Spec::Leaf(leaf) if leaf.lacks_period() => {
+                return Err(SpecError::MissingPeriod {
+                    path: format!("{path}.dt"),
+                })
+            }
             Spec::Leaf(leaf) => leaf
                 .entry()
                 .and_then(|e| T::leaf(e, &leaf.params))

@@ -9,7 +9,8 @@ use serde::de::{Error as _, Unexpected};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use serde_json::{Map, Value};
 
-/// A path in the document: `""` is the root (shown as `.`).
+/// A path in the document: `""` is the root (named by its `type` once the
+/// spec is read, see [`name_root`]).
 fn join(path: &str, field: &str) -> String {
     if path.is_empty() {
         field.to_string()
@@ -20,12 +21,28 @@ fn join(path: &str, field: &str) -> String {
 
 fn error(path: &str, message: impl ToString) -> SpecError {
     SpecError::Json {
-        path: if path.is_empty() {
-            ".".into()
-        } else {
-            path.into()
-        },
+        path: path.into(),
         message: message.to_string(),
+    }
+}
+
+/// What an error at the root of a document is named: the root's `type`
+/// where it has a readable one (`lugre: missing field `dt``), `spec`
+/// otherwise; serde's own name for the root, `.`, means nothing to a
+/// reader.
+fn name_root(e: SpecError, document: Option<&Value>) -> SpecError {
+    match e {
+        SpecError::Json { path, message } if path.is_empty() || path == "." => {
+            let kind = document
+                .and_then(|v| v.get("type"))
+                .and_then(Value::as_str)
+                .filter(|k| all_kinds().contains(k));
+            SpecError::Json {
+                path: kind.unwrap_or("spec").to_string(),
+                message,
+            }
+        }
+        other => other,
     }
 }
 
@@ -190,7 +207,14 @@ pub(super) fn from_value(v: &Value, path: &str) -> Result<Spec, SpecError> {
                     serde_json::Error::unknown_variant(other, all_kinds()),
                 )
             })?;
-            let params = entry.canonical(without_type(fields)).map_err(|e| {
+            // A rate-dependent leaf may leave its period out (it then
+            // comes from the data or the host): read with a stand-in.
+            let mut raw = without_type(fields);
+            let lacks_period = entry.is_rate_dependent() && !fields.contains_key("dt");
+            if let (true, Value::Object(m)) = (lacks_period, &mut raw) {
+                m.insert("dt".into(), Value::from(1.0));
+            }
+            let mut params = entry.canonical(raw).map_err(|e| {
                 let inner = e.path().to_string();
                 let at = if inner == "." {
                     path.to_string()
@@ -199,6 +223,9 @@ pub(super) fn from_value(v: &Value, path: &str) -> Result<Spec, SpecError> {
                 };
                 error(&at, e.inner())
             })?;
+            if let (true, Value::Object(m)) = (lacks_period, &mut params) {
+                m.remove("dt");
+            }
             Spec::Leaf(LeafSpec {
                 kind: entry.kind(),
                 params,
@@ -371,7 +398,7 @@ impl Spec {
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         if let Some((line, column)) = nested_beyond(text, MAX_DEPTH + 4) {
             return Err(SpecError::Json {
-                path: String::new(),
+                path: "spec".into(),
                 message: format!(
                     "nested deeper than {} levels at line {line} column {column}: a spec may nest at most {MAX_DEPTH} operators on one path",
                     MAX_DEPTH + 4
@@ -379,13 +406,10 @@ impl Spec {
             });
         }
         let mut de = serde_json::Deserializer::from_str(text);
-        let value: Value =
-            serde_path_to_error::deserialize(&mut de).map_err(|e| SpecError::Json {
-                path: e.path().to_string(),
-                message: e.inner().to_string(),
-            })?;
-        de.end().map_err(|e| error("", e))?;
-        from_value(&value, "")
+        let value: Value = serde_path_to_error::deserialize(&mut de)
+            .map_err(|e| name_root(error(&e.path().to_string(), e.inner()), None))?;
+        de.end().map_err(|e| name_root(error("", e), None))?;
+        from_value(&value, "").map_err(|e| name_root(e, Some(&value)))
     }
 
     /// Writes the spec as indented JSON (`type` first in every object;
@@ -396,7 +420,7 @@ impl Spec {
     /// spec has, are written as `null`); the error is there only so that
     /// nothing panics.
     pub fn to_json_pretty(&self) -> Result<String, SpecError> {
-        serde_json::to_string_pretty(&self.to_value()).map_err(|e| error("", e))
+        serde_json::to_string_pretty(&self.to_value()).map_err(|e| error(self.kind(), e))
     }
 }
 
@@ -409,7 +433,9 @@ impl Serialize for Spec {
 impl<'de> Deserialize<'de> for Spec {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         let v = Value::deserialize(d)?;
-        from_value(&v, "").map_err(D::Error::custom)
+        from_value(&v, "")
+            .map_err(|e| name_root(e, Some(&v)))
+            .map_err(D::Error::custom)
     }
 }
 

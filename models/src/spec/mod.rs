@@ -200,6 +200,30 @@ impl LeafSpec {
         serde_json::from_value(self.params.clone()).ok()
     }
 
+    /// The sample period `dt` the leaf gives (`None` for a rate-independent
+    /// leaf, and for a rate-dependent one whose spec leaves it out).
+    pub fn dt(&self) -> Option<f64> {
+        self.params.get("dt").and_then(Value::as_f64)
+    }
+
+    /// Whether the leaf is rate-dependent and its spec leaves out `dt`
+    /// (the period then comes from the data or the host).
+    pub fn lacks_period(&self) -> bool {
+        self.params.get("dt").is_none() && self.entry().is_ok_and(|e| e.is_rate_dependent())
+    }
+
+    /// The parameters with `dt` where the leaf [lacks a
+    /// period](Self::lacks_period), as the declared struct needs them.
+    fn params_or_dt(&self, dt: f64) -> Value {
+        let mut params = self.params.clone();
+        if self.lacks_period() {
+            if let Value::Object(m) = &mut params {
+                m.insert("dt".into(), Value::from(dt));
+            }
+        }
+        params
+    }
+
     fn entry(&self) -> Result<&'static dyn LeafKind, Error> {
         leaf_kind(self.kind).ok_or(Error::InvalidParameter {
             name: "type".into(),
@@ -221,7 +245,8 @@ pub enum SpecError {
     /// unknown `type`, missing or unknown field, wrong type.
     #[error("{path}: {message}")]
     Json {
-        /// Where in the document, as `field.field[index]` (`.` for the root).
+        /// Where in the document, as `field.field[index]`; the root is
+        /// named by its `type` (`spec` where it has none).
         path: String,
         /// Serde's message.
         message: String,
@@ -237,6 +262,20 @@ pub enum SpecError {
         message: String,
         /// The library's error, with the parameter name it gave.
         source: Error,
+    },
+    /// A rate-dependent leaf whose spec gives no sample period `dt`, built
+    /// without one from the data or the host. Such a spec reads, writes and
+    /// takes new parameters; it builds once [`with_dt`](Spec::with_dt) has
+    /// given the period.
+    #[error(
+        "{path}: the sample period is not given: write `dt` in the spec, or take it from \
+         the data (--dt SECONDS or --time-column NAME on the command line; dt= or time= in \
+         Python) or from the host (hysteron_set_sample_period in C; the step size in FMI)"
+    )]
+    MissingPeriod {
+        /// The path through the spec tree to the missing field, each node
+        /// as `field.type`: `oversample.inner.lugre.dt`.
+        path: String,
     },
     /// A spec file could not be read.
     #[error("{path}: {message}")]
@@ -254,6 +293,7 @@ impl SpecError {
         match self {
             SpecError::Json { path, .. }
             | SpecError::Invalid { path, .. }
+            | SpecError::MissingPeriod { path }
             | SpecError::Io { path, .. } => path,
         }
     }
@@ -380,7 +420,7 @@ impl Spec {
     pub fn describe(&self) -> String {
         let attrs = match self {
             Spec::Scaled { w, .. } => format!("[w={w}]"),
-            Spec::Leaf(leaf) => match leaf.params.get("dt").and_then(Value::as_f64) {
+            Spec::Leaf(leaf) => match leaf.dt() {
                 Some(dt) => format!("[dt={dt}]"),
                 None => String::new(),
             },
@@ -409,6 +449,78 @@ impl Spec {
             message: e.to_string(),
         })?;
         Spec::from_json(&text)
+    }
+
+    /// The path of the first rate-dependent leaf whose spec leaves out its
+    /// sample period `dt` (`oversample.inner.lugre`), or `None` if every
+    /// one gives it. Such a spec builds only once the period is given
+    /// ([`with_dt`](Spec::with_dt)); [`build`](Spec::build) names the
+    /// same path in [`SpecError::MissingPeriod`].
+    ///
+    /// ```
+    /// use hysteron_models::Spec;
+    /// let spec = Spec::from_json(r#"{"type": "oversample", "q": 4,
+    ///     "inner": {"type": "viscous_damper", "c": 2}}"#)?;
+    /// assert_eq!(spec.missing_period().as_deref(), Some("oversample.inner.viscous_damper"));
+    /// assert!(spec.build().is_err());
+    /// assert_eq!(spec.with_dt(0.01).missing_period(), None);
+    /// assert_eq!(spec.with_dt(0.01).stated_periods(), [0.01]);
+    /// # Ok::<(), hysteron_models::SpecError>(())
+    /// ```
+    pub fn missing_period(&self) -> Option<String> {
+        let mut stack = vec![(self, self.kind().to_string())];
+        while let Some((spec, path)) = stack.pop() {
+            if let Spec::Leaf(leaf) = spec {
+                if leaf.lacks_period() {
+                    return Some(path);
+                }
+            }
+            // pushed in reverse, so that the first child is visited first
+            for (field, child) in spec.children().into_iter().rev() {
+                stack.push((child, format!("{path}.{field}.{}", child.kind())));
+            }
+        }
+        None
+    }
+
+    /// The sample periods (s) the spec's rate-dependent leaves give, as
+    /// periods of the data at the root: a leaf's `dt` times the `q` of
+    /// every `oversample` above it. Distinct values in the order of the
+    /// tree; empty for a rate-independent spec and for one that leaves
+    /// every `dt` out. A spec made by [`with_dt`](Spec::with_dt) gives
+    /// the one period it was given (to rounding).
+    pub fn stated_periods(&self) -> Vec<f64> {
+        let mut out: Vec<f64> = Vec::new();
+        let mut stack = vec![(self, 1.0)];
+        while let Some((spec, scale)) = stack.pop() {
+            match spec {
+                Spec::Leaf(leaf) => {
+                    if let Some(dt) = leaf.dt() {
+                        let root = dt * scale;
+                        if !out.iter().any(|&p| (p - root).abs() <= 1e-12 * p.abs()) {
+                            out.push(root);
+                        }
+                    }
+                }
+                Spec::Oversample { inner, q } => stack.push((inner, scale * *q as f64)),
+                other => {
+                    for (_, child) in other.children().into_iter().rev() {
+                        stack.push((child, scale));
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// The same spec with the sample period `dt` given to every
+    /// rate-dependent leaf that [lacks one](LeafSpec::lacks_period) (as
+    /// [`with_dt`](Spec::with_dt) gives it, `dt / q` inside an
+    /// `oversample`); leaves that give their own keep it.
+    pub fn or_dt(&self, dt: f64) -> Spec {
+        let mut spec = self.clone();
+        spec.set_dt(dt, true);
+        spec
     }
 
     /// Whether any node of the tree is rate-dependent (a registered leaf

@@ -75,20 +75,27 @@ impl Spec {
     /// ```
     pub fn with_dt(&self, dt: f64) -> Spec {
         let mut spec = self.clone();
-        spec.set_dt(dt);
+        spec.set_dt(dt, false);
         spec
     }
 
-    fn set_dt(&mut self, dt: f64) {
+    /// Gives every rate-dependent leaf the period `dt` (at this node), or
+    /// only those that [lack one](LeafSpec::lacks_period).
+    pub(super) fn set_dt(&mut self, dt: f64, only_missing: bool) {
         match self {
             Spec::Leaf(leaf) => {
-                if leaf.entry().is_ok_and(|e| e.is_rate_dependent()) {
+                let wanted = if only_missing {
+                    leaf.lacks_period()
+                } else {
+                    leaf.entry().is_ok_and(|e| e.is_rate_dependent())
+                };
+                if wanted {
                     if let Value::Object(m) = &mut leaf.params {
                         m.insert("dt".into(), Value::from(dt));
                     }
                 }
             }
-            Spec::Oversample { inner, q } => inner.set_dt(dt / *q as f64),
+            Spec::Oversample { inner, q } => inner.set_dt(dt / *q as f64, only_missing),
             Spec::Cascade {
                 first: a,
                 second: b,
@@ -102,10 +109,12 @@ impl Spec {
                 back: b,
                 ..
             } => {
-                a.set_dt(dt);
-                b.set_dt(dt);
+                a.set_dt(dt, only_missing);
+                b.set_dt(dt, only_missing);
             }
-            Spec::Scaled { inner, .. } | Spec::Inverse { inner, .. } => inner.set_dt(dt),
+            Spec::Scaled { inner, .. } | Spec::Inverse { inner, .. } => {
+                inner.set_dt(dt, only_missing)
+            }
             Spec::Transmission(_) => {}
         }
     }
@@ -146,7 +155,9 @@ impl Spec {
     /// ```
     pub fn with_params(&self, p: &[f64]) -> Result<Spec, SpecError> {
         let root = self.kind();
-        let expected = self.build()?.n_params();
+        // The period is not a parameter: a spec that leaves it out is
+        // counted and checked with a stand-in, and keeps leaving it out.
+        let expected = self.or_dt(1.0).build()?.n_params();
         if p.len() != expected {
             return Err(SpecError::invalid(
                 root,
@@ -158,7 +169,7 @@ impl Spec {
         }
         let mut rest = p;
         let spec = self.fill(root, &mut rest)?;
-        spec.build()?;
+        spec.or_dt(1.0).build()?;
         Ok(spec)
     }
 
@@ -187,13 +198,21 @@ impl Spec {
             ))
         };
         Ok(match self {
-            Spec::Leaf(leaf) => Spec::Leaf(LeafSpec {
-                kind: leaf.kind,
-                params: leaf
+            Spec::Leaf(leaf) => {
+                let mut params = leaf
                     .entry()
-                    .and_then(|e| e.with_values(&leaf.params, rest))
-                    .map_err(invalid)?,
-            }),
+                    .and_then(|e| e.with_values(&leaf.params_or_dt(1.0), rest))
+                    .map_err(invalid)?;
+                if leaf.lacks_period() {
+                    if let Value::Object(m) = &mut params {
+                        m.remove("dt");
+                    }
+                }
+                Spec::Leaf(LeafSpec {
+                    kind: leaf.kind,
+                    params,
+                })
+            }
             Spec::Transmission(old) => Spec::Transmission(
                 old.with_values(rest)
                     .map_err(|e| invalid(transmission_names(e)))?,

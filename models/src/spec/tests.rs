@@ -409,3 +409,86 @@ fn a_leading_byte_order_mark_is_skipped() {
     // Anywhere else it is not JSON.
     assert!(Spec::from_json("{\"type\": \"gain\", \u{feff}\"k\": 2.0}").is_err());
 }
+
+/// A rate-dependent leaf without `dt`: it reads, writes and takes new
+/// parameters without one, and builds once the period is given, to the
+/// model it would be with `dt` written in.
+#[test]
+fn a_spec_may_leave_the_period_to_the_data() {
+    let without = r#"{"type": "oversample", "q": 2, "inner": {"type": "parallel",
+        "left": {"type": "lugre", "sigma0": 1000, "sigma1": 5, "sigma2": 0.2,
+                 "f_c": 1, "f_s": 1.5, "v_s": 0.5},
+        "right": {"type": "viscous_damper", "c": 3, "dt": 0.004}}}"#;
+    let spec = Spec::from_json(without).unwrap();
+    assert_eq!(
+        spec.missing_period().as_deref(),
+        Some("oversample.inner.parallel.left.lugre")
+    );
+    // the stated period is the damper's, at the root
+    assert_eq!(spec.stated_periods(), [0.008]);
+    let err = spec.build().unwrap_err();
+    assert_eq!(err.path(), "oversample.inner.parallel.left.lugre.dt");
+    // written back without dt, and read back the same
+    let text = spec.to_json_pretty().unwrap();
+    assert!(!text.contains("\"dt\": 1"), "{text}");
+    assert_eq!(Spec::from_json(&text).unwrap(), spec);
+    // new parameters keep the period left out
+    let stand_in = spec.or_dt(1.0).build().unwrap();
+    let mut p = stand_in.params();
+    p[3] = 2.0; // f_c
+    let changed = spec.with_params(&p).unwrap();
+    assert_eq!(changed.missing_period(), spec.missing_period());
+    assert_eq!(changed.or_dt(1.0).build().unwrap().params(), p);
+    // `or_dt` fills only what is missing; `with_dt` sets every period
+    assert_eq!(spec.or_dt(0.01).stated_periods(), [0.01, 0.008]);
+    assert_eq!(spec.with_dt(0.01).stated_periods(), [0.01]);
+    // built with the period, it is the model written with it
+    let written =
+        Spec::from_json(&without.replace(r#""v_s": 0.5"#, r#""v_s": 0.5, "dt": 0.005"#)).unwrap();
+    assert_eq!(spec.or_dt(0.01), written);
+    let x: Vec<f64> = (0..200).map(|i| (i as f64 * 0.05).sin()).collect();
+    assert_eq!(
+        spec.or_dt(0.01).build().unwrap().run(&x).unwrap(),
+        written.build().unwrap().run(&x).unwrap()
+    );
+    // a rate-independent spec has no period to give or miss
+    let play = Spec::from_json(r#"{"type": "play", "r": 0.5}"#).unwrap();
+    assert_eq!(
+        (play.missing_period(), play.stated_periods()),
+        (None, vec![])
+    );
+}
+
+/// A constant spring may be written as a number.
+#[test]
+fn a_constant_stiffness_is_a_number() {
+    let number = Spec::from_json(
+        r#"{"type": "bouc_wen", "w": 0.4, "alpha": 1, "beta": 3, "gamma": 1, "n": 1,
+            "stiffness": 5}"#,
+    )
+    .unwrap();
+    let knots = Spec::from_json(
+        r#"{"type": "bouc_wen", "w": 0.4, "alpha": 1, "beta": 3, "gamma": 1, "n": 1,
+            "stiffness": {"z": [0], "s": [5]}}"#,
+    )
+    .unwrap();
+    assert_eq!(number, knots);
+    for (bad, path, message) in [
+        (r#""five""#, "stiffness", "expected a constant stiffness"),
+        (r#"-1"#, "bouc_wen.stiffness.s[0]", "must be ≥ 0"),
+        (
+            r#"{"z": [0], "s": [1], "k": 2}"#,
+            "stiffness.k",
+            "unknown field `k`",
+        ),
+    ] {
+        let text = format!(
+            r#"{{"type": "bouc_wen", "w": 0.4, "alpha": 1, "beta": 3, "gamma": 1, "n": 1,
+                "stiffness": {bad}}}"#
+        );
+        let err = Spec::from_json(&text).and_then(|s| s.build().map(|_| s));
+        let err = err.unwrap_err();
+        assert_eq!(err.path(), path, "{err}");
+        assert!(err.to_string().contains(message), "{err}");
+    }
+}
