@@ -9,6 +9,10 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 export CARGO_TERM_COLOR=never
 
+# The checkout must be left as it was found (ignored paths excepted): a
+# test that writes into it, or a stale lock file, fails the run at the end.
+status_before=$(git status --porcelain 2>/dev/null || echo "not a git checkout")
+
 if command -v rustup >/dev/null 2>&1; then
   rustup component add rustfmt clippy >/dev/null 2>&1 || true
 fi
@@ -32,7 +36,7 @@ for isa in avx2 portable; do
     HYSTERON_ISA=$isa cargo test -q -p hysteron-operators --lib exp_m1
 done
 
-echo "== the derivative property test at 10x its default cases (issue 16)"
+echo "== the derivative property test at 10x its default cases"
 PROPTEST_CASES=2560 cargo test -q -p hysteron --test derivatives random_compositions
 
 echo "== Python: install hysteron-rs into target/py-venv"
@@ -78,4 +82,12 @@ else
   echo "WARNING: the fuzz smoke (cargo-fuzz targets in fuzz/) was SKIPPED."
   echo "WARNING: install it with: rustup toolchain install nightly"
   echo "WARNING: ************************************************************"
+fi
+
+echo "== the checkout is as the test command found it (git status --porcelain)"
+status_after=$(git status --porcelain 2>/dev/null || echo "not a git checkout")
+if [ "$status_after" != "$status_before" ]; then
+  echo "the test command changed the checkout:"
+  diff <(echo "$status_before") <(echo "$status_after") || true
+  exit 1
 fi

@@ -27,6 +27,7 @@
 //! [`LoopEnergy::work`]: crate::models::energy::LoopEnergy::work
 
 use crate::csvio;
+use crate::identify::report::fmt_g;
 use crate::model_file::ModelFileError;
 use crate::models::describing::{AnalysisError, DescribingFunction, SineOptions, SteadyCycle};
 use crate::models::Spec;
@@ -47,9 +48,15 @@ pub struct AnalyzeOptions {
     /// Sample period (s) of the spec's rate-dependent nodes, overriding
     /// their `dt` (default: the spec's).
     pub dt: Option<f64>,
+    /// Significant digits of the printed table (1 to 17; the CSV output
+    /// is always written in full, shortest round-trip).
+    pub precision: usize,
     /// Optional CSV output.
     pub output: Option<PathBuf>,
 }
+
+/// The default of [`AnalyzeOptions::precision`].
+pub const PRECISION: usize = 6;
 
 /// An error of the analyze job (one-line message).
 #[derive(Debug, thiserror::Error)]
@@ -95,6 +102,11 @@ pub struct AnalyzeReport {
     pub model: &'static str,
     /// The options used.
     pub sine: SineOptions,
+    /// The sample period (s) the model ran at, and whether it was the
+    /// spec's own (`None` for a rate-independent model).
+    pub period: Option<(f64, &'static str)>,
+    /// Significant digits of the printed table.
+    pub precision: usize,
     /// One row per amplitude, in the order given.
     pub rows: Vec<AnalyzeRow>,
     /// Files written.
@@ -108,21 +120,26 @@ impl fmt::Display for AnalyzeReport {
             "analyzed a `{}` model driven by A sin θ ({} samples per period, {} settle periods)",
             self.model, self.sine.samples_per_period, self.sine.settle_periods
         )?;
+        if let Some((dt, origin)) = self.period {
+            writeln!(f, "sample period: {} s ({origin})", csvio::fmt_f64(dt))?;
+        }
+        let w = (self.precision + 8).max(19);
         writeln!(
             f,
-            "{:>22} {:>22} {:>22} {:>22} {:>22}",
+            "{:>w$} {:>w$} {:>w$} {:>w$} {:>w$}",
             "A", "|N|", "phase_deg", "dissipated_per_loop", "work"
         )?;
+        let g = |v: f64| fmt_g(v, self.precision);
         for row in &self.rows {
             let d = &row.describing;
             writeln!(
                 f,
-                "{:>22.15e} {:>22.15e} {:>22.15e} {:>22.15e} {:>22.15e}",
-                d.amplitude,
-                d.gain,
-                d.phase.to_degrees(),
-                row.dissipated,
-                row.work
+                "{:>w$} {:>w$} {:>w$} {:>w$} {:>w$}",
+                g(d.amplitude),
+                g(d.gain),
+                g(d.phase.to_degrees()),
+                g(row.dissipated),
+                g(row.work)
             )?;
         }
         write!(
@@ -159,11 +176,26 @@ pub fn run(opts: &AnalyzeOptions) -> Result<AnalyzeReport, AnalyzeError> {
         }
     }
     let model_err = |e| ModelFileError::new(&opts.model, e);
+    if !(1..=17).contains(&opts.precision) {
+        return Err(AnalyzeError::Argument(AnalysisError::InvalidArgument {
+            name: "precision",
+            value: opts.precision as f64,
+            reason: "must be 1 to 17 significant digits",
+        }));
+    }
     let mut spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
     if let Some(dt) = opts.dt {
         spec = spec.with_dt(dt);
     }
     let model = spec.build().map_err(model_err)?;
+    let period = match (spec.is_rate_dependent(), opts.dt) {
+        (false, _) => None,
+        (true, Some(dt)) => Some((dt, "--dt")),
+        (true, None) => spec
+            .stated_periods()
+            .first()
+            .map(|&dt| (dt, "the spec's dt")),
+    };
     let analysis_err = |e| AnalyzeError::Analysis(opts.model.clone(), e);
     let mut rows = Vec::with_capacity(opts.amplitudes.len());
     for &a in &opts.amplitudes {
@@ -203,6 +235,8 @@ pub fn run(opts: &AnalyzeOptions) -> Result<AnalyzeReport, AnalyzeError> {
     Ok(AnalyzeReport {
         model: model.name(),
         sine: opts.sine,
+        period,
+        precision: opts.precision,
         rows,
         files,
     })

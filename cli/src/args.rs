@@ -111,6 +111,11 @@ pub fn points(s: &str) -> Result<u64, ArgError> {
     integer_in(s, 2, 999)
 }
 
+/// `--precision` of `analyze`: 1 to 17 significant digits.
+pub fn precision(s: &str) -> Result<u64, ArgError> {
+    integer_in(s, 1, 17)
+}
+
 /// `--samples` of `bench`: 1 to 10⁹.
 pub fn bench_samples(s: &str) -> Result<u64, ArgError> {
     integer_in(s, 1, 1_000_000_000)

@@ -40,7 +40,7 @@ use crate::identify::{
 use crate::model_file::ModelFileError;
 use crate::models::Spec;
 use crate::output::OutputError;
-use crate::period::DtSource;
+use crate::period::{self, DtSource, Period, PeriodError};
 use crate::plot::{self, Panel, PlotError, Series, Style};
 use crate::Operator;
 use std::fmt;
@@ -105,6 +105,10 @@ pub enum FitCmdError {
     /// The data could not be read or is invalid.
     #[error("data {0}")]
     Data(CsvIoError),
+    /// No sample period could be chosen (the spec's and a record's time
+    /// column disagree).
+    #[error(transparent)]
+    Period(PeriodError),
     /// `--skip` is given without a sample period (`--dt` or
     /// `--time-column`).
     #[error("--skip needs the sample period: give --dt or --time-column")]
@@ -204,6 +208,9 @@ pub struct FitCmdReport {
     pub columns: (String, String),
     /// Samples in each record.
     pub samples: Vec<usize>,
+    /// The sample period the model ran at (`None` for a rate-independent
+    /// model).
+    pub period: Option<Period>,
     /// The fit.
     pub report: FitReport,
     /// Files written.
@@ -235,6 +242,9 @@ impl fmt::Display for FitCmdReport {
             self.columns.0,
             self.columns.1
         )?;
+        if let Some(p) = &self.period {
+            writeln!(f, "sample period: {p}")?;
+        }
         if self.data.len() > 1 {
             for (i, (d, n)) in self.data.iter().zip(&self.samples).enumerate() {
                 writeln!(f, "record {i}: `{}` ({n} samples)", d.display())?;
@@ -309,33 +319,36 @@ fn load(opts: &FitCmdOptions, path: &Path) -> Result<Loaded, FitCmdError> {
     })
 }
 
-/// The spec with the sample period of `opts.dt` applied, and that period
-/// when one is given (every record's time column must give the same).
-fn with_period(opts: &FitCmdOptions, spec: Spec) -> Result<(Spec, Option<f64>), FitCmdError> {
-    let Some(first) = opts.data.first() else {
+/// The sample period of the records ([`period::resolve`] of each; every
+/// record must give the first one's, within the rounding of written
+/// stamps), and the spec run at it.
+fn with_period(opts: &FitCmdOptions, spec: Spec) -> Result<(Spec, Option<Period>), FitCmdError> {
+    let Some(first_path) = opts.data.first() else {
         return Ok((spec, None));
     };
-    let period = match &opts.dt {
-        DtSource::Spec => None,
-        DtSource::Value(dt) => Some(*dt),
-        DtSource::TimeColumn(c) => {
-            let dt = csvio::read_time_step(first, c).map_err(FitCmdError::Data)?;
-            for path in opts.data.iter().skip(1) {
-                let other = csvio::read_time_step(path, c).map_err(FitCmdError::Data)?;
-                if (other - dt).abs() > 1e-3 * dt {
-                    return Err(FitCmdError::PeriodMismatch {
-                        path: path.clone(),
-                        dt: other,
-                        first_path: first.clone(),
-                        first: dt,
-                    });
-                }
+    let first = period::resolve(&spec, &opts.dt, first_path).map_err(period_error)?;
+    for path in opts.data.iter().skip(1) {
+        let other = period::resolve(&spec, &opts.dt, path).map_err(period_error)?;
+        if let (Some(first), Some(other)) = (&first, &other) {
+            if (other.dt - first.dt).abs() > csvio::TIME_STEP_REL_TOL * first.dt {
+                return Err(FitCmdError::PeriodMismatch {
+                    path: path.clone(),
+                    dt: other.dt,
+                    first_path: first_path.clone(),
+                    first: first.dt,
+                });
             }
-            Some(dt)
         }
-    };
-    let spec = opts.dt.apply(spec, first).map_err(FitCmdError::Data)?;
-    Ok((spec, period))
+    }
+    let spec = first.as_ref().map_or(spec.clone(), |p| p.apply(&spec));
+    Ok((spec, first))
+}
+
+fn period_error(e: PeriodError) -> FitCmdError {
+    match e {
+        PeriodError::Data(e) => FitCmdError::Data(e),
+        e => FitCmdError::Period(e),
+    }
 }
 
 /// Runs the fit; see the module docs.
@@ -365,6 +378,8 @@ pub fn run(opts: &FitCmdOptions) -> Result<FitCmdReport, FitCmdError> {
 
     let model_err = |e| ModelFileError::new(&opts.model, e);
     let spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
+    // The spec's own errors first (a period it leaves out is a stand-in here).
+    spec.or_dt(1.0).build().map_err(model_err)?;
     let (spec, period) = with_period(opts, spec)?;
     let model = spec.build().map_err(model_err)?;
 
@@ -392,11 +407,12 @@ pub fn run(opts: &FitCmdOptions) -> Result<FitCmdReport, FitCmdError> {
         .iter()
         .map(|d| load(opts, d))
         .collect::<Result<Vec<Loaded>, _>>()?;
-    let skip = match (skip_seconds, period) {
+    let skip = match (skip_seconds, &period) {
         (None, _) => 0,
         (Some(_), None) => return Err(FitCmdError::SkipWithoutPeriod),
-        (Some(s), Some(dt)) => (s / dt).round() as usize,
+        (Some(s), Some(p)) => (s / p.dt).round() as usize,
     };
+    let period = period.filter(|_| spec.is_rate_dependent());
     for (l, path) in loaded.iter().zip(&opts.data) {
         if skip >= l.y.len() {
             return Err(FitCmdError::ShortRecord {
@@ -521,6 +537,7 @@ pub fn run(opts: &FitCmdOptions) -> Result<FitCmdReport, FitCmdError> {
         data: opts.data.clone(),
         columns: (input_name, output_name),
         samples: loaded.iter().map(|l| l.y.len()).collect(),
+        period,
         report,
         files,
     })

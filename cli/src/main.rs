@@ -72,21 +72,17 @@ struct Cli {
 /// as `simulate` and `fit` take it.
 #[derive(Debug, clap::Args)]
 struct SamplePeriodArgs {
-    /// Sample period (s, positive and finite) of every rate-dependent
-    /// node of the model (mass_spring_damper, viscous_damper),
-    /// overriding the spec's dt.
+    // The help lists the registry's rate-dependent kinds.
     #[arg(
         long,
         value_name = "SECONDS",
         conflicts_with = "time_column",
         value_parser = args::positive_f64,
-        allow_hyphen_values = true
+        allow_hyphen_values = true,
+        help = period::dt_help()
     )]
     dt: Option<f64>,
-    /// Take the sample period from this time column of the CSV file
-    /// (uniformly spaced up to 0.1 % of a step, the rounding of written
-    /// stamps), overriding the spec's dt.
-    #[arg(long, value_name = "NAME")]
+    #[arg(long, value_name = "NAME", help = period::TIME_COLUMN_HELP)]
     time_column: Option<String>,
 }
 
@@ -296,22 +292,18 @@ enum Command {
         /// sample rate).
         #[arg(long, value_name = "HZ", value_parser = args::positive_f64, allow_hyphen_values = true)]
         lowpass: Option<f64>,
-        /// Sample period (s, positive and finite): sets the low-pass's
-        /// sample rate, the length of --skip and every rate-dependent node
-        /// of the model (mass_spring_damper, viscous_damper), overriding
-        /// the spec's dt.
+        // Also the low-pass's sample rate and the length of --skip; the
+        // help lists the registry's rate-dependent kinds.
         #[arg(
             long,
             value_name = "SECONDS",
             conflicts_with = "time_column",
             value_parser = args::positive_f64,
-            allow_hyphen_values = true
+            allow_hyphen_values = true,
+            help = period::dt_help() + "; also the low-pass's sample rate and the length of --skip"
         )]
         dt: Option<f64>,
-        /// Take the sample period (as for --dt) from this time column of
-        /// each record (uniformly spaced up to 0.1 % of a step, the
-        /// rounding of written stamps).
-        #[arg(long, value_name = "NAME")]
+        #[arg(long, value_name = "NAME", help = period::TIME_COLUMN_HELP)]
         time_column: Option<String>,
         /// Simulate but do not score the first SECONDS of each record
         /// (the samples i with i·dt < SECONDS; a warm-up). Needs
@@ -368,16 +360,19 @@ enum Command {
             allow_negative_numbers = true
         )]
         steady_tol: f64,
-        /// Sample period (s, positive and finite) of every rate-dependent
-        /// node of the model (mass_spring_damper, viscous_damper),
-        /// overriding the spec's dt.
+        // The help lists the registry's rate-dependent kinds.
         #[arg(
             long,
             value_name = "SECONDS",
             value_parser = args::positive_f64,
-            allow_hyphen_values = true
+            allow_hyphen_values = true,
+            help = period::dt_help()
         )]
         dt: Option<f64>,
+        /// Significant digits of the printed table (1 to 17; --output
+        /// writes every digit).
+        #[arg(long, value_name = "DIGITS", default_value_t = analyze::PRECISION as u64, value_parser = args::precision)]
+        precision: u64,
         /// Also write the table as CSV (atomically; may not be the model).
         #[arg(long, value_name = "OUT.csv")]
         output: Option<PathBuf>,
@@ -585,6 +580,7 @@ fn main() -> ExitCode {
             settle_periods,
             steady_tol,
             dt,
+            precision,
             output,
         } => analyze::run(&analyze::AnalyzeOptions {
             model,
@@ -596,6 +592,7 @@ fn main() -> ExitCode {
                 ..SineOptions::default()
             },
             dt,
+            precision: usize::try_from(precision).unwrap_or(usize::MAX),
             output,
         })
         .map(|report| {

@@ -28,7 +28,7 @@ use crate::model_file::ModelFileError;
 use crate::models::sensitivity::{sensitivity, Sensitivity, SensitivityError};
 use crate::models::Spec;
 use crate::output::OutputError;
-use crate::period::DtSource;
+use crate::period::{self, DtSource, Period, PeriodError};
 use crate::Operator;
 use std::fmt;
 use std::path::PathBuf;
@@ -73,6 +73,10 @@ pub enum SensitivityCmdError {
     /// that is not a finite number, ...).
     #[error("input {0}")]
     Input(CsvIoError),
+    /// No sample period could be chosen (the spec's and the data's
+    /// disagree).
+    #[error(transparent)]
+    Period(PeriodError),
     /// A `--params` name is unknown, ambiguous or repeated, or none is
     /// given; the message lists the model's parameters where it helps.
     #[error("--params: model `{}`: {}", .0.display(), .1)]
@@ -136,6 +140,9 @@ pub struct SensitivityReport {
     pub params: Vec<String>,
     /// The model's operator name.
     pub model: &'static str,
+    /// The sample period the model ran at (`None` for a rate-independent
+    /// model).
+    pub period: Option<Period>,
     /// Files written.
     pub files: Vec<PathBuf>,
 }
@@ -145,13 +152,16 @@ impl fmt::Display for SensitivityReport {
         write!(
             f,
             "computed the sensitivities to {} parameter(s) ({}) over {} samples with a `{}` \
-             model; wrote {}",
+             model",
             self.params.len(),
             self.params.join(", "),
             self.samples,
             self.model,
-            csvio::join_paths(&self.files)
-        )
+        )?;
+        if let Some(p) = &self.period {
+            write!(f, " at a sample period of {p}")?;
+        }
+        write!(f, "; wrote {}", csvio::join_paths(&self.files))
     }
 }
 
@@ -171,11 +181,15 @@ pub fn run(opts: &SensitivityOptions) -> Result<SensitivityReport, SensitivityCm
 
     let model_err = |e| ModelFileError::new(&opts.model, e);
     let spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
-    let spec = opts
-        .dt
-        .apply(spec, &opts.input)
-        .map_err(SensitivityCmdError::Input)?;
+    // The spec's own errors first (a period it leaves out is a stand-in here).
+    spec.or_dt(1.0).build().map_err(model_err)?;
+    let period = period::resolve(&spec, &opts.dt, &opts.input).map_err(|e| match e {
+        PeriodError::Data(e) => SensitivityCmdError::Input(e),
+        e => SensitivityCmdError::Period(e),
+    })?;
+    let spec = period.as_ref().map_or(spec.clone(), |p| p.apply(&spec));
     let model = spec.build().map_err(model_err)?;
+    let period = period.filter(|_| spec.is_rate_dependent());
     let params = full_names(opts, model.as_ref())?;
 
     let mut reader = csvio::CsvReader::open(&opts.input).map_err(SensitivityCmdError::Input)?;
@@ -225,6 +239,7 @@ pub fn run(opts: &SensitivityOptions) -> Result<SensitivityReport, SensitivityCm
         samples: xs.len(),
         params,
         model: model.name(),
+        period,
         files: vec![opts.output.clone()],
     })
 }

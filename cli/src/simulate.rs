@@ -22,6 +22,7 @@ use crate::csvio::{self, CsvIoError};
 use crate::model_file::ModelFileError;
 use crate::models::Spec;
 use crate::output::OutputError;
+use crate::period::{self, Period, PeriodError};
 use crate::plot;
 use crate::Operator;
 use std::fmt;
@@ -47,8 +48,8 @@ pub struct SimulateOptions {
     /// not be a column of the input already.
     pub output_column: String,
     /// Where the sample period of the rate-dependent nodes of the model
-    /// comes from (default: the spec's own `dt`).
-    pub dt: crate::period::DtSource,
+    /// comes from (see [`period`]).
+    pub dt: period::DtSource,
 }
 
 /// An error of the simulate job (one-line message naming file, row and
@@ -64,6 +65,10 @@ pub enum SimulateError {
     /// The input could not be read or is invalid.
     #[error("input {0}")]
     Input(CsvIoError),
+    /// No sample period could be chosen (the spec's and the data's
+    /// disagree).
+    #[error(transparent)]
+    Period(PeriodError),
     /// The input already has a column named like the output column.
     #[error(
         "input `{}` already has a column `{}`: name the output column otherwise \
@@ -87,6 +92,9 @@ pub struct SimulateReport {
     pub samples: usize,
     /// The model's operator name.
     pub model: &'static str,
+    /// The sample period the model ran at (`None` for a rate-independent
+    /// model).
+    pub period: Option<Period>,
     /// Files written.
     pub files: Vec<PathBuf>,
 }
@@ -95,11 +103,13 @@ impl fmt::Display for SimulateReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
             f,
-            "simulated {} samples with a `{}` model; wrote {}",
-            self.samples,
-            self.model,
-            crate::csvio::join_paths(&self.files)
-        )
+            "simulated {} samples with a `{}` model",
+            self.samples, self.model
+        )?;
+        if let Some(p) = &self.period {
+            write!(f, " at a sample period of {p}")?;
+        }
+        write!(f, "; wrote {}", crate::csvio::join_paths(&self.files))
     }
 }
 
@@ -121,11 +131,15 @@ pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
 
     let model_err = |e| ModelFileError::new(&opts.model, e);
     let spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
-    let spec = opts
-        .dt
-        .apply(spec, &opts.input)
-        .map_err(SimulateError::Input)?;
+    // The spec's own errors first (a period it leaves out is a stand-in here).
+    spec.or_dt(1.0).build().map_err(model_err)?;
+    let period = period::resolve(&spec, &opts.dt, &opts.input).map_err(|e| match e {
+        PeriodError::Data(e) => SimulateError::Input(e),
+        e => SimulateError::Period(e),
+    })?;
+    let spec = period.as_ref().map_or(spec.clone(), |p| p.apply(&spec));
     let mut model = spec.build().map_err(model_err)?;
+    let period = period.filter(|_| spec.is_rate_dependent());
 
     let mut reader = csvio::CsvReader::open(&opts.input).map_err(SimulateError::Input)?;
     let index = reader.column(&opts.column).map_err(SimulateError::Input)?;
@@ -234,6 +248,7 @@ pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
     Ok(SimulateReport {
         samples,
         model: model.name(),
+        period,
         files,
     })
 }

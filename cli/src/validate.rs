@@ -27,7 +27,7 @@ use crate::identify::metrics::{self, ErrorFigures, Lowpass, MetricsError};
 use crate::model_file::ModelFileError;
 use crate::models::Spec;
 use crate::output::OutputError;
-use crate::period::DtSource;
+use crate::period::{self, DtSource, Period, PeriodError};
 use crate::plot::{self, Panel, PlotError, Series, Style};
 use crate::Operator;
 use std::fmt;
@@ -93,6 +93,10 @@ pub enum ValidateError {
         /// The first record.
         first: PathBuf,
     },
+    /// No sample period could be chosen (the spec's and a record's time
+    /// column disagree).
+    #[error(transparent)]
+    Period(PeriodError),
     /// `--lowpass` or `--skip` without a sample period.
     #[error("{0} needs the sample period: give --time-column NAME or --dt SECONDS")]
     NeedsRate(&'static str),
@@ -196,6 +200,9 @@ pub struct RecordRow {
     pub record: PathBuf,
     /// Its sample period, if known.
     pub dt: Option<f64>,
+    /// The sample period the model ran at, and where it came from (`None`
+    /// for a rate-independent model).
+    pub period: Option<Period>,
     /// Samples not scored (`--skip`).
     pub skipped: usize,
     /// RMS, largest error and NRMSE over the scored samples.
@@ -312,6 +319,20 @@ impl fmt::Display for ValidateReport {
             )?;
         }
         writeln!(f)?;
+        let periods: Vec<&Period> = self.rows.iter().filter_map(|r| r.period.as_ref()).collect();
+        match periods.as_slice() {
+            [] => {}
+            [first, rest @ ..] if rest.iter().all(|p| p == first) => {
+                writeln!(f, "sample period: {first}")?;
+            }
+            _ => {
+                for r in &self.rows {
+                    if let Some(p) = &r.period {
+                        writeln!(f, "sample period of `{}`: {p}", r.record.display())?;
+                    }
+                }
+            }
+        }
         writeln!(
             f,
             "NRMSE = RMS(model - measured) / RMS(measured), RMS about zero"
@@ -435,7 +456,15 @@ pub fn run(opts: &ValidateOptions) -> Result<ValidateReport, ValidateError> {
     if opts.input_column.trim() == opts.output_column.trim() {
         return Err(ValidateError::SameColumn(opts.input_column.clone()));
     }
-    if opts.dt == DtSource::Spec {
+    let model_err = |e| ModelFileError::new(&opts.model, e);
+    let spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
+    // Built once to check the spec before any record is read (with a
+    // stand-in period where it leaves the period to the data).
+    let kind = spec.kind();
+    spec.or_dt(1.0).build().map_err(model_err)?;
+    // A rate-independent model has no period unless one is given (a
+    // rate-dependent one's is checked with each record).
+    if opts.dt == DtSource::Spec && !spec.is_rate_dependent() {
         if opts.lowpass.is_some() {
             return Err(ValidateError::NeedsRate("--lowpass"));
         }
@@ -443,12 +472,6 @@ pub fn run(opts: &ValidateOptions) -> Result<ValidateReport, ValidateError> {
             return Err(ValidateError::NeedsRate("--skip"));
         }
     }
-
-    let model_err = |e| ModelFileError::new(&opts.model, e);
-    let spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
-    // Built once to check the spec before any record is read.
-    let kind = spec.kind();
-    spec.build().map_err(model_err)?;
 
     let mut scored: Vec<Scored> = Vec::with_capacity(opts.data.len());
     let mut columns = (String::new(), String::new());
@@ -512,10 +535,7 @@ fn score(
     path: &Path,
     k: usize,
 ) -> Result<(Scored, (String, String)), ValidateError> {
-    let mut wanted = vec![opts.input_column.as_str(), opts.output_column.as_str()];
-    if let DtSource::TimeColumn(t) = &opts.dt {
-        wanted.push(t.as_str());
-    }
+    let wanted = [opts.input_column.as_str(), opts.output_column.as_str()];
     let cols = csvio::read_columns(path, &wanted).map_err(|e| match e {
         CsvIoError::MissingColumn {
             path,
@@ -537,17 +557,19 @@ fn score(
     let mut values = cols.values.into_iter();
     let x = values.next().unwrap_or_default();
     let measured = values.next().unwrap_or_default();
-    let dt = match &opts.dt {
-        DtSource::Spec => None,
-        DtSource::Value(dt) => Some(*dt),
-        DtSource::TimeColumn(_) => {
-            let t = values.next().unwrap_or_default();
-            Some(
-                csvio::uniform_step(path, &name(2), &t, &cols.lines)
-                    .map_err(ValidateError::Data)?,
-            )
+    let period = period::resolve(spec, &opts.dt, path).map_err(|e| match e {
+        PeriodError::Data(e) => ValidateError::Data(e),
+        e => ValidateError::Period(e),
+    })?;
+    let dt = period.as_ref().map(|p| p.dt);
+    if dt.is_none() {
+        if opts.lowpass.is_some() {
+            return Err(ValidateError::NeedsRate("--lowpass"));
         }
-    };
+        if opts.skip.is_some() {
+            return Err(ValidateError::NeedsRate("--skip"));
+        }
+    }
     let n = x.len();
 
     let lowpass = match (opts.lowpass, dt) {
@@ -583,10 +605,8 @@ fn score(
     };
 
     // A fresh model per record, from the spec's initial state.
-    let spec = match dt {
-        Some(dt) => spec.with_dt(dt),
-        None => spec.clone(),
-    };
+    let spec = period.as_ref().map_or(spec.clone(), |p| p.apply(spec));
+    let period = period.filter(|_| spec.is_rate_dependent());
     let mut model = spec
         .build()
         .map_err(|e| ModelFileError::new(&opts.model, e))?;
@@ -634,6 +654,7 @@ fn score(
             row: RecordRow {
                 record: path.to_path_buf(),
                 dt,
+                period,
                 skipped,
                 figures,
                 lowpassed_nrmse,

@@ -646,12 +646,36 @@ fn simulate_mass_spring_damper_with_time_column_matches_in_process() {
         assert_eq!(headers, ["t", "x", "y"]);
         assert_eq!(column(&headers, &rows, "y"), expected, "{dt_args:?}");
     }
-    // Without either, the spec's own dt (1 s) is used: a different output.
-    s.simulate(&[
-        "--model", "msd.json", "--input", "f.csv", "--output", "o.csv",
-    ])
-    .assert()
-    .success();
+    // Without either, the spec's own dt (1 s) disagrees with the data's
+    // time column `t`: refused, naming both periods and both ways out,
+    // and nothing is written.
+    fs::remove_file(s.path("o.csv")).unwrap();
+    s.fails(
+        &[
+            "--model", "msd.json", "--input", "f.csv", "--output", "o.csv",
+        ],
+        &[
+            "data `f.csv`: its time column `t` steps 0.0078125 s",
+            "the model's spec gives the sample period 1 s",
+            "--time-column t",
+            "--dt SECONDS",
+        ],
+    );
+    assert!(!s.path("o.csv").exists());
+    // A column not named as time is not read as one: the spec's dt (1 s)
+    // is used, and the report says so.
+    s.write("f.csv", &text.replacen("t,x", "stamp,x", 1));
+    let out = s
+        .simulate(&[
+            "--model", "msd.json", "--input", "f.csv", "--output", "o.csv",
+        ])
+        .assert()
+        .success();
+    let stdout = String::from_utf8_lossy(&out.get_output().stdout).into_owned();
+    assert!(
+        stdout.contains("at a sample period of 1 s (the spec's dt)"),
+        "{stdout}"
+    );
     let (headers, rows) = read_csv(&s.path("o.csv"));
     let y = column(&headers, &rows, "y");
     assert_eq!(y, run_in_process(&s.path("msd.json"), &x));

@@ -58,6 +58,9 @@ fn play_matches_the_closed_forms() {
             &n.to_string(),
             "--settle-periods",
             "3",
+            // every digit, for the closed forms' bounds
+            "--precision",
+            "17",
         ])
         .arg("--output")
         .arg(&out)
@@ -128,7 +131,7 @@ fn play_matches_the_closed_forms() {
         .collect();
     assert_eq!(recs.len(), 4);
     for (rec, row) in recs.iter().zip(&table) {
-        // printed with 16 significant digits
+        // printed with 17 significant digits
         for (i, j) in [(0, 0), (1, 1), (2, 2), (5, 4), (6, 3)] {
             assert!(
                 (rec[i] - row[j]).abs() <= 1e-15 * rec[i].abs().max(1e-300),
@@ -139,6 +142,54 @@ fn play_matches_the_closed_forms() {
     }
     assert_no_temp_files(tmp.path());
     assert_eq!(fs::read_to_string(&spec).unwrap(), PLAY);
+}
+
+/// By default the table has at most 6 significant digits (`0.2`, not
+/// `2.000000000000000e-1`); `--precision` asks for more, and a value
+/// outside 1 to 17 is refused naming the option.
+#[test]
+fn the_table_is_short_by_default() {
+    let tmp = TempDir::new().unwrap();
+    write(tmp.path(), "play.json", PLAY);
+    let run = |extra: &[&str]| {
+        let assert = hysteron(tmp.path())
+            .args(["analyze", "--model", "play.json", "--amplitudes", "0.2,1"])
+            .args(extra)
+            .assert()
+            .success();
+        stdout_of(&assert)
+    };
+    let short = run(&[]);
+    let cells: Vec<String> = short
+        .lines()
+        .filter(|l| l.trim_start().starts_with(|c: char| c.is_ascii_digit()))
+        .flat_map(|l| l.split_whitespace().map(str::to_string).collect::<Vec<_>>())
+        .collect();
+    assert_eq!(cells.len(), 10, "{short}");
+    assert_eq!(cells[0], "0.2", "{short}");
+    for c in &cells {
+        let digits = c
+            .split(['e', 'E'])
+            .next()
+            .unwrap()
+            .chars()
+            .filter(char::is_ascii_digit)
+            .collect::<String>();
+        let significant = digits.trim_start_matches('0').len();
+        assert!(significant <= 6, "`{c}` has {significant} digits: {short}");
+    }
+    let long = run(&["--precision", "12"]);
+    assert_ne!(long, short);
+    for bad in ["0", "18"] {
+        let assert = hysteron(tmp.path())
+            .args(["analyze", "--model", "play.json", "--amplitudes", "1"])
+            .args(["--precision", bad])
+            .assert()
+            .failure()
+            .code(1);
+        let stderr = String::from_utf8_lossy(&assert.get_output().stderr).into_owned();
+        assert!(stderr.contains("--precision"), "{stderr}");
+    }
 }
 
 /// A Prandtl-Ishlinskii loop (the example spec) runs counterclockwise and

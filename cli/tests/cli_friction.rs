@@ -137,12 +137,16 @@ fn simulate_dahl_hand_written_spec() {
 }
 
 /// The rate-dependent examples (LuGre, GMS) take their sample period from
-/// `--time-column` or `--dt` (the same output), and without either from the
-/// spec's own `dt` (0.01 s: another output).
+/// `--time-column` or `--dt` (the same output). Without either, the spec's
+/// own `dt` (0.01 s) disagrees with the data's time column `t` (1/256 s):
+/// refused; a spec without `dt` takes the column's period; and with no
+/// column named as time, the spec's own `dt` is used (another output).
 #[test]
 fn simulate_rate_dependent_examples_take_dt_from_the_data() {
     let tmp = TempDir::new().unwrap();
     let x = record(tmp.path());
+    let text = fs::read_to_string(tmp.path().join("x.csv")).unwrap();
+    fs::write(tmp.path().join("no-t.csv"), text.replacen("t,x", "s,x", 1)).unwrap();
     for name in ["lugre.json", "gms.json"] {
         let spec_path = example(name);
         let spec = Spec::from_json_file(&spec_path).unwrap();
@@ -152,7 +156,29 @@ fn simulate_rate_dependent_examples_take_dt_from_the_data() {
             let y = simulate(tmp.path(), &spec_path, dt_args, &x);
             assert_eq!(y, expected, "{name} {dt_args:?}");
         }
-        let own = simulate(tmp.path(), &spec_path, &[], &x);
+        fails(
+            tmp.path(),
+            spec_path.to_str().unwrap(),
+            &[],
+            &[
+                "its time column `t` steps 0.00390625 s",
+                "gives the sample period 0.01 s",
+            ],
+        );
+        let mut without = spec.to_value();
+        without.as_object_mut().unwrap().remove("dt");
+        fs::write(tmp.path().join("no-dt.json"), without.to_string()).unwrap();
+        let y = simulate(tmp.path(), &tmp.path().join("no-dt.json"), &[], &x);
+        assert_eq!(y, expected, "{name} without dt");
+        hysteron(tmp.path())
+            .arg("simulate")
+            .arg("--model")
+            .arg(&spec_path)
+            .args(["--input", "no-t.csv", "--output", "own.csv"])
+            .assert()
+            .success();
+        let (headers, rows) = read_csv(&tmp.path().join("own.csv"));
+        let own = column(&headers, &rows, "y");
         assert_eq!(own, spec.build().unwrap().run(&x).unwrap(), "{name}");
         assert_ne!(own, expected, "{name}");
     }
