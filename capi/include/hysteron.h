@@ -166,6 +166,18 @@ enum HysteronStatus hysteron_process(struct HysteronModel *model,
 enum HysteronStatus hysteron_set_sample_period(struct HysteronModel *model, double dt);
 
 /**
+ * The sample period (seconds) the model runs at, in `*dt`: the spec's
+ * `dt`, or the last one given by `hysteron_set_sample_period`; `0` for a
+ * rate-independent model. A spec that leaves the period out, with none
+ * given yet, is `HYSTERON_STATUS_SPEC` (naming the node), as is every
+ * step, trial or run of it until then.
+ *
+ * # Safety
+ * `model` is NULL or a live model; `dt` is NULL or writable.
+ */
+enum HysteronStatus hysteron_sample_period(const struct HysteronModel *model, double *dt);
+
+/**
  * The number of parameters, in `*n`.
  *
  * # Safety

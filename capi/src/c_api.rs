@@ -152,7 +152,13 @@ pub unsafe extern "C" fn hysteron_step(
 ) -> HysteronStatus {
     call(|| {
         let m = unsafe { model_mut(model) }?;
-        let out = m.step(x).map_err(operator_failure)?;
+        let out = m
+            .running()
+            .map_err(spec_failure)?
+            .trial(x)
+            .map_err(operator_failure)?
+            .output;
+        m.operator_mut().commit();
         unsafe { put(y, out) };
         Ok(())
     })
@@ -173,7 +179,11 @@ pub unsafe extern "C" fn hysteron_trial(
 ) -> HysteronStatus {
     call(|| {
         let m = unsafe { model_mut(model) }?;
-        let t = m.operator_mut().trial(x).map_err(operator_failure)?;
+        let t = m
+            .running()
+            .map_err(spec_failure)?
+            .trial(x)
+            .map_err(operator_failure)?;
         unsafe {
             put(y, t.output);
             put(tangent, t.tangent);
@@ -236,7 +246,10 @@ pub unsafe extern "C" fn hysteron_process(
                 std::slice::from_raw_parts_mut(ys, n),
             )
         };
-        m.operator_mut().process(xs, ys).map_err(operator_failure)
+        m.running()
+            .map_err(spec_failure)?
+            .process(xs, ys)
+            .map_err(operator_failure)
     })
 }
 
@@ -255,9 +268,31 @@ pub unsafe extern "C" fn hysteron_set_sample_period(
 ) -> HysteronStatus {
     call(|| {
         let m = unsafe { model_mut(model) }?;
-        m.operator_mut()
-            .set_sample_period(dt)
-            .map_err(operator_failure)
+        m.set_sample_period(dt).map_err(operator_failure)
+    })
+}
+
+/// The sample period (seconds) the model runs at, in `*dt`: the spec's
+/// `dt`, or the last one given by `hysteron_set_sample_period`; `0` for a
+/// rate-independent model. A spec that leaves the period out, with none
+/// given yet, is `HYSTERON_STATUS_SPEC` (naming the node), as is every
+/// step, trial or run of it until then.
+///
+/// # Safety
+/// `model` is NULL or a live model; `dt` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn hysteron_sample_period(
+    model: *const HysteronModel,
+    dt: *mut f64,
+) -> HysteronStatus {
+    call(|| {
+        let m = unsafe { model_ref(model) }?;
+        let period = m.sample_period().map_err(spec_failure)?;
+        if dt.is_null() {
+            return Err(fail(HysteronStatus::NullArgument, "dt: NULL"));
+        }
+        unsafe { put(dt, period.unwrap_or(0.0)) };
+        Ok(())
     })
 }
 

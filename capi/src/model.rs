@@ -8,6 +8,12 @@ use hysteron::{Operator, Result};
 use std::ffi::CString;
 
 /// A spec and the operator built from it, in its running state.
+///
+/// A spec may leave the sample period of its rate-dependent nodes out
+/// ([`Spec::missing_period`]): the model then runs once the host gives the
+/// period ([`set_sample_period`](Model::set_sample_period), the FMU's step
+/// size), and [`step`](Model::step) and [`running`](Model::running) say
+/// what is missing until then.
 pub struct Model {
     spec: Spec,
     op: Box<dyn Operator<f64>>,
@@ -25,9 +31,13 @@ impl Clone for Model {
 }
 
 impl Model {
-    /// Builds the model of a spec.
+    /// Builds the model of a spec (with a stand-in period where it leaves
+    /// the period out, until one is given).
     pub fn new(spec: Spec) -> std::result::Result<Model, SpecError> {
-        let op = spec.build()?;
+        let op = match spec.missing_period() {
+            Some(_) => spec.or_dt(1.0).build()?,
+            None => spec.build()?,
+        };
         let names = op
             .param_names()
             .into_iter()
@@ -57,11 +67,46 @@ impl Model {
         self.op.as_mut()
     }
 
+    /// The operator, to run samples through: an error naming the node
+    /// whose sample period is still missing, if one is.
+    pub fn running(&mut self) -> std::result::Result<&mut dyn Operator<f64>, SpecError> {
+        if let Some(node) = self.spec.missing_period() {
+            return Err(SpecError::MissingPeriod {
+                path: format!("{node}.dt"),
+            });
+        }
+        Ok(self.op.as_mut())
+    }
+
     /// `trial(x)` then `commit()`: the output.
-    pub fn step(&mut self, x: f64) -> Result<f64> {
-        let y = self.op.trial(x)?.output;
-        self.op.commit();
+    pub fn step(&mut self, x: f64) -> std::result::Result<f64, String> {
+        let op = self.running().map_err(|e| e.to_string())?;
+        let y = op.trial(x).map_err(|e| e.to_string())?.output;
+        op.commit();
         Ok(y)
+    }
+
+    /// Sets the sample period `dt` (s) of every rate-dependent node (`dt /
+    /// q` inside an `oversample`), in the running operator and in the
+    /// spec; a rate-independent model checks it and ignores it.
+    pub fn set_sample_period(&mut self, dt: f64) -> Result<()> {
+        self.op.set_sample_period(dt)?;
+        if self.spec.is_rate_dependent() {
+            self.spec = self.spec.with_dt(dt);
+        }
+        Ok(())
+    }
+
+    /// The sample period (s) a rate-dependent model runs at, `Ok(None)`
+    /// for a rate-independent one, and an error if the spec leaves it out
+    /// and none was given.
+    pub fn sample_period(&self) -> std::result::Result<Option<f64>, SpecError> {
+        if let Some(node) = self.spec.missing_period() {
+            return Err(SpecError::MissingPeriod {
+                path: format!("{node}.dt"),
+            });
+        }
+        Ok(self.spec.stated_periods().first().copied())
     }
 
     /// The parameter paths, in the order of the flat parameter vector.

@@ -64,7 +64,15 @@ class Model:
         self, values: Optional[Mapping[str, float]] = None, **kwargs: float
     ) -> Model: ...
     def with_dt(self, dt: float) -> Model: ...
-    def run(self, x: _ArrayLike) -> npt.NDArray[np.float64]: ...
+    def run(
+        self,
+        x: _ArrayLike,
+        *,
+        dt: Optional[float] = None,
+        time: Optional[_ArrayLike] = None,
+    ) -> npt.NDArray[np.float64]: ...
+    @property
+    def dt(self) -> Optional[float]: ...
     def step(self, x: float) -> float: ...
     def trial(self, x: float) -> float: ...
     def commit(self) -> None: ...
@@ -93,6 +101,8 @@ class FitResult:
 
     @property
     def model(self) -> Model: ...
+    @property
+    def dt(self) -> Optional[float]: ...
     @property
     def free(self) -> List[str]: ...
     @property
@@ -194,6 +204,8 @@ def fit(
     y: _ArrayLike,
     free: Sequence[str],
     *,
+    dt: Optional[float] = None,
+    time: Optional[_ArrayLike] = None,
     patience: int = 200,
     stride: int = 1,
     ftol: float = 1e-12,
@@ -213,6 +225,7 @@ def fit_records(
     *,
     own: Sequence[str] = ...,
     skip: int = 0,
+    dt: Optional[float] = None,
     patience: int = 200,
     stride: int = 1,
     ftol: float = 1e-12,

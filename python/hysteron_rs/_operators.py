@@ -4,13 +4,24 @@ The constructors are made at import from ``leaf_kinds()``, the registry's
 own declaration of every leaf (its ``type``, equation and fields), so a
 leaf added in Rust gets its Python constructor with no Python change.
 Arguments follow the declaration order; a field with a default in the
-spec may be left out (``None`` means "the spec's default").
+spec may be left out (``None`` means "the spec's default"), and so may
+the sample period ``dt`` of a rate-dependent operator, which then comes
+from the data (``run(x, dt=...)``, ``fit(..., time=...)``). A required
+argument left out is a ``TypeError``, as for any Python function.
 """
 
 from __future__ import annotations
 
 import inspect
+import re
 from typing import Any, Callable, Dict, List
+
+
+def _plain(doc: str) -> str:
+    """Rust documentation as plain text: a rustdoc link ``[`x`](path)`` or
+    ``[`x`]`` becomes its text ``x`` in backquotes."""
+    doc = re.sub(r"\[([^\]]+)\]\([^)]*\)", r"\1", doc)
+    return re.sub(r"\[(`[^`\]]+`)\]", r"\1", doc)
 
 from ._native import Model, leaf, leaf_kinds
 
@@ -40,6 +51,13 @@ def _make(entry: Dict[str, Any]) -> Callable[..., Model]:
             if name in params:
                 raise TypeError(f"{kind}() got multiple values for argument {name!r}")
             params[name] = value
+        missing = [n for n in required if params.get(n) is None]
+        if missing:
+            listed = " and ".join(repr(n) for n in missing)
+            raise TypeError(
+                f"{kind}() missing {len(missing)} required argument"
+                f"{'s' if len(missing) > 1 else ''}: {listed}"
+            )
         return leaf(kind, {k: v for k, v in params.items() if v is not None})
 
     # Required fields after an optional one can only be given by keyword.
@@ -60,6 +78,7 @@ def _make(entry: Dict[str, Any]) -> Callable[..., Model]:
     positional = sum(
         p.kind is inspect.Parameter.POSITIONAL_OR_KEYWORD for p in parameters
     )
+    required = [f["name"] for f in fields if f["required"]]
     construct.__signature__ = inspect.Signature(parameters)  # type: ignore[attr-defined]
     construct.__name__ = kind
     construct.__qualname__ = kind
@@ -67,8 +86,11 @@ def _make(entry: Dict[str, Any]) -> Callable[..., Model]:
     lines = [f"The ``{kind}`` operator: {entry['equation']}.", "", "Parameters:"]
     for f in fields:
         note = "" if f["required"] else " (optional)"
-        setting = " Not a fitted parameter." if f["kind"] == "fixed" else ""
-        lines.append(f"    {f['name']}{note}: {f['doc']}{setting}")
+        doc = _plain(f["doc"])
+        setting = ""
+        if f["kind"] == "fixed" and "not a fitted parameter" not in doc.lower():
+            setting = " Not a fitted parameter."
+        lines.append(f"    {f['name']}{note}: {doc}{setting}")
     lines += ["", f"Example: ``{kind}(**{entry['example']!r})``."]
     construct.__doc__ = "\n".join(lines)
     return construct

@@ -88,7 +88,7 @@ fn analyse<R: Send>(
     model: &Model,
     analysis: impl FnOnce(&Box<dyn Operator<f64>>) -> Result<R, AnalysisError> + Send,
 ) -> PyResult<R> {
-    let op = dyn_clone::clone_box(model.operator());
+    let op = dyn_clone::clone_box(model.operator()?);
     py.detach(move || analysis(&op)).map_err(analysis_error)
 }
 

@@ -66,7 +66,7 @@ pub fn run_batch<'py>(
         .enumerate()
         .map(|(i, r)| samples(r, &format!("record {i}")))
         .collect::<PyResult<Vec<Vec<f64>>>>()?;
-    let op = model.operator();
+    let op = model.operator()?;
     let results = py.detach(|| on_pool(threads, || simulate_records(op, &xs)))?;
     arrays(py, results, "record")
 }
@@ -84,14 +84,14 @@ pub fn run_parameter_sets<'py>(
     threads: Option<usize>,
 ) -> PyResult<Vec<Bound<'py, PyArray1<f64>>>> {
     let xs = samples(x, "x")?;
-    let base = model.operator().params();
+    let base = model.values();
     let mut vectors = Vec::with_capacity(sets.len());
     for (i, set) in sets.iter().enumerate() {
         let mut p = base.clone();
         model.change(&mut p, set, &format!("set {i}: "))?;
         vectors.push(p);
     }
-    let op = model.operator();
+    let op = model.operator()?;
     let results = py.detach(|| on_pool(threads, || simulate_parameter_sets(op, &vectors, &xs)))?;
     arrays(py, results, "set")
 }

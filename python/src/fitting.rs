@@ -23,6 +23,10 @@ pub struct FitResult {
     model: Py<Model>,
     report: FitReport,
     history: Vec<Progress>,
+    /// The sample period (s) the model ran at in the fit, `None` for a
+    /// rate-independent model.
+    #[pyo3(get)]
+    dt: Option<f64>,
     /// Final cost `½ Σ r²`.
     #[pyo3(get)]
     cost: f64,
@@ -230,9 +234,13 @@ impl FitResult {
             .collect()
     }
 
-    /// The report as the CLI prints it.
+    /// The report as the CLI prints it (with the sample period of a
+    /// rate-dependent model).
     fn __str__(&self) -> String {
-        self.report.to_string()
+        match self.dt {
+            Some(dt) => format!("sample period: {dt} s\n{}", self.report),
+            None => self.report.to_string(),
+        }
     }
 
     fn __repr__(&self) -> String {
@@ -251,6 +259,9 @@ struct Request {
     own: Vec<String>,
     opts: FitOptions,
     starts: MultiStart,
+    /// The sample period given (`dt=` or `time=`), which overrides the
+    /// spec's.
+    period: Option<f64>,
 }
 
 /// Resolves the names, checks ties and repeats, runs [`fit_records`] with
@@ -261,9 +272,14 @@ fn run_fit(
     data: &[(Vec<f64>, Vec<f64>, usize)],
     request: Request,
 ) -> PyResult<FitResult> {
+    let spec = match request.period {
+        Some(dt) => model.spec().with_dt(dt),
+        None => model.spec().clone(),
+    };
+    let model = &Model::from_rust_spec(spec)?;
     let shared = model.indices(&request.free)?;
     let own = model.indices(&request.own)?;
-    let names = model.operator().param_names();
+    let names = model.names();
     let tied = model.spec().tied_params();
     let all: Vec<usize> = shared.iter().chain(&own).copied().collect();
     if let Some(name) = all.iter().map(|&i| &names[i]).find(|n| tied.contains(n)) {
@@ -280,7 +296,7 @@ fn run_fit(
             )));
         }
     }
-    let start = dyn_clone::clone_box(model.operator());
+    let start = dyn_clone::clone_box(model.operator()?);
     let history = Mutex::new(Vec::new());
     let record = |p: Progress| {
         if let Ok(mut h) = history.lock() {
@@ -313,6 +329,7 @@ fn run_fit(
     let report = fitted.report;
     let (status, why) = status_text(&report.status);
     Ok(FitResult {
+        dt: model.period(),
         model: Py::new(py, Model::from_rust_spec(spec)?)?,
         cost: report.cost,
         rms: report.rms,
@@ -346,8 +363,12 @@ fn run_fit(
 /// and `starts − 1` Latin-hypercube points around them (within a factor
 /// `e^spread` for a positive parameter; `seed` fixes them), in parallel,
 /// and keeps the best (`FitResult.starts` says how many reached it).
+///
+/// A rate-dependent model runs at its spec's sample period, or at `dt`
+/// (seconds) or the step of `time` (uniformly spaced stamps, one per
+/// sample of `x`) where one is given; `FitResult.dt` says which.
 #[pyfunction]
-#[pyo3(signature = (model, x, y, free, *, patience=200, stride=1, ftol=1e-12, xtol=1e-12, gtol=0.0, max_evaluations=None, max_seconds=None, starts=1, spread=1.3862943611198906, seed=0, jacobian="exact"))]
+#[pyo3(signature = (model, x, y, free, *, dt=None, time=None, patience=200, stride=1, ftol=1e-12, xtol=1e-12, gtol=0.0, max_evaluations=None, max_seconds=None, starts=1, spread=1.3862943611198906, seed=0, jacobian="exact"))]
 #[allow(clippy::too_many_arguments)] // the Python keyword arguments
 pub fn fit(
     py: Python<'_>,
@@ -355,6 +376,8 @@ pub fn fit(
     x: &Bound<'_, PyAny>,
     y: &Bound<'_, PyAny>,
     free: Vec<String>,
+    dt: Option<f64>,
+    time: Option<&Bound<'_, PyAny>>,
     patience: usize,
     stride: usize,
     ftol: f64,
@@ -368,6 +391,7 @@ pub fn fit(
     jacobian: &str,
 ) -> PyResult<FitResult> {
     let data = [(samples(x, "x")?, samples(y, "y")?, 0)];
+    let period = crate::period::period(dt, time, data[0].0.len())?;
     let opts = FitOptions {
         ftol,
         xtol,
@@ -388,6 +412,7 @@ pub fn fit(
             spread,
             seed,
         },
+        period,
     };
     run_fit(py, model, &data, request)
 }
@@ -396,10 +421,10 @@ pub fn fit(
 /// from the model's initial state; `own` names parameters fitted
 /// separately for each record (an initial state, a preload: keyed
 /// `"path[record i]"` in the result), `skip` leading output samples of
-/// each record are simulated but not compared (a warm-up). Otherwise as
-/// `fit`.
+/// each record are simulated but not compared (a warm-up); `dt` gives
+/// the sample period of every record (seconds). Otherwise as `fit`.
 #[pyfunction]
-#[pyo3(signature = (model, records, free, *, own=Vec::new(), skip=0, patience=200, stride=1, ftol=1e-12, xtol=1e-12, gtol=0.0, max_evaluations=None, max_seconds=None, starts=1, spread=1.3862943611198906, seed=0, jacobian="exact"))]
+#[pyo3(signature = (model, records, free, *, own=Vec::new(), skip=0, dt=None, patience=200, stride=1, ftol=1e-12, xtol=1e-12, gtol=0.0, max_evaluations=None, max_seconds=None, starts=1, spread=1.3862943611198906, seed=0, jacobian="exact"))]
 #[allow(clippy::too_many_arguments)] // the Python keyword arguments
 pub fn fit_records(
     py: Python<'_>,
@@ -408,6 +433,7 @@ pub fn fit_records(
     free: Vec<String>,
     own: Vec<String>,
     skip: usize,
+    dt: Option<f64>,
     patience: usize,
     stride: usize,
     ftol: f64,
@@ -431,6 +457,7 @@ pub fn fit_records(
             ))
         })
         .collect::<PyResult<Vec<_>>>()?;
+    let period = crate::period::period(dt, None, 0)?;
     let opts = FitOptions {
         ftol,
         xtol,
@@ -456,6 +483,7 @@ pub fn fit_records(
             own,
             opts,
             starts,
+            period,
         },
     )
 }

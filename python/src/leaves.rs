@@ -9,9 +9,14 @@ use hysteron::operators::FieldKind;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-/// Whether the leaf's spec can leave out `field` (it has a default): the
-/// declaration's example without it still reads.
+/// Whether the leaf's spec can leave out `field`: it has a default (the
+/// declaration's example without it still reads), or it is the sample
+/// period `dt` of a rate-dependent leaf, which may come from the data
+/// (`run(x, dt=...)`, `fit(..., time=...)`) instead.
 fn optional(leaf: &dyn LeafKind, field: &str) -> bool {
+    if field == "dt" && leaf.is_rate_dependent() {
+        return true;
+    }
     let mut example = leaf.example();
     match example.as_object_mut() {
         Some(m) => {

@@ -12,6 +12,7 @@ mod errors;
 mod fitting;
 mod leaves;
 mod model;
+mod period;
 mod sensitivity;
 
 use pyo3::prelude::*;

@@ -32,9 +32,16 @@ pub struct Model {
 }
 
 impl Model {
-    /// Builds the operator of `spec`.
+    /// Builds the operator of `spec`. A spec that leaves the sample period
+    /// of a rate-dependent node out ([`Spec::missing_period`]) is built
+    /// with a stand-in period, for its parameters and composition only:
+    /// it runs once [`set_period`](Self::set_period) has given the period.
     pub fn from_rust_spec(spec: Spec) -> PyResult<Self> {
-        let op = spec.build().map_err(spec_error)?;
+        let op = match spec.missing_period() {
+            Some(_) => spec.or_dt(1.0).build(),
+            None => spec.build(),
+        }
+        .map_err(spec_error)?;
         Ok(Model { spec, op })
     }
 
@@ -43,9 +50,57 @@ impl Model {
         &self.spec
     }
 
-    /// The operator, in its current state.
-    pub fn operator(&self) -> &(dyn Operator<f64> + 'static) {
-        self.op.as_ref()
+    /// The operator in its current state, to run: an error if the spec
+    /// leaves a sample period out and none was given
+    /// ([`SpecError::MissingPeriod`](hysteron::models::SpecError)).
+    pub fn operator(&self) -> PyResult<&(dyn Operator<f64> + 'static)> {
+        self.require_period()?;
+        Ok(self.op.as_ref())
+    }
+
+    /// The parameter paths, in the order of the flat parameter vector.
+    pub fn names(&self) -> Vec<String> {
+        self.op.param_names()
+    }
+
+    /// The flat parameter vector.
+    pub fn values(&self) -> Vec<f64> {
+        self.op.params()
+    }
+
+    /// An error naming the first rate-dependent node without a sample
+    /// period, if there is one.
+    fn require_period(&self) -> PyResult<()> {
+        match self.spec.missing_period() {
+            Some(node) => Err(spec_error(hysteron::models::SpecError::MissingPeriod {
+                path: format!("{node}.dt"),
+            })),
+            None => Ok(()),
+        }
+    }
+
+    /// Gives every rate-dependent node the sample period `dt` (s; `dt / q`
+    /// inside an `oversample`), in the running operator and in the spec,
+    /// keeping the state. A rate-independent model is left as it is.
+    pub fn set_period(&mut self, dt: f64) -> PyResult<()> {
+        if !self.spec.is_rate_dependent() {
+            return Ok(());
+        }
+        self.op
+            .set_sample_period(dt)
+            .map_err(|e| ParameterError::new_err(format!("dt: {e}")))?;
+        self.spec = self.spec.with_dt(dt);
+        Ok(())
+    }
+
+    /// The sample period (s) of a rate-dependent model, as the data see
+    /// it (`None` for a rate-independent model, and for one whose spec
+    /// leaves it out).
+    pub fn period(&self) -> Option<f64> {
+        if self.spec.missing_period().is_some() {
+            return None;
+        }
+        self.spec.stated_periods().first().copied()
     }
 
     /// Writes the values of `changes` (a dict keyed by full path or unique
@@ -287,13 +342,25 @@ impl Model {
     /// into one) from its current state, committing every sample, and
     /// returns the outputs as a float64 array. The GIL is released while
     /// it runs. On an error the state is that before the failing sample.
+    ///
+    /// A rate-dependent model runs at the sample period of its spec, or at
+    /// `dt` (seconds) or the step of `time` (uniformly spaced stamps, one
+    /// per sample of `x`) where one is given: the model then keeps that
+    /// period (see `dt`). A rate-independent model ignores both.
+    #[pyo3(signature = (x, *, dt=None, time=None))]
     fn run<'py>(
         &mut self,
         py: Python<'py>,
         x: &Bound<'py, PyAny>,
+        dt: Option<f64>,
+        time: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let xs = readonly(x, "x")?;
         let n = xs.len()?;
+        if let Some(dt) = crate::period::period(dt, time, n)? {
+            self.set_period(dt)?;
+        }
+        self.require_period()?;
         let mut ys = vec![0.0; n];
         // A strided array is copied once into order; a contiguous one is
         // copied chunk by chunk, small enough to stay in cache. Each chunk
@@ -320,8 +387,17 @@ impl Model {
         Ok(PyArray1::from_vec(py, ys))
     }
 
+    /// The sample period (s) a rate-dependent model runs at (`None` for a
+    /// rate-independent model, and for one whose spec leaves it out until
+    /// `run(x, dt=...)` or `with_dt` gives it).
+    #[getter]
+    fn dt(&self) -> Option<f64> {
+        self.period()
+    }
+
     /// One sample: `trial(x)` then `commit()`; returns the output.
     fn step(&mut self, py: Python<'_>, x: f64) -> PyResult<f64> {
+        self.require_period()?;
         let y = self.op.trial(x).map_err(|e| operator_error(py, e))?.output;
         self.op.commit();
         Ok(y)
@@ -330,6 +406,7 @@ impl Model {
     /// The output at input `x` from the committed state, without keeping
     /// it (a later `commit()` keeps the last trial).
     fn trial(&mut self, py: Python<'_>, x: f64) -> PyResult<f64> {
+        self.require_period()?;
         Ok(self.op.trial(x).map_err(|e| operator_error(py, e))?.output)
     }
 

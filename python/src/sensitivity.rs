@@ -32,10 +32,10 @@ pub fn sensitivity<'py>(
     if params.is_empty() {
         return Err(ParameterError::new_err(format!(
             "params: no parameter given (the model has: {})",
-            model.operator().param_names().join(", ")
+            model.names().join(", ")
         )));
     }
-    let all = model.operator().param_names();
+    let all = model.names();
     let full: Vec<String> = model
         .indices(&params)?
         .into_iter()

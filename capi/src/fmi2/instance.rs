@@ -140,7 +140,9 @@ impl Instance {
         Ok(())
     }
 
-    /// The output at input 0 from the initial state (nothing committed).
+    /// The output at input 0 from the initial state (nothing committed):
+    /// a sample with no change of input, so it does not depend on the
+    /// sample period (which a spec may leave to the step size).
     fn initial_output(&mut self) -> Result<f64, String> {
         let op = self.now.model.operator_mut();
         let y = op
@@ -181,7 +183,6 @@ impl Instance {
         let same = s.period.is_some_and(|p| (h - p).abs() <= SAME_PERIOD * p);
         if !same {
             s.model
-                .operator_mut()
                 .set_sample_period(h)
                 .map_err(|e| format!("fmi2DoStep at t = {t}: step size {h}: {e}"))?;
             s.period = Some(h);
@@ -270,7 +271,6 @@ impl Instance {
         for (k, &(x, h)) in self.now.history.iter().enumerate() {
             if period != Some(h) {
                 model
-                    .operator_mut()
                     .set_sample_period(h)
                     .map_err(|e| format!("replaying step {k} with the new parameters: {e}"))?;
                 period = Some(h);
