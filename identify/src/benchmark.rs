@@ -87,7 +87,8 @@ pub fn identify_boucwen_multistart(
         .iter()
         .map(|r| r.as_ref().ok().map(|id| id.report.cost))
         .collect();
-    let Some(summary) = summarize(costs) else {
+    let scale: f64 = y.iter().map(|v| 0.5 * v * v).sum();
+    let Some(summary) = summarize(costs, scale) else {
         return results.swap_remove(0);
     };
     let mut best = results.swap_remove(summary.best)?;

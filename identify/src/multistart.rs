@@ -28,8 +28,14 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 /// A start reached the best fit if its cost is within this fraction of the
-/// best cost.
+/// best cost (or within [`REACHED_FLOOR`] of it).
 pub const REACHED: f64 = 0.01;
+
+/// The absolute part of the reached test, relative to the data's own
+/// "cost" `½ Σ y²`: a start whose cost is below `1e-20 · ½ Σ y²` (a
+/// residual RMS of 1e-10 of the signal's, rounding) fits as well as a
+/// best cost of zero, which no fraction of zero can include.
+pub const REACHED_FLOOR: f64 = 1e-20;
 
 /// How many starts, how far apart, from which random seed.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -150,7 +156,12 @@ pub fn fit_multistart(
         .iter()
         .map(|f| f.as_ref().ok().map(|f| f.report.cost))
         .collect();
-    let Some(summary) = summarize(costs) else {
+    let scale: f64 = records
+        .iter()
+        .flat_map(|r| r.y.iter())
+        .map(|y| 0.5 * y * y)
+        .sum();
+    let Some(summary) = summarize(costs, scale) else {
         // every start failed: the first one's error
         return match fits.swap_remove(0) {
             Ok(fit) => Ok(fit),
@@ -163,9 +174,15 @@ pub fn fit_multistart(
 }
 
 /// The best of the starts' final costs (`None` for a start that failed)
-/// and how many reached it within [`REACHED`]; `None` if no start has a
-/// finite cost.
-pub(crate) fn summarize(costs: Vec<Option<f64>>) -> Option<StartsSummary> {
+/// and how many reached it within [`REACHED`] of it, or within
+/// [`REACHED_FLOOR`] `· scale` (`scale` is the data's `½ Σ y²`); `None` if
+/// no start has a finite cost.
+pub(crate) fn summarize(costs: Vec<Option<f64>>, scale: f64) -> Option<StartsSummary> {
+    let floor = if scale.is_finite() {
+        REACHED_FLOOR * scale.abs()
+    } else {
+        0.0
+    };
     let (best, best_cost) = costs
         .iter()
         .enumerate()
@@ -174,7 +191,7 @@ pub(crate) fn summarize(costs: Vec<Option<f64>>) -> Option<StartsSummary> {
     let reached = costs
         .iter()
         .flatten()
-        .filter(|&&c| c <= best_cost + REACHED * best_cost.abs())
+        .filter(|&&c| c <= best_cost + REACHED * best_cost.abs() + floor)
         .count();
     Some(StartsSummary {
         costs,
@@ -186,6 +203,19 @@ pub(crate) fn summarize(costs: Vec<Option<f64>>) -> Option<StartsSummary> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A best cost of zero: a start at 5.8e-30 (rounding) reached it, one
+    /// at 1e-3 did not; a positive best counts those within 1 %.
+    #[test]
+    fn zero_cost_starts_count_as_reached() {
+        let s = summarize(vec![Some(5.8e-30), Some(0.0), Some(1e-3), None], 2.0).unwrap();
+        assert_eq!((s.best, s.reached), (1, 2));
+        let s = summarize(vec![Some(1.0), Some(1.005), Some(1.02)], 2.0).unwrap();
+        assert_eq!((s.best, s.reached), (0, 2));
+        // with no scale, only the fraction of zero: the exact zero alone
+        let s = summarize(vec![Some(5.8e-30), Some(0.0)], 0.0).unwrap();
+        assert_eq!(s.reached, 1);
+    }
 
     #[test]
     fn starts_are_a_latin_hypercube_around_the_model() {

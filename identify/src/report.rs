@@ -85,7 +85,7 @@ impl fmt::Display for FitReport {
         if let Some(st) = &r.starts {
             writeln!(
                 f,
-                "starts       {} ({} reached the best cost within 1 %; the best was start {})",
+                "starts       {} ({} reached the best cost within 1 % or rounding; the best was start {})",
                 st.costs.len(),
                 st.reached,
                 st.best
