@@ -8,11 +8,13 @@
 //!   [`paper_experiments`](crate::models::experiments::paper_experiments),
 //!   columns `t,x,F,z,slider,friction,h`: time (s), input (deg), force
 //!   (Nm), spring deflection (deg), slider position (deg), friction force
-//!   (Nm), spring state `h`;
+//!   (Nm), spring state `h`; and `<name>-<part>.csv` for each part of an
+//!   experiment that joins several (`sines-0.05Hz.csv`, `sines-0.5Hz.csv`,
+//!   `sines-5Hz.csv`: one frequency's loops each);
 //! * `loops.svg`: force over input like the paper's Figure 3, left the
 //!   0.05, 0.5 and 5 Hz parts of the `sines` run, right the two 5 Hz runs
 //!   from the initial states I and II (with the 5 Hz part of `sines` in
-//!   grey), on the same axes;
+//!   grey), each panel on the scale of its own data;
 //! * `chirp.svg`: force and input over time for the chirp (Figure 10);
 //! * `stiffness.svg`: the stiffness map `S(|z|)` with its knots (Figure 8).
 //!
@@ -230,6 +232,18 @@ pub fn run(opts: &PaperOptions) -> Result<PaperReport, PaperError> {
         write_record(&path, r)?;
         files.push(path);
         runs.push(summarise(&e.name, &r.x, &r.force));
+        // Each part on its own too (`sines-0.5Hz.csv`: one frequency's
+        // loops, as `identify-paper --loop` takes them).
+        for part in e.parts.iter().filter(|_| e.parts.len() > 1) {
+            let label: String = part
+                .label
+                .chars()
+                .filter(|c| c.is_ascii_alphanumeric() || matches!(c, '.' | '_'))
+                .collect();
+            let path = opts.out.join(format!("{}-{label}.csv", e.name));
+            write_record(&path, &slice(r, part.range.clone()))?;
+            files.push(path);
+        }
     }
 
     let find = |name: &str| {
@@ -275,6 +289,18 @@ pub fn run(opts: &PaperOptions) -> Result<PaperReport, PaperError> {
     })
 }
 
+/// The samples `range` of a record (clamped to its length).
+fn slice(r: &Record, range: std::ops::Range<usize>) -> Record {
+    let n = r.t.len();
+    let range = range.start.min(n)..range.end.min(n);
+    Record {
+        t: r.t[range.clone()].to_vec(),
+        x: r.x[range.clone()].to_vec(),
+        force: r.force[range.clone()].to_vec(),
+        state: r.state.get(range).map(<[_]>::to_vec).unwrap_or_default(),
+    }
+}
+
 /// Writes a record as CSV with columns `t,x,F,z,slider,friction,h`.
 pub fn write_record(path: &Path, r: &Record) -> Result<(), CsvIoError> {
     let col = |g: fn(&crate::models::TransmissionState) -> f64| -> Vec<f64> {
@@ -306,6 +332,18 @@ fn loops_figure(
     one: (&Experiment, &Record),
     two: (&Experiment, &Record),
 ) -> Result<String, PaperError> {
+    plot::render(&loop_panels(ranges, sines, one, two), 1, 2, (1200, 540))
+        .map_err(|e| PaperError::Plot("loops.svg".into(), e))
+}
+
+/// The two panels of `loops.svg`: the sines' loops (left), and the 5 Hz
+/// runs from initial states I and II (right), each on its own scale.
+fn loop_panels(
+    ranges: &[Part],
+    sines: &Record,
+    one: (&Experiment, &Record),
+    two: (&Experiment, &Record),
+) -> [Panel; 2] {
     let mut left = Panel::new(
         "sines: 0.05, 0.5 and 5 Hz (Fig. 3)",
         "input x [deg]",
@@ -336,11 +374,11 @@ fn loops_figure(
             .with_style(Style::Band),
         );
     }
-    right.series.push(Series::line(
-        "initial state I",
-        points(&one.1.x, &one.1.force),
-        1,
-    ));
+    // Wide, under the thin line of state II, which ends on the same loop.
+    right.series.push(
+        Series::line("initial state I", points(&one.1.x, &one.1.force), 1)
+            .with_style(Style::ThickLine),
+    );
     right.series.push(Series::line(
         "initial state II",
         points(&two.1.x, &two.1.force),
@@ -357,19 +395,10 @@ fn loops_figure(
         })
         .collect();
     right.series.extend(starts);
-    // Same axes on both panels.
-    let b = [left.data_bounds(), right.data_bounds()]
-        .into_iter()
-        .flatten()
-        .reduce(|a, b| (a.0.min(b.0), a.1.max(b.1), a.2.min(b.2), a.3.max(b.3)))
-        .unwrap_or((-1.0, 1.0, -1.0, 1.0));
-    let (xr, yr) = (plot::padded(b.0, b.1), plot::padded(b.2, b.3));
-    for p in [&mut left, &mut right] {
-        p.x_range = Some(xr);
-        p.y_range = Some(yr);
-    }
-    plot::render(&[left, right], 1, 2, (1200, 540))
-        .map_err(|e| PaperError::Plot("loops.svg".into(), e))
+    // Each panel on its own scale (no fixed ranges: each fits its data):
+    // the 5 Hz loops are a small part of the major loop, and on its axes
+    // would fill a corner.
+    [left, right]
 }
 
 fn chirp_figure((e, r): (&Experiment, &Record)) -> Result<String, PaperError> {
@@ -422,6 +451,43 @@ fn stiffness_figure(params: &TransmissionParams) -> Result<String, PaperError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The right panel of loops.svg is drawn to the 5 Hz runs' own range,
+    /// far smaller than the major loop's (19 Nm against about 4 Nm).
+    #[test]
+    fn each_loop_panel_has_its_own_scale() {
+        let params = TransmissionParams::default();
+        let experiments = experiments::paper_experiments(&params).unwrap();
+        let run = |name: &str| {
+            let e = experiments.iter().find(|e| e.name == name).unwrap();
+            (e, experiments::simulate(&e.params, &e.signal).unwrap())
+        };
+        let (sines_e, sines) = run("sines");
+        let (one_e, one) = run("sine-5hz-I");
+        let (two_e, two) = run("sine-5hz-II");
+        let [left, right] = loop_panels(&sines_e.parts, &sines, (one_e, &one), (two_e, &two));
+        let span = |p: &Panel| {
+            let b = p.data_bounds().unwrap();
+            let (lo, hi) = p.y_range.unwrap_or_else(|| plot::padded(b.2, b.3));
+            hi - lo
+        };
+        let peak_5hz = one
+            .force
+            .iter()
+            .chain(&two.force)
+            .fold(0.0_f64, |m, f| m.max(f.abs()));
+        assert!(
+            span(&right) < 2.5 * peak_5hz * 1.1,
+            "{} vs {peak_5hz}",
+            span(&right)
+        );
+        assert!(
+            span(&right) < 0.5 * span(&left),
+            "{} vs {}",
+            span(&right),
+            span(&left)
+        );
+    }
 
     #[test]
     fn loop_width_of_a_known_loop() {

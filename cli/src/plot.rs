@@ -544,6 +544,8 @@ fn draw_panel(panel: &Panel, area: &DrawingArea<SVGBackend<'_>, Shift>) -> Resul
         .map_err(err)?;
     chart
         .configure_mesh()
+        .x_label_formatter(&tick_label)
+        .y_label_formatter(&tick_label)
         .x_desc(panel.x_label.as_str())
         .y_desc(panel.y_label.as_str())
         .light_line_style(WHITE.mix(0.0))
@@ -617,6 +619,18 @@ fn draw_panel(panel: &Panel, area: &DrawingArea<SVGBackend<'_>, Shift>) -> Resul
             .map_err(err)?;
     }
     Ok(())
+}
+
+/// An axis tick's label as plotters writes it, except that a zero is
+/// never `-0` or `-0.0`: a tick computed as a tiny negative number, or a
+/// negative zero, is labelled as zero.
+pub fn tick_label(v: &f64) -> String {
+    use plotters::coord::ranged1d::ValueFormatter;
+    let text = <plotters::coord::types::RangedCoordf64 as ValueFormatter<f64>>::format(v);
+    match text.strip_prefix('-') {
+        Some(rest) if rest.chars().all(|c| matches!(c, '0' | '.')) => rest.to_string(),
+        _ => text,
+    }
 }
 
 /// A panel of `y` over `x` (a hysteresis loop), one unlabelled line.
@@ -790,6 +804,26 @@ mod tests {
         );
         assert_eq!(kept.len(), 5);
         assert!(kept[2].0.is_nan());
+    }
+
+    #[test]
+    fn no_tick_is_labelled_minus_zero() {
+        for v in [-0.0, -1e-17, -4.0e-300] {
+            let label = tick_label(&v);
+            assert!(!label.starts_with('-'), "{v}: {label}");
+        }
+        assert_eq!(tick_label(&-0.5), "-0.5");
+        assert!(tick_label(&-2.0).starts_with("-2"), "{}", tick_label(&-2.0));
+        // in a drawn figure too: an axis from -1 to 1 has a tick at 0
+        let mut panel = Panel::new("t", "x", "y");
+        panel
+            .series
+            .push(Series::line("", vec![(-1.0, -1.0), (1.0, 1.0)], 0));
+        let svg = render(&[panel], 1, 1, (400, 300)).unwrap();
+        assert!(
+            !svg.contains(">-0<") && !svg.contains(">-0.0<"),
+            "a -0 label"
+        );
     }
 
     #[test]

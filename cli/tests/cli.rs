@@ -51,7 +51,19 @@ fn paper_writes_csvs_figures_and_summary() {
     for fig in ["loops.svg", "chirp.svg", "stiffness.svg"] {
         assert_svg(&out.join(fig));
     }
-    assert_eq!(fs::read_dir(&out).unwrap().count(), 7);
+    // Each part of the `sines` run on its own: its rows of `sines.csv`.
+    let sines = exps.iter().find(|e| e.name == "sines").unwrap();
+    let (_, all) = read_csv(&out.join("sines.csv"));
+    for (part, file) in sines
+        .parts
+        .iter()
+        .zip(["sines-0.05Hz.csv", "sines-0.5Hz.csv", "sines-5Hz.csv"])
+    {
+        let (headers, rows) = read_csv(&out.join(file));
+        assert_eq!(headers, ["t", "x", "F", "z", "slider", "friction", "h"]);
+        assert_eq!(rows, all[part.range.clone()], "{file}");
+    }
+    assert_eq!(fs::read_dir(&out).unwrap().count(), 10);
     assert_no_temp_files(&out);
 
     // The loops figure has the three frequencies and both initial states.
