@@ -10,7 +10,7 @@ import subprocess
 
 # The number of `ok` lines capi/checks/c/contract.c prints when every check
 # passes (update it with the checks).
-CONTRACT_CHECKS = 62
+CONTRACT_CHECKS = 68
 
 NUMBER = r"([0-9.eE+-]+)"
 

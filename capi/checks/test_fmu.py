@@ -107,6 +107,23 @@ def test_rate_dependent_model_takes_the_step_as_its_period(cli, root, tmp_path) 
     assert err <= 1e-5, err
 
 
+def test_a_spec_without_dt_takes_the_period_from_the_step(cli, root, tmp_path) -> None:
+    """The benchmark's spec with its dt left out: an FMU of it runs at the
+    host's step size, exactly as the spec with that dt written in."""
+    import json
+
+    spec = json.loads((root / "examples" / "specs" / "boucwen-benchmark.json").read_text())
+    del spec["inner"]["forward"]["dt"]
+    path = tmp_path / "no-dt.json"
+    path.write_text(json.dumps(spec))
+    fmu = export(cli, path, tmp_path / "no-dt.fmu")
+    assert validate_fmu(str(fmu)) == []
+    u, _ = benchmark_input(root, 1)
+    got = fmpy_simulate(fmu, u[:3000], H)
+    want = cli_simulate(cli, root / "examples" / "specs" / "boucwen-benchmark.json", u[:3000], tmp_path, "--dt", repr(H))
+    assert np.array_equal(got, want), np.max(np.abs(got - want))
+
+
 class Slave:
     """An instance driven by hand through FMPy's FMU2Slave."""
 

@@ -1,4 +1,4 @@
-//! `hysteron bench`: the kernel table of the performance issue, timed on
+//! `hysteron bench`: the table of performance kernels, timed on
 //! its defined input, one line per kernel in a format that reads side by
 //! side with other implementations:
 //!

@@ -6,7 +6,9 @@
 //!   --output OUT.csv [--plot LOOP.svg] [--dt SECONDS | --time-column t]`:
 //!   runs a model spec over one column of a CSV file (see
 //!   [`hysteron_cli::simulate`]); `--dt` or a uniformly spaced time column sets
-//!   the sample period of the spec's rate-dependent nodes;
+//!   the sample period of the spec's rate-dependent nodes, which otherwise
+//!   is the spec's own and must agree with a column named `t` or `time`
+//!   (see [`hysteron_cli::period`]);
 //! * `hysteron sensitivity --model SPEC.json --input IN.csv [--column x]
 //!   --params a,b --output OUT.csv [--dt SECONDS | --time-column t]`: runs a
 //!   model spec over one column of a CSV file and writes the output with
@@ -24,7 +26,7 @@
 //!   [`hysteron_cli::validate`]);
 //! * `hysteron analyze --model SPEC.json --amplitudes A1,A2,...
 //!   [--samples-per-period N] [--settle-periods P] [--steady-tol TOL]
-//!   [--dt SECONDS] [--output OUT.csv]`: the describing function and the
+//!   [--dt SECONDS] [--precision DIGITS] [--output OUT.csv]`: the describing function and the
 //!   work per loop of a model spec driven by sines (see
 //!   [`hysteron_cli::analyze`]);
 //! * `hysteron identify-paper --loop LOOP.csv --chirp CHIRP.csv --output
@@ -36,7 +38,7 @@
 //!   co-simulation FMU (see [`hysteron_cli::export_fmu`]).
 //!
 //! * `hysteron bench [--samples N] [--runs R] [--kernel NAME]`: times the
-//!   kernel table of the performance issue (see [`hysteron_cli::bench`]).
+//!   the performance kernels (see [`hysteron_cli::bench`]).
 //!
 //! Exit codes: 0 on success (and for `--help`, `--version`); 1 for every
 //! error, bad input of any kind: a job's errors are one line on stderr

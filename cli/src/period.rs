@@ -133,7 +133,7 @@ pub enum PeriodError {
         /// The column.
         column: String,
         /// What is wrong with it.
-        source: CsvIoError,
+        source: Box<CsvIoError>,
     },
     /// The spec's period and the data's time column disagree.
     #[error(
@@ -186,7 +186,7 @@ pub fn resolve(spec: &Spec, source: &DtSource, data: &Path) -> Result<Option<Per
     let step = csvio::read_time_step(data, &column).map_err(|source| match source {
         e @ CsvIoError::NotUniform { .. } => PeriodError::FoundNotUniform {
             column: column.clone(),
-            source: e,
+            source: Box::new(e),
         },
         e => PeriodError::Data(e),
     })?;

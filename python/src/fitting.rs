@@ -193,7 +193,8 @@ impl FitResult {
 
     /// With `starts > 1`: a dict of `costs` (every start's final cost, in
     /// start order, `None` for a start that failed), `best` (the start
-    /// kept) and `reached` (starts within 1 % of the best cost); else
+    /// kept) and `reached` (starts within 1 % of the best cost, or within
+    /// 1e-20 · ½Σy² of it, rounding: so a best cost of 0 counts too); else
     /// `None`.
     #[getter]
     fn starts<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {

@@ -50,7 +50,7 @@ fn time_step(t: &[f64], n: usize) -> PyResult<f64> {
     }
     for (i, w) in t.windows(2).enumerate() {
         let step = w[1] - w[0];
-        if !((step - first).abs() <= TIME_STEP_REL_TOL * first) {
+        if !step.is_finite() || (step - first).abs() > TIME_STEP_REL_TOL * first {
             return Err(InputError::new_err(format!(
                 "time[{}]: the step {step} (from {} to {}) differs from the first step {first} \
                  by more than {TIME_STEP_REL_TOL} relative: time must be uniformly spaced",

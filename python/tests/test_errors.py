@@ -70,7 +70,7 @@ def test_step_and_trial_reject_non_finite() -> None:
 
 
 def test_spec_errors_name_the_path() -> None:
-    with pytest.raises(hy.SpecError, match=r"^\.: missing field `r`"):
+    with pytest.raises(hy.SpecError, match=r"^play: missing field `r`"):
         hy.Model.from_spec({"type": "play"})
     with pytest.raises(hy.SpecError, match="unknown"):
         hy.Model.from_spec({"type": "nope"})

@@ -368,7 +368,29 @@ int main(int argc, char **argv)
     must(hysteron_reset(m), "reset");
     must(hysteron_set_sample_period(m, 1e-3), "set_sample_period");
     report(continues(m, xs, ref, 0), "the rate-independent paper model ignores a valid dt");
+    double period = -1.0;
+    must(hysteron_sample_period(m, &period), "sample_period");
+    report(period == 0.0, "a rate-independent model's sample period is 0");
     hysteron_model_free(m);
+
+    /* A spec may leave a rate-dependent node's period to the host: every
+     * run is refused, naming the node, until the host gives it. */
+    HysteronModel *damper = NULL;
+    must(hysteron_model_from_json("{\"type\": \"viscous_damper\", \"c\": 2}", &damper),
+         "a viscous damper without dt");
+    double force = 0.0;
+    expect_error(hysteron_step(damper, 0.1, &force), HYSTERON_STATUS_SPEC, "viscous_damper.dt",
+                 "step without a period is SPEC naming the node");
+    expect_error(hysteron_process(damper, xs, ys, N), HYSTERON_STATUS_SPEC, "viscous_damper.dt",
+                 "process without a period is SPEC naming the node");
+    expect_error(hysteron_sample_period(damper, &period), HYSTERON_STATUS_SPEC,
+                 "sample period is not given", "sample_period without one is SPEC");
+    must(hysteron_set_sample_period(damper, 0.5), "the host gives the period");
+    must(hysteron_sample_period(damper, &period), "sample_period");
+    report(period == 0.5, "the period given is the period reported");
+    must(hysteron_step(damper, 0.1, &force), "step at the given period");
+    report(force == 2.0 * 0.1 / 0.5, "F = c dx/dt at the given period");
+    hysteron_model_free(damper);
 
     /* --- NULL model --------------------------------------------------- */
     HysteronModel *none = NULL;
