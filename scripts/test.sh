@@ -39,14 +39,14 @@ done
 echo "== the derivative property test at 10x its default cases"
 PROPTEST_CASES=2560 cargo test -q -p hysteron --test derivatives random_compositions
 
-echo "== Python: install hysteron-rs into target/py-venv"
+echo "== Python: install hysteron-rs into target/py-venv, and FMPy (an independent FMI 2.0 host)"
 python3 -m venv target/py-venv
 venv=target/py-venv/bin
 "$venv/python" -m pip install -q --upgrade pip
-"$venv/python" -m pip install -q "./python[test]"
+"$venv/python" -m pip install -q "./python[test]" "fmpy>=0.3.20,<0.4"
 
-echo "== Python: the CLI the bit-identity tests compare with, and libhysteron_c.so"
-cargo build --release -q -p hysteron-cli -p hysteron-c
+echo "== the release build README's commands use: the CLI (which the bit-identity tests compare with) and libhysteron_c.so"
+cargo build --release -q
 export HYSTERON_BIN="$PWD/target/release/hysteron"
 
 echo "== Python: stubtest"
@@ -55,11 +55,10 @@ echo "== Python: stubtest"
 echo "== Python: mypy on the package, the examples and the benchmark"
 "$venv/python" -m mypy python/hysteron_rs examples/python python/bench
 
-echo "== Python: pytest"
+echo "== Python: pytest (with every shell and Python block of README.md, run as written)"
 "$venv/python" -m pytest -q python/tests
 
-echo "== C and FMI: FMPy (an independent FMI 2.0 host) and the system's cc"
-"$venv/python" -m pip install -q "fmpy>=0.3.20,<0.4"
+echo "== C and FMI: FMPy and the system's cc"
 "$venv/python" -m pytest -q capi/checks
 
 echo "== fuzz smoke: each cargo-fuzz target (fuzz/) for up to 30 s on its committed corpus"

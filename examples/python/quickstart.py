@@ -8,8 +8,8 @@ by running the model with known parameters on a decaying sine and adding
 parameters are then fitted from a deliberately wrong start, and the
 measured and fitted force-displacement loops are plotted.
 
-Run from the repository root after ``pip install ./python`` (matplotlib is
-needed for the plot)::
+Run from the repository root after ``pip install "./python[examples]"``
+(the ``examples`` extra brings matplotlib, which the plot needs)::
 
     python examples/python/quickstart.py [--output quickstart.png]
 """
