@@ -208,6 +208,21 @@ pub fn resolve(spec: &Spec, source: &DtSource, data: &Path) -> Result<Option<Per
     }
 }
 
+/// The spec as it runs over the record at `data` ([`resolve`], then
+/// [`Period::apply`]), and the period to report: `None` for a
+/// rate-independent model, which ignores it.
+pub fn for_record(
+    spec: &Spec,
+    source: &DtSource,
+    data: &Path,
+) -> Result<(Spec, Option<Period>), PeriodError> {
+    let period = resolve(spec, source, data)?;
+    let run = period
+        .as_ref()
+        .map_or_else(|| spec.clone(), |p| p.apply(spec));
+    Ok((run, period.filter(|_| spec.is_rate_dependent())))
+}
+
 /// The header of the record's time column found by its name
 /// ([`TIME_COLUMNS`]), if it has one.
 fn found_time_column(data: &Path) -> Result<Option<String>, CsvIoError> {

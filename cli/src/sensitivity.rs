@@ -171,6 +171,16 @@ pub fn derivative_column(output: &str, param: &str) -> String {
     format!("d{output}/d{param}")
 }
 
+impl SensitivityCmdError {
+    /// A period error: one reading the data is an input error.
+    fn period(e: PeriodError) -> Self {
+        match e {
+            PeriodError::Data(e) => SensitivityCmdError::Input(e),
+            e => SensitivityCmdError::Period(e),
+        }
+    }
+}
+
 /// Runs the job; see the module docs.
 pub fn run(opts: &SensitivityOptions) -> Result<SensitivityReport, SensitivityCmdError> {
     let inputs = [
@@ -183,13 +193,9 @@ pub fn run(opts: &SensitivityOptions) -> Result<SensitivityReport, SensitivityCm
     let spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
     // The spec's own errors first (a period it leaves out is a stand-in here).
     spec.or_dt(1.0).build().map_err(model_err)?;
-    let period = period::resolve(&spec, &opts.dt, &opts.input).map_err(|e| match e {
-        PeriodError::Data(e) => SensitivityCmdError::Input(e),
-        e => SensitivityCmdError::Period(e),
-    })?;
-    let spec = period.as_ref().map_or(spec.clone(), |p| p.apply(&spec));
+    let (spec, period) =
+        period::for_record(&spec, &opts.dt, &opts.input).map_err(SensitivityCmdError::period)?;
     let model = spec.build().map_err(model_err)?;
-    let period = period.filter(|_| spec.is_rate_dependent());
     let params = full_names(opts, model.as_ref())?;
 
     let mut reader = csvio::CsvReader::open(&opts.input).map_err(SensitivityCmdError::Input)?;

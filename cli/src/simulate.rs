@@ -116,6 +116,16 @@ impl fmt::Display for SimulateReport {
 /// Rows read, run and written at a time.
 pub const CHUNK: usize = 8192;
 
+impl SimulateError {
+    /// A period error: one reading the data is an input error.
+    fn period(e: PeriodError) -> Self {
+        match e {
+            PeriodError::Data(e) => SimulateError::Input(e),
+            e => SimulateError::Period(e),
+        }
+    }
+}
+
 /// Runs the model over the input; see the module docs.
 pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
     let inputs = [
@@ -133,13 +143,9 @@ pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
     let spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
     // The spec's own errors first (a period it leaves out is a stand-in here).
     spec.or_dt(1.0).build().map_err(model_err)?;
-    let period = period::resolve(&spec, &opts.dt, &opts.input).map_err(|e| match e {
-        PeriodError::Data(e) => SimulateError::Input(e),
-        e => SimulateError::Period(e),
-    })?;
-    let spec = period.as_ref().map_or(spec.clone(), |p| p.apply(&spec));
+    let (spec, period) =
+        period::for_record(&spec, &opts.dt, &opts.input).map_err(SimulateError::period)?;
     let mut model = spec.build().map_err(model_err)?;
-    let period = period.filter(|_| spec.is_rate_dependent());
 
     let mut reader = csvio::CsvReader::open(&opts.input).map_err(SimulateError::Input)?;
     let index = reader.column(&opts.column).map_err(SimulateError::Input)?;

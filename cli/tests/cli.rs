@@ -54,10 +54,11 @@ fn paper_writes_csvs_figures_and_summary() {
     // Each part of the `sines` run on its own: its rows of `sines.csv`.
     let sines = exps.iter().find(|e| e.name == "sines").unwrap();
     let (_, all) = read_csv(&out.join("sines.csv"));
-    for (part, file) in sines
-        .parts
-        .iter()
-        .zip(["sines-0.05Hz.csv", "sines-0.5Hz.csv", "sines-5Hz.csv"])
+    for (part, file) in
+        sines
+            .parts
+            .iter()
+            .zip(["sines-0.05Hz.csv", "sines-0.5Hz.csv", "sines-5Hz.csv"])
     {
         let (headers, rows) = read_csv(&out.join(file));
         assert_eq!(headers, ["t", "x", "F", "z", "slider", "friction", "h"]);

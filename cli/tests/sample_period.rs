@@ -50,6 +50,16 @@ fn fitted_f_c(path: &Path) -> f64 {
     spec.to_value()["f_c"].as_f64().unwrap()
 }
 
+/// Runs `hysteron` with the words of `line` in `dir`, which must succeed;
+/// its stdout.
+fn ok(dir: &Path, line: &str) -> String {
+    let out = hysteron(dir)
+        .args(line.split_whitespace())
+        .assert()
+        .success();
+    stdout_of(&out)
+}
+
 fn fit(dir: &Path, model: &str, extra: &[&str]) -> assert_cmd::Command {
     let mut cmd = hysteron(dir);
     cmd.args([
@@ -128,59 +138,17 @@ fn a_spec_without_dt_takes_the_data_period() {
     );
 
     // simulate and sensitivity, the same
-    let out = hysteron(tmp.path())
-        .args([
-            "simulate",
-            "--model",
-            "start.json",
-            "--input",
-            "lu.csv",
-            "--column",
-            "x",
-            "--output-column",
-            "model",
-            "--output",
-            "sim.csv",
-        ])
-        .assert()
-        .success();
-    assert!(stdout_of(&out).contains("at a sample period of 0.001 s (the data's time column `t`)"));
-    let out = hysteron(tmp.path())
-        .args([
-            "sensitivity",
-            "--model",
-            "start.json",
-            "--input",
-            "lu.csv",
-            "--column",
-            "x",
-            "--params",
-            "f_c",
-            "--output-column",
-            "model",
-            "--output",
-            "dydp.csv",
-        ])
-        .assert()
-        .success();
-    assert!(stdout_of(&out).contains("at a sample period of 0.001 s (the data's time column `t`)"));
+    let said = "at a sample period of 0.001 s (the data's time column `t`)";
+    let run = "--model start.json --input lu.csv --column x --output-column model";
+    assert!(ok(tmp.path(), &format!("simulate {run} --output sim.csv")).contains(said));
+    let line = format!("sensitivity {run} --params f_c --output dydp.csv");
+    assert!(ok(tmp.path(), &line).contains(said));
 
     // validate: the fitted spec's own dt, which the column agrees with
-    let out = hysteron(tmp.path())
-        .args([
-            "validate",
-            "--model",
-            "fitted.json",
-            "--data",
-            "lu.csv",
-            "--input-column",
-            "x",
-            "--output-column",
-            "y",
-        ])
-        .assert()
-        .success();
-    let report = stdout_of(&out);
+    let report = ok(
+        tmp.path(),
+        "validate --model fitted.json --data lu.csv --input-column x --output-column y",
+    );
     assert!(
         report
             .contains("sample period: 0.001 s (the spec's dt; the data's time column `t` agrees)"),
@@ -227,41 +195,16 @@ fn a_rate_independent_model_says_nothing_of_the_period() {
         r#"{"type": "gain", "k": 0.5}"#,
     )
     .unwrap();
-    let out = hysteron(tmp.path())
-        .args([
-            "simulate",
-            "--model",
-            "gain.json",
-            "--input",
-            "lu.csv",
-            "--column",
-            "x",
-            "--output-column",
-            "model",
-            "--output",
-            "sim.csv",
-        ])
-        .assert()
-        .success();
-    assert!(!stdout_of(&out).contains("period"));
-    let out = hysteron(tmp.path())
-        .args([
-            "fit",
-            "--model",
-            "gain.json",
-            "--data",
-            "lu.csv",
-            "--free",
-            "k",
-            "--output",
-            "g.json",
-            "--no-progress",
-            "--dt",
-            "0.5",
-        ])
-        .assert()
-        .success();
-    assert!(!stdout_of(&out).contains("sample period"));
+    let simulated = ok(
+        tmp.path(),
+        "simulate --model gain.json --input lu.csv --column x --output-column model --output sim.csv",
+    );
+    assert!(!simulated.contains("period"), "{simulated}");
+    let fitted = ok(
+        tmp.path(),
+        "fit --model gain.json --data lu.csv --free k --output g.json --no-progress --dt 0.5",
+    );
+    assert!(!fitted.contains("sample period"), "{fitted}");
 }
 
 /// `--dt`'s help lists exactly the registry's rate-dependent operators.
@@ -277,11 +220,7 @@ fn dt_help_lists_the_rate_dependent_kinds() {
         "{kinds:?}"
     );
     for command in ["simulate", "fit", "validate", "sensitivity", "analyze"] {
-        let out = hysteron(Path::new("."))
-            .args([command, "--help"])
-            .assert()
-            .success();
-        let help = stdout_of(&out);
+        let help = ok(Path::new("."), &format!("{command} --help"));
         assert!(
             help.contains(&format!("({};", kinds.join(", "))),
             "{command}: {help}"
