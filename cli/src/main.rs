@@ -37,6 +37,9 @@
 //!   NAME] [--library libhysteron_c.so]`: the spec as an FMI 2.0
 //!   co-simulation FMU (see [`hysteron_cli::export_fmu`]).
 //!
+//! * `hysteron operators`: lists every operator a spec can name, with its
+//!   equation and parameters (see [`hysteron_cli::models::spec::reference`]).
+//!
 //! * `hysteron bench [--samples N] [--runs R] [--kernel NAME]`: times the
 //!   the performance kernels (see [`hysteron_cli::bench`]).
 //!
@@ -451,6 +454,10 @@ enum Command {
         #[arg(long, value_name = "libhysteron_c.so")]
         library: Option<PathBuf>,
     },
+    /// List every operator a spec can name: its spec type, equation, and
+    /// each parameter with its domain, default and documentation; then the
+    /// combinators.
+    Operators,
     /// Time the operator kernels (play, 64-play PI, Bouc-Wen n = 1 and
     /// 1.5, MMS, the paper's model static and boxed from JSON, rayon
     /// batches on 1 and 2 threads) on the input
@@ -689,6 +696,10 @@ fn main() -> ExitCode {
             None
         })
         .map_err(|e| e.to_string()),
+        Command::Operators => {
+            print!("{}", hysteron_cli::models::spec::reference::listing());
+            Ok(None)
+        }
         Command::Bench {
             samples,
             runs,

@@ -26,6 +26,27 @@ pub enum Domain {
     UnitInterval,
 }
 
+/// The domain as a constraint on its value: `≥ 0`, `> 0`, `∈ [0, 1]`,
+/// `real` (any finite value).
+///
+/// ```
+/// use hysteron_operators::Domain;
+/// assert_eq!(Domain::NonNegative.to_string(), "≥ 0");
+/// assert_eq!(Domain::AtLeast(1.0).to_string(), "≥ 1");
+/// ```
+impl std::fmt::Display for Domain {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Domain::Real => write!(f, "real"),
+            Domain::NonNegative => write!(f, "≥ 0"),
+            Domain::Positive => write!(f, "> 0"),
+            Domain::NonPositive => write!(f, "≤ 0"),
+            Domain::AtLeast(a) => write!(f, "≥ {a}"),
+            Domain::UnitInterval => write!(f, "∈ [0, 1]"),
+        }
+    }
+}
+
 impl Domain {
     /// Whether `v` lies in the domain (finite values only).
     pub fn contains(&self, v: f64) -> bool {

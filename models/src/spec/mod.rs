@@ -31,6 +31,7 @@ mod build;
 mod json;
 mod model;
 mod params;
+pub mod reference;
 pub mod registry;
 #[cfg(test)]
 mod tests;
@@ -54,6 +55,83 @@ pub const COMBINATORS: &[&str] = &[
     "oversample",
     "transmission",
 ];
+
+/// What each of [`COMBINATORS`] does, for the generated reference: its
+/// spec `type`, how Rust builds it, its law and whether it is solved per
+/// sample.
+pub const COMBINATOR_LAWS: &[Combinator] = &[
+    Combinator {
+        kind: "cascade",
+        rust: "a.then(b)",
+        law: "y = B[A[x]]",
+        fields: "first, second",
+        implicit: false,
+    },
+    Combinator {
+        kind: "parallel",
+        rust: "a.plus(b)",
+        law: "y = A[x] + B[x]",
+        fields: "left, right",
+        implicit: false,
+    },
+    Combinator {
+        kind: "scaled",
+        rust: "a.scaled(w)",
+        law: "y = w A[x]",
+        fields: "w (a parameter), inner",
+        implicit: false,
+    },
+    Combinator {
+        kind: "feedback",
+        rust: "a.feedback(b)",
+        law: "y = A[x − B[y]]",
+        fields: "forward, back, solver",
+        implicit: true,
+    },
+    Combinator {
+        kind: "series",
+        rust: "a.series(b)",
+        law: "F = L[x_L] = R[x_R], x = x_L + x_R, optional travel limits on L",
+        fields: "left, right, limits (none, range lo hi, gap b r0), solver",
+        implicit: true,
+    },
+    Combinator {
+        kind: "inverse",
+        rust: "a.inverse()",
+        law: "u = A⁻¹[x] for a non-decreasing A",
+        fields: "inner, solver",
+        implicit: true,
+    },
+    Combinator {
+        kind: "oversample",
+        rust: "Oversample::new(a, q)",
+        law: "A run at q sub-steps per sample, the input linear in between; rate-dependent nodes at dt/q",
+        fields: "inner, q",
+        implicit: false,
+    },
+    Combinator {
+        kind: "transmission",
+        rust: "TransmissionParams::build",
+        law: "the paper's model: mms in a gap, in series with bouc_wen",
+        fields: "backlash, slider0, friction, spring",
+        implicit: true,
+    },
+];
+
+/// One of [`COMBINATOR_LAWS`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Combinator {
+    /// The spec `type`.
+    pub kind: &'static str,
+    /// How Rust code builds it.
+    pub rust: &'static str,
+    /// The law it implements.
+    pub law: &'static str,
+    /// Its spec fields.
+    pub fields: &'static str,
+    /// Whether it solves an equation every sample.
+    pub implicit: bool,
+}
 
 /// The most nodes a spec may have on one path from its root to a leaf.
 ///

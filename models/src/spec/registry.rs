@@ -45,12 +45,28 @@ pub(crate) fn all_kinds() -> &'static [&'static str] {
     &KINDS
 }
 
+/// What a leaf's spec means when it leaves a field out.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Omitted {
+    /// It may not: the field is required.
+    Required,
+    /// The field takes this value (canonical JSON).
+    Default(Value),
+    /// The sample period `dt` of a rate-dependent leaf: it then comes from
+    /// the data or the host ([`Spec::missing_period`](super::Spec::missing_period)).
+    FromData,
+}
+
 /// A leaf operator as the spec layer sees it: parameters as canonical JSON
 /// values (the declared struct's serde form), and everything else through
 /// the operator's declaration.
 pub trait LeafKind: Sync {
     /// The spec `type` (= [`Operator::name`]).
     fn kind(&self) -> &'static str;
+    /// The Rust type's name, without its path and scalar (`"BoucWen"`).
+    fn type_name(&self) -> &'static str;
+    /// The crate that defines the Rust type (`"hysteron_operators"`).
+    fn crate_name(&self) -> &'static str;
     /// The equation it implements ([`Leaf::EQUATION`]).
     fn equation(&self) -> &'static str;
     /// The declared fields.
@@ -88,6 +104,51 @@ pub trait LeafKind: Sync {
             .iter()
             .any(|f| f.name == "dt" && f.kind == FieldKind::Fixed)
     }
+    /// What the spec means when it leaves `field` out: read from the
+    /// declaration's example without the field.
+    fn omitted(&self, field: &str) -> Omitted {
+        if field == "dt" && self.is_rate_dependent() {
+            return Omitted::FromData;
+        }
+        let mut example = self.example();
+        if let Some(m) = example.as_object_mut() {
+            m.remove(field);
+        }
+        match self.canonical(example) {
+            Ok(v) => v
+                .get(field)
+                .cloned()
+                .map_or(Omitted::Required, Omitted::Default),
+            Err(_) => Omitted::Required,
+        }
+    }
+    /// Whether `field` may also be written as a bare number (a constant
+    /// stiffness map), read from the declaration's example.
+    fn takes_a_number(&self, field: &str) -> bool {
+        let mut example = self.example();
+        match example.as_object_mut() {
+            Some(m) if m.contains_key(field) => {
+                m.insert(field.into(), Value::from(1.0));
+                self.canonical(example).is_ok()
+            }
+            _ => false,
+        }
+    }
+}
+
+/// The last segment of a Rust path, without generics:
+/// `hysteron_operators::bouc_wen::BoucWen<f64>` → `BoucWen`. A leaf
+/// written as a step law, `Stepped<PlayParams<f64>, f64>`, is named by its
+/// alias, its parameters' name without `Params`: `Play`.
+fn short_type_name(full: &'static str) -> &'static str {
+    let last = |path: &'static str| path.rsplit("::").next().unwrap_or(path);
+    let (outer, generics) = full.split_once('<').unwrap_or((full, ""));
+    if last(outer) == "Stepped" {
+        let params = generics.split([',', '<']).next().unwrap_or(generics);
+        let name = last(params.trim());
+        return name.strip_suffix("Params").unwrap_or(name);
+    }
+    last(outer)
 }
 
 /// A [`Leaf`] type in the registry.
@@ -122,6 +183,15 @@ where
 {
     fn kind(&self) -> &'static str {
         L::KIND
+    }
+
+    fn type_name(&self) -> &'static str {
+        short_type_name(std::any::type_name::<L>())
+    }
+
+    fn crate_name(&self) -> &'static str {
+        let full = std::any::type_name::<L>();
+        full.split("::").next().unwrap_or(full)
     }
 
     fn equation(&self) -> &'static str {
