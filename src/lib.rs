@@ -3,14 +3,38 @@
 //! Hysteresis operators and their algebra, in Rust. This facade re-exports
 //! the workspace crates:
 //!
-//! * [`operators`]: the [`Operator`] trait, errors and
-//!   the elementary operators (play, stop, elastoplastic, dead-zone,
-//!   saturation, gain, Modified Maxwell-slip friction, Bouc-Wen spring,
-//!   Preisach model);
-//! * [`composition`]: combinators (cascade, parallel, scaled, PI bank,
-//!   feedback, mechanical series, inverse) and their solver;
-//! * [`models`]: composed models;
-//! * [`identify`]: parameter identification (Levenberg-Marquardt).
+//! * [`operators`]: the [`Operator`] trait, errors and the elementary
+//!   operators;
+//! * [`composition`]: the combinators and their solver;
+//! * [`models`]: model specs ([`Spec`](models::Spec): a model as JSON,
+//!   built into an operator), the paper's transmission model, describing
+//!   functions and loop energy, exact sensitivities;
+//! * [`identify`]: parameter identification (Levenberg-Marquardt with
+//!   exact Jacobians from forward-mode derivatives, multi-start,
+//!   validation metrics) and the paper's two-stage identification.
+//!
+//! What a spec can name, by its `type` (`hysteron operators` lists each
+//! with its equation and parameters):
+//!
+//! <!-- BEGIN generated: spec types (scripts/generate.sh) -->
+//! * Leaves: [`play`](operators::Play), [`stop`](operators::Stop),
+//!   [`elastoplastic`](operators::ElastoPlastic),
+//!   [`dead_zone`](operators::DeadZone),
+//!   [`saturation`](operators::Saturation), [`gain`](operators::Gain),
+//!   [`mms`](operators::Mms), [`bouc_wen`](operators::BoucWen),
+//!   [`preisach`](operators::Preisach),
+//!   [`mass_spring_damper`](operators::MassSpringDamper),
+//!   [`viscous_damper`](operators::ViscousDamper),
+//!   [`maxwell_slip`](operators::MaxwellSlip), [`dahl`](operators::Dahl),
+//!   [`lugre`](operators::LuGre), [`gms`](operators::Gms),
+//!   [`offset`](operators::Offset),
+//!   [`asymmetric_friction`](operators::AsymmetricFriction),
+//!   [`backlash_contact`](operators::BacklashContact),
+//!   [`pi_bank`](composition::PiBank),
+//!   [`pi_inverse`](composition::PiInverse).
+//! * Combinators: `cascade`, `parallel`, `scaled`, `feedback`, `series`,
+//!   `inverse`, `oversample`, `transmission`.
+//! <!-- END generated: spec types -->
 //!
 //! ```
 //! use hysteron::prelude::*;
@@ -29,6 +53,23 @@
 //! assert_eq!(f.len(), 200);
 //! # Ok::<(), hysteron::Error>(())
 //! ```
+//!
+//! The same kind of model as a spec, as the command line, Python and C
+//! read it:
+//!
+//! ```
+//! use hysteron::models::Spec;
+//! let spec = Spec::from_json(r#"{"type": "cascade",
+//!     "first": {"type": "play", "r": 0.05},
+//!     "second": {"type": "series",
+//!         "left": {"type": "mms", "f_c": 2, "k": 30},
+//!         "right": {"type": "bouc_wen", "w": 0.5, "alpha": 1, "beta": 0.6,
+//!                   "gamma": 0.4, "n": 1, "stiffness": 10}}}"#)?;
+//! let mut model = spec.build()?;
+//! let x: Vec<f64> = (0..200).map(|i| (i as f64 * 0.05).sin()).collect();
+//! assert_eq!(model.run(&x)?.len(), 200);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 pub use hysteron_composition as composition;
 pub use hysteron_identify as identify;
@@ -37,18 +78,28 @@ pub use hysteron_operators as operators;
 
 pub use hysteron_operators::{Error, Float, Operator, Result, Trial};
 
-/// Everything needed to build and run models.
+/// Everything needed to build and run models: every leaf operator (from
+/// the list that registers them, so a new leaf is here with no edit), the
+/// combinators, and the spec.
 pub mod prelude {
     pub use hysteron_composition::{
         Cascade, Feedback, Inverse, MechanicalSeries, OperatorExt, Oversample, Parallel, PiBank,
         PiInverse, Scaled, SolverOptions, TravelLimits,
     };
+    pub use hysteron_models::Spec;
     pub use hysteron_operators::{
-        BoucWen, BoucWenParams, Dahl, DahlParams, DeadZone, ElastoPlastic, Error, Float, Gain, Gms,
-        GmsParams, LuGre, LuGreParams, MassSpringDamper, MaxwellSlip, MaxwellSlipParams, Mms,
-        MmsParams, Operator, Play, PlayParams, Preisach, PreisachMeasure, PreisachParams,
-        PreisachStart, Result, Saturation, StateSolver, StiffnessMap, Stop, Trial, ViscousDamper,
+        BoucWenParams, DahlParams, Error, Float, GmsParams, LuGreParams, MaxwellSlipParams,
+        MmsParams, Operator, PlayParams, PreisachMeasure, PreisachParams, PreisachStart, Result,
+        StateSolver, StiffnessMap, Trial,
     };
+
+    /// Re-exports every leaf type `for_each_leaf!` names.
+    macro_rules! every_leaf {
+        ($($leaf:ident),*) => {
+            pub use hysteron_operators::{$($leaf),*};
+        };
+    }
+    hysteron_operators::for_each_leaf!(every_leaf);
 }
 
 /// The README's API tour, compiled and run as a doctest.

@@ -1562,18 +1562,3 @@ fn a_series_gap_ties_its_spring_to_rest() {
     .unwrap();
     assert!(range.tied_params().is_empty());
 }
-
-/// README's operator and combinator tables have a row for every leaf of
-/// the registry and every combinator a spec can name, by its spec `type`.
-#[test]
-fn readme_tables_list_every_leaf_and_combinator() {
-    let readme = include_str!("../README.md");
-    let kinds = hysteron::models::spec::registry::LEAVES
-        .iter()
-        .map(|l| l.kind())
-        .chain(hysteron::models::spec::COMBINATORS.iter().copied());
-    let missing: Vec<&str> = kinds
-        .filter(|k| !readme.contains(&format!("\n| `{k}` (")))
-        .collect();
-    assert!(missing.is_empty(), "README tables lack {missing:?}");
-}

@@ -4,25 +4,28 @@
 //! memory under a trial/commit protocol), the [`Error`] type, the [`Float`]
 //! alias, and the elementary operators:
 //!
-//! | operator | equation |
-//! |---|---|
-//! | [`Play`] | `y = max(x − r, min(x + r, y_prev))` |
-//! | [`Stop`] | `s = x − play_r[x]`, in `[−r, r]` |
-//! | [`ElastoPlastic`] | `F = k · stop_{F_b/k}[x]` (Maxwell-slip element) |
-//! | [`AsymmetricFriction`] | `F = k (x − x_p)`, `x_p` moving only to keep `−f_neg ≤ F ≤ f_pos` |
-//! | [`BacklashContact`] | `F = sgn(u)(k1 d + k2 d² + k3 d³)`, `u = x − c`, `d = max(\|u\| − b/2, 0)` |
-//! | [`DeadZone`] | `x − b_r` above `b_r`, `x − b_l` below `b_l`, 0 between |
-//! | [`Saturation`] | `clamp(x, lo, hi)` |
-//! | [`Gain`] | `k x` |
-//! | [`MaxwellSlip`] | `F = Σ_i k_i · stop_{F_i/k_i}[x]` (bank of elastoplastic elements) |
-//! | [`Dahl`] | `dF/dx = σ \|1 − (F/F_c) sgn ẋ\|^α sgn(1 − (F/F_c) sgn ẋ)` |
-//! | [`LuGre`] | `ż = v − σ0 \|v\| z / g(v)`, `F = σ0 z + σ1 ż + σ2 v` (rate-dependent, exact per sample) |
-//! | [`Gms`] | generalized Maxwell-slip: stick `Ḟ_i = k_i v`, slip `Ḟ_i = sgn(v) C (1 − sgn(v) F_i/(α_i s(v)))` (rate-dependent, exact per sample) |
-//! | [`Mms`] | `y = y_r + (sgn(ẋ) F_c − y_r)(1 − e^{−K|x − x_r|})` |
-//! | [`BoucWen`] | `H = w S(z) z + (1 − w) S(z) h`, `dh/dz = α − \|h\|^n (β sgn(ż h) + γ)` |
-//! | [`Preisach`] | `y = ∬_{α≥β} μ(α,β) γ_{αβ}[x] dα dβ = −E₀ + 2 Σ_k s_k E(p_k, p_{k−1})` |
-//! | [`MassSpringDamper`] | `m ÿ + c ẏ + k y = u` (rate-dependent, Newmark) |
-//! | [`ViscousDamper`] | `F = c ẋ` (rate-dependent, trapezoidal) |
+//! <!-- BEGIN generated: operators (scripts/generate.sh) -->
+//! | operator | spec `type` | equation |
+//! |---|---|---|
+//! | [`Play`] | `play` | `y_k = max(x_k − r, min(x_k + r, y_{k−1})), from y0` |
+//! | [`Stop`] | `stop` | `s = x − play_r[x] ∈ [−r, r], from s0` |
+//! | [`ElastoPlastic`] | `elastoplastic` | `F = k · stop_{F_b/k}[x]: slope k until \|F\| = F_b, then sliding at ±F_b` |
+//! | [`DeadZone`] | `dead_zone` | `y = x − b_r above b_r, x − b_l below b_l, 0 in between` |
+//! | [`Saturation`] | `saturation` | `y = clamp(x, lo, hi)` |
+//! | [`Gain`] | `gain` | `y = k x` |
+//! | [`Mms`] | `mms` | `y = y_r + (sgn(ẋ) F_c − y_r)(1 − exp(−K \|x − x_r\|)), (x_r, y_r) the last reversal` |
+//! | [`BoucWen`] | `bouc_wen` | `H = w S(z) z + (1 − w) S(z) h, dh/dz = α − \|h\|^n (β sgn(ż h) + γ), z = x − z0` |
+//! | [`Preisach`] | `preisach` | `y = ∬_{α≥β} μ(α, β) γ_{αβ}[x] dα dβ (relays γ_{αβ} switching up at α, down at β)` |
+//! | [`MassSpringDamper`] | `mass_spring_damper` | `m ÿ + c ẏ + k y = u (input force u, output displacement y; Newmark average acceleration, step dt)` |
+//! | [`ViscousDamper`] | `viscous_damper` | `F = c ẋ, ẋ the backward difference (x_k − x_{k−1})/dt` |
+//! | [`MaxwellSlip`] | `maxwell_slip` | `F = Σ_i k_i · stop_{F_i/k_i}[x] (parallel elastoplastic elements)` |
+//! | [`Dahl`] | `dahl` | `dF/dx = σ \|1 − (F/F_c) sgn ẋ\|^α sgn(1 − (F/F_c) sgn ẋ)` |
+//! | [`LuGre`] | `lugre` | `ż = v − σ0 \|v\| z / g(v), g(v) = F_c + (F_s − F_c) exp(−\|v/v_s\|^δ), F = σ0 z + σ1 ż + σ2 v` |
+//! | [`Gms`] | `gms` | `F = Σ F_i + σ2 v; stick Ḟ_i = k_i v until \|F_i\| = α_i s(v), slip Ḟ_i = sgn(v) C (1 − sgn(v) F_i/(α_i s(v)))` |
+//! | [`Offset`] | `offset` | `y = x + c` |
+//! | [`AsymmetricFriction`] | `asymmetric_friction` | `F = k · (x − x_p), x_p moving only to keep −f_neg ≤ F ≤ f_pos: slope k while sticking, sliding at f_pos or −f_neg` |
+//! | [`BacklashContact`] | `backlash_contact` | `u = x − c, d = max(\|u\| − b/2, 0), F = sgn(u)·(k1 d + k2 d² + k3 d³)` |
+//! <!-- END generated: operators -->
 //!
 //! Combinators live in `hysteron-composition`.
 

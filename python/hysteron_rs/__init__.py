@@ -45,6 +45,7 @@ from ._native import (
     run_parameter_sets,
     sensitivity,
 )
+# BEGIN generated: constructors (scripts/generate.sh)
 from ._operators import (
     asymmetric_friction,
     backlash_contact,
@@ -67,6 +68,7 @@ from ._operators import (
     stop,
     viscous_damper,
 )
+# END generated: constructors
 
 __all__ = [
     "AnalysisError",
@@ -81,33 +83,37 @@ __all__ = [
     "SolverError",
     "SpecError",
     "__version__",
+    "describing_function",
+    "fit",
+    "fit_records",
+    "leaf_kinds",
+    "loop_energy",
+    "paper_model",
+    "run_batch",
+    "run_parameter_sets",
+    "sensitivity",
+]
+__all__ += [
+    # BEGIN generated: constructor names (scripts/generate.sh)
     "asymmetric_friction",
     "backlash_contact",
     "bouc_wen",
     "dahl",
     "dead_zone",
-    "describing_function",
     "elastoplastic",
-    "fit",
-    "fit_records",
     "gain",
     "gms",
-    "leaf_kinds",
-    "loop_energy",
     "lugre",
     "mass_spring_damper",
     "maxwell_slip",
     "mms",
     "offset",
-    "paper_model",
     "pi_bank",
     "pi_inverse",
     "play",
     "preisach",
-    "run_batch",
-    "run_parameter_sets",
     "saturation",
-    "sensitivity",
     "stop",
     "viscous_damper",
+    # END generated: constructor names
 ]

@@ -13,15 +13,7 @@ argument left out is a ``TypeError``, as for any Python function.
 from __future__ import annotations
 
 import inspect
-import re
 from typing import Any, Callable, Dict, List
-
-
-def _plain(doc: str) -> str:
-    """Rust documentation as plain text: a rustdoc link ``[`x`](path)`` or
-    ``[`x`]`` becomes its text ``x`` in backquotes."""
-    doc = re.sub(r"\[([^\]]+)\]\([^)]*\)", r"\1", doc)
-    return re.sub(r"\[(`[^`\]]+`)\]", r"\1", doc)
 
 from ._native import Model, leaf, leaf_kinds
 
@@ -83,16 +75,7 @@ def _make(entry: Dict[str, Any]) -> Callable[..., Model]:
     construct.__name__ = kind
     construct.__qualname__ = kind
     construct.__module__ = "hysteron_rs"
-    lines = [f"The ``{kind}`` operator: {entry['equation']}.", "", "Parameters:"]
-    for f in fields:
-        note = "" if f["required"] else " (optional)"
-        doc = _plain(f["doc"])
-        setting = ""
-        if f["kind"] == "fixed" and "not a fitted parameter" not in doc.lower():
-            setting = " Not a fitted parameter."
-        lines.append(f"    {f['name']}{note}: {doc}{setting}")
-    lines += ["", f"Example: ``{kind}(**{entry['example']!r})``."]
-    construct.__doc__ = "\n".join(lines)
+    construct.__doc__ = entry["doc"]
     return construct
 
 

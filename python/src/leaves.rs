@@ -3,33 +3,19 @@
 
 use crate::errors::SpecError as PySpecError;
 use crate::model::Model;
-use hysteron::models::spec::registry::{leaf_kind, LeafKind, LEAVES};
+use hysteron::models::spec::reference;
+use hysteron::models::spec::registry::{leaf_kind, Omitted, LEAVES};
 use hysteron::models::{Spec, TransmissionParams};
 use hysteron::operators::FieldKind;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-/// Whether the leaf's spec can leave out `field`: it has a default (the
-/// declaration's example without it still reads), or it is the sample
-/// period `dt` of a rate-dependent leaf, which may come from the data
-/// (`run(x, dt=...)`, `fit(..., time=...)`) instead.
-fn optional(leaf: &dyn LeafKind, field: &str) -> bool {
-    if field == "dt" && leaf.is_rate_dependent() {
-        return true;
-    }
-    let mut example = leaf.example();
-    match example.as_object_mut() {
-        Some(m) => {
-            m.remove(field);
-            leaf.canonical(example).is_ok()
-        }
-        None => false,
-    }
-}
-
-/// Every registered leaf: a list of dicts `{"type", "equation", "example",
-/// "fields": [{"name", "kind", "doc", "required"}]}`, fields in
-/// declaration order, `example` a valid parameter dict;
+/// Every registered leaf: a list of dicts `{"type", "equation", "doc",
+/// "example", "fields": [{"name", "kind", "doc", "required"}]}`, fields in
+/// declaration order, `doc` the constructor's docstring (rendered by
+/// `hysteron::models::spec::reference`), `example` a valid parameter dict;
+/// a field is not `required` when the spec may leave it out (it has a
+/// default, or it is the sample period `dt` that the data may give);
 /// `kind` is `"param"`, `"nested"` or `"fixed"` (a setting, not a
 /// parameter).
 #[pyfunction]
@@ -50,12 +36,13 @@ pub fn leaf_kinds(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
             )?;
             let doc: Vec<&str> = f.doc.iter().map(|l| l.trim()).collect();
             d.set_item("doc", doc.join(" "))?;
-            d.set_item("required", !optional(*leaf, f.name))?;
+            d.set_item("required", leaf.omitted(f.name) == Omitted::Required)?;
             fields.append(d)?;
         }
         let d = PyDict::new(py);
         d.set_item("type", leaf.kind())?;
         d.set_item("equation", leaf.equation())?;
+        d.set_item("doc", reference::python_docstring(*leaf))?;
         d.set_item("fields", fields)?;
         let example = serde_json::to_string(&leaf.example())
             .map_err(|e| PySpecError::new_err(e.to_string()))?;
