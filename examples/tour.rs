@@ -3,18 +3,9 @@
 //!
 //! Run: `cargo run --release --example tour`
 
+use hysteron::models::energy::closed_loop_work;
 use hysteron::prelude::*;
 use std::time::Instant;
-
-/// Area enclosed by the last closed loop `∮ y dx` (trapezoidal), i.e. the
-/// energy dissipated per cycle for a force-displacement pair.
-fn loop_area(x: &[f64], y: &[f64]) -> f64 {
-    x.windows(2)
-        .zip(y.windows(2))
-        .map(|(xw, yw)| 0.5 * (yw[0] + yw[1]) * (xw[1] - xw[0]))
-        .sum::<f64>()
-        .abs()
-}
 
 fn report(name: &str, model: &mut dyn Operator<f64>, x: &[f64], period: usize) -> Result<()> {
     model.reset();
@@ -22,7 +13,7 @@ fn report(name: &str, model: &mut dyn Operator<f64>, x: &[f64], period: usize) -
     let y = model.run(x)?;
     let dt = t0.elapsed().as_secs_f64();
     let peak = y.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-    let first = loop_area(&x[..=period], &y[..=period]);
+    let first = closed_loop_work(&x[..=period], &y[..=period]).abs();
     println!(
         "{name:<44} params {:>2}  peak |y| {peak:>8.4}  first-cycle loop area {first:>8.4}  {:>7.1} ns/sample",
         model.n_params(),

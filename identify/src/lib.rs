@@ -3,11 +3,15 @@
 //! Parameter identification for any hysteron model:
 //!
 //! * [`fit`]: Levenberg-Marquardt (the `levenberg-marquardt` crate, on
-//!   nalgebra) over any subset of a model's flat parameter vector, bounded
-//!   parameters fitted through a reparametrization ([`Reparam`]), central
-//!   finite-difference Jacobian with columns in parallel, and a
-//!   [`FitReport`] with standard errors, confidence intervals and
-//!   identifiability warnings ([`diagnostics`]);
+//!   nalgebra) over any subset of a model's flat parameter vector, one
+//!   record or several ([`fit_records`]), bounded parameters fitted
+//!   through a reparametrization ([`Reparam`]); the Jacobian is exact by
+//!   default, from one pass of the model over dual numbers per 8
+//!   parameters ([`Jacobian::Exact`], forward-mode derivatives through
+//!   every operator and implicit solve), with central finite differences
+//!   as the alternative ([`Jacobian::FiniteDifferences`]); a [`FitReport`]
+//!   gives standard errors, confidence intervals and identifiability
+//!   warnings ([`diagnostics`]);
 //! * [`multistart`]: the same fit from a Latin hypercube of starts, the
 //!   best kept;
 //! * [`batch`]: many parameter sets or many records simulated in parallel;

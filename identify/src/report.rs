@@ -5,7 +5,8 @@ use std::fmt;
 
 /// `v` with `sig` significant digits, fixed notation for moderate
 /// magnitudes and scientific otherwise (like C's `%g`, trailing zeros
-/// dropped).
+/// dropped). Written here because Rust's formatting has no `%g` and this
+/// one function does not justify a dependency.
 pub fn fmt_g(v: f64, sig: usize) -> String {
     if v == 0.0 || !v.is_finite() {
         return format!("{v}");

@@ -55,17 +55,30 @@ impl LoopEnergy {
     }
 }
 
+/// `∮ y dx` around the closed polygon through the points `(x_i, y_i)` (the
+/// last joined to the first), by the trapezoid rule: the signed work of a
+/// recorded loop (negative counterclockwise). Samples past the shorter of
+/// `x` and `y` are left out.
+///
+/// ```
+/// use hysteron_models::energy::closed_loop_work;
+/// // the unit square, counterclockwise: −1
+/// assert_eq!(closed_loop_work(&[0.0, 1.0, 1.0, 0.0], &[0.0, 0.0, 1.0, 1.0]), -1.0);
+/// ```
+pub fn closed_loop_work(x: &[f64], y: &[f64]) -> f64 {
+    let points = x.iter().zip(y);
+    points
+        .clone()
+        .zip(points.cycle().skip(1))
+        .map(|((xi, yi), (xj, yj))| 0.5 * (yi + yj) * (xj - xi))
+        .sum()
+}
+
 impl SteadyCycle {
-    /// `∮ y dx` over the cycle by the trapezoid rule on its closed polygon.
+    /// `∮ y dx` over the cycle by the trapezoid rule on its closed polygon
+    /// ([`closed_loop_work`]).
     pub fn loop_work(&self) -> f64 {
-        // (the fields are public: a `y` of another length than `x` closes
-        // the polygon of the common part)
-        let points = self.x.iter().zip(&self.y);
-        points
-            .clone()
-            .zip(points.cycle().skip(1))
-            .map(|((xi, yi), (xj, yj))| 0.5 * (yi + yj) * (xj - xi))
-            .sum()
+        closed_loop_work(&self.x, &self.y)
     }
 
     /// The [`LoopEnergy`] of the cycle.

@@ -343,8 +343,6 @@ pub trait Operator<T: Float>: DynClone + Debug + Send + Sync {
 
 dyn_clone::clone_trait_object!(<T> Operator<T> where T: Float);
 
-/// A boxed operator is an operator: boxed models built at run time compose
-/// with static ones.
 /// The default [`Operator::process`]: `trial` + `commit` per sample (for
 /// overrides that fall back to it).
 pub fn process_by_trials<T: Float, O: Operator<T> + ?Sized>(
@@ -416,6 +414,8 @@ pub fn process_while_by_trials<T: Float, O: Operator<T> + ?Sized>(
     xs.len().min(ys.len())
 }
 
+/// A boxed operator is an operator: boxed models built at run time compose
+/// with static ones.
 impl<T: Float> Operator<T> for Box<dyn Operator<T>> {
     fn name(&self) -> &'static str {
         (**self).name()
