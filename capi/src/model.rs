@@ -35,7 +35,7 @@ impl Model {
     /// the period out, until one is given).
     pub fn new(spec: Spec) -> std::result::Result<Model, SpecError> {
         let op = match spec.missing_period() {
-            Some(_) => spec.or_dt(1.0).build()?,
+            Some(_) => spec.or_dt(Spec::STAND_IN_DT).build()?,
             None => spec.build()?,
         };
         let names = op

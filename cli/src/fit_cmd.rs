@@ -379,7 +379,7 @@ pub fn run(opts: &FitCmdOptions) -> Result<FitCmdReport, FitCmdError> {
     let model_err = |e| ModelFileError::new(&opts.model, e);
     let spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
     // The spec's own errors first (a period it leaves out is a stand-in here).
-    spec.or_dt(1.0).build().map_err(model_err)?;
+    spec.or_dt(Spec::STAND_IN_DT).build().map_err(model_err)?;
     let (spec, period) = with_period(opts, spec)?;
     let model = spec.build().map_err(model_err)?;
 

@@ -461,7 +461,7 @@ pub fn run(opts: &ValidateOptions) -> Result<ValidateReport, ValidateError> {
     // Built once to check the spec before any record is read (with a
     // stand-in period where it leaves the period to the data).
     let kind = spec.kind();
-    spec.or_dt(1.0).build().map_err(model_err)?;
+    spec.or_dt(Spec::STAND_IN_DT).build().map_err(model_err)?;
     // A rate-independent model has no period unless one is given (a
     // rate-dependent one's is checked with each record).
     if opts.dt == DtSource::Spec && !spec.is_rate_dependent() {

@@ -38,7 +38,7 @@ impl Model {
     /// it runs once [`set_period`](Self::set_period) has given the period.
     pub fn from_rust_spec(spec: Spec) -> PyResult<Self> {
         let op = match spec.missing_period() {
-            Some(_) => spec.or_dt(1.0).build(),
+            Some(_) => spec.or_dt(Spec::STAND_IN_DT).build(),
             None => spec.build(),
         }
         .map_err(spec_error)?;

@@ -212,7 +212,7 @@ pub(super) fn from_value(v: &Value, path: &str) -> Result<Spec, SpecError> {
             let mut raw = without_type(fields);
             let lacks_period = entry.is_rate_dependent() && !fields.contains_key("dt");
             if let (true, Value::Object(m)) = (lacks_period, &mut raw) {
-                m.insert("dt".into(), Value::from(1.0));
+                m.insert("dt".into(), Value::from(Spec::STAND_IN_DT));
             }
             let mut params = entry.canonical(raw).map_err(|e| {
                 let inner = e.path().to_string();

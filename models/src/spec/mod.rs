@@ -591,6 +591,12 @@ impl Spec {
         out
     }
 
+    /// The period (s) given, only to build it, to a spec that leaves its
+    /// period out: the model is then checked and its parameters listed,
+    /// and it runs only once the real period replaces this one (every
+    /// face refuses to run it before).
+    pub const STAND_IN_DT: f64 = 1.0;
+
     /// The same spec with the sample period `dt` given to every
     /// rate-dependent leaf that [lacks one](LeafSpec::lacks_period) (as
     /// [`with_dt`](Spec::with_dt) gives it, `dt / q` inside an

@@ -157,7 +157,7 @@ impl Spec {
         let root = self.kind();
         // The period is not a parameter: a spec that leaves it out is
         // counted and checked with a stand-in, and keeps leaving it out.
-        let expected = self.or_dt(1.0).build()?.n_params();
+        let expected = self.or_dt(Spec::STAND_IN_DT).build()?.n_params();
         if p.len() != expected {
             return Err(SpecError::invalid(
                 root,
@@ -169,7 +169,7 @@ impl Spec {
         }
         let mut rest = p;
         let spec = self.fill(root, &mut rest)?;
-        spec.or_dt(1.0).build()?;
+        spec.or_dt(Spec::STAND_IN_DT).build()?;
         Ok(spec)
     }
 
@@ -201,7 +201,7 @@ impl Spec {
             Spec::Leaf(leaf) => {
                 let mut params = leaf
                     .entry()
-                    .and_then(|e| e.with_values(&leaf.params_or_dt(1.0), rest))
+                    .and_then(|e| e.with_values(&leaf.params_or_dt(Spec::STAND_IN_DT), rest))
                     .map_err(invalid)?;
                 if leaf.lacks_period() {
                     if let Value::Object(m) = &mut params {
