@@ -76,11 +76,13 @@ pub use hysteron_identify as identify;
 pub use hysteron_models as models;
 pub use hysteron_operators as operators;
 
-pub use hysteron_operators::{Error, Float, Operator, Result, Trial};
+pub use hysteron_operators::{
+    Derivatives, Error, Float, Hints, Operator, Parameters, Result, SamplePeriod, Trial,
+};
 
-/// Everything needed to build and run models: every leaf operator (from
-/// the list that registers them, so a new leaf is here with no edit), the
-/// combinators, and the spec.
+/// Everything needed to build and run models: the operator traits, every
+/// leaf operator (from the list that registers them, so a new leaf is here
+/// with no edit), the combinators, and the spec.
 pub mod prelude {
     pub use hysteron_composition::{
         Cascade, Feedback, Inverse, MechanicalSeries, OperatorExt, Oversample, Parallel, PiBank,
@@ -88,9 +90,9 @@ pub mod prelude {
     };
     pub use hysteron_models::Spec;
     pub use hysteron_operators::{
-        BoucWenParams, DahlParams, Error, Float, GmsParams, LuGreParams, MaxwellSlipParams,
-        MmsParams, Operator, PlayParams, PreisachMeasure, PreisachParams, PreisachStart, Result,
-        StateSolver, StiffnessMap, Trial,
+        BoucWenParams, DahlParams, Derivatives, Error, Float, GmsParams, Hints, LuGreParams,
+        MaxwellSlipParams, MmsParams, Operator, Parameters, PlayParams, PreisachMeasure,
+        PreisachParams, PreisachStart, Result, SamplePeriod, StateSolver, StiffnessMap, Trial,
     };
 
     /// Re-exports every leaf type `for_each_leaf!` names.

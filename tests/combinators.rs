@@ -242,7 +242,6 @@ struct Counted<O> {
     /// Whether the second derivative is passed on.
     curvature: bool,
 }
-
 impl<O: Operator<f64> + Clone + std::fmt::Debug> Operator<f64> for Counted<O> {
     fn name(&self) -> &'static str {
         "counted"
@@ -257,6 +256,22 @@ impl<O: Operator<f64> + Clone + std::fmt::Debug> Operator<f64> for Counted<O> {
     fn reset(&mut self) {
         self.inner.reset()
     }
+}
+
+impl<O: Operator<f64> + Clone + std::fmt::Debug> hysteron_operators::Hints<f64> for Counted<O> {
+    fn trial_curvature(&self) -> Option<f64> {
+        self.inner.trial_curvature().filter(|_| self.curvature)
+    }
+}
+
+impl<O: Operator<f64> + Clone + std::fmt::Debug> hysteron_operators::SamplePeriod<f64>
+    for Counted<O>
+{
+}
+
+impl<O: Operator<f64> + Clone + std::fmt::Debug> hysteron_operators::Parameters<f64>
+    for Counted<O>
+{
     fn n_params(&self) -> usize {
         self.inner.n_params()
     }
@@ -269,9 +284,11 @@ impl<O: Operator<f64> + Clone + std::fmt::Debug> Operator<f64> for Counted<O> {
     fn set_params(&mut self, p: &[f64]) -> Result<()> {
         self.inner.set_params(p)
     }
-    fn trial_curvature(&self) -> Option<f64> {
-        self.inner.trial_curvature().filter(|_| self.curvature)
-    }
+}
+
+impl<O: Operator<f64> + Clone + std::fmt::Debug> hysteron_operators::Derivatives<f64>
+    for Counted<O>
+{
 }
 
 /// Where the slider of the paper's model moves, the series starts each

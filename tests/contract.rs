@@ -4,9 +4,11 @@
 //! trials leave no trace; clones are independent; boxed equals static; the
 //! flat parameter vector round-trips.
 
-use hysteron::models::spec::registry::LEAVES;
+use hysteron::models::spec::registry::{leaf_kind, LEAVES};
 use hysteron::models::Spec;
-use hysteron::operators::{Beyond, Domain, Dual};
+use hysteron::operators::{
+    process_while, process_while_beyond, Beyond, Differentiable, Domain, Dual,
+};
 use hysteron::prelude::*;
 
 mod common;
@@ -127,7 +129,7 @@ fn check<T: Float, O: Operator<T> + Clone + 'static>(label: &str, op: O) {
         let mut p = fresh.clone();
         let mut ys = vec![T::nan(); xs.len()];
         let mut seen = Vec::new();
-        let n = p.process_while(&xs, &mut ys, &mut |i, y| {
+        let n = process_while(&mut p, &xs, &mut ys, &mut |i, y| {
             seen.push((i, y.as_f64().to_bits()));
             i < cut
         });
@@ -158,7 +160,7 @@ fn check<T: Float, O: Operator<T> + Clone + 'static>(label: &str, op: O) {
                 .unwrap_or(xs.len());
             let mut p = fresh.clone();
             let mut ys = vec![T::nan(); xs.len()];
-            let n = p.process_while_beyond(&xs, &mut ys, beyond);
+            let n = process_while_beyond(&mut p, &xs, &mut ys, beyond);
             assert_eq!(
                 n, cut,
                 "{label}: process_while_beyond({beyond:?}) stopped at {n}, not {cut}"
@@ -181,7 +183,7 @@ fn check<T: Float, O: Operator<T> + Clone + 'static>(label: &str, op: O) {
     bad[150] = T::nan();
     let mut ys = vec![T::zero(); xs.len()];
     assert_eq!(
-        p.process_while(&bad, &mut ys, &mut |_, _| true),
+        process_while(&mut p, &bad, &mut ys, &mut |_, _| true),
         150,
         "{label}: process_while past a NaN"
     );
@@ -835,6 +837,147 @@ fn a_bad_sample_stops_the_batch_at_its_sample() {
                     "{case}"
                 );
             }
+        }
+    }
+}
+
+/// Which hints an operator gives along the contract's signal: whether it
+/// rests when held, and whether it gave a value-only trial, a curvature
+/// and a fold of the probe slot at any sample.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Given {
+    rests: bool,
+    value: bool,
+    curvature: bool,
+    fold: bool,
+}
+
+impl Given {
+    fn and(self, o: Given) -> Given {
+        Given {
+            rests: self.rests && o.rests,
+            value: self.value && o.value,
+            curvature: self.curvature && o.curvature,
+            fold: self.fold && o.fold,
+        }
+    }
+}
+
+/// Drives `op` (and its dual twin) over the signal and records the hints it
+/// gives; a value-only trial that is given must be the values of the
+/// trial, bit for bit.
+fn given(label: &str, op: Box<dyn Operator<f64>>) -> Given {
+    let xs = signal::<f64>();
+    let mut f = op.clone();
+    let mut d = op
+        .to_dual()
+        .unwrap_or_else(|| panic!("{label}: no dual twin"));
+    let mut g = Given {
+        rests: op.rests_when_held(),
+        value: false,
+        curvature: false,
+        fold: false,
+    };
+    let along = Dual::variable(0.0, 0);
+    for &x in &xs[..200] {
+        f.trial(x).unwrap_or_else(|e| panic!("{label}: {e}"));
+        g.curvature |= f.trial_curvature().is_some();
+        f.commit();
+        if let Some(v) = d.trial_value(x) {
+            let v = v.unwrap_or_else(|e| panic!("{label}: value trial: {e}"));
+            let t = d.trial(Dual::constant(x)).unwrap();
+            assert_eq!(
+                (v.output.to_bits(), v.tangent.to_bits()),
+                (t.output.re.to_bits(), t.tangent.re.to_bits()),
+                "{label}: value-only trial at {x} differs from the trial's values"
+            );
+            g.value = true;
+        }
+        d.trial(Dual::constant(x).probe()).unwrap();
+        g.fold |= d.fold_probe(&along);
+        d.trial(Dual::constant(x)).unwrap();
+        d.commit();
+    }
+    g
+}
+
+/// Every registered leaf inside every combinator keeps the hints the
+/// combinator's equation passes on: a cascade or a parallel connection each
+/// hint both its parts give, a scaled operator all of its operator's, an
+/// oversampled one its rest; the implicit combinators (inverse, feedback,
+/// series) state theirs. A combinator that forgets to forward a hint fails
+/// here, and every wrapped leaf also passes the whole contract (the
+/// curvature against differences of the tangent, the rest when held).
+#[test]
+fn every_registered_leaf_keeps_its_hints_in_every_combinator() {
+    let build = |label: &str, v: serde_json::Value| -> Box<dyn Operator<f64>> {
+        Spec::from_json(&v.to_string())
+            .and_then(|s| s.build())
+            .unwrap_or_else(|e| panic!("{label}: {e}"))
+    };
+    // the partner in a cascade or a parallel connection: the Maxwell-slip
+    // element gives every hint
+    let mms = serde_json::to_value(leaf_kind("mms").unwrap().example_spec()).unwrap();
+    let partner = given("mms", build("mms", mms.clone()));
+    assert_eq!(
+        partner,
+        Given {
+            rests: true,
+            value: true,
+            curvature: true,
+            fold: true
+        }
+    );
+    let none = Given {
+        rests: false,
+        value: false,
+        curvature: false,
+        fold: false,
+    };
+    for leaf in LEAVES {
+        let kind = leaf.kind();
+        let l = serde_json::to_value(leaf.example_spec()).unwrap();
+        let alone = given(kind, build(kind, l.clone()));
+        let cases = [
+            (
+                "cascade",
+                serde_json::json!({"type": "cascade", "first": l, "second": mms}),
+                alone.and(partner),
+            ),
+            (
+                "cascade after",
+                serde_json::json!({"type": "cascade", "first": mms, "second": l}),
+                alone.and(partner),
+            ),
+            (
+                "parallel",
+                serde_json::json!({"type": "parallel", "left": l, "right": mms}),
+                alone.and(partner),
+            ),
+            (
+                "scaled",
+                serde_json::json!({"type": "scaled", "w": 1.0, "inner": l}),
+                alone,
+            ),
+            (
+                "oversample",
+                serde_json::json!({"type": "oversample", "q": 1, "inner": l}),
+                Given {
+                    rests: alone.rests,
+                    ..none
+                },
+            ),
+            (
+                "feedback",
+                serde_json::json!({"type": "feedback", "forward": l, "back": {"type": "gain", "k": 0.0}}),
+                none,
+            ),
+        ];
+        for (name, spec, expected) in cases {
+            let label = format!("{kind} in {name}");
+            let op = build(&label, spec);
+            assert_eq!(given(&label, op.clone()), expected, "{label}: hints");
+            check(&label, op);
         }
     }
 }

@@ -4,6 +4,7 @@
 use hysteron::models::sensitivity::sensitivity;
 use hysteron::models::spec::registry::LEAVES;
 use hysteron::models::Spec;
+use hysteron::Derivatives;
 
 /// The largest difference from central differences, relative to the
 /// column's scale, at samples away from kinks.
@@ -593,7 +594,7 @@ fn bouc_wen_n_derivative_through_mms_is_the_integrated_flows() {
 }
 
 /// Models composed in Rust have the derivatives of the same models built
-/// from specs: their dual twins (`Operator::to_dual`, cast leaf by leaf and
+/// from specs: their dual twins (`Derivatives::to_dual`, cast leaf by leaf and
 /// combinator by combinator) run the same code over dual numbers. The
 /// paper's model (`TransmissionParams::build`: a series with a gap), and a
 /// feedback loop over a cascade, every parameter seeded.

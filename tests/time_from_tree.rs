@@ -1,5 +1,5 @@
 //! The sample period comes from the structure above a node:
-//! `Operator::set_sample_period` reaches every rate-dependent node, an
+//! `SamplePeriod::set_sample_period` reaches every rate-dependent node, an
 //! `oversample` of `q` sub-steps passes `dt / q`, and the period may change
 //! from sample to sample.
 

@@ -1,4 +1,4 @@
-//! `Operator::trial_value`, the value path an implicit combinator searches
+//! `Hints::trial_value`, the value path an implicit combinator searches
 //! its root on over dual numbers, against `trial`: the same values bit for
 //! bit, for every leaf of the registry; and a feedback loop over dual
 //! numbers that searches on values against the same loop searching over
@@ -10,6 +10,7 @@ use hysteron::models::spec::registry::LEAVES;
 use hysteron::models::TransmissionParams;
 use hysteron::operators::{BoucWen, Differentiable, Dual, Keep, Mms, DUAL_WIDTH};
 use hysteron::prelude::*;
+use hysteron_operators::Derivatives;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 
@@ -145,7 +146,6 @@ struct Counted {
     value_path: bool,
     trials: Arc<AtomicUsize>,
 }
-
 impl Operator<Dual> for Counted {
     fn name(&self) -> &'static str {
         self.op.name()
@@ -154,6 +154,15 @@ impl Operator<Dual> for Counted {
         self.trials.fetch_add(1, Ordering::Relaxed);
         self.op.trial(x)
     }
+    fn commit(&mut self) {
+        self.op.commit()
+    }
+    fn reset(&mut self) {
+        self.op.reset()
+    }
+}
+
+impl hysteron_operators::Hints<Dual> for Counted {
     fn trial_value(&mut self, x: f64) -> Option<Result<Trial<f64>>> {
         if self.value_path {
             self.op.trial_value(x)
@@ -164,15 +173,19 @@ impl Operator<Dual> for Counted {
     fn fold_probe(&mut self, along: &Dual) -> bool {
         self.value_path && self.op.fold_probe(along)
     }
-    fn commit(&mut self) {
-        self.op.commit()
+    fn batch_while(
+        &mut self,
+        xs: &[Dual],
+        ys: &mut [Dual],
+        keep: &mut Keep<'_, Dual>,
+    ) -> Option<usize> {
+        self.op.batch_while(xs, ys, keep)
     }
-    fn reset(&mut self) {
-        self.op.reset()
-    }
-    fn process_while(&mut self, xs: &[Dual], ys: &mut [Dual], keep: &mut Keep<'_, Dual>) -> usize {
-        self.op.process_while(xs, ys, keep)
-    }
+}
+
+impl hysteron_operators::SamplePeriod<Dual> for Counted {}
+
+impl hysteron_operators::Parameters<Dual> for Counted {
     fn n_params(&self) -> usize {
         self.op.n_params()
     }
@@ -186,6 +199,8 @@ impl Operator<Dual> for Counted {
         self.op.set_params(p)
     }
 }
+
+impl hysteron_operators::Derivatives<Dual> for Counted {}
 
 /// Runs `xs` through the model `build` makes of its two children (each
 /// seeded in `slots` slots, counted, with or without its value path);

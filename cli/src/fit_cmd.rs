@@ -6,7 +6,7 @@
 //! the fitted spec, optionally with a figure of measured and fitted output.
 //!
 //! * The free parameters are named as the built model's
-//!   [`param_names`](crate::Operator::param_names) (`left.mms.f_c`) or by a
+//!   [`param_names`](hysteron::Parameters::param_names) (`left.mms.f_c`) or by a
 //!   unique suffix after a dot (`f_c`), see [`free_by_names`]; the others
 //!   keep the spec's values. The fit starts from the spec's values.
 //! * The fitted spec is the input spec with all parameters replaced by the

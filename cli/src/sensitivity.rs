@@ -5,7 +5,7 @@
 //! ([`sensitivity`]).
 //!
 //! * The parameters (`--params`) are named as the built model's
-//!   [`param_names`](crate::Operator::param_names) (`left.mms.f_c`) or by a
+//!   [`param_names`](hysteron::Parameters::param_names) (`left.mms.f_c`) or by a
 //!   unique suffix after a dot (`f_c`), as `fit --free` takes them (see
 //!   [`free_by_names`]); each is given at most once.
 //! * The output holds the input's columns (verbatim), the output column

@@ -5,7 +5,6 @@
 //! new-condition command refits nothing else).
 
 use hysteron::models::Spec;
-use hysteron::Operator;
 use std::path::{Path, PathBuf};
 
 mod common;

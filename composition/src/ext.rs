@@ -18,7 +18,7 @@ use hysteron_operators::{Float, Operator, Result};
 /// ```
 pub trait OperatorExt<T: Float>: Operator<T> + Clone + Sized + 'static {
     /// Cascade: `y = next[self[x]]`.
-    fn then<B: Operator<T> + Clone>(self, next: B) -> Cascade<Self, B> {
+    fn then<B: Operator<T> + Clone>(self, next: B) -> Cascade<T, Self, B> {
         Cascade::new(self, next)
     }
 

@@ -2,7 +2,9 @@
 
 use crate::solve::{params_probe_free, root_from_values, solve, Residual, SolverOptions, Start};
 use crate::Child;
-use hysteron_operators::{check_input, CastScalar, Dual, Error, Float, Operator, Result, Trial};
+use hysteron_operators::{
+    check_input, CastScalar, Derivatives, Dual, Error, Float, Hints, Operator, Result, Trial,
+};
 
 /// Negative feedback loop `y = A[x − B[y]]` (`a.feedback(b)`), with `A`
 /// in the forward path and `B` in the return path.
@@ -18,7 +20,7 @@ use hysteron_operators::{check_input, CastScalar, Dual, Error, Float, Operator, 
 /// Tangent: `dy/dx = A' / (1 + A'·B')`.
 ///
 /// Over dual numbers, where both children have a value path
-/// ([`Operator::trial_value`]), the root is searched on values (the steps
+/// ([`Hints::trial_value`]), the root is searched on values (the steps
 /// the search over dual numbers would take, bit for bit) and the children
 /// are evaluated over dual numbers twice, at the root: once for `∂R/∂p`,
 /// once with the implicit function theorem's `∂y/∂p = −(∂R/∂p)/(∂R/∂y)`.
@@ -119,13 +121,6 @@ impl<T: Float, A: Child<T>, B: Child<T>> Operator<T> for Feedback<T, A, B> {
         "feedback"
     }
 
-    fn to_dual(&self) -> Option<Box<dyn Operator<Dual>>> {
-        let (a, b) = (self.forward.to_dual()?, self.back.to_dual()?);
-        Some(Box::new(
-            Feedback::new(a, b).with_solver(self.opts.cast_scalar()),
-        ))
-    }
-
     fn trial(&mut self, x: T) -> Result<Trial<T>> {
         self.pending = None;
         let x = check_input(x)?;
@@ -214,6 +209,21 @@ impl<T: Float, A: Child<T>, B: Child<T>> Operator<T> for Feedback<T, A, B> {
         self.params_probe_free = None;
         self.pending = None;
     }
-
-    crate::pair::pair_methods!(forward, back);
 }
+
+/// None of the hints: the loop's root is found to a tolerance, so a second
+/// search at a held input may move it within that tolerance (no rest), and
+/// a value-only trial, a curvature or a fold would each be a search or an
+/// implicit derivative of their own (not derived).
+impl<T: Float, A: Child<T>, B: Child<T>> Hints<T> for Feedback<T, A, B> {}
+
+impl<T: Float, A: Child<T>, B: Child<T>> Derivatives<T> for Feedback<T, A, B> {
+    fn to_dual(&self) -> Option<Box<dyn Operator<Dual>>> {
+        let (a, b) = (self.forward.to_dual()?, self.back.to_dual()?);
+        Some(Box::new(
+            Feedback::new(a, b).with_solver(self.opts.cast_scalar()),
+        ))
+    }
+}
+
+crate::pair::pair_traits!(Feedback<T, A, B>, [T: Float, A: Child<T>, B: Child<T>], forward, back);

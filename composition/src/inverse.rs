@@ -1,9 +1,12 @@
 //! Numerical inverse of a monotone operator.
 
-use crate::pair::inner_methods;
+use crate::pair::inner_parameters;
 use crate::solve::{solve, SolverOptions, Start};
 use crate::Child;
-use hysteron_operators::{check_input, CastScalar, Dual, Error, Float, Operator, Result, Trial};
+use hysteron_operators::{
+    check_input, CastScalar, Derivatives, Dual, Error, Float, Hints, Operator, Result,
+    SamplePeriod, Trial,
+};
 
 /// Inverse `u = A⁻¹[x]` of a non-decreasing operator `A` (`a.inverse()`):
 /// every sample solves `A[u] = x` for `u` from `A`'s committed state (its
@@ -43,7 +46,8 @@ pub struct Inverse<T, A> {
     /// The largest `|u|` committed since the last reset: the size of the
     /// terms `A`'s memory may still hold (see `check_jump`).
     reach: T,
-    pending: Option<(T, T)>,
+    /// The pending trial: its input, root and tangent.
+    pending: Option<(T, T, T)>,
 }
 
 impl<T: Float, A> Inverse<T, A> {
@@ -131,13 +135,6 @@ impl<T: Float, A: Child<T>> Operator<T> for Inverse<T, A> {
         "inverse"
     }
 
-    fn to_dual(&self) -> Option<Box<dyn Operator<Dual>>> {
-        let inner = self.inner.to_dual()?;
-        Some(Box::new(
-            Inverse::new(inner).with_solver(self.opts.cast_scalar()),
-        ))
-    }
-
     fn trial(&mut self, x: T) -> Result<Trial<T>> {
         self.pending = None;
         let x = check_input(x)?;
@@ -153,15 +150,13 @@ impl<T: Float, A: Child<T>> Operator<T> for Inverse<T, A> {
         let start = Start::at_committed(self.u, self.x, x);
         let u = solve("inverse", residual, start, &self.opts)?.value();
         self.check_jump(x, u, out, slope, start.scale)?;
-        self.pending = Some((x, u));
-        Ok(Trial {
-            output: u,
-            tangent: T::one() / slope,
-        })
+        let tangent = T::one() / slope;
+        self.pending = Some((x, u, tangent));
+        Ok(Trial { output: u, tangent })
     }
 
     fn commit(&mut self) {
-        if let Some((x, u)) = self.pending.take() {
+        if let Some((x, u, _)) = self.pending.take() {
             self.inner.commit();
             self.x = x;
             self.u = u;
@@ -176,10 +171,35 @@ impl<T: Float, A: Child<T>> Operator<T> for Inverse<T, A> {
         self.reach = T::zero();
         self.pending = None;
     }
+}
 
+/// The curvature, from the inner operator's at the root. The root is found
+/// to a tolerance, so a second search at a held input may move it within
+/// that tolerance: the inverse does not claim to rest, and its value-only
+/// trials and folds would be searches of their own (not taken).
+impl<T: Float, A: Child<T>> Hints<T> for Inverse<T, A> {
+    /// `u'' = −A''(u) · u'³`, `u' = 1/A'(u)` (the inner operator's pending
+    /// trial is at the root).
+    fn trial_curvature(&self) -> Option<T> {
+        let (_, _, tangent) = self.pending?;
+        let bend = self.inner.trial_curvature()?;
+        Some(-bend * tangent * tangent * tangent)
+    }
+}
+
+impl<T: Float, A: Child<T>> Derivatives<T> for Inverse<T, A> {
+    fn to_dual(&self) -> Option<Box<dyn Operator<Dual>>> {
+        let inner = self.inner.to_dual()?;
+        Some(Box::new(
+            Inverse::new(inner).with_solver(self.opts.cast_scalar()),
+        ))
+    }
+}
+
+impl<T: Float, A: Child<T>> SamplePeriod<T> for Inverse<T, A> {
     fn set_sample_period(&mut self, dt: T) -> Result<()> {
         self.inner.set_sample_period(dt)
     }
-
-    inner_methods!();
 }
+
+inner_parameters!(Inverse<T, A>, [T: Float, A: Child<T>]);

@@ -1,8 +1,10 @@
 //! Oversampling: an operator run at an integer multiple of the data rate.
 
-use crate::pair::inner_methods;
+use crate::pair::inner_parameters;
 use crate::Child;
-use hysteron_operators::{check_input, Dual, Error, Float, Operator, Result, Trial};
+use hysteron_operators::{
+    check_input, Derivatives, Dual, Error, Float, Hints, Operator, Result, SamplePeriod, Trial,
+};
 
 /// Runs `inner` at `q` times the data rate (`Oversample::new(inner, q)`):
 /// every data sample is `q` sub-steps of `inner`, the input interpolated
@@ -44,7 +46,7 @@ use hysteron_operators::{check_input, Dual, Error, Float, Operator, Result, Tria
 ///
 /// Parameters are those of `inner` (`q` is structural, not a parameter),
 /// prefixed `inner.<kind>.`. A sample period set from above
-/// ([`Operator::set_sample_period`]) reaches `inner` as `dt / q`.
+/// ([`SamplePeriod::set_sample_period`]) reaches `inner` as `dt / q`.
 ///
 /// [`MassSpringDamper`]: hysteron_operators::MassSpringDamper
 ///
@@ -99,15 +101,9 @@ impl<T: Float, A> Oversample<T, A> {
         &self.inner
     }
 }
-
 impl<T: Float, A: Child<T>> Operator<T> for Oversample<T, A> {
     fn name(&self) -> &'static str {
         "oversample"
-    }
-
-    fn to_dual(&self) -> Option<Box<dyn Operator<Dual>>> {
-        let inner = self.inner.to_dual()?;
-        Some(Box::new(Oversample::new(inner, self.q).ok()?))
     }
 
     fn trial(&mut self, x: T) -> Result<Trial<T>> {
@@ -150,16 +146,35 @@ impl<T: Float, A: Child<T>> Operator<T> for Oversample<T, A> {
         self.x = T::zero();
         self.pending = None;
     }
+}
 
+/// Holding the input holds every sub-step's input: it rests where the
+/// inner operator does. The other hints are not taken through it: a trial
+/// commits the inner operator between its sub-steps, which a value-only
+/// trial, a curvature or a fold of one pending state cannot stand for.
+impl<T: Float, A: Child<T>> Hints<T> for Oversample<T, A> {
+    fn rests_when_held(&self) -> bool {
+        self.inner.rests_when_held()
+    }
+}
+
+impl<T: Float, A: Child<T>> Derivatives<T> for Oversample<T, A> {
+    fn to_dual(&self) -> Option<Box<dyn Operator<Dual>>> {
+        let inner = self.inner.to_dual()?;
+        Some(Box::new(Oversample::new(inner, self.q).ok()?))
+    }
+}
+
+impl<T: Float, A: Child<T>> SamplePeriod<T> for Oversample<T, A> {
     /// The inner operator runs `q` sub-steps per sample: its period is
     /// `dt / q`.
     fn set_sample_period(&mut self, dt: T) -> Result<()> {
         hysteron_operators::check::positive("dt", dt)?;
         self.inner.set_sample_period(dt / T::lit(self.q as f64))
     }
-
-    inner_methods!();
 }
+
+inner_parameters!(Oversample<T, A>, [T: Float, A: Child<T>]);
 
 #[cfg(test)]
 mod tests {
@@ -187,7 +202,6 @@ mod tests {
         pending: Option<f64>,
         inputs: Vec<f64>,
     }
-
     impl Operator<f64> for Steps {
         fn name(&self) -> &'static str {
             "steps"
@@ -210,6 +224,13 @@ mod tests {
             self.pending = None;
             self.inputs.clear();
         }
+    }
+
+    impl hysteron_operators::Hints<f64> for Steps {}
+
+    impl hysteron_operators::SamplePeriod<f64> for Steps {}
+
+    impl hysteron_operators::Parameters<f64> for Steps {
         fn n_params(&self) -> usize {
             0
         }
@@ -221,6 +242,8 @@ mod tests {
             Ok(())
         }
     }
+
+    impl hysteron_operators::Derivatives<f64> for Steps {}
 
     #[test]
     fn sub_steps_interpolate_linearly_from_the_committed_sample() {

@@ -70,76 +70,84 @@ pub(crate) fn prefixed<'a, T: Float, O: Operator<T>>(
         .map(move |n| format!("{label}.{kind}.{n}"))
 }
 
-/// The sample-period and parameter methods of a combinator over two
-/// children in fields `$a` and `$b` (named so in parameter paths:
+/// The [`Parameters`](hysteron_operators::Parameters) and
+/// [`SamplePeriod`](hysteron_operators::SamplePeriod) of a combinator over
+/// two children in fields `$a` and `$b` (named so in parameter paths:
 /// `first.play.r`): the period reaches both, parameters are `$a`'s then
-/// `$b`'s, set atomically, and `set_params` ends with `self.reset()`. Use
-/// inside `impl Operator<T> for …`.
-macro_rules! pair_methods {
-    ($a:ident, $b:ident) => {
-        fn set_sample_period(&mut self, dt: T) -> Result<()> {
-            self.$a.set_sample_period(dt)?;
-            self.$b.set_sample_period(dt)
+/// `$b`'s, set atomically, and `set_params` ends with `self.reset()`:
+/// `pair_traits!(Cascade<T, A, B>, [T: Float, A: Child<T>, B: Child<T>], first, second);`.
+macro_rules! pair_traits {
+    ($ty:ty, [$($gen:tt)*], $a:ident, $b:ident) => {
+        impl<$($gen)*> hysteron_operators::SamplePeriod<T> for $ty {
+            fn set_sample_period(&mut self, dt: T) -> Result<()> {
+                self.$a.set_sample_period(dt)?;
+                self.$b.set_sample_period(dt)
+            }
         }
 
-        fn n_params(&self) -> usize {
-            self.$a.n_params() + self.$b.n_params()
-        }
+        impl<$($gen)*> hysteron_operators::Parameters<T> for $ty {
+            fn n_params(&self) -> usize {
+                self.$a.n_params() + self.$b.n_params()
+            }
 
-        fn params_into(&self, out: &mut Vec<T>) {
-            self.$a.params_into(out);
-            self.$b.params_into(out);
-        }
+            fn params_into(&self, out: &mut Vec<T>) {
+                self.$a.params_into(out);
+                self.$b.params_into(out);
+            }
 
-        fn param_domains(&self) -> Vec<hysteron_operators::Domain> {
-            $crate::pair::pair_domains(&self.$a, &self.$b)
-        }
+            fn param_domains(&self) -> Vec<hysteron_operators::Domain> {
+                $crate::pair::pair_domains(&self.$a, &self.$b)
+            }
 
-        fn param_names(&self) -> Vec<String> {
-            $crate::pair::pair_names(&self.$a, &self.$b, [stringify!($a), stringify!($b)])
-        }
+            fn param_names(&self) -> Vec<String> {
+                $crate::pair::pair_names(&self.$a, &self.$b, [stringify!($a), stringify!($b)])
+            }
 
-        fn set_params(&mut self, p: &[T]) -> Result<()> {
-            $crate::pair::set_pair(
-                &mut self.$a,
-                &mut self.$b,
-                p,
-                [stringify!($a), stringify!($b)],
-            )?;
-            self.reset();
-            Ok(())
+            fn set_params(&mut self, p: &[T]) -> Result<()> {
+                $crate::pair::set_pair(
+                    &mut self.$a,
+                    &mut self.$b,
+                    p,
+                    [stringify!($a), stringify!($b)],
+                )?;
+                hysteron_operators::Operator::reset(self);
+                Ok(())
+            }
         }
     };
 }
-pub(crate) use pair_methods;
+pub(crate) use pair_traits;
 
-/// The parameter methods of a combinator that wraps one child in the field
-/// `inner` and has no parameters of its own: they are the child's, named
-/// `inner.kind.…`, set atomically, and `set_params` ends with
-/// `self.reset()`. Use inside `impl Operator<T> for …`.
-macro_rules! inner_methods {
-    () => {
-        fn n_params(&self) -> usize {
-            self.inner.n_params()
-        }
+/// The [`Parameters`](hysteron_operators::Parameters) of a combinator that
+/// wraps one child in the field `inner` and has no parameters of its own:
+/// they are the child's, named `inner.kind.…`, set atomically, and
+/// `set_params` ends with `self.reset()`:
+/// `inner_parameters!(Inverse<T, A>, [T: Float, A: Child<T>]);`.
+macro_rules! inner_parameters {
+    ($ty:ty, [$($gen:tt)*]) => {
+        impl<$($gen)*> hysteron_operators::Parameters<T> for $ty {
+            fn n_params(&self) -> usize {
+                self.inner.n_params()
+            }
 
-        fn params_into(&self, out: &mut Vec<T>) {
-            self.inner.params_into(out);
-        }
+            fn params_into(&self, out: &mut Vec<T>) {
+                self.inner.params_into(out);
+            }
 
-        fn param_domains(&self) -> Vec<hysteron_operators::Domain> {
-            self.inner.param_domains()
-        }
+            fn param_domains(&self) -> Vec<hysteron_operators::Domain> {
+                self.inner.param_domains()
+            }
 
-        fn param_names(&self) -> Vec<String> {
-            $crate::pair::prefixed("inner", &self.inner).collect()
-        }
+            fn param_names(&self) -> Vec<String> {
+                $crate::pair::prefixed("inner", &self.inner).collect()
+            }
 
-        fn set_params(&mut self, p: &[T]) -> Result<()> {
-            $crate::pair::set_inner(&mut self.inner, p)?;
-            self.reset();
-            Ok(())
+            fn set_params(&mut self, p: &[T]) -> Result<()> {
+                $crate::pair::set_inner(&mut self.inner, p)?;
+                hysteron_operators::Operator::reset(self);
+                Ok(())
+            }
         }
     };
 }
-pub(crate) use inner_methods;
+pub(crate) use inner_parameters;

@@ -267,8 +267,18 @@ impl<T: Float> Operator<T> for PiBank<T> {
         self.process_loop(xs, ys)
     }
 
-    hysteron_operators::leaf_param_methods!(T);
+    fn name(&self) -> &'static str {
+        <Self as hysteron_operators::Leaf<T>>::KIND
+    }
 }
+
+hysteron_operators::leaf_traits!(PiBank);
+
+/// No fast paths beyond the batch loop of `process`.
+impl<T: Float> hysteron_operators::Hints<T> for PiBank<T> {}
+
+/// Rate-independent: the period is only checked.
+impl<T: Float> hysteron_operators::SamplePeriod<T> for PiBank<T> {}
 
 hysteron_operators::impl_leaf!(
     PiBank,

@@ -3,7 +3,8 @@
 use crate::pair::{prefixed, set_inner};
 use crate::Child;
 use hysteron_operators::{
-    check, check_output, CastScalar, Dual, Error, Float, Operator, Result, Trial,
+    check, check_output, CastScalar, Derivatives, Dual, Error, Float, Hints, Operator, Parameters,
+    Result, SamplePeriod, Trial,
 };
 
 /// Weighted operator `y = w · A[x]` (`a.scaled(w)`), `w` finite. Its
@@ -44,23 +45,11 @@ impl<T: Float, A: Child<T>> Operator<T> for Scaled<T, A> {
         "scaled"
     }
 
-    fn to_dual(&self) -> Option<Box<dyn Operator<Dual>>> {
-        let inner = self.inner.to_dual()?;
-        Some(Box::new(Scaled::new(self.w.cast_scalar(), inner).ok()?))
-    }
-
     #[inline]
     fn trial(&mut self, x: T) -> Result<Trial<T>> {
         self.pending = false;
         let a = self.inner.trial(x)?;
-        let t = check_output(
-            "scaled",
-            x,
-            Trial {
-                output: self.w * a.output,
-                tangent: self.w * a.tangent,
-            },
-        )?;
+        let t = check_output("scaled", x, scale(self.w, a))?;
         self.pending = true;
         Ok(t)
     }
@@ -76,11 +65,57 @@ impl<T: Float, A: Child<T>> Operator<T> for Scaled<T, A> {
         self.pending = false;
         self.inner.reset();
     }
+}
 
+/// `y = w A`, `y' = w A'`.
+#[inline(always)]
+fn scale<T: Float>(w: T, a: Trial<T>) -> Trial<T> {
+    Trial {
+        output: w * a.output,
+        tangent: w * a.tangent,
+    }
+}
+
+/// Every hint of the inner operator, scaled.
+impl<T: Float, A: Child<T>> Hints<T> for Scaled<T, A> {
+    fn rests_when_held(&self) -> bool {
+        self.inner.rests_when_held()
+    }
+
+    /// `y'' = w A''`.
+    fn trial_curvature(&self) -> Option<T> {
+        if !self.pending {
+            return None;
+        }
+        Some(self.w * self.inner.trial_curvature()?)
+    }
+
+    fn trial_value(&mut self, x: f64) -> Option<Result<Trial<f64>>> {
+        self.pending = false;
+        let a = self.inner.trial_value(x)?;
+        Some(a.and_then(|a| check_output("scaled", x, scale(self.w.as_f64(), a))))
+    }
+
+    /// The weight is a parameter: its probe slot is empty.
+    fn fold_probe(&mut self, along: &T) -> bool {
+        self.pending && self.inner.fold_probe(along)
+    }
+}
+
+impl<T: Float, A: Child<T>> Derivatives<T> for Scaled<T, A> {
+    fn to_dual(&self) -> Option<Box<dyn Operator<Dual>>> {
+        let inner = self.inner.to_dual()?;
+        Some(Box::new(Scaled::new(self.w.cast_scalar(), inner).ok()?))
+    }
+}
+
+impl<T: Float, A: Child<T>> SamplePeriod<T> for Scaled<T, A> {
     fn set_sample_period(&mut self, dt: T) -> Result<()> {
         self.inner.set_sample_period(dt)
     }
+}
 
+impl<T: Float, A: Child<T>> Parameters<T> for Scaled<T, A> {
     fn n_params(&self) -> usize {
         1 + self.inner.n_params()
     }

@@ -6,8 +6,9 @@ use crate::solve::{
 };
 use crate::Child;
 use hysteron_operators::{
-    check, check_input, check_lengths, Beyond, CastScalar, Domain, Dual, Error, Float, Operator,
-    Result, Staged, Trial,
+    check, check_input, check_lengths, process_while, process_while_beyond, Beyond, CastScalar,
+    Derivatives, Domain, Dual, Error, Float, Hints, Operator, Parameters, Result, SamplePeriod,
+    Staged, Trial,
 };
 use serde::{Deserialize, Serialize};
 
@@ -251,7 +252,7 @@ impl<T: Float> Share<T> {
 /// (from the tangents) at that root and at the one before (the same
 /// direction only; else the tangent line), which leaves two or three
 /// Newton steps to the tolerance on a smooth input; where both elements
-/// give their second derivatives ([`Operator::trial_curvature`]) and the
+/// give their second derivatives ([`Hints::trial_curvature`]) and the
 /// predicted split lies inside the limits, one Halley step from it
 /// (both elements trialled there) leaves one or two; where the contact at
 /// a limit lets go, the Halley step is taken from just inside the limit
@@ -285,7 +286,7 @@ pub struct MechanicalSeries<T, L, R> {
     /// `set_params` calls).
     params_probe_free: Option<bool>,
     /// Whether both elements give their second derivative
-    /// ([`Operator::trial_curvature`]), found at the first predicted split
+    /// ([`Hints::trial_curvature`]), found at the first predicted split
     /// after construction or `reset`.
     curvature: Option<bool>,
 }
@@ -458,9 +459,9 @@ impl<T: Float, L: Operator<T>, R: Operator<T>> MechanicalSeries<T, L, R> {
     /// positive at `lo`) the root is [`Root::AtBound`] there and the force
     /// is `R`. The right element runs the stretch in its batch loop, which
     /// tests before each commit whether the contact holds: through
-    /// [`Operator::process_while_beyond`] with the left element's force
+    /// [`process_while_beyond`] with the left element's force
     /// where that element rests when held (trialled once), else through
-    /// [`Operator::process_while`], which trials and commits the left
+    /// [`process_while`], which trials and commits the left
     /// element per sample. The first sample where the contact does not
     /// hold (or any error) is left uncommitted for `trial` to take over.
     // `xs.len() ≤ HOLD_CHUNK`: the only caller, `process`, passes at most
@@ -491,7 +492,7 @@ impl<T: Float, L: Operator<T>, R: Operator<T>> MechanicalSeries<T, L, R> {
             };
             // (`min`: the contract of `process_while_beyond`, which a
             // foreign operator may break)
-            let n = right.process_while_beyond(zs, ys, beyond).min(xs.len());
+            let n = process_while_beyond(right, zs, ys, beyond).min(xs.len());
             if n > 0 {
                 left.commit();
             }
@@ -531,22 +532,13 @@ impl<T: Float, L: Operator<T>, R: Operator<T>> MechanicalSeries<T, L, R> {
         };
         // (`min`: `n ≤ zs.len()` is the contract of `process_while`, which a
         // foreign operator may break)
-        right.process_while(zs, ys, &mut keep).min(zs.len())
+        process_while(right, zs, ys, &mut keep).min(zs.len())
     }
 }
 
 impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, R> {
     fn name(&self) -> &'static str {
         "series"
-    }
-
-    fn to_dual(&self) -> Option<Box<dyn Operator<Dual>>> {
-        let (a, b) = (self.left.to_dual()?, self.right.to_dual()?);
-        let series = MechanicalSeries::new(a, b)
-            .with_limits(self.limits.cast_scalar())
-            .ok()?
-            .with_solver(self.opts.cast_scalar());
-        Some(Box::new(series))
     }
 
     /// Solves `L[x_L] = R[x − r0 − x_L]` for the split `x_L` from the
@@ -728,7 +720,7 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
     /// so that evaluation is made directly (the same calls on the same
     /// arguments) over a stretch of samples, without setting up the
     /// solver: the right element runs the stretch in its batch loop
-    /// ([`Operator::process_while`]), asked before each commit whether the
+    /// ([`process_while`]), asked before each commit whether the
     /// contact still holds, which trials and commits the left element at
     /// the limit. The first sample where the contact lets go (or the
     /// residual is exactly zero, or an error occurs) is left to `trial`,
@@ -779,12 +771,33 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
         self.params_probe_free = None;
         self.curvature = None;
     }
+}
 
+/// None of the hints: the split is found to a tolerance, so a second
+/// search at a held input may move it within that tolerance (no rest), and
+/// a value-only trial, a curvature or a fold would each be a search or an
+/// implicit derivative of their own (not derived).
+impl<T: Float, L: Child<T>, R: Child<T>> Hints<T> for MechanicalSeries<T, L, R> {}
+
+impl<T: Float, L: Child<T>, R: Child<T>> Derivatives<T> for MechanicalSeries<T, L, R> {
+    fn to_dual(&self) -> Option<Box<dyn Operator<Dual>>> {
+        let (a, b) = (self.left.to_dual()?, self.right.to_dual()?);
+        let series = MechanicalSeries::new(a, b)
+            .with_limits(self.limits.cast_scalar())
+            .ok()?
+            .with_solver(self.opts.cast_scalar());
+        Some(Box::new(series))
+    }
+}
+
+impl<T: Float, L: Child<T>, R: Child<T>> SamplePeriod<T> for MechanicalSeries<T, L, R> {
     fn set_sample_period(&mut self, dt: T) -> Result<()> {
         self.left.set_sample_period(dt)?;
         self.right.set_sample_period(dt)
     }
+}
 
+impl<T: Float, L: Child<T>, R: Child<T>> Parameters<T> for MechanicalSeries<T, L, R> {
     fn n_params(&self) -> usize {
         self.limits.values().len() + self.left.n_params() + self.right.n_params()
     }

@@ -249,7 +249,7 @@ where
 }
 
 /// The root `root` of `f`'s values, found by [`solve`] over `f64` on them
-/// (the children's [`trial_value`](hysteron_operators::Operator::trial_value)),
+/// (the children's [`trial_value`](hysteron_operators::Hints::trial_value)),
 /// over the scalar `T` with its derivatives: `f` is evaluated at the root
 /// with no derivatives, which gives `∂r/∂p` there, then once more at the
 /// root with the implicit function theorem's `∂x/∂p = −(∂r/∂p)/(∂r/∂x)`,
@@ -265,7 +265,7 @@ where
 /// the first evaluation inside the bounds is at the root seeded in the
 /// probe slot, and there is no second: the answer is then
 /// [`AtRoot::Probed`], and the caller folds the children's pending trials
-/// ([`Operator::fold_probe`](hysteron_operators::Operator::fold_probe))
+/// ([`Hints::fold_probe`](hysteron_operators::Hints::fold_probe))
 /// or, where one cannot fold, asks again without `probe`. The other slots
 /// of that evaluation are those of the evaluation without the probe, bit
 /// for bit (each slot is computed from the values and itself only).
@@ -318,7 +318,7 @@ pub(crate) trait Residual<T> {
     /// The residual and its derivative at `x`, each child trialled there.
     fn eval(&mut self, x: T) -> Result<Eval<T>>;
     /// Folds the probe slot of the children's pending trials and of what
-    /// [`eval`](Self::eval) keeps ([`Operator::fold_probe`](hysteron_operators::Operator::fold_probe));
+    /// [`eval`](Self::eval) keeps ([`Hints::fold_probe`](hysteron_operators::Hints::fold_probe));
     /// `false` where a child cannot.
     fn fold_probe(&mut self, along: &T) -> bool;
 }

@@ -9,7 +9,8 @@ use hysteron_models::benchmark::{boucwen_system, BoucWenBenchmarkParams};
 use hysteron_models::composition::OperatorExt;
 use hysteron_models::signal::Upsampling;
 use hysteron_operators::Error;
-use hysteron_operators::Operator;
+use hysteron_operators::Parameters;
+
 use rayon::prelude::*;
 
 /// The seven physical parameters, as named in the composed system
@@ -301,6 +302,7 @@ mod tests {
     use hysteron_models::operators::MassSpringDamper;
     use hysteron_models::signal::fft_upsample;
     use hysteron_operators::Dual;
+    use hysteron_operators::{Derivatives, Operator};
 
     /// One period of a multisine over harmonics 3…60 of 1024 samples at
     /// 750 Hz (2–44 Hz), Schroeder phases.

@@ -144,7 +144,7 @@ impl Default for FitOptions {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
 pub enum Jacobian {
     /// Forward-mode derivatives through the model's twin over dual numbers
-    /// ([`Operator::to_dual`]): exact to rounding, one simulation per
+    /// ([`Derivatives::to_dual`](hysteron_operators::Derivatives::to_dual)): exact to rounding, one simulation per
     /// [`DUAL_WIDTH`](hysteron_operators::DUAL_WIDTH) parameters. A model
     /// without a twin (an operator of your own that does not implement
     /// `to_dual`, as stage 1 of the paper's identification), or one whose
@@ -433,7 +433,7 @@ pub struct Progress {
 /// Fits the parameters at `free` (indices into `model.params()`) of `model`
 /// to the record `(x, y)`, starting from the model's current parameters;
 /// the others stay fixed. Bounded parameters are fitted through the
-/// reparametrization of [`Reparam`](crate::Reparam) (from [`Operator::param_domains`]).
+/// reparametrization of [`Reparam`](crate::Reparam) (from [`Parameters::param_domains`](hysteron_operators::Parameters::param_domains)).
 ///
 /// Residuals are `model(x) − y` over the whole record, simulated from the
 /// model's initial state; the Jacobian is central finite differences in the
@@ -934,38 +934,43 @@ mod tests {
     #[derive(Debug, Clone)]
     struct NanTwin<T: hysteron_operators::Float>(hysteron_operators::Gain<T>);
 
-    /// The parameter methods of `NanTwin`, from its gain.
-    macro_rules! nan_twin_params {
+    /// The traits of `NanTwin` other than its trial, from its gain.
+    macro_rules! nan_twin_traits {
         ($t:ty) => {
-            fn name(&self) -> &'static str {
-                "nan_twin"
+            impl hysteron_operators::Parameters<$t> for NanTwin<$t> {
+                fn n_params(&self) -> usize {
+                    self.0.n_params()
+                }
+                fn params_into(&self, out: &mut Vec<$t>) {
+                    self.0.params_into(out)
+                }
+                fn param_names(&self) -> Vec<String> {
+                    self.0.param_names()
+                }
+                fn set_params(&mut self, p: &[$t]) -> hysteron_operators::Result<()> {
+                    self.0.set_params(p)
+                }
             }
-            fn commit(&mut self) {
-                self.0.commit()
-            }
-            fn reset(&mut self) {
-                self.0.reset()
-            }
-            fn n_params(&self) -> usize {
-                self.0.n_params()
-            }
-            fn params_into(&self, out: &mut Vec<$t>) {
-                self.0.params_into(out)
-            }
-            fn param_names(&self) -> Vec<String> {
-                self.0.param_names()
-            }
-            fn set_params(&mut self, p: &[$t]) -> hysteron_operators::Result<()> {
-                self.0.set_params(p)
-            }
+            impl hysteron_operators::SamplePeriod<$t> for NanTwin<$t> {}
+            impl hysteron_operators::Hints<$t> for NanTwin<$t> {}
         };
     }
+    nan_twin_traits!(f64);
+    nan_twin_traits!(hysteron_operators::Dual);
 
     impl Operator<f64> for NanTwin<f64> {
-        nan_twin_params!(f64);
         fn trial(&mut self, x: f64) -> hysteron_operators::Result<hysteron_operators::Trial<f64>> {
             self.0.trial(x)
         }
+        fn commit(&mut self) {
+            self.0.commit()
+        }
+        fn reset(&mut self) {
+            self.0.reset()
+        }
+    }
+
+    impl hysteron_operators::Derivatives<f64> for NanTwin<f64> {
         fn to_dual(&self) -> Option<Box<dyn Operator<hysteron_operators::Dual>>> {
             let k = hysteron_operators::Dual::constant(self.0.gain());
             Some(Box::new(NanTwin(hysteron_operators::Gain::new(k).ok()?)))
@@ -973,7 +978,6 @@ mod tests {
     }
 
     impl Operator<hysteron_operators::Dual> for NanTwin<hysteron_operators::Dual> {
-        nan_twin_params!(hysteron_operators::Dual);
         fn trial(
             &mut self,
             x: hysteron_operators::Dual,
@@ -983,6 +987,17 @@ mod tests {
             t.output.eps[0] = f64::NAN;
             Ok(t)
         }
+        fn commit(&mut self) {
+            self.0.commit()
+        }
+        fn reset(&mut self) {
+            self.0.reset()
+        }
+    }
+
+    impl hysteron_operators::Derivatives<hysteron_operators::Dual>
+        for NanTwin<hysteron_operators::Dual>
+    {
     }
 
     /// Where the dual pass gives a derivative that is not finite, the

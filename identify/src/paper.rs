@@ -54,6 +54,7 @@
 use crate::{fit, fit_records, free_by_names, FitError, FitOptions, FitReport, Record};
 use hysteron_composition::TravelLimits;
 use hysteron_models::{PaperModel, TransmissionParams};
+use hysteron_operators::Parameters;
 use hysteron_operators::{
     check, BoucWen, BoucWenParams, Domain, Error, Leaf, Operator, StiffnessMap, Trial,
 };
@@ -695,7 +696,7 @@ pub fn knots_from_points(
 
 /// The spring whose stiffness knots follow from picked branch points: an
 /// [`Operator`] whose parameters are the shape `(w, β, γ, n, h0)` only
-/// (`α` fixed). [`set_params`](Operator::set_params) recomputes the knots
+/// (`α` fixed). [`set_params`](Parameters::set_params) recomputes the knots
 /// with the rule of [`knots_from_points`] and rebuilds the [`BoucWen`], so
 /// the generic [`fit`] fits the shape with the spring passing through the
 /// points for every candidate (stage 1 of the paper). A shape for which the
@@ -748,7 +749,6 @@ impl SpringFromPoints {
         &self.points
     }
 }
-
 impl Operator<f64> for SpringFromPoints {
     fn name(&self) -> &'static str {
         "spring-from-points"
@@ -769,7 +769,13 @@ impl Operator<f64> for SpringFromPoints {
     fn process(&mut self, xs: &[f64], ys: &mut [f64]) -> hysteron_operators::Result<()> {
         self.spring.process(xs, ys)
     }
+}
 
+impl hysteron_operators::Hints<f64> for SpringFromPoints {}
+
+impl hysteron_operators::SamplePeriod<f64> for SpringFromPoints {}
+
+impl hysteron_operators::Parameters<f64> for SpringFromPoints {
     fn n_params(&self) -> usize {
         SPRING_NAMES.len()
     }
@@ -814,6 +820,8 @@ impl Operator<f64> for SpringFromPoints {
         Ok(())
     }
 }
+
+impl hysteron_operators::Derivatives<f64> for SpringFromPoints {}
 
 /// The outcome of stage 1.
 #[derive(Debug, Clone, PartialEq, Serialize)]

@@ -7,6 +7,7 @@ use hysteron_identify::{
     fit, fit_multistart, free_by_names, FitOptions, FitReport, IdentifiabilityWarning, MultiStart,
     Record,
 };
+use hysteron_operators::Parameters;
 use hysteron_operators::{BoucWen, MaxwellSlip, Operator, Play};
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};

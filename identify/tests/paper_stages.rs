@@ -11,6 +11,7 @@ use hysteron_identify::paper::{
 use hysteron_identify::FitOptions;
 use hysteron_models::experiments::{chirp, sine, DRIVE, FS};
 use hysteron_models::TransmissionParams;
+use hysteron_operators::Parameters;
 use hysteron_operators::{BoucWen, Operator};
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};

@@ -3,6 +3,7 @@
 #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
 
 use hysteron_identify::{fit, free_by_names, FitOptions, FitReport};
+use hysteron_operators::Parameters;
 use hysteron_operators::{BoucWen, Operator};
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};

@@ -309,6 +309,7 @@ mod tests {
     use super::*;
     use crate::composition::OperatorExt;
     use crate::operators::Gain;
+    use crate::operators::Parameters;
 
     #[test]
     fn published_parameters_and_json() {

@@ -8,7 +8,7 @@ use hysteron_operators::{Dual, Error, Operator, DUAL_WIDTH};
 /// chosen parameters.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Sensitivity {
-    /// The parameters, by name (as in [`Operator::param_names`]).
+    /// The parameters, by name (as in [`Parameters::param_names`](hysteron_operators::Parameters::param_names)).
     pub names: Vec<String>,
     /// The output `y_k`: the `f64` model's, except where the model solves
     /// an implicit equation, whose root the dual model evaluates once more

@@ -125,7 +125,7 @@ impl TransmissionParams {
     }
 
     /// The same model with its flat parameters (in the order of the built
-    /// model's [`params`](Operator::params): `backlash, slider0`, the
+    /// model's [`params`](hysteron_operators::Parameters::params): `backlash, slider0`, the
     /// friction's, the spring's) taken from the front of `p`.
     ///
     /// The spring's initial deflection is tied to the slider,

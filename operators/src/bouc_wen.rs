@@ -98,7 +98,7 @@ enum BranchStart<T> {
 }
 
 impl<T: Float> State<T> {
-    /// Folds the probe slot of every scalar ([`Operator::fold_probe`]).
+    /// Folds the probe slot of every scalar ([`Hints::fold_probe`]).
     fn fold_probe(&mut self, along: &T) {
         for v in [&mut self.z, &mut self.h, &mut self.z_a] {
             v.fold_probe(along);
@@ -654,7 +654,7 @@ impl<T: Float> BoucWen<T> {
         }
     }
 
-    /// [`Operator::process_while`] with any condition `keep`: the batch
+    /// [`process_while`] with any condition `keep`: the batch
     /// loop where there is one (inlining `keep` where it is a closure),
     /// else trial by trial.
     // `n` is the shorter of the two lengths.
@@ -830,7 +830,7 @@ impl<T: Float> BoucWen<T> {
         Ok(t)
     }
 
-    /// [`trial_value`](Operator::trial_value) for `n = 1`: the values of
+    /// [`trial_value`](Hints::trial_value) for `n = 1`: the values of
     /// [`trial_closed_form`](Self::trial_closed_form), the branch's terms
     /// taken as values (a new branch is made over `T` at the value of its
     /// start); `None` before any motion.
@@ -1045,6 +1045,39 @@ impl<T: Float> Operator<T> for BoucWen<T> {
         t
     }
 
+    fn process(&mut self, zs: &[T], ys: &mut [T]) -> Result<()> {
+        check_lengths(zs, ys)?;
+        self.pending = None;
+        if !self.closed_form && self.table.is_none() && self.sensitive.is_none() {
+            // The adaptive integration dominates; the default loop is as fast.
+            return process_by_trials(self, zs, ys);
+        }
+        self.run_batch(zs, ys, |_, _| true).1
+    }
+
+    #[inline]
+    fn commit(&mut self) {
+        if let Some(s) = self.pending.take() {
+            self.s = s;
+        }
+    }
+
+    fn reset(&mut self) {
+        self.s = State::initial(&self.p);
+        self.pending = None;
+    }
+
+    fn name(&self) -> &'static str {
+        Self::KIND
+    }
+}
+
+crate::leaf_traits!(BoucWen);
+
+/// Rate-independent: the period is only checked.
+impl<T: Float> crate::SamplePeriod<T> for BoucWen<T> {}
+
+impl<T: Float> crate::Hints<T> for BoucWen<T> {
     /// For `n = 1` (closed form): with `S' = dS/dz` (the map is linear on
     /// its segment, `S'' = 0`), `h' = α − c |g|` and `g = sgn(ż) h`,
     ///
@@ -1103,25 +1136,15 @@ impl<T: Float> Operator<T> for BoucWen<T> {
         Some(self.value_trial(z, sign * g, T::lit(rate)))
     }
 
-    fn process(&mut self, zs: &[T], ys: &mut [T]) -> Result<()> {
-        check_lengths(zs, ys)?;
-        self.pending = None;
-        if !self.closed_form && self.table.is_none() && self.sensitive.is_none() {
-            // The adaptive integration dominates; the default loop is as fast.
-            return process_by_trials(self, zs, ys);
-        }
-        self.run_batch(zs, ys, |_, _| true).1
-    }
-
     /// The batch loop of [`process`](Operator::process) (`n = 1`, or the
     /// tabulated flow) with `keep` consulted on each output before it is
     /// committed; otherwise the default trial, `keep`, commit loop.
-    fn process_while(&mut self, zs: &[T], ys: &mut [T], keep: &mut Keep<'_, T>) -> usize {
-        self.run_while(zs, ys, keep)
+    fn batch_while(&mut self, zs: &[T], ys: &mut [T], keep: &mut Keep<'_, T>) -> Option<usize> {
+        Some(self.run_while(zs, ys, keep))
     }
 
-    fn process_while_beyond(&mut self, zs: &[T], ys: &mut [T], beyond: Beyond<T>) -> usize {
-        self.run_while(zs, ys, |_, y| beyond.admits(y))
+    fn batch_while_beyond(&mut self, zs: &[T], ys: &mut [T], beyond: Beyond<T>) -> Option<usize> {
+        Some(self.run_while(zs, ys, |_, y| beyond.admits(y)))
     }
 
     /// The pending state's scalars, folded (its parameters and tables
@@ -1136,20 +1159,6 @@ impl<T: Float> Operator<T> for BoucWen<T> {
             None => false,
         }
     }
-
-    #[inline]
-    fn commit(&mut self) {
-        if let Some(s) = self.pending.take() {
-            self.s = s;
-        }
-    }
-
-    fn reset(&mut self) {
-        self.s = State::initial(&self.p);
-        self.pending = None;
-    }
-
-    crate::leaf_param_methods!(T);
 }
 
 crate::impl_leaf!(

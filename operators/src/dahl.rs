@@ -240,6 +240,7 @@ impl<T: Float> StepLaw<T> for DahlParams<T> {
 
 #[cfg(test)]
 mod tests {
+     use crate::Parameters;
     use super::*;
     use crate::Operator;
 

@@ -4,7 +4,7 @@ use crate::{check, Error, Float, Result};
 use serde::{Deserialize, Serialize};
 
 /// Where a parameter may lie, as reported by
-/// [`Operator::param_domains`](crate::Operator::param_domains).
+/// [`Parameters::param_domains`](crate::Parameters::param_domains).
 ///
 /// This is the per-parameter part of the validation; constraints that tie
 /// parameters together (a saturation's `lo < hi`, increasing knot

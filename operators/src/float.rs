@@ -52,7 +52,7 @@ impl<T> Float for T where
 
 /// Whether the values of `T` are `f64` values, computed in `f64`
 /// arithmetic (`f64` and the dual numbers over it): where
-/// [`Operator::trial_value`](crate::Operator::trial_value) gives the values
+/// [`Hints::trial_value`](crate::Hints::trial_value) gives the values
 /// of `trial` bit for bit.
 #[inline(always)]
 pub(crate) fn values_are_f64<T: Float>() -> bool {

@@ -34,7 +34,7 @@ declare_params! {
         #[serde(default)]
         f0: Vec<T> => Real = [0.1, -0.2],
         /// Sample period `dt > 0` (s) until the structure above sets one
-        /// ([`Operator::set_sample_period`]). Not a fitted parameter.
+        /// ([`SamplePeriod::set_sample_period`](crate::SamplePeriod::set_sample_period)). Not a fitted parameter.
         dt: T => fixed = 1e-3,
     }
     check = GmsParams::shape;
@@ -87,7 +87,7 @@ impl<T: Float> GmsParams<T> {
 /// element slips away from its limit (any motion, however small, lasts a
 /// whole sample of relaxation, while a standstill relaxes nothing): the
 /// standstill tangent ignores that jump. Parameters `[c, f_c, f_s, v_s, delta, sigma2,
-/// k_0.., alpha_0.., f0_0..]`; `dt` is fixed (its period is set by [`Operator::set_sample_period`]).
+/// k_0.., alpha_0.., f0_0..]`; `dt` is fixed (its period is set by [`SamplePeriod::set_sample_period`](crate::SamplePeriod::set_sample_period)).
 ///
 /// ```
 /// use hysteron_operators::{Gms, GmsParams, Operator};
@@ -266,13 +266,23 @@ impl<T: Float> Operator<T> for Gms<T> {
         Ok(())
     }
 
+    fn name(&self) -> &'static str {
+        <Self as crate::Leaf<T>>::KIND
+    }
+}
+
+crate::leaf_traits!(Gms);
+
+/// No fast paths beyond the batch loop of `process` (it integrates over
+/// time: holding the input still moves it).
+impl<T: Float> crate::Hints<T> for Gms<T> {}
+
+impl<T: Float> crate::SamplePeriod<T> for Gms<T> {
     fn set_sample_period(&mut self, dt: T) -> Result<()> {
         check::positive("dt", dt)?;
         self.p.dt = dt;
         Ok(())
     }
-
-    crate::leaf_param_methods!(T);
 }
 
 crate::impl_leaf!(

@@ -158,7 +158,7 @@ pub(crate) struct Branch<T> {
 }
 
 impl<T: Float> Branch<T> {
-    /// Folds the probe slot of every term ([`Operator::fold_probe`](crate::Operator::fold_probe)).
+    /// Folds the probe slot of every term ([`Hints::fold_probe`](crate::Hints::fold_probe)).
     pub(crate) fn fold_probe(&mut self, along: &T) {
         for v in [
             &mut self.g_a,

@@ -3,8 +3,8 @@
 //! pure step function ([`StepLaw`]) the whole [`Operator`] protocol.
 
 use crate::{
-    check_input, check_lengths, check_output, Beyond, Float, Keep, Operator, ParamSet, Result,
-    Trial,
+    check_input, check_lengths, check_output, Beyond, Derivatives, Float, Hints, Keep, Operator,
+    ParamSet, Parameters, Result, SamplePeriod, Trial,
 };
 use core::fmt::Debug;
 
@@ -57,7 +57,7 @@ pub trait Leaf<T: Float>: Operator<T> + Sized {
     /// settings that are not parameters (a solver and its tolerance), in
     /// its initial state. Errors where a setting has no counterpart over
     /// `U` (a tolerance below `U`'s resolution). Over [`Dual`](crate::Dual)
-    /// it is the leaf's [`Operator::to_dual`].
+    /// it is the leaf's [`Derivatives::to_dual`].
     fn cast_leaf<U: Float>(&self) -> Result<Self::With<U>>;
 }
 
@@ -109,37 +109,39 @@ macro_rules! impl_leaf {
     };
 }
 
-/// The [`Operator`] methods of a [`Leaf`] that follow from its declared
-/// parameters: `name`, `n_params`, `params_into`, `param_names`,
-/// `param_domains`, `set_params` and `to_dual` (by
-/// [`Leaf::cast_leaf`]). Use inside `impl Operator<T> for …`.
+/// The traits of a [`Leaf`] `Op<T>` that follow from its declaration:
+/// [`Parameters`](crate::Parameters) from its declared parameter set and
+/// [`Derivatives`](crate::Derivatives) by [`Leaf::cast_leaf`]. Use beside
+/// `impl Operator<T> for Op<T>`: `leaf_traits!(Op);`.
 #[macro_export]
-macro_rules! leaf_param_methods {
-    ($t:ty) => {
-        fn name(&self) -> &'static str {
-            <Self as $crate::Leaf<$t>>::KIND
+macro_rules! leaf_traits {
+    ($op:ident) => {
+        impl<T: $crate::Float> $crate::Parameters<T> for $op<T> {
+            fn n_params(&self) -> usize {
+                $crate::ParamSet::<T>::count($crate::Leaf::<T>::parameters(self))
+            }
+            fn params_into(&self, out: &mut Vec<T>) {
+                $crate::ParamSet::<T>::write($crate::Leaf::<T>::parameters(self), out)
+            }
+            fn param_names(&self) -> Vec<String> {
+                $crate::ParamSet::<T>::names($crate::Leaf::<T>::parameters(self))
+            }
+            fn param_domains(&self) -> Vec<$crate::Domain> {
+                $crate::ParamSet::<T>::domains($crate::Leaf::<T>::parameters(self))
+            }
+            fn set_params(&mut self, p: &[T]) -> $crate::Result<()> {
+                let next =
+                    $crate::ParamSet::<T>::with_values($crate::Leaf::<T>::parameters(self), p)?;
+                *self = $crate::Leaf::<T>::with_parameters(self, next)?;
+                Ok(())
+            }
         }
-        fn n_params(&self) -> usize {
-            $crate::ParamSet::<$t>::count($crate::Leaf::<$t>::parameters(self))
-        }
-        fn params_into(&self, out: &mut Vec<$t>) {
-            $crate::ParamSet::<$t>::write($crate::Leaf::<$t>::parameters(self), out)
-        }
-        fn param_names(&self) -> Vec<String> {
-            $crate::ParamSet::<$t>::names($crate::Leaf::<$t>::parameters(self))
-        }
-        fn param_domains(&self) -> Vec<$crate::Domain> {
-            $crate::ParamSet::<$t>::domains($crate::Leaf::<$t>::parameters(self))
-        }
-        fn set_params(&mut self, p: &[$t]) -> $crate::Result<()> {
-            let next =
-                $crate::ParamSet::<$t>::with_values($crate::Leaf::<$t>::parameters(self), p)?;
-            *self = $crate::Leaf::<$t>::with_parameters(self, next)?;
-            Ok(())
-        }
-        fn to_dual(&self) -> Option<Box<dyn $crate::Operator<$crate::Dual>>> {
-            let dual = $crate::Leaf::<$t>::cast_leaf::<$crate::Dual>(self).ok()?;
-            Some(Box::new(dual))
+
+        impl<T: $crate::Float> $crate::Derivatives<T> for $op<T> {
+            fn to_dual(&self) -> Option<Box<dyn $crate::Operator<$crate::Dual>>> {
+                let dual = $crate::Leaf::<T>::cast_leaf::<$crate::Dual>(self).ok()?;
+                Some(Box::new(dual))
+            }
         }
     };
 }
@@ -167,7 +169,7 @@ pub trait StepLaw<T: Float>: ParamSet<T> {
 
     /// Whether a step at the state's own input keeps the state and gives
     /// the committed output again, bit for bit (after one step there):
-    /// [`Operator::rests_when_held`]. `false` unless the law says so.
+    /// [`Hints::rests_when_held`]. `false` unless the law says so.
     const RESTS_WHEN_HELD: bool = false;
 
     /// The same parameters over the scalar `U`, as constants (for a
@@ -181,7 +183,7 @@ pub trait StepLaw<T: Float>: ParamSet<T> {
     fn step(&self, s: &Self::State, x: T) -> Result<(Self::State, Trial<T>)>;
 
     /// The output and tangent of [`step`](StepLaw::step) at an input of
-    /// value `x`, on values alone ([`Operator::trial_value`]), or `None`
+    /// value `x`, on values alone ([`Hints::trial_value`]), or `None`
     /// (the default: the operator has no such path).
     fn step_value(&self, s: &Self::State, x: f64) -> Option<Result<Trial<f64>>> {
         let _ = (s, x);
@@ -189,14 +191,14 @@ pub trait StepLaw<T: Float>: ParamSet<T> {
     }
 
     /// The second derivative of the output at the state `s` a step left
-    /// ([`Operator::trial_curvature`]), or `None` (the default).
+    /// ([`Hints::trial_curvature`]), or `None` (the default).
     fn curvature(&self, s: &Self::State) -> Option<T> {
         let _ = s;
         None
     }
 
     /// Folds the probe slot of every scalar of the state `s` a step left
-    /// ([`Operator::fold_probe`]) and says so; `false` (the default): the
+    /// ([`Hints::fold_probe`]) and says so; `false` (the default): the
     /// law does not, and the caller steps again. A law must also answer
     /// `false` where a scalar of its own that is not a parameter (a sample
     /// period) carries anything in the probe slot.
@@ -270,7 +272,7 @@ impl<T: Float, L: StepLaw<T>> Stepped<L, T> {
         &self.s
     }
 
-    /// [`Operator::process_while`] with any condition `keep` (inlined into
+    /// [`process_while`](crate::process_while) with any condition `keep` (inlined into
     /// the loop where it is a closure).
     #[inline(always)]
     fn run_while(
@@ -332,6 +334,46 @@ impl<T: Float, L: StepLaw<T>> Operator<T> for Stepped<L, T> {
     }
 
     #[inline]
+    fn commit(&mut self) {
+        if let Some(s) = self.pending.take() {
+            self.s = s;
+        }
+    }
+
+    fn reset(&mut self) {
+        self.s = self.law.initial();
+        self.pending = None;
+    }
+
+    fn name(&self) -> &'static str {
+        L::KIND
+    }
+
+    fn process(&mut self, xs: &[T], ys: &mut [T]) -> Result<()> {
+        check_lengths(xs, ys)?;
+        self.pending = None;
+        self.law.run(&mut self.s, xs, ys)
+    }
+}
+
+impl<T: Float, L: StepLaw<T>> Hints<T> for Stepped<L, T> {
+    fn batch_while(&mut self, xs: &[T], ys: &mut [T], keep: &mut Keep<'_, T>) -> Option<usize> {
+        Some(self.run_while(xs, ys, keep))
+    }
+
+    fn batch_while_beyond(&mut self, xs: &[T], ys: &mut [T], beyond: Beyond<T>) -> Option<usize> {
+        Some(self.run_while(xs, ys, |_, y| beyond.admits(y)))
+    }
+
+    fn rests_when_held(&self) -> bool {
+        L::RESTS_WHEN_HELD
+    }
+
+    fn trial_curvature(&self) -> Option<T> {
+        self.pending.as_ref().and_then(|s| self.law.curvature(s))
+    }
+
+    #[inline]
     fn trial_value(&mut self, x: f64) -> Option<Result<Trial<f64>>> {
         self.pending = None;
         if !(crate::float::values_are_f64::<T>() && x.is_finite()) {
@@ -347,44 +389,35 @@ impl<T: Float, L: StepLaw<T>> Operator<T> for Stepped<L, T> {
             .as_mut()
             .is_some_and(|s| self.law.fold_probe(s, along))
     }
+}
 
-    #[inline]
-    fn commit(&mut self) {
-        if let Some(s) = self.pending.take() {
-            self.s = s;
-        }
-    }
-
-    fn reset(&mut self) {
-        self.s = self.law.initial();
-        self.pending = None;
-    }
-
-    fn process(&mut self, xs: &[T], ys: &mut [T]) -> Result<()> {
-        check_lengths(xs, ys)?;
-        self.pending = None;
-        self.law.run(&mut self.s, xs, ys)
-    }
-
-    fn process_while(&mut self, xs: &[T], ys: &mut [T], keep: &mut Keep<'_, T>) -> usize {
-        self.run_while(xs, ys, keep)
-    }
-
-    fn process_while_beyond(&mut self, xs: &[T], ys: &mut [T], beyond: Beyond<T>) -> usize {
-        self.run_while(xs, ys, |_, y| beyond.admits(y))
-    }
-
+impl<T: Float, L: StepLaw<T>> SamplePeriod<T> for Stepped<L, T> {
     fn set_sample_period(&mut self, dt: T) -> Result<()> {
         self.law.set_sample_period(dt)
     }
+}
 
-    fn rests_when_held(&self) -> bool {
-        L::RESTS_WHEN_HELD
+impl<T: Float, L: StepLaw<T>> Parameters<T> for Stepped<L, T> {
+    fn n_params(&self) -> usize {
+        self.law.count()
     }
-
-    fn trial_curvature(&self) -> Option<T> {
-        self.pending.as_ref().and_then(|s| self.law.curvature(s))
+    fn params_into(&self, out: &mut Vec<T>) {
+        self.law.write(out)
     }
+    fn param_names(&self) -> Vec<String> {
+        self.law.names()
+    }
+    fn param_domains(&self) -> Vec<crate::Domain> {
+        self.law.domains()
+    }
+    fn set_params(&mut self, p: &[T]) -> Result<()> {
+        *self = Stepped::from_params(self.law.with_values(p)?)?;
+        Ok(())
+    }
+}
 
-    crate::leaf_param_methods!(T);
+impl<T: Float, L: StepLaw<T>> Derivatives<T> for Stepped<L, T> {
+    fn to_dual(&self) -> Option<Box<dyn Operator<crate::Dual>>> {
+        Some(Box::new(self.cast_leaf::<crate::Dual>().ok()?))
+    }
 }

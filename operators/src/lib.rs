@@ -46,9 +46,11 @@ mod dual;
 mod error;
 mod exp_m1;
 mod float;
+mod hints;
 mod leaf;
 mod memoryless;
 mod operator;
+mod parameters;
 pub mod params;
 pub mod simd;
 mod staged;
@@ -63,11 +65,12 @@ pub use domain::Domain;
 pub use dual::{Differentiable, Dual, DualN, DUAL_WIDTH};
 pub use error::{Error, Result};
 pub use float::Float;
-pub use leaf::{checked_step, Leaf, StepLaw, Stepped};
-pub use operator::{
-    check_input, check_lengths, check_output, process_by_trials, process_while_by_trials, Beyond,
-    Keep, Operator, Trial,
+pub use hints::{
+    process_while, process_while_beyond, process_while_by_trials, Beyond, Hints, Keep,
 };
+pub use leaf::{checked_step, Leaf, StepLaw, Stepped};
+pub use operator::{check_input, check_lengths, check_output, process_by_trials, Operator, Trial};
+pub use parameters::{Derivatives, Parameters, SamplePeriod};
 pub use params::{CastScalar, FieldInfo, FieldKind, ParamField, ParamSet};
 pub use staged::Staged;
 pub use stiffness::StiffnessMap;

@@ -28,7 +28,7 @@ declare_params! {
         #[serde(default)]
         z0: T => Real = 1e-5,
         /// Sample period `dt > 0` (s) until the structure above sets one
-        /// ([`Operator::set_sample_period`](crate::Operator::set_sample_period)).
+        /// ([`SamplePeriod::set_sample_period`](crate::SamplePeriod::set_sample_period)).
         /// Not a fitted parameter.
         dt: T => fixed = 1e-3,
     }
@@ -105,7 +105,7 @@ pub struct LuGreState<T> {
 /// one-sided derivative in the last direction of motion (upward before
 /// any motion). It starts at `x = 0`, `z = z0`, at rest. Parameters
 /// `[sigma0, sigma1, sigma2, f_c, f_s, v_s, delta, z0]`; `dt` is fixed
-/// ([`Operator::set_sample_period`](crate::Operator::set_sample_period)).
+/// ([`SamplePeriod::set_sample_period`](crate::SamplePeriod::set_sample_period)).
 ///
 /// ```
 /// use hysteron_operators::{LuGre, LuGreParams, Operator};

@@ -13,7 +13,7 @@ declare_params! {
         /// Stiffness `k ≥ 0`.
         k: T => NonNegative = 5e4,
         /// Sample period `dt > 0` (s) until the structure above sets one
-        /// ([`Operator::set_sample_period`](crate::Operator::set_sample_period)).
+        /// ([`SamplePeriod::set_sample_period`](crate::SamplePeriod::set_sample_period)).
         /// Not a fitted parameter.
         dt: T => fixed = 1.0 / 15000.0,
     }
@@ -44,7 +44,7 @@ pub struct MsdState<T> {
 /// so the tangent is `dy/du = 1/k_eff` and the operator can sit in an
 /// implicit loop ([`Feedback`] in `hysteron-composition`). It starts at rest
 /// (`y = v = a = 0`, `u = 0`). Parameters `[m, c, k]`; `dt` is fixed
-/// ([`Operator::set_sample_period`](crate::Operator::set_sample_period)).
+/// ([`SamplePeriod::set_sample_period`](crate::SamplePeriod::set_sample_period)).
 ///
 /// In a combinator with rate-independent operators the whole model becomes
 /// rate-dependent: its samples must be spaced by `dt`.

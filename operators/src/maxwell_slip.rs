@@ -224,8 +224,18 @@ impl<T: Float> Operator<T> for MaxwellSlip<T> {
         Ok(())
     }
 
-    crate::leaf_param_methods!(T);
+    fn name(&self) -> &'static str {
+        <Self as crate::Leaf<T>>::KIND
+    }
 }
+
+crate::leaf_traits!(MaxwellSlip);
+
+/// No fast paths beyond the batch loop of `process`.
+impl<T: Float> crate::Hints<T> for MaxwellSlip<T> {}
+
+/// Rate-independent: the period is only checked.
+impl<T: Float> crate::SamplePeriod<T> for MaxwellSlip<T> {}
 
 crate::impl_leaf!(
     MaxwellSlip,

@@ -1,6 +1,6 @@
 //! Declared parameter sets: each operator's parameters are written once,
 //! in a [`declare_params!`](crate::declare_params) block, and everything
-//! else (the flat vector of [`Operator::params`](crate::Operator::params),
+//! else (the flat vector of [`Parameters::params`](crate::Parameters::params),
 //! names, domains, `set_params`, validation, the serde form of a spec)
 //! derives from that declaration.
 //!

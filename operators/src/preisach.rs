@@ -333,7 +333,7 @@ impl<T: Float> PreisachMeasure<T> {
     }
 
     /// The same representation and shape with the values `p` (in the order
-    /// of [`Operator::params`] of the model), unvalidated.
+    /// of [`Parameters::params`](crate::Parameters::params) of the model), unvalidated.
     // `p.len() == self.n_params()` by `check::count` (3 for `Uniform`, 5 for
     // `Tanh`), so `p[0..3]` / `p[0..5]` exist.
     #[allow(clippy::indexing_slicing)]
@@ -929,8 +929,18 @@ impl<T: Float> Operator<T> for Preisach<T> {
         self.stack.push(pend.top);
     }
 
-    crate::leaf_param_methods!(T);
+    fn name(&self) -> &'static str {
+        <Self as crate::Leaf<T>>::KIND
+    }
 }
+
+crate::leaf_traits!(Preisach);
+
+/// No fast paths beyond the batch loop of `process`.
+impl<T: Float> crate::Hints<T> for Preisach<T> {}
+
+/// Rate-independent: the period is only checked.
+impl<T: Float> crate::SamplePeriod<T> for Preisach<T> {}
 
 /// The flat parameters are the measure's (see [`PreisachMeasure`]); the
 /// start is a setting.

@@ -9,7 +9,7 @@ declare_params! {
         /// Damping coefficient `c ≥ 0`.
         c: T => NonNegative = 2.0,
         /// Sample period `dt > 0` (s) until the structure above sets one
-        /// ([`Operator::set_sample_period`](crate::Operator::set_sample_period)).
+        /// ([`SamplePeriod::set_sample_period`](crate::SamplePeriod::set_sample_period)).
         /// Not a fitted parameter.
         dt: T => fixed = 0.01,
     }

@@ -132,7 +132,7 @@ def mass_spring_damper(m: float, c: float, k: float, dt: Optional[float] = None)
         m (> 0): Mass `m > 0`.
         c (≥ 0): Viscous damping `c ≥ 0`.
         k (≥ 0): Stiffness `k ≥ 0`.
-        dt (a setting; from the data if left out): Sample period `dt > 0` (s) until the structure above sets one (`Operator::set_sample_period`). Not a fitted parameter.
+        dt (a setting; from the data if left out): Sample period `dt > 0` (s) until the structure above sets one (`SamplePeriod::set_sample_period`). Not a fitted parameter.
 
     Example: ``mass_spring_damper(**{"m":2.0,"c":10.0,"k":50000.0,"dt":0.00006666666666666667})``.
     """
@@ -142,7 +142,7 @@ def viscous_damper(c: float, dt: Optional[float] = None) -> Model:
 
     Parameters:
         c (≥ 0): Damping coefficient `c ≥ 0`.
-        dt (a setting; from the data if left out): Sample period `dt > 0` (s) until the structure above sets one (`Operator::set_sample_period`). Not a fitted parameter.
+        dt (a setting; from the data if left out): Sample period `dt > 0` (s) until the structure above sets one (`SamplePeriod::set_sample_period`). Not a fitted parameter.
 
     Example: ``viscous_damper(**{"c":2.0,"dt":0.01})``.
     """
@@ -182,7 +182,7 @@ def lugre(sigma0: float, sigma1: float, sigma2: float, f_c: float, f_s: float, v
         v_s (> 0): Stribeck velocity `v_s > 0` (input units per second).
         delta (> 0; default 2): Stribeck exponent `δ > 0` (default 2).
         z0 (real; default 0): Bristle deflection at input `x = 0` before the first sample (default 0).
-        dt (a setting; from the data if left out): Sample period `dt > 0` (s) until the structure above sets one (`Operator::set_sample_period`). Not a fitted parameter.
+        dt (a setting; from the data if left out): Sample period `dt > 0` (s) until the structure above sets one (`SamplePeriod::set_sample_period`). Not a fitted parameter.
 
     Example: ``lugre(**{"sigma0":10000.0,"sigma1":50.0,"sigma2":0.4,"f_c":1.0,"f_s":1.5,"v_s":0.01,"delta":2.0,"z0":0.00001,"dt":0.001})``.
     """
@@ -200,7 +200,7 @@ def gms(c: float, f_c: float, f_s: float, v_s: float, delta: Optional[float] = N
         k (each > 0): Element stiffnesses `k_i > 0`.
         alpha (each > 0): Element weights `α_i > 0`: element `i` slips at `α_i s(v)`.
         f0 (each real; default 0 each): Element forces at input `x = 0` before the first sample (default empty: all 0).
-        dt (a setting; from the data if left out): Sample period `dt > 0` (s) until the structure above sets one (`Operator::set_sample_period`). Not a fitted parameter.
+        dt (a setting; from the data if left out): Sample period `dt > 0` (s) until the structure above sets one (`SamplePeriod::set_sample_period`). Not a fitted parameter.
 
     Example: ``gms(**{"c":50.0,"f_c":1.0,"f_s":1.5,"v_s":0.01,"delta":2.0,"sigma2":0.1,"k":[100.0,20.0],"alpha":[0.5,0.5],"f0":[0.1,-0.2],"dt":0.001})``.
     """

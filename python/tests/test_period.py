@@ -109,7 +109,7 @@ def test_docstrings_are_plain_text() -> None:
     doc = hy.lugre.__doc__ or ""
     assert doc.count("Not a fitted parameter.") == 1, doc
     assert "](" not in doc and "[`" not in doc, doc
-    assert "Operator::set_sample_period" in doc
+    assert "SamplePeriod::set_sample_period" in doc
 
 
 def test_a_constant_stiffness_is_a_number() -> None:

@@ -15,7 +15,7 @@
 //! * `fmi2DoStep(t, h)` takes the input set last as the sample at the end
 //!   of the step, `t + h`, and commits one sample: `y = H[x]`. A
 //!   rate-dependent model gets `h` as its sample period
-//!   (`Operator::set_sample_period`), which may change from step to step.
+//!   (`SamplePeriod::set_sample_period`), which may change from step to step.
 //!   Before the first step `y` is the model's initial output (its output
 //!   at input 0 from the initial state).
 //! * A parameter set between steps rebuilds the model with the new value

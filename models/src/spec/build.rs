@@ -56,7 +56,7 @@ impl Spec {
     /// Builds the model over the dual scalar [`Dual`], for derivatives:
     /// the same operators with the same parameters and settings as
     /// [`build`](Self::build) gives (every derivative 0 until
-    /// [`Operator::set_params`] seeds some), with the same errors.
+    /// [`Parameters::set_params`](hysteron_operators::Parameters::set_params) seeds some), with the same errors.
     ///
     /// ```
     /// use hysteron_models::Spec;

@@ -2,14 +2,17 @@
 //! which gives its twin over dual numbers.
 
 use super::Spec;
-use hysteron_operators::{Beyond, Domain, Dual, Keep, Operator, Result, Trial};
+use hysteron_operators::{
+    Beyond, Derivatives, Domain, Dual, Hints, Keep, Operator, Parameters, Result, SamplePeriod,
+    Trial,
+};
 use std::sync::Arc;
 
 /// What [`Spec::build`] returns: the built operator, which it runs, and the
-/// spec, from which [`Operator::to_dual`] builds the same model over
+/// spec, from which [`Derivatives::to_dual`] builds the same model over
 /// [`Dual`] (with the current parameters) for exact derivatives.
 ///
-/// Every method of [`Operator`] is the built operator's, so a spec model
+/// Every method of [`Operator`] and its traits is the built operator's, so a spec model
 /// runs as fast and gives the same bits as the operator alone.
 #[derive(Debug, Clone)]
 pub(super) struct SpecModel {
@@ -44,11 +47,27 @@ impl Operator<f64> for SpecModel {
     fn process(&mut self, xs: &[f64], ys: &mut [f64]) -> Result<()> {
         self.op.process(xs, ys)
     }
-    fn process_while(&mut self, xs: &[f64], ys: &mut [f64], keep: &mut Keep<'_, f64>) -> usize {
-        self.op.process_while(xs, ys, keep)
+    fn run(&mut self, xs: &[f64]) -> Result<Vec<f64>> {
+        self.op.run(xs)
     }
-    fn process_while_beyond(&mut self, xs: &[f64], ys: &mut [f64], beyond: Beyond<f64>) -> usize {
-        self.op.process_while_beyond(xs, ys, beyond)
+}
+
+impl Hints<f64> for SpecModel {
+    fn batch_while(
+        &mut self,
+        xs: &[f64],
+        ys: &mut [f64],
+        keep: &mut Keep<'_, f64>,
+    ) -> Option<usize> {
+        self.op.batch_while(xs, ys, keep)
+    }
+    fn batch_while_beyond(
+        &mut self,
+        xs: &[f64],
+        ys: &mut [f64],
+        beyond: Beyond<f64>,
+    ) -> Option<usize> {
+        self.op.batch_while_beyond(xs, ys, beyond)
     }
     fn rests_when_held(&self) -> bool {
         self.op.rests_when_held()
@@ -59,12 +78,18 @@ impl Operator<f64> for SpecModel {
     fn trial_value(&mut self, x: f64) -> Option<Result<Trial<f64>>> {
         self.op.trial_value(x)
     }
-    fn run(&mut self, xs: &[f64]) -> Result<Vec<f64>> {
-        self.op.run(xs)
+    fn fold_probe(&mut self, along: &f64) -> bool {
+        self.op.fold_probe(along)
     }
+}
+
+impl SamplePeriod<f64> for SpecModel {
     fn set_sample_period(&mut self, dt: f64) -> Result<()> {
         self.op.set_sample_period(dt)
     }
+}
+
+impl Parameters<f64> for SpecModel {
     fn n_params(&self) -> usize {
         self.op.n_params()
     }
@@ -83,6 +108,9 @@ impl Operator<f64> for SpecModel {
     fn param_domains(&self) -> Vec<Domain> {
         self.op.param_domains()
     }
+}
+
+impl Derivatives<f64> for SpecModel {
     /// The spec with the current parameters, built over [`Dual`] (the
     /// spec's sample period, not one set since with `set_sample_period`).
     fn to_dual(&self) -> Option<Box<dyn Operator<Dual>>> {

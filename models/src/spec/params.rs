@@ -1,11 +1,13 @@
 //! A [`Spec`] with new parameter values or sample periods: the spec-level
-//! counterparts of [`Operator::set_params`] and
-//! [`Operator::set_sample_period`].
+//! counterparts of [`Parameters::set_params`] and
+//! [`SamplePeriod::set_sample_period`].
 
 use super::build::{spring_at_rest, transmission_names};
 use super::{LeafSpec, Spec, SpecError};
 use hysteron_composition::TravelLimits;
-use hysteron_operators::{Error, Operator};
+use hysteron_operators::Error;
+#[cfg(doc)]
+use hysteron_operators::{Parameters, SamplePeriod};
 use serde_json::Value;
 
 /// Why a spring's `z0` in a series with a gap cannot move on its own.
@@ -13,7 +15,7 @@ const TIED_Z0: &str = "must equal −r0 of the series' gap: the spring is at res
                        gap gives it at x = 0 (move r0 and z0 together)";
 
 impl Spec {
-    /// The parameters (named as [`Operator::param_names`] of the built
+    /// The parameters (named as [`Parameters::param_names`] of the built
     /// model names them) that are tied to another and so cannot be set, or
     /// fitted, on their own: in a series with a gap whose right element is
     /// a `bouc_wen` spring, and in a `transmission`, the gap's `r0` and the
@@ -57,7 +59,7 @@ impl Spec {
     }
 
     /// The same spec with the sample period of every rate-dependent node
-    /// set to `dt`, as [`Operator::set_sample_period`] sets it on the built
+    /// set to `dt`, as [`SamplePeriod::set_sample_period`] sets it on the built
     /// model: the nodes inside an `oversample` of `q` sub-steps get
     /// `dt / q`. The rest of the tree is kept; the value is checked by
     /// [`build`](Spec::build).
@@ -120,8 +122,8 @@ impl Spec {
     }
 
     /// The same spec with the parameters `p`, given in the order of the
-    /// built operator's [`params`](Operator::params) (depth-first, as
-    /// [`param_names`](Operator::param_names) lists them): the inverse of
+    /// built operator's [`params`](Parameters::params) (depth-first, as
+    /// [`param_names`](Parameters::param_names) lists them): the inverse of
     /// `spec.build()?.params()`. Everything that is not a parameter (the
     /// tree, solver options, the kind of travel limits, the number of
     /// knots or plays, sample periods) is kept.

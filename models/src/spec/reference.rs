@@ -378,9 +378,9 @@ mod tests {
     fn plain_text_drops_link_syntax() {
         assert_eq!(
             plain(&[
-                "until ([`Operator::set_sample_period`](crate::Operator::set_sample_period))."
+                "until ([`SamplePeriod::set_sample_period`](crate::SamplePeriod::set_sample_period))."
             ]),
-            "until (`Operator::set_sample_period`)."
+            "until (`SamplePeriod::set_sample_period`)."
         );
         assert_eq!(plain(&["a [`Leaf`] and", " [x]"]), "a `Leaf` and [x]");
         assert_eq!(plain(&["`w ∈ [0, 1]` and [y](z)"]), "`w ∈ [0, 1]` and y");

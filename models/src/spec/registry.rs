@@ -81,7 +81,7 @@ pub trait LeafKind: Sync {
     fn build(&self, params: &Value) -> Result<Box<dyn Operator<f64>>, Error>;
     /// Builds the operator from canonical parameters over the dual scalar
     /// [`Dual`] (values as given, derivatives 0: seed them with
-    /// [`Operator::set_params`]).
+    /// [`Parameters::set_params`](hysteron_operators::Parameters::set_params)).
     fn build_dual(&self, params: &Value) -> Result<Box<dyn Operator<Dual>>, Error>;
     /// The same parameters with the flat entries taken from the front of
     /// `p` (validated).
