@@ -3,8 +3,11 @@
 //! `hysteron_models::benchmark`, from starting values taken from the record
 //! itself ([`start_from_data`]).
 
+use crate::error::FitError;
+use crate::fit::{fit, free_by_names};
 use crate::multistart::{starting_points, summarize, MultiStart};
-use crate::{fit, free_by_names, FitError, FitOptions, FitReport};
+use crate::options::FitOptions;
+use crate::outcome::FitReport;
 use hysteron_models::benchmark::{boucwen_system, BoucWenBenchmarkParams};
 use hysteron_models::composition::OperatorExt;
 use hysteron_models::signal::Upsampling;
@@ -57,7 +60,7 @@ pub fn identify_boucwen_multistart(
     opts: &FitOptions,
     ms: &MultiStart,
 ) -> Result<BenchmarkIdentification, BenchmarkError> {
-    crate::fit::option(ms.starts > 0, "starts", "must be ≥ 1")?;
+    crate::error::option(ms.starts > 0, "starts", "must be ≥ 1")?;
     let model = boucwen_system(start)?;
     let free = free_by_names(&model, &FREE)?;
     let points = starting_points(&model.params(), &model.param_domains(), &free, ms);

@@ -33,7 +33,6 @@
 //! Springer 1978 (the iteration depends on `J` through its QR alone).
 
 use crate::problem::Problem;
-use crate::triangular::Triangular;
 use levenberg_marquardt::LeastSquaresProblem;
 use nalgebra::{DMatrix, DVector, Dyn, Owned};
 
@@ -62,21 +61,6 @@ fn compress_residuals(r: &DVector<f64>, k: usize) -> DVector<f64> {
         *first = r.norm();
     }
     c
-}
-
-/// `Qᵀ J` for the QR `[r J] = Q R` with `R₀₀ ≥ 0`: the last `k` columns
-/// of `R`, folded row by row ([`Triangular`]).
-pub(crate) fn compress_jacobian(r: &DVector<f64>, j: &DMatrix<f64>) -> DMatrix<f64> {
-    let k = j.ncols();
-    let mut t = Triangular::new(k + 1);
-    let mut row = vec![0.0; k + 1];
-    for (ri, ji) in r.iter().zip(j.row_iter()) {
-        for (v, &x) in row.iter_mut().zip(std::iter::once(ri).chain(ji.iter())) {
-            *v = x;
-        }
-        t.push(&row);
-    }
-    t.finish().columns(1, k).into_owned()
 }
 
 impl LeastSquaresProblem<f64, Dyn, Dyn> for Compressed<'_> {
@@ -114,6 +98,7 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Compressed<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::triangular::compress_jacobian;
 
     /// `J̃ᵀ J̃ = Jᵀ J` and `J̃ᵀ r̃ = Jᵀ r` (to rounding), `r̃ = (‖r‖, 0, …)`.
     #[test]

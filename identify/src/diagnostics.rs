@@ -17,10 +17,10 @@
 //! (Wiley 1988), ch. 2–3: the linear approximation `C = σ² (JᵀJ)⁻¹` behind
 //! the standard errors, intervals and correlations.
 
-use crate::FittedParam;
+pub use crate::outcome::IdentifiabilityWarning;
+
+use crate::outcome::FittedParam;
 use nalgebra::{DMatrix, SymmetricEigen};
-use serde::Serialize;
-use std::fmt;
 
 /// Correlations beyond this magnitude are reported.
 pub const CORRELATED: f64 = 0.99;
@@ -76,89 +76,6 @@ pub fn inverse_of_determined(jtj: &DMatrix<f64>, determined: &[bool]) -> Option<
         }
     }
     Some(full)
-}
-
-/// A sign that the data do not determine a parameter, or a pair of them.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-#[serde(tag = "kind", rename_all = "snake_case")]
-pub enum IdentifiabilityWarning {
-    /// `JᵀJ` is singular (or not positive definite): some combination of
-    /// the free parameters does not change the output at all, and no
-    /// standard errors, intervals or correlations exist. `names` are the
-    /// parameters in that combination: those with a component of at least
-    /// [`IN_NULL_DIRECTION`] in the unit eigenvector of the smallest
-    /// eigenvalue.
-    Singular {
-        /// The parameters of the combination ([`FittedParam::label`]).
-        names: Vec<String>,
-    },
-    /// The parameter's column of `J` vanishes ([`determined`]): at this
-    /// point the output does not depend on it (typically a non-negative
-    /// parameter driven to 0). It has no standard error, and the others'
-    /// are computed with it held at its value.
-    Undetermined {
-        /// The parameter ([`FittedParam::label`]).
-        name: String,
-        /// Its fitted value.
-        value: f64,
-    },
-    /// The 95 % interval of the parameter is wider than `|value|`.
-    WideInterval {
-        /// The parameter ([`FittedParam::label`]).
-        name: String,
-        /// Its fitted value.
-        value: f64,
-        /// Its 95 % interval.
-        interval: (f64, f64),
-    },
-    /// Two parameters are correlated beyond [`CORRELATED`]: the data
-    /// determine a combination of them, not each one.
-    Correlated {
-        /// The first parameter.
-        first: String,
-        /// The second.
-        second: String,
-        /// Their correlation `ρ`.
-        rho: f64,
-    },
-}
-
-impl fmt::Display for IdentifiabilityWarning {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Self::Singular { names } => {
-                let quoted: Vec<String> = names.iter().map(|n| format!("`{n}`")).collect();
-                let what = match quoted.as_slice() {
-                    [one] => one.clone(),
-                    [] => "the free parameters".to_string(),
-                    many => format!("a combination of {}", many.join(", ")),
-                };
-                write!(
-                    f,
-                    "JᵀJ is singular: {what} does not change the output (no standard errors)"
-                )
-            }
-            Self::Undetermined { name, value } => write!(
-                f,
-                "`{name}` = {value:.4e} does not change the output here (its Jacobian column \
-                 vanishes): no standard error; the others' are computed with it held"
-            ),
-            Self::WideInterval {
-                name,
-                value,
-                interval: (a, b),
-            } => write!(
-                f,
-                "`{name}`: its 95 % interval [{a:.4e}, {b:.4e}] is wider than |value| = {:.4e}",
-                value.abs()
-            ),
-            Self::Correlated { first, second, rho } => write!(
-                f,
-                "`{first}` and `{second}` are correlated (ρ = {rho:.6}): the data fix a \
-                 combination of the two"
-            ),
-        }
-    }
 }
 
 /// `κ = λ_max / λ_min` of the symmetric positive semi-definite `jtj`

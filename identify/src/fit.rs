@@ -2,293 +2,16 @@
 //! Levenberg-Marquardt.
 
 use crate::compressed::Compressed;
-use crate::diagnostics::{self, IdentifiabilityWarning};
+use crate::diagnostics;
+use crate::error::{option, FitError};
+use crate::options::{FitOptions, Progress};
+use crate::outcome::{Fit, FitReport, FitStatus, FittedParam, IdentifiabilityWarning, RecordFit};
 use crate::problem::{Layout, Problem};
-use hysteron_operators::{Error, Operator};
+use crate::record::Record;
+use hysteron_operators::Operator;
 use levenberg_marquardt::{LevenbergMarquardt, TerminationReason};
-use serde::Serialize;
 use std::sync::atomic::Ordering;
-use std::time::{Duration, Instant};
-
-/// Why a fit could not start.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum FitError {
-    /// The record is empty, the columns differ in length, or a value is not
-    /// finite.
-    #[error("data: {0}")]
-    Data(String),
-    /// A requested free parameter is not among the model's.
-    #[error("unknown parameter `{name}` (the model has: {available})")]
-    UnknownParameter {
-        /// The requested name.
-        name: String,
-        /// The model's parameter names.
-        available: String,
-    },
-    /// A requested name matches several parameters.
-    #[error("parameter name `{name}` is ambiguous: {matches}")]
-    AmbiguousParameter {
-        /// The requested name.
-        name: String,
-        /// The matching parameter names.
-        matches: String,
-    },
-    /// Nothing to fit.
-    #[error("no free parameters")]
-    NoFreeParameters,
-    /// A parameter index is out of range.
-    #[error("parameter index {index} out of range (the model has {len})")]
-    BadIndex {
-        /// The index.
-        index: usize,
-        /// Number of parameters.
-        len: usize,
-    },
-    /// The model cannot be simulated with the starting parameters.
-    #[error("the model fails at the starting parameters: {0}")]
-    Start(#[source] Error),
-    /// The model cannot be simulated with the starting parameters on one
-    /// of several records.
-    #[error("the model fails at the starting parameters on record {record}: {source}")]
-    RecordStart {
-        /// The record (its index in the order given).
-        record: usize,
-        /// The model's error.
-        #[source]
-        source: Error,
-    },
-    /// A parameter is listed twice (in `free`, in `own`, or in both).
-    #[error("parameter index {index} is listed twice")]
-    Repeated {
-        /// The index.
-        index: usize,
-    },
-    /// An option is out of range.
-    #[error("option `{name}`: {reason}")]
-    Option {
-        /// The option.
-        name: &'static str,
-        /// What it must satisfy.
-        reason: &'static str,
-    },
-}
-
-/// Settings of a fit.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct FitOptions {
-    /// Relative reduction of the cost below which the fit has converged
-    /// (`ftol` of MINPACK).
-    pub ftol: f64,
-    /// Relative change of the (internal) parameters below which the fit has
-    /// converged (`xtol`).
-    pub xtol: f64,
-    /// Orthogonality of residuals and Jacobian columns (`gtol`).
-    pub gtol: f64,
-    /// MINPACK's `patience`: at most `patience·(k + 1)` trial steps
-    /// (residual evaluations at a proposed point). Each accepted step also
-    /// costs a Jacobian, `2k` simulations, so the simulations are bounded by
-    /// `patience·(k + 1)·(2k + 1)`; for a hard bound on the work use
-    /// [`max_evaluations`](FitOptions::max_evaluations) or
-    /// [`max_seconds`](FitOptions::max_seconds).
-    pub patience: usize,
-    /// At most this many simulations of the model over all records (trial
-    /// steps and Jacobian columns alike); `None`: no bound beyond
-    /// `patience`. When it is reached the fit ends
-    /// [`NotConverged`](FitStatus::NotConverged) at the best accepted point.
-    pub max_evaluations: Option<usize>,
-    /// Wall time after which no new simulation starts (seconds, positive);
-    /// the fit ends [`NotConverged`](FitStatus::NotConverged) at the best
-    /// accepted point. A simulation under way finishes, so the fit may
-    /// overrun by the time of one Jacobian.
-    pub max_seconds: Option<f64>,
-    /// Relative step of the central finite differences in the internal
-    /// parameters, `h = step · max(1, |θ|)` (where they are used).
-    pub step: f64,
-    /// How the Jacobian is computed; [`Jacobian::Exact`] by default.
-    pub jacobian: Jacobian,
-    /// Use a second core: the finite-difference columns and several
-    /// records' dual passes run in parallel (rayon), and a fit of one
-    /// record whose exact Jacobian is one dual pass starts that pass at
-    /// each trial point beside its simulation, on a thread of its own
-    /// (stopped when the point is rejected; the results are the same bit
-    /// for bit, see `speculation`), unless the fit itself runs in rayon's
-    /// pool (the starts of a multistart fit).
-    pub parallel: bool,
-    /// Compare every `stride`-th model output with the record: the model
-    /// runs on `x` (for example an input upsampled `stride` times for a
-    /// rate-dependent model) and its output at index `j · stride` is
-    /// compared with `y[j]`, so `x.len() = stride · y.len()`. Default 1.
-    pub stride: usize,
-}
-
-impl Default for FitOptions {
-    /// `ftol = xtol = 1e-12`, `gtol = 0`, `patience = 200`,
-    /// `step = ε^{1/3} ≈ 6e-6`, parallel.
-    fn default() -> Self {
-        Self {
-            ftol: 1e-12,
-            xtol: 1e-12,
-            gtol: 0.0,
-            patience: 200,
-            max_evaluations: None,
-            max_seconds: None,
-            step: f64::EPSILON.cbrt(),
-            jacobian: Jacobian::Exact,
-            parallel: true,
-            stride: 1,
-        }
-    }
-}
-
-/// How a fit computes its Jacobian `∂r/∂θ`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
-pub enum Jacobian {
-    /// Forward-mode derivatives through the model's twin over dual numbers
-    /// ([`Derivatives::to_dual`](hysteron_operators::Derivatives::to_dual)): exact to rounding, one simulation per
-    /// [`DUAL_WIDTH`](hysteron_operators::DUAL_WIDTH) parameters. A model
-    /// without a twin (an operator of your own that does not implement
-    /// `to_dual`, as stage 1 of the paper's identification), or one whose
-    /// derivatives are not finite at some sample, gets finite differences.
-    /// At a kink the derivative is that of the branch the model takes
-    /// ([`DualN`](hysteron_operators::DualN)).
-    #[default]
-    Exact,
-    /// Central finite differences, two simulations per parameter
-    /// ([`FitOptions::step`]).
-    FiniteDifferences,
-}
-
-/// How a fit ended.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub enum FitStatus {
-    /// A convergence criterion was met (the text says which).
-    Converged(String),
-    /// The evaluation budget ran out before convergence.
-    NotConverged(String),
-    /// The solver stopped on a numerical problem.
-    Failed(String),
-}
-
-impl FitStatus {
-    /// True for [`FitStatus::Converged`].
-    pub fn converged(&self) -> bool {
-        matches!(self, FitStatus::Converged(_))
-    }
-}
-
-/// One fitted parameter.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct FittedParam {
-    /// Parameter name (as in `param_names`).
-    pub name: String,
-    /// Index in the model's flat parameter vector.
-    pub index: usize,
-    /// Starting value.
-    pub start: f64,
-    /// Fitted value.
-    pub value: f64,
-    /// Standard error from the Gauss-Newton covariance (delta method
-    /// through the reparametrization); `None` where `JᵀJ` is singular, and
-    /// for a parameter whose Jacobian column vanishes
-    /// ([`diagnostics::determined`](crate::diagnostics::determined)).
-    pub std_error: Option<f64>,
-    /// 95 % confidence interval: `θ ± 1.96 σ_θ` mapped through the
-    /// reparametrization (so it respects the parameter's bounds).
-    pub ci95: Option<(f64, f64)>,
-    /// The record whose own value this is (a per-record parameter of
-    /// [`fit_records`], such as an initial state); `None` for a parameter
-    /// shared by all records.
-    pub record: Option<usize>,
-}
-
-impl FittedParam {
-    /// The name, with `[record i]` appended for a per-record parameter.
-    pub fn label(&self) -> String {
-        match self.record {
-            Some(i) => format!("{}[record {i}]", self.name),
-            None => self.name.clone(),
-        }
-    }
-}
-
-/// The fit's figures on one record (over its scored samples, after the
-/// warm-up).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct RecordFit {
-    /// Output samples compared (the record's length minus its skip).
-    pub samples: usize,
-    /// Root-mean-square residual.
-    pub rms: f64,
-    /// `rms / std(y)` over the scored samples; `None` for a constant output.
-    pub nrmse: Option<f64>,
-}
-
-/// The outcome of a fit.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct FitReport {
-    /// The free parameters: the shared ones, then each record's own
-    /// ([`FittedParam::record`]).
-    pub params: Vec<FittedParam>,
-    /// The model's full parameter vector after the fit: the shared
-    /// parameters fitted, a per-record parameter at its starting value (it
-    /// belongs to its record, see `params`).
-    pub all_params: Vec<f64>,
-    /// Final cost `½ Σ r_i²`.
-    pub cost: f64,
-    /// Root-mean-square residual over every scored sample.
-    pub rms: f64,
-    /// `rms / std(y)` over every scored sample; `None` for a constant
-    /// output.
-    pub nrmse: Option<f64>,
-    /// The same figures per record, in the order given.
-    pub records: Vec<RecordFit>,
-    /// Levenberg-Marquardt iterations (Jacobian evaluations).
-    pub iterations: usize,
-    /// Model simulations over all records (residuals and Jacobian; a pass
-    /// of the dual model counts as one).
-    pub evaluations: usize,
-    /// How the Jacobian was computed ([`Jacobian::FiniteDifferences`] where
-    /// exact derivatives were asked for but the model has no dual twin).
-    pub jacobian: Jacobian,
-    /// Wall time of the fit.
-    #[serde(serialize_with = "seconds")]
-    pub wall_time: Duration,
-    /// How it ended.
-    pub status: FitStatus,
-    /// Correlation matrix of the free parameters (in the order of
-    /// `params`), `ρ_ij = C_ij / √(C_ii C_jj)` from the Gauss-Newton
-    /// covariance `C = σ² (JᵀJ)⁻¹`; `None` where `JᵀJ` is singular, NaN in
-    /// the row and column of a parameter whose Jacobian column vanishes
-    /// ([`diagnostics::inverse_of_determined`](crate::diagnostics::inverse_of_determined)).
-    /// The reparametrization of bounded parameters is monotone and
-    /// increasing, so to first order it leaves the correlations unchanged.
-    pub correlation: Option<Vec<Vec<f64>>>,
-    /// Condition number `κ = λ_max/λ_min` of `JᵀJ` in the internal
-    /// parameters ([`diagnostics::conditioning`](crate::diagnostics::conditioning));
-    /// `None` where `JᵀJ` is singular.
-    pub condition_number: Option<f64>,
-    /// Parameters the data do not pin down: parameters the output does not
-    /// depend on at the solution, wide intervals, correlated
-    /// pairs, a singular `JᵀJ` ([`diagnostics::warnings`](crate::diagnostics::warnings)).
-    pub warnings: Vec<IdentifiabilityWarning>,
-    /// The costs of every start of a multi-start search and how many
-    /// reached the best ([`fit_multistart`](crate::fit_multistart));
-    /// `None` for a single start.
-    pub starts: Option<crate::StartsSummary>,
-}
-
-fn seconds<S: serde::Serializer>(d: &Duration, s: S) -> Result<S::Ok, S::Error> {
-    s.serialize_f64(d.as_secs_f64())
-}
-
-/// A fitted model and its report.
-#[derive(Debug, Clone)]
-pub struct Fit {
-    /// The model with the fitted parameters (reset).
-    pub model: Box<dyn Operator<f64>>,
-    /// What the fit did.
-    pub report: FitReport,
-}
+use std::time::Instant;
 
 /// Resolves parameter names to indices. A name matches a parameter whose
 /// full name equals it or ends with `.name` (so `f_c` finds
@@ -327,52 +50,6 @@ pub fn free_by_names(
             }
         })
         .collect()
-}
-
-/// One record of a fit: the model's input, the measured output, and a
-/// warm-up.
-///
-/// Each record is simulated from the model's initial state (a fresh copy
-/// of the model, with the record's own values of any per-record
-/// parameters), so records need not start or end at rest.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Record<'a> {
-    /// The input, `stride · y.len()` samples (see [`FitOptions::stride`]).
-    pub x: &'a [f64],
-    /// The measured output.
-    pub y: &'a [f64],
-    /// Leading output samples that are simulated but not compared (the
-    /// model settles from its initial state); `skip < y.len()`.
-    pub skip: usize,
-}
-
-impl<'a> Record<'a> {
-    /// The whole record `(x, y)`, nothing skipped.
-    pub fn new(x: &'a [f64], y: &'a [f64]) -> Self {
-        Self { x, y, skip: 0 }
-    }
-
-    /// The output samples compared: `y.len() − skip`.
-    pub(crate) fn scored(&self) -> usize {
-        self.y.len().saturating_sub(self.skip)
-    }
-
-    /// The scored samples among the input samples `offset..offset + len`
-    /// for the stride `stride` (≥ 1): `(i, q)` where input sample
-    /// `offset + i` is output sample `q` (`skip ≤ q < y.len()`), in order.
-    /// One division per call, none per sample.
-    pub(crate) fn scored_in(
-        &self,
-        stride: usize,
-        offset: usize,
-        len: usize,
-    ) -> impl Iterator<Item = (usize, usize)> {
-        // input sample `q · stride` lies in the range iff
-        // `⌈offset/stride⌉ ≤ q < ⌈(offset + len)/stride⌉`
-        let first = offset.div_ceil(stride).max(self.skip);
-        let end = (offset + len).div_ceil(stride).min(self.y.len());
-        (first..end).map(move |q| (q * stride - offset, q))
-    }
 }
 
 fn check_records(records: &[Record<'_>], stride: usize) -> Result<(), FitError> {
@@ -416,18 +93,6 @@ fn check_records(records: &[Record<'_>], stride: usize) -> Result<(), FitError> 
         }
     }
     Ok(())
-}
-
-/// Progress of a running fit, passed to the callback of [`fit_with_progress`]
-/// once per iteration (Jacobian evaluation).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Progress {
-    /// Iterations so far.
-    pub iteration: usize,
-    /// Model simulations so far.
-    pub evaluations: usize,
-    /// Current cost `½ Σ r²`.
-    pub cost: f64,
 }
 
 /// Fits the parameters at `free` (indices into `model.params()`) of `model`
@@ -704,19 +369,6 @@ pub fn fit_records(
     })
 }
 
-/// `Ok` where `holds`, else [`FitError::Option`] naming the option.
-pub(crate) fn option(
-    holds: bool,
-    name: &'static str,
-    reason: &'static str,
-) -> Result<(), FitError> {
-    if holds {
-        Ok(())
-    } else {
-        Err(FitError::Option { name, reason })
-    }
-}
-
 /// `(rms, rms / std(y))` of residuals `res` against the data `y` (the
 /// second `None` for a constant `y`).
 fn figures(res: &[f64], y: &[f64]) -> (f64, Option<f64>) {
@@ -925,7 +577,7 @@ mod tests {
             rc[0] = r.norm();
             let (ga, gb) = (jc.transpose() * rc, j.transpose() * &r);
             assert!((&ga - &gb).amax() <= 1e-12 * gb.amax(), "Jᵀr");
-            let folded = crate::compressed::compress_jacobian(&r, &j);
+            let folded = crate::triangular::compress_jacobian(&r, &j);
             assert!((&folded - &jc).amax() <= 1e-12 * jc.amax(), "{folded} {jc}");
         }
     }
@@ -1015,7 +667,7 @@ mod tests {
         let before = problem.evaluations.load(Ordering::Relaxed);
         let jc = problem.compressed_jacobian();
         assert_eq!(problem.evaluations.load(Ordering::Relaxed) - before, 1 + 2);
-        let fd = crate::compressed::compress_jacobian(
+        let fd = crate::triangular::compress_jacobian(
             &problem.current_residuals(),
             &problem.fd_jacobian(),
         );

@@ -29,20 +29,25 @@ pub mod batch;
 pub mod benchmark;
 mod compressed;
 pub mod diagnostics;
+mod error;
 mod fit;
 pub mod metrics;
 pub mod multistart;
+mod options;
+mod outcome;
 pub mod paper;
 mod problem;
+mod record;
 pub mod report;
-mod speculation;
 mod transform;
 mod triangular;
 
-pub use diagnostics::IdentifiabilityWarning;
-pub use fit::{
-    fit, fit_records, fit_with_progress, free_by_names, Fit, FitError, FitOptions, FitReport,
-    FitStatus, FittedParam, Jacobian, Progress, Record, RecordFit,
+pub use error::FitError;
+pub use fit::{fit, fit_records, fit_with_progress, free_by_names};
+pub use multistart::{fit_multistart, MultiStart};
+pub use options::{FitOptions, Jacobian, Progress};
+pub use outcome::{
+    Fit, FitReport, FitStatus, FittedParam, IdentifiabilityWarning, RecordFit, StartsSummary,
 };
-pub use multistart::{fit_multistart, MultiStart, StartsSummary};
+pub use record::Record;
 pub use transform::{Reparam, BOUNDARY_NUDGE};

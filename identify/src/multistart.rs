@@ -18,14 +18,19 @@
 //! values of input variables in the analysis of output from a computer
 //! code", *Technometrics* 21 (1979) 239–245 (Latin hypercube sampling).
 
-use crate::fit::option;
-use crate::{fit_records, Fit, FitError, FitOptions, Progress, Record, Reparam};
+pub use crate::outcome::StartsSummary;
+
+use crate::error::{option, FitError};
+use crate::fit::fit_records;
+use crate::options::{FitOptions, Progress};
+use crate::outcome::Fit;
+use crate::record::Record;
+use crate::transform::Reparam;
 use hysteron_operators::{Domain, Operator};
 use rand::rngs::StdRng;
 use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};
 use rayon::prelude::*;
-use serde::Serialize;
 
 /// A start reached the best fit if its cost is within this fraction of the
 /// best cost (or within [`REACHED_FLOOR`] of it).
@@ -59,19 +64,6 @@ impl Default for MultiStart {
             seed: 0,
         }
     }
-}
-
-/// What a multi-start search found, beside its best fit.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct StartsSummary {
-    /// The final cost of every start, in start order (`None`: that start
-    /// failed, for example a vector the model refuses).
-    pub costs: Vec<Option<f64>>,
-    /// The start that gave the best fit.
-    pub best: usize,
-    /// Starts whose cost is within [`REACHED`] of the best (the best
-    /// included).
-    pub reached: usize,
 }
 
 /// The starting parameter vectors: the model's own, then `starts − 1`

@@ -51,7 +51,11 @@
 //! denominator's `(1 − w) h_i` term (at the first point `x_1 ≈ 0` it reads
 //! `S(0) ≈ F_1 / ((1 − w) h_1)`: the bias sets the stiffness at zero).
 
-use crate::{fit, fit_records, free_by_names, FitError, FitOptions, FitReport, Record};
+use crate::error::FitError;
+use crate::fit::{fit, fit_records, free_by_names};
+use crate::options::FitOptions;
+use crate::outcome::FitReport;
+use crate::record::Record;
 use hysteron_composition::TravelLimits;
 use hysteron_models::{PaperModel, TransmissionParams};
 use hysteron_operators::Parameters;

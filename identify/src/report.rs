@@ -1,6 +1,6 @@
 //! A [`FitReport`] as text.
 
-use crate::{FitReport, FitStatus};
+use crate::outcome::{FitReport, FitStatus};
 use std::fmt;
 
 /// `v` with `sig` significant digits, fixed notation for moderate
@@ -98,8 +98,8 @@ impl fmt::Display for FitReport {
         writeln!(f, "iterations   {}", r.iterations)?;
         writeln!(f, "evaluations  {}", r.evaluations)?;
         let jacobian = match r.jacobian {
-            crate::Jacobian::Exact => "exact (forward-mode derivatives)",
-            crate::Jacobian::FiniteDifferences => "central finite differences",
+            crate::options::Jacobian::Exact => "exact (forward-mode derivatives)",
+            crate::options::Jacobian::FiniteDifferences => "central finite differences",
         };
         writeln!(f, "jacobian     {jacobian}")?;
         writeln!(f, "wall time    {:.3} s", r.wall_time.as_secs_f64())?;

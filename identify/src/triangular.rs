@@ -18,7 +18,7 @@
 //! Hopkins 2013, §5.1–5.2 (Householder reflections, the QR factorization)
 //! and §6.5.3 (updating a QR factorization by appended rows).
 
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DVector};
 
 /// Rows per block.
 pub(crate) const ROWS: usize = 256;
@@ -155,6 +155,21 @@ impl Triangular {
         }
         r
     }
+}
+
+/// `Qᵀ J` for the QR `[r J] = Q R` with `R₀₀ ≥ 0`: the last `k` columns
+/// of `R`, folded row by row ([`Triangular`]).
+pub(crate) fn compress_jacobian(r: &DVector<f64>, j: &DMatrix<f64>) -> DMatrix<f64> {
+    let k = j.ncols();
+    let mut t = Triangular::new(k + 1);
+    let mut row = vec![0.0; k + 1];
+    for (ri, ji) in r.iter().zip(j.row_iter()) {
+        for (v, &x) in row.iter_mut().zip(std::iter::once(ri).chain(ji.iter())) {
+            *v = x;
+        }
+        t.push(&row);
+    }
+    t.finish().columns(1, k).into_owned()
 }
 
 /// `Σ aᵢ bᵢ` in eight interleaved sums (so that it vectorises), added

@@ -10,8 +10,8 @@
 //! [`Plan::record_rows`] gives on the caller's thread, bit for bit: the
 //! same function on the same model, parameters and record.
 
-use crate::fit::Record;
-use crate::problem::{Layout, Plan};
+use super::plan::{Layout, Plan};
+use crate::record::Record;
 use crate::transform::Reparam;
 use hysteron_operators::{Dual, Operator};
 use nalgebra::DVector;
