@@ -10,6 +10,7 @@ use crate::problem::{Layout, Problem};
 use crate::record::Record;
 use hysteron_operators::Operator;
 use levenberg_marquardt::{LevenbergMarquardt, TerminationReason};
+use nalgebra::{DMatrix, DVector};
 use std::sync::atomic::Ordering;
 use std::time::Instant;
 
@@ -163,13 +164,62 @@ pub fn fit_records(
     on_iteration: &(dyn Fn(Progress) + Sync),
 ) -> Result<Fit, FitError> {
     let started = Instant::now();
+    check_request(model, records, free, own, opts)?;
+    let layout = Layout {
+        shared: free.to_vec(),
+        own: own.to_vec(),
+        records: records.len(),
+    };
+    let entries = layout.entries();
+    let problem = start(model, records, layout, opts, on_iteration)?;
+    let (mut problem, theta, status) = search(problem, opts);
+    let at = Solution::at(&mut problem, &theta, entries.len());
+    let base = model.params();
+    let (params, all_params) = fitted_params(model, &problem, &theta, &entries, &base, &at);
+    let correlation = correlation(&at, entries.len());
+    let (rms, nrmse, per_record) = record_figures(records, at.residuals.as_slice());
+    let warnings = identifiability(&params, &at, correlation.as_deref());
+    let mut fitted = dyn_clone::clone_box(model);
+    fitted.set_params(&all_params).map_err(FitError::Start)?;
+    let report = FitReport {
+        params,
+        all_params,
+        cost: 0.5 * at.ssr,
+        rms,
+        nrmse,
+        records: per_record,
+        iterations: problem.jacobians.load(Ordering::Relaxed).saturating_sub(1),
+        evaluations: problem.evaluations.load(Ordering::Relaxed),
+        jacobian: problem.jacobian_kind(),
+        wall_time: started.elapsed(),
+        status,
+        correlation,
+        condition_number: at.condition_number,
+        warnings,
+        starts: None,
+    };
+    Ok(Fit {
+        model: fitted,
+        report,
+    })
+}
+
+/// Step 1: the records, the indices of the free parameters and the
+/// options are valid.
+fn check_request(
+    model: &(dyn Operator<f64> + 'static),
+    records: &[Record<'_>],
+    free: &[usize],
+    own: &[usize],
+    opts: &FitOptions,
+) -> Result<(), FitError> {
     check_records(records, opts.stride)?;
     if free.is_empty() && own.is_empty() {
         return Err(FitError::NoFreeParameters);
     }
-    let base = model.params();
     // (names and domains too: a foreign `Operator` may list fewer of them)
-    let len = base
+    let len = model
+        .params()
         .len()
         .min(model.param_names().len())
         .min(model.param_domains().len());
@@ -202,14 +252,19 @@ pub fn fit_records(
         seconds_ok,
         "max_seconds",
         "must be positive and finite (at most 1e9)",
-    )?;
-    let layout = Layout {
-        shared: free.to_vec(),
-        own: own.to_vec(),
-        records: records.len(),
-    };
-    let entries = layout.entries();
-    let problem = Problem::new(model, records, layout, opts, on_iteration).map_err(|(r, e)| {
+    )
+}
+
+/// Step 2: the problem at the model's parameters, its first simulation
+/// run (an error there names the record).
+fn start<'a>(
+    model: &'a (dyn Operator<f64> + 'static),
+    records: &'a [Record<'a>],
+    layout: Layout,
+    opts: &FitOptions,
+    on_iteration: &'a (dyn Fn(Progress) + Sync),
+) -> Result<Problem<'a>, FitError> {
+    Problem::new(model, records, layout, opts, on_iteration).map_err(|(r, e)| {
         if records.len() > 1 {
             FitError::RecordStart {
                 record: r,
@@ -218,49 +273,86 @@ pub fn fit_records(
         } else {
             FitError::Start(e)
         }
-    })?;
+    })
+}
 
+/// Step 3: Levenberg-Marquardt's search; the point it ends at (the last
+/// accepted one where the budget ended it) and why it ended.
+fn search<'a>(problem: Problem<'a>, opts: &FitOptions) -> (Problem<'a>, DVector<f64>, FitStatus) {
     let lm = LevenbergMarquardt::new()
         .with_ftol(opts.ftol)
         .with_xtol(opts.xtol)
         .with_gtol(opts.gtol)
         .with_patience(opts.patience);
     let (compressed, lm_report) = lm.minimize(Compressed::new(problem));
-    let mut problem = compressed.into_inner();
-    // The budget ends the search at the last accepted point.
+    let problem = compressed.into_inner();
     let (theta, status) = match problem.stopped() {
         Some(why) => (problem.accepted(), FitStatus::NotConverged(why)),
         None => (problem.theta.clone(), status_of(&lm_report.termination)),
     };
+    (problem, theta, status)
+}
 
-    // Make sure the state is at the returned parameters, then evaluate the
-    // covariance there.
-    problem.evaluate_at(&theta);
-    let residuals = problem.current_residuals();
-    let m = problem.len();
-    let k = entries.len();
-    // `JᵀJ` and the column norms of `J` are all the report needs: the
-    // compressed Jacobian has them (and is the one the search kept).
-    let jac = if m > k + 1 {
-        problem.compressed_jacobian()
-    } else {
-        problem.jacobian_matrix()
-    };
-    let ssr = residuals.norm_squared();
-    let dof = m.saturating_sub(k).max(1) as f64;
-    let jtj = jac.transpose() * &jac;
-    let (condition_number, weakest) = diagnostics::conditioning(&jtj);
-    let determined = diagnostics::determined(&jac);
-    let inverse = diagnostics::inverse_of_determined(&jtj, &determined);
-    let cov = inverse.as_ref().map(|inv| inv * (ssr / dof));
+/// Step 4: the linearization at the solution: `JᵀJ`, its conditioning,
+/// the determined parameters and the covariance `σ² (JᵀJ)⁻¹`.
+struct Solution {
+    residuals: DVector<f64>,
+    ssr: f64,
+    condition_number: Option<f64>,
+    weakest: Vec<f64>,
+    determined: Vec<bool>,
+    inverse: Option<DMatrix<f64>>,
+    cov: Option<DMatrix<f64>>,
+}
 
+impl Solution {
+    /// At `theta` (`k` entries), where `problem` is simulated again first.
+    fn at(problem: &mut Problem<'_>, theta: &DVector<f64>, k: usize) -> Self {
+        problem.evaluate_at(theta);
+        let residuals = problem.current_residuals();
+        let m = problem.len();
+        // `JᵀJ` and the column norms of `J` are all the report needs: the
+        // compressed Jacobian has them (and is the one the search kept).
+        let jac = if m > k + 1 {
+            problem.compressed_jacobian()
+        } else {
+            problem.jacobian_matrix()
+        };
+        let ssr = residuals.norm_squared();
+        let dof = m.saturating_sub(k).max(1) as f64;
+        let jtj = jac.transpose() * &jac;
+        let (condition_number, weakest) = diagnostics::conditioning(&jtj);
+        let determined = diagnostics::determined(&jac);
+        let inverse = diagnostics::inverse_of_determined(&jtj, &determined);
+        let cov = inverse.as_ref().map(|inv| inv * (ssr / dof));
+        Self {
+            residuals,
+            ssr,
+            condition_number,
+            weakest,
+            determined,
+            inverse,
+            cov,
+        }
+    }
+}
+
+/// Step 5: each fitted parameter with its standard error and interval,
+/// and the model's whole vector: the shared parameters fitted, the
+/// per-record ones at their start.
+fn fitted_params(
+    model: &(dyn Operator<f64> + 'static),
+    problem: &Problem<'_>,
+    theta: &DVector<f64>,
+    entries: &[(usize, Option<usize>)],
+    base: &[f64],
+    at: &Solution,
+) -> (Vec<FittedParam>, Vec<f64>) {
     let names = model.param_names();
-    let shared_params = problem.full_params(theta.as_slice(), 0);
-    // The shared parameters fitted, the per-record ones at their start.
-    let mut all_params = shared_params.clone();
+    let mut all_params = problem.full_params(theta.as_slice(), 0);
     // `j < k = theta.len() = maps.len()`, and every index `i` is `< len`
-    // (checked above) `≤ names.len(), base.len()`; `full_params` has
-    // `base.len()` entries.
+    // (checked in `check_request`) `≤ names.len(), base.len()`;
+    // `full_params` has `base.len()` entries.
     #[allow(clippy::indexing_slicing)]
     let params: Vec<FittedParam> = entries
         .iter()
@@ -268,7 +360,8 @@ pub fn fit_records(
         .map(|(j, &(i, record))| {
             let map = problem.maps[j];
             let t = theta[j];
-            let var = cov
+            let var = at
+                .cov
                 .as_ref()
                 .map(|c| c[(j, j)])
                 .filter(|v| v.is_finite() && *v >= 0.0);
@@ -291,36 +384,41 @@ pub fn fit_records(
             }
         })
         .collect();
+    (params, all_params)
+}
 
-    // `i, j < k`: `sd` has `k` entries.
-    #[allow(clippy::indexing_slicing)]
-    // From `(JᵀJ)⁻¹` itself (σ² cancels), so that a fit with zero
-    // residuals still has its correlations.
-    let correlation = inverse.as_ref().and_then(|c| {
+/// Step 6: the correlations of the `k` fitted parameters, from `(JᵀJ)⁻¹`
+/// itself (σ² cancels), so that a fit with zero residuals still has them;
+/// NaN only in the rows and columns of undetermined parameters.
+// `i, j < k`: `sd` has `k` entries.
+#[allow(clippy::indexing_slicing)]
+fn correlation(at: &Solution, k: usize) -> Option<Vec<Vec<f64>>> {
+    at.inverse.as_ref().and_then(|c| {
         let sd: Vec<f64> = (0..k).map(|j| c[(j, j)].sqrt()).collect();
         let rows: Vec<Vec<f64>> = (0..k)
             .map(|i| (0..k).map(|j| c[(i, j)] / (sd[i] * sd[j])).collect())
             .collect();
-        // NaN in the rows and columns of undetermined parameters only.
-        let finite = |i: usize| determined.get(i).copied().unwrap_or(false);
+        let finite = |i: usize| at.determined.get(i).copied().unwrap_or(false);
         (0..k)
             .all(|i| (0..k).all(|j| !(finite(i) && finite(j)) || rows[i][j].is_finite()))
             .then_some(rows)
-    });
+    })
+}
+
+/// Step 7: RMS and NRMSE over all records and per record, from the
+/// residuals of the scored samples, record after record.
+fn record_figures(records: &[Record<'_>], residuals: &[f64]) -> (f64, Option<f64>, Vec<RecordFit>) {
     fn scored<'a>(r: &Record<'a>) -> &'a [f64] {
         r.y.get(r.skip..).unwrap_or_default()
     }
     let all_y: Vec<f64> = records.iter().flat_map(|r| scored(r).to_vec()).collect();
-    let (rms, nrmse) = figures(residuals.as_slice(), &all_y);
+    let (rms, nrmse) = figures(residuals, &all_y);
     let mut at = 0;
     let per_record = records
         .iter()
         .map(|r| {
             let y = scored(r);
-            let res = residuals
-                .as_slice()
-                .get(at..at + y.len())
-                .unwrap_or_default();
+            let res = residuals.get(at..at + y.len()).unwrap_or_default();
             at += y.len();
             let (rms, nrmse) = figures(res, y);
             RecordFit {
@@ -330,43 +428,27 @@ pub fn fit_records(
             }
         })
         .collect();
+    (rms, nrmse, per_record)
+}
+
+/// Step 8: the warnings: every undetermined parameter, then those of
+/// [`diagnostics::warnings`].
+fn identifiability(
+    params: &[FittedParam],
+    at: &Solution,
+    correlation: Option<&[Vec<f64>]>,
+) -> Vec<IdentifiabilityWarning> {
     let mut warnings: Vec<_> = params
         .iter()
-        .zip(&determined)
+        .zip(&at.determined)
         .filter(|(_, &d)| !d)
         .map(|(p, _)| IdentifiabilityWarning::Undetermined {
             name: p.label(),
             value: p.value,
         })
         .collect();
-    warnings.extend(diagnostics::warnings(
-        &params,
-        correlation.as_deref(),
-        &weakest,
-    ));
-    let mut fitted = dyn_clone::clone_box(model);
-    fitted.set_params(&all_params).map_err(FitError::Start)?;
-    let report = FitReport {
-        params,
-        all_params,
-        cost: 0.5 * ssr,
-        rms,
-        nrmse,
-        records: per_record,
-        iterations: problem.jacobians.load(Ordering::Relaxed).saturating_sub(1),
-        evaluations: problem.evaluations.load(Ordering::Relaxed),
-        jacobian: problem.jacobian_kind(),
-        wall_time: started.elapsed(),
-        status,
-        correlation,
-        condition_number,
-        warnings,
-        starts: None,
-    };
-    Ok(Fit {
-        model: fitted,
-        report,
-    })
+    warnings.extend(diagnostics::warnings(params, correlation, &at.weakest));
+    warnings
 }
 
 /// `(rms, rms / std(y))` of residuals `res` against the data `y` (the
