@@ -31,6 +31,10 @@
 //!   parameters the identification fits (the two units its cost is made
 //!   of; throughput: samples at 15 kHz).
 //!
+//! * `speculation`: the paper's two stages and a bounded benchmark-system
+//!   fit, each with its dual passes started beside its simulations on a
+//!   second core and without (see the function).
+//!
 //! Small sample sizes and short measurement times keep the whole run
 //! within a few minutes. Run with `cargo bench --bench identify`.
 
@@ -273,11 +277,75 @@ fn benchmark_system(c: &mut Criterion) {
     g.finish();
 }
 
+/// The same fits with and without their dual passes handed to a second
+/// core at each trial point (`FitOptions::parallel`; one record, one pass
+/// per Jacobian: nothing else of these fits runs in parallel), side by
+/// side: the paper's two stages (stage 2's simulation takes about 1 ms)
+/// and 40 evaluations of the benchmark system's fit on the record's first
+/// 1024 samples, upsampled 20× (20 480 samples a simulation).
+fn speculation(c: &mut Criterion) {
+    let fs = 250.0;
+    let mut truth = TransmissionParams::default();
+    truth.spring.n = 1.5;
+    truth.spring.h0 = 0.1;
+    let model = truth.build().expect("true model");
+    let loop_x = sine(0.5, DRIVE.amplitude(0.5), 2.0, fs).expect("loop").x;
+    let loop_f = model.clone().run(&loop_x).expect("loop record");
+    let chirp_x = chirp(5.0, 0.1, 20.0, fs, |f| DRIVE.amplitude(f))
+        .expect("chirp")
+        .x;
+    let chirp_f = model.clone().run(&chirp_x).expect("chirp record");
+    let mut start = TransmissionParams::default();
+    start.backlash *= 1.2;
+    start.friction.f_c *= 1.2;
+    start.friction.k *= 0.8;
+
+    let (u, y) = train_multisine();
+    let from = start_from_data(&u, &y, 750.0, 20).expect("data start");
+    let n = 1024;
+    let fine = fft_upsample(&u[..n], from.upsample).expect("upsampled");
+    let system = boucwen_system(&from).expect("benchmark system").boxed();
+    let free = free_by_names(system.as_ref(), &BENCHMARK_FREE).expect("the seven names");
+
+    let mut g = group(c, 0.1, 10, loop_x.len() + chirp_x.len());
+    for (name, parallel) in [("speculating", true), ("alone", false)] {
+        let opts = PaperOptions {
+            joint: None,
+            fit: FitOptions {
+                parallel,
+                ..FitOptions::default()
+            },
+            ..PaperOptions::default()
+        };
+        g.bench_function(format!("paper_two_stages/{name}"), |b| {
+            b.iter(|| {
+                let r = identify_paper(&loop_x, &loop_f, &chirp_x, &chirp_f, &start, &opts)
+                    .expect("identification runs");
+                black_box(r.params.backlash)
+            })
+        });
+        let opts = FitOptions {
+            parallel,
+            stride: from.upsample,
+            max_evaluations: Some(40),
+            ..FitOptions::default()
+        };
+        g.bench_function(format!("benchmark_fit_40/{name}"), |b| {
+            b.iter(|| {
+                let f = fit(system.as_ref(), &fine, &y[..n], &free, &opts).expect("fit runs");
+                black_box(f.report.cost)
+            })
+        });
+    }
+    g.finish();
+}
+
 criterion_group!(
     benches,
     paper_model_eval,
     bouc_wen_fit,
     paper_two_stages,
-    benchmark_system
+    benchmark_system,
+    speculation
 );
 criterion_main!(benches);

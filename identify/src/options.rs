@@ -38,8 +38,8 @@ pub struct FitOptions {
     /// Use a second core: the finite-difference columns and several
     /// records' dual passes run in parallel (rayon), and a fit of one
     /// record whose exact Jacobian is one dual pass starts that pass at
-    /// each trial point beside its simulation, on a thread of its own
-    /// (stopped when the point is rejected; the results are the same bit
+    /// each trial point beside its simulation, in rayon's pool (stopped
+    /// when the point is rejected; the results are the same bit
     /// for bit, see `speculation`), unless the fit itself runs in rayon's
     /// pool (the starts of a multistart fit).
     pub parallel: bool,

@@ -25,13 +25,14 @@ use std::time::{Duration, Instant};
 const BLOCK: usize = 4096;
 
 /// The shortest first simulation for which a fit starts its dual passes
-/// beside its simulations (see `speculation`). Below it the overlap saves
-/// less than the worker costs (a five-parameter spring fit on 20 000
-/// samples, whose first simulation takes 0.1 ms, ran 5 % slower with it on
-/// a Zen 5 machine: each thread builds its own flow tables, and a pass at
-/// a rejected point is stopped only between blocks); the paper's stage 2
-/// (0.8 ms) ran 7–9 % faster, the Bouc-Wen benchmark (0.1 s) 24 %. Only
-/// the speed depends on it: the results are the same bits either way.
+/// beside its simulations (see `speculation`). Below it a pass handed to
+/// another core saves about what it costs (each core builds its own flow
+/// tables, and a pass at a rejected point stops only between blocks).
+/// Above it, `cargo bench --bench identify -- "speculating|alone"` measures
+/// the gain side by side: the paper's two stages (stage 2 simulates in
+/// about 1 ms) and a fit of the Bouc-Wen benchmark system ran 10 % and 4 %
+/// faster with it on a Zen 5 machine. Only the speed depends on it: the
+/// results are the same bits either way.
 #[cfg(not(test))]
 const SPECULATE_FROM: Duration = Duration::from_micros(500);
 /// (In this crate's unit tests every fit that can speculates, so they all
