@@ -280,7 +280,11 @@ fn bad_inputs_are_one_line_errors() {
     write(tmp.path(), "play.json", PLAY);
     write(tmp.path(), "broken.json", r#"{"type": "play", "r": "#);
     write(tmp.path(), "invalid.json", r#"{"type": "play", "r": -1}"#);
-    write(tmp.path(), "unknown.json", r#"{"type": "relay", "m": 1}"#);
+    write(
+        tmp.path(),
+        "unknown.json",
+        r#"{"type": "sprocket", "m": 1}"#,
+    );
     write(
         tmp.path(),
         "ringing.json",
@@ -330,7 +334,7 @@ fn bad_inputs_are_one_line_errors() {
         ),
         (
             vec!["--model", "unknown.json", "--amplitudes", "1"],
-            "relay",
+            "sprocket",
         ),
         (
             vec![
