@@ -30,7 +30,7 @@
 //!   [`offset`](operators::Offset),
 //!   [`asymmetric_friction`](operators::AsymmetricFriction),
 //!   [`backlash_contact`](operators::BacklashContact),
-//!   [`pi_bank`](composition::PiBank),
+//!   [`relay`](operators::Relay), [`pi_bank`](composition::PiBank),
 //!   [`pi_inverse`](composition::PiInverse).
 //! * Combinators: `cascade`, `parallel`, `scaled`, `feedback`, `series`,
 //!   `inverse`, `oversample`, `transmission`.

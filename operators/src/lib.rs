@@ -25,6 +25,7 @@
 //! | [`Offset`] | `offset` | `y = x + c` |
 //! | [`AsymmetricFriction`] | `asymmetric_friction` | `F = k · (x − x_p), x_p moving only to keep −f_neg ≤ F ≤ f_pos: slope k while sticking, sliding at f_pos or −f_neg` |
 //! | [`BacklashContact`] | `backlash_contact` | `u = x − c, d = max(\|u\| − b/2, 0), F = sgn(u)·(k1 d + k2 d² + k3 d³)` |
+//! | [`Relay`] | `relay` | `y = a s, s = +1 once x ≥ h/2, −1 once x ≤ −h/2, held in between (from s0)` |
 //! <!-- END generated: operators -->
 //!
 //! Combinators live in `hysteron-composition`.
@@ -118,4 +119,5 @@ leaves! { $;
     offset => Offset,
     asymmetric_friction => AsymmetricFriction,
     backlash_contact => BacklashContact,
+    relay => Relay,
 }

@@ -24,6 +24,7 @@ __all__ = [
     "offset",
     "asymmetric_friction",
     "backlash_contact",
+    "relay",
     "pi_bank",
     "pi_inverse",
 ]
@@ -237,6 +238,17 @@ def backlash_contact(b: float, k1: float, k2: float, k3: Optional[float] = None,
         c (real; default 0): Centre of the gap `c` (default 0).
 
     Example: ``backlash_contact(**{"b":0.6,"k1":2.0,"k2":0.5,"k3":0.25,"c":0.1})``.
+    """
+
+def relay(h: float, a: Optional[float] = None, s0: Optional[float] = None) -> Model:
+    """The ``relay`` operator: y = a s, s = +1 once x ≥ h/2, −1 once x ≤ −h/2, held in between (from s0).
+
+    Parameters:
+        h (≥ 0): Hysteresis width `h ≥ 0`: the output switches up at `x ≥ h/2` and down at `x ≤ −h/2`.
+        a (real; default 0): Output level `a` (finite): the output is `+a` or `−a` (default 1).
+        s0 (real; default 0): The switch's position `s0 ∈ {−1, 1}` at input `x = 0` before the first sample (default −1).
+
+    Example: ``relay(**{"h":0.5,"a":1.0,"s0":-1.0})``.
     """
 
 def pi_bank(a0: float, r: Sequence[float], w: Sequence[float], y0: Optional[Sequence[float]] = None) -> Model:
