@@ -18,6 +18,7 @@ declare_params! {
         f0: T => Real = -0.25,
     }
     check = AsymmetricFrictionParams::consistent;
+    law: "asymmetric_friction", "F = k · (x − x_p), x_p moving only to keep −f_neg ≤ F ≤ f_pos: slope k while sticking, sliding at f_pos or −f_neg";
 }
 
 impl<T: Float> AsymmetricFrictionParams<T> {
@@ -122,15 +123,9 @@ fn slip_step<T: Float>(r_pos: T, r_neg: T, q: T, x: T) -> (T, T, T) {
 }
 
 impl<T: Float> StepLaw<T> for AsymmetricFrictionParams<T> {
-    const KIND: &'static str = "asymmetric_friction";
     // At an unchanged input the clamp that moves the state leaves it.
     const RESTS_WHEN_HELD: bool = true;
     type State = T;
-    type With<U: Float> = AsymmetricFrictionParams<U>;
-
-    fn cast_law<U: Float>(&self) -> Self::With<U> {
-        crate::CastScalar::cast_scalar(self)
-    }
 
     fn initial(&self) -> T {
         -(self.f0 / self.k)
@@ -149,6 +144,4 @@ impl<T: Float> StepLaw<T> for AsymmetricFrictionParams<T> {
         ))
     }
 
-    const EQUATION: &'static str =
-        "F = k · (x − x_p), x_p moving only to keep −f_neg ≤ F ≤ f_pos: slope k while sticking, sliding at f_pos or −f_neg";
 }

@@ -20,6 +20,7 @@ declare_params! {
         #[serde(default)]
         c: T => Real = 0.1,
     }
+    law: "backlash_contact", "u = x − c, d = max(|u| − b/2, 0), F = sgn(u)·(k1 d + k2 d² + k3 d³)";
 }
 
 /// Backlash with a stiffening contact (memoryless): no force inside a gap
@@ -59,13 +60,7 @@ impl<T: Float> BacklashContact<T> {
 }
 
 impl<T: Float> StepLaw<T> for BacklashContactParams<T> {
-    const KIND: &'static str = "backlash_contact";
     type State = ();
-    type With<U: Float> = BacklashContactParams<U>;
-
-    fn cast_law<U: Float>(&self) -> Self::With<U> {
-        crate::CastScalar::cast_scalar(self)
-    }
 
     fn initial(&self) {}
 
@@ -88,6 +83,4 @@ impl<T: Float> StepLaw<T> for BacklashContactParams<T> {
         Ok(((), Trial { output, tangent }))
     }
 
-    const EQUATION: &'static str =
-        "u = x − c, d = max(|u| − b/2, 0), F = sgn(u)·(k1 d + k2 d² + k3 d³)";
 }

@@ -19,6 +19,7 @@ declare_params! {
         f0: T => Real = 0.3,
     }
     check = DahlParams::ratios;
+    law: "dahl", "dF/dx = σ |1 − (F/F_c) sgn ẋ|^α sgn(1 − (F/F_c) sgn ẋ)";
 }
 
 impl<T: Float> DahlParams<T> {
@@ -216,13 +217,7 @@ impl<T: Float> DahlParams<T> {
 }
 
 impl<T: Float> StepLaw<T> for DahlParams<T> {
-    const KIND: &'static str = "dahl";
     type State = DahlState<T>;
-    type With<U: Float> = DahlParams<U>;
-
-    fn cast_law<U: Float>(&self) -> Self::With<U> {
-        crate::CastScalar::cast_scalar(self)
-    }
 
     fn initial(&self) -> DahlState<T> {
         Self::start(self)
@@ -235,7 +230,6 @@ impl<T: Float> StepLaw<T> for DahlParams<T> {
         Ok((s, Trial { output, tangent }))
     }
 
-    const EQUATION: &'static str = "dF/dx = σ |1 − (F/F_c) sgn ẋ|^α sgn(1 − (F/F_c) sgn ẋ)";
 }
 
 #[cfg(test)]

@@ -12,6 +12,7 @@ declare_params! {
         /// Right limit `b_r ≥ 0`.
         b_r: T => NonNegative = 1.0,
     }
+    law: "dead_zone", "y = x − b_r above b_r, x − b_l below b_l, 0 in between";
 }
 
 /// Dead-zone with limits `b_l ≤ 0 ≤ b_r` (memoryless):
@@ -55,13 +56,7 @@ impl<T: Float> DeadZone<T> {
 }
 
 impl<T: Float> StepLaw<T> for DeadZoneParams<T> {
-    const KIND: &'static str = "dead_zone";
     type State = ();
-    type With<U: Float> = DeadZoneParams<U>;
-
-    fn cast_law<U: Float>(&self) -> Self::With<U> {
-        crate::CastScalar::cast_scalar(self)
-    }
 
     fn initial(&self) {}
 
@@ -84,8 +79,7 @@ impl<T: Float> StepLaw<T> for DeadZoneParams<T> {
 
     fn run(&self, _: &mut (), xs: &[T], ys: &mut [T]) -> Result<()> {
         let DeadZoneParams { b_l, b_r } = *self;
-        map_samples(Self::KIND, xs, ys, |x| dead_zone(b_l, b_r, x))
+        map_samples(<Self as crate::Declared<T>>::KIND, xs, ys, |x| dead_zone(b_l, b_r, x))
     }
 
-    const EQUATION: &'static str = "y = x − b_r above b_r, x − b_l below b_l, 0 in between";
 }

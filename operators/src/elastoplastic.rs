@@ -15,6 +15,7 @@ declare_params! {
         f0: T => Real = -0.5,
     }
     check = ElastoPlasticParams::ratios;
+    law: "elastoplastic", "F = k · stop_{F_b/k}[x]: slope k until |F| = F_b, then sliding at ±F_b";
 }
 
 impl<T: Float> ElastoPlasticParams<T> {
@@ -69,15 +70,9 @@ impl<T: Float> ElastoPlastic<T> {
 }
 
 impl<T: Float> StepLaw<T> for ElastoPlasticParams<T> {
-    const KIND: &'static str = "elastoplastic";
     // At an unchanged input the clamp that moves the state leaves it.
     const RESTS_WHEN_HELD: bool = true;
     type State = T;
-    type With<U: Float> = ElastoPlasticParams<U>;
-
-    fn cast_law<U: Float>(&self) -> Self::With<U> {
-        crate::CastScalar::cast_scalar(self)
-    }
 
     fn initial(&self) -> T {
         -self.stop().s0
@@ -96,5 +91,4 @@ impl<T: Float> StepLaw<T> for ElastoPlasticParams<T> {
         ))
     }
 
-    const EQUATION: &'static str = "F = k · stop_{F_b/k}[x]: slope k until |F| = F_b, then sliding at ±F_b";
 }

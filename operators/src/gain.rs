@@ -10,6 +10,7 @@ declare_params! {
         /// The gain (finite).
         k: T => Real = -2.5,
     }
+    law: "gain", "y = k x";
 }
 
 /// Linear gain `y = k x` (memoryless), any finite `k`. As a mechanical
@@ -35,13 +36,7 @@ impl<T: Float> Gain<T> {
 }
 
 impl<T: Float> StepLaw<T> for GainParams<T> {
-    const KIND: &'static str = "gain";
     type State = ();
-    type With<U: Float> = GainParams<U>;
-
-    fn cast_law<U: Float>(&self) -> Self::With<U> {
-        crate::CastScalar::cast_scalar(self)
-    }
 
     fn initial(&self) {}
 
@@ -59,8 +54,7 @@ impl<T: Float> StepLaw<T> for GainParams<T> {
 
     fn run(&self, _: &mut (), xs: &[T], ys: &mut [T]) -> Result<()> {
         let k = self.k;
-        map_samples(Self::KIND, xs, ys, |x| k * x)
+        map_samples(<Self as crate::Declared<T>>::KIND, xs, ys, |x| k * x)
     }
 
-    const EQUATION: &'static str = "y = k x";
 }

@@ -146,9 +146,26 @@ macro_rules! leaf_traits {
     };
 }
 
-/// The law of a plain leaf: its declared parameter set, with a small state
-/// and a pure step `(state, x) → (state', y, dy/dx)`. [`Stepped`] turns it
-/// into an [`Operator`] (validating the parameters first).
+/// What a law's declaration says once (`law: "kind", "equation";` in
+/// [`declare_params!`](crate::declare_params)): its kind, its equation,
+/// and the same parameters over another scalar. Written by the macro, never
+/// by hand.
+pub trait Declared<T: Float>: ParamSet<T> {
+    /// The operator's name (see [`Leaf::KIND`]).
+    const KIND: &'static str;
+    /// The equation (see [`Leaf::EQUATION`]).
+    const EQUATION: &'static str;
+    /// The same law for another scalar type.
+    type With<U: Float>: StepLaw<U> + 'static;
+    /// The same parameters over the scalar `U`, as constants
+    /// ([`CastScalar`](crate::CastScalar)).
+    fn cast_law<U: Float>(&self) -> Self::With<U>;
+}
+
+/// The law of a plain leaf: its declared parameter set (with its kind and
+/// equation, [`Declared`]), a small state and a pure step
+/// `(state, x) → (state', y, dy/dx)`. [`Stepped`] turns it into an
+/// [`Operator`] (validating the parameters first).
 ///
 /// # Requirements
 /// * `step` depends only on the parameters, the state and `x` (finite: the driver
@@ -157,24 +174,14 @@ macro_rules! leaf_traits {
 /// * an override of [`run`](StepLaw::run) is bit for bit the loop of
 ///   `step` it replaces, and leaves `s` at the state after the last
 ///   successful sample.
-pub trait StepLaw<T: Float>: ParamSet<T> {
-    /// The operator's name (see [`Leaf::KIND`]).
-    const KIND: &'static str;
-    /// The equation (see [`Leaf::EQUATION`]).
-    const EQUATION: &'static str;
+pub trait StepLaw<T: Float>: Declared<T> {
     /// The state between samples.
     type State: Clone + Debug + PartialEq + Send + Sync + 'static;
-    /// The same law for another scalar type.
-    type With<U: Float>: StepLaw<U> + 'static;
 
     /// Whether a step at the state's own input keeps the state and gives
     /// the committed output again, bit for bit (after one step there):
     /// [`Hints::rests_when_held`]. `false` unless the law says so.
     const RESTS_WHEN_HELD: bool = false;
-
-    /// The same parameters over the scalar `U`, as constants (for a
-    /// declared set: `CastScalar::cast_scalar(self)`).
-    fn cast_law<U: Float>(&self) -> Self::With<U>;
 
     /// The state before the first sample.
     fn initial(&self) -> Self::State;

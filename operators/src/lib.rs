@@ -69,7 +69,7 @@ pub use float::Float;
 pub use hints::{
     process_while, process_while_beyond, process_while_by_trials, Beyond, Hints, Keep,
 };
-pub use leaf::{checked_step, Leaf, StepLaw, Stepped};
+pub use leaf::{checked_step, Declared, Leaf, StepLaw, Stepped};
 pub use operator::{check_input, check_lengths, check_output, process_by_trials, Operator, Trial};
 pub use parameters::{Derivatives, Parameters, SamplePeriod};
 pub use params::{CastScalar, FieldInfo, FieldKind, ParamField, ParamSet};

@@ -33,6 +33,7 @@ declare_params! {
         dt: T => fixed = 1e-3,
     }
     check = |p| check::positive("dt", p.dt);
+    law: "lugre", "ż = v − σ0 |v| z / g(v), g(v) = F_c + (F_s − F_c) exp(−|v/v_s|^δ), F = σ0 z + σ1 ż + σ2 v";
 }
 
 fn two<T: Float>() -> T {
@@ -186,13 +187,7 @@ impl<T: Float> LuGreParams<T> {
 }
 
 impl<T: Float> StepLaw<T> for LuGreParams<T> {
-    const KIND: &'static str = "lugre";
     type State = LuGreState<T>;
-    type With<U: Float> = LuGreParams<U>;
-
-    fn cast_law<U: Float>(&self) -> Self::With<U> {
-        crate::CastScalar::cast_scalar(self)
-    }
 
     fn initial(&self) -> LuGreState<T> {
         LuGreState {
@@ -214,7 +209,6 @@ impl<T: Float> StepLaw<T> for LuGreParams<T> {
         Ok(())
     }
 
-    const EQUATION: &'static str = "ż = v − σ0 |v| z / g(v), g(v) = F_c + (F_s − F_c) exp(−|v/v_s|^δ), F = σ0 z + σ1 ż + σ2 v";
 }
 
 #[cfg(test)]

@@ -18,6 +18,7 @@ declare_params! {
         dt: T => fixed = 1.0 / 15000.0,
     }
     check = |p| check::positive("dt", p.dt);
+    law: "mass_spring_damper", "m ÿ + c ẏ + k y = u (input force u, output displacement y; Newmark average acceleration, step dt)";
 }
 
 /// The state of a [`MassSpringDamper`]: displacement, velocity and
@@ -75,13 +76,7 @@ impl<T: Float> MassSpringDamper<T> {
 }
 
 impl<T: Float> StepLaw<T> for MassSpringDamperParams<T> {
-    const KIND: &'static str = "mass_spring_damper";
     type State = MsdState<T>;
-    type With<U: Float> = MassSpringDamperParams<U>;
-
-    fn cast_law<U: Float>(&self) -> Self::With<U> {
-        crate::CastScalar::cast_scalar(self)
-    }
 
     fn initial(&self) -> MsdState<T> {
         MsdState {
@@ -109,7 +104,7 @@ impl<T: Float> StepLaw<T> for MassSpringDamperParams<T> {
         let v1 = v + dt * T::lit(0.5) * (a + a1);
         if !(a1.is_finite() && v1.is_finite()) {
             return Err(crate::Error::NonFiniteOutput {
-                operator: Self::KIND,
+                operator: <Self as crate::Declared<T>>::KIND,
                 input: u.as_f64(),
             });
         }
@@ -160,7 +155,6 @@ impl<T: Float> StepLaw<T> for MassSpringDamperParams<T> {
         Ok(())
     }
 
-    const EQUATION: &'static str = "m ÿ + c ẏ + k y = u (input force u, output displacement y; Newmark average acceleration, step dt)";
 }
 
 #[cfg(test)]

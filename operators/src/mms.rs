@@ -16,6 +16,7 @@ declare_params! {
         #[serde(default)]
         y0: T => Real = -0.4,
     }
+    law: "mms", "y = y_r + (sgn(ẋ) F_c − y_r)(1 − exp(−K |x − x_r|)), (x_r, y_r) the last reversal";
 }
 
 /// The committed state: last input and output, the last reversal point and
@@ -207,17 +208,11 @@ fn on_branch<T: Float>(rise: T, target: T, y_r: T) -> T {
 }
 
 impl<T: Float> StepLaw<T> for MmsParams<T> {
-    const KIND: &'static str = "mms";
     // At an unchanged input the branch and the direction stay, and the
     // output is the committed one (over dual numbers: the branch value at
     // that input, the same each time once committed).
     const RESTS_WHEN_HELD: bool = true;
     type State = MmsState<T>;
-    type With<U: Float> = MmsParams<U>;
-
-    fn cast_law<U: Float>(&self) -> Self::With<U> {
-        crate::CastScalar::cast_scalar(self)
-    }
 
     fn initial(&self) -> MmsState<T> {
         Self::start(self)
@@ -362,8 +357,6 @@ impl<T: Float> StepLaw<T> for MmsParams<T> {
         Ok(())
     }
 
-    const EQUATION: &'static str =
-        "y = y_r + (sgn(ẋ) F_c − y_r)(1 − exp(−K |x − x_r|)), (x_r, y_r) the last reversal";
 }
 
 #[cfg(test)]

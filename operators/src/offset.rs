@@ -9,6 +9,7 @@ declare_params! {
         /// The constant added to the input (finite).
         c: T => Real = -0.75,
     }
+    law: "offset", "y = x + c";
 }
 
 /// Offset `y = x + c` (memoryless): in a cascade after a model it shifts
@@ -30,13 +31,7 @@ impl<T: Float> Offset<T> {
 }
 
 impl<T: Float> StepLaw<T> for OffsetParams<T> {
-    const KIND: &'static str = "offset";
     type State = ();
-    type With<U: Float> = OffsetParams<U>;
-
-    fn cast_law<U: Float>(&self) -> Self::With<U> {
-        crate::CastScalar::cast_scalar(self)
-    }
 
     fn initial(&self) {}
 
@@ -51,5 +46,4 @@ impl<T: Float> StepLaw<T> for OffsetParams<T> {
         ))
     }
 
-    const EQUATION: &'static str = "y = x + c";
 }

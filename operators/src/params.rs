@@ -338,6 +338,7 @@ macro_rules! declare_params {
             ),* $(,)?
         }
         $(check = $check:expr;)?
+        $(law: $law_kind:literal, $law_equation:literal;)?
     ) => {
         $(#[$sm])*
         #[derive(Debug, Clone, PartialEq, $crate::__serde::Serialize, $crate::__serde::Deserialize)]
@@ -443,6 +444,18 @@ macro_rules! declare_params {
                 }
             }
         }
+
+        $(
+            impl<T: $crate::Float> $crate::Declared<T> for $name<T> {
+                const KIND: &'static str = $law_kind;
+                const EQUATION: &'static str = $law_equation;
+                type With<U: $crate::Float> = $name<U>;
+
+                fn cast_law<U: $crate::Float>(&self) -> $name<U> {
+                    $crate::CastScalar::<U>::cast_scalar(self)
+                }
+            }
+        )?
     };
     (@example $t:ident, $ty:ty) => { <$ty as $crate::ParamField<$t>>::example_default() };
     (@example $t:ident, $ty:ty, $e:expr) => {

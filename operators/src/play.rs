@@ -12,6 +12,7 @@ declare_params! {
         #[serde(default)]
         y0: T => Real = 0.2,
     }
+    law: "play", "y_k = max(x_k − r, min(x_k + r, y_{k−1})), from y0";
 }
 
 /// Play (backlash) operator with threshold `r`:
@@ -140,15 +141,9 @@ impl<T: Float> Play<T> {
 }
 
 impl<T: Float> StepLaw<T> for PlayParams<T> {
-    const KIND: &'static str = "play";
     // At an unchanged input the clamp that moves the state leaves it.
     const RESTS_WHEN_HELD: bool = true;
     type State = T;
-    type With<U: Float> = PlayParams<U>;
-
-    fn cast_law<U: Float>(&self) -> Self::With<U> {
-        crate::CastScalar::cast_scalar(self)
-    }
 
     fn initial(&self) -> T {
         self.y0
@@ -201,7 +196,6 @@ impl<T: Float> StepLaw<T> for PlayParams<T> {
         Ok(())
     }
 
-    const EQUATION: &'static str = "y_k = max(x_k − r, min(x_k + r, y_{k−1})), from y0";
 }
 
 #[cfg(test)]

@@ -17,6 +17,7 @@ declare_params! {
         s0: T => Real = -1.0,
     }
     check = RelayParams::two_positions;
+    law: "relay", "y = a s, s = +1 once x ≥ h/2, −1 once x ≤ −h/2, held in between (from s0)";
 }
 
 impl<T: Float> RelayParams<T> {
@@ -65,17 +66,9 @@ impl<T: Float> Relay<T> {
 }
 
 impl<T: Float> StepLaw<T> for RelayParams<T> {
-    const KIND: &'static str = "relay";
-    const EQUATION: &'static str =
-        "y = a s, s = +1 once x ≥ h/2, −1 once x ≤ −h/2, held in between (from s0)";
     /// The switch's position `s = ±1`.
     type State = T;
-    type With<U: Float> = RelayParams<U>;
     const RESTS_WHEN_HELD: bool = true;
-
-    fn cast_law<U: Float>(&self) -> Self::With<U> {
-        crate::CastScalar::cast_scalar(self)
-    }
 
     fn initial(&self) -> T {
         self.s0

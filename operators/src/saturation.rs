@@ -13,6 +13,7 @@ declare_params! {
         hi: T => Real = 0.75,
     }
     check = |p| check::ordered("lo", p.lo, "hi", p.hi);
+    law: "saturation", "y = clamp(x, lo, hi)";
 }
 
 /// Saturation `sat(x) = clamp(x, lo, hi)` with `lo < hi` (memoryless).
@@ -33,13 +34,7 @@ impl<T: Float> Saturation<T> {
 }
 
 impl<T: Float> StepLaw<T> for SaturationParams<T> {
-    const KIND: &'static str = "saturation";
     type State = ();
-    type With<U: Float> = SaturationParams<U>;
-
-    fn cast_law<U: Float>(&self) -> Self::With<U> {
-        crate::CastScalar::cast_scalar(self)
-    }
 
     fn initial(&self) {}
 
@@ -62,8 +57,7 @@ impl<T: Float> StepLaw<T> for SaturationParams<T> {
 
     fn run(&self, _: &mut (), xs: &[T], ys: &mut [T]) -> Result<()> {
         let SaturationParams { lo, hi } = *self;
-        map_samples(Self::KIND, xs, ys, |x| x.max(lo).min(hi))
+        map_samples(<Self as crate::Declared<T>>::KIND, xs, ys, |x| x.max(lo).min(hi))
     }
 
-    const EQUATION: &'static str = "y = clamp(x, lo, hi)";
 }

@@ -12,6 +12,7 @@ declare_params! {
         #[serde(default)]
         s0: T => Real = 0.25,
     }
+    law: "stop", "s = x − play_r[x] ∈ [−r, r], from s0";
 }
 
 /// Stop operator with threshold `r`: `s_r[x] = x − p_r[x]`, with `p_r` the
@@ -61,13 +62,7 @@ impl<T: Float> Stop<T> {
 }
 
 impl<T: Float> StepLaw<T> for StopParams<T> {
-    const KIND: &'static str = "stop";
     type State = T;
-    type With<U: Float> = StopParams<U>;
-
-    fn cast_law<U: Float>(&self) -> Self::With<U> {
-        crate::CastScalar::cast_scalar(self)
-    }
 
     fn initial(&self) -> T {
         -self.s0
@@ -79,5 +74,4 @@ impl<T: Float> StepLaw<T> for StopParams<T> {
         Ok((q, Trial { output: s, tangent }))
     }
 
-    const EQUATION: &'static str = "s = x − play_r[x] ∈ [−r, r], from s0";
 }

@@ -14,6 +14,7 @@ declare_params! {
         dt: T => fixed = 0.01,
     }
     check = |p| check::positive("dt", p.dt);
+    law: "viscous_damper", "F = c ẋ, ẋ the backward difference (x_k − x_{k−1})/dt";
 }
 
 /// Viscous damper, force from displacement: `F = c ẋ`, `c ≥ 0`.
@@ -43,13 +44,7 @@ impl<T: Float> ViscousDamper<T> {
 }
 
 impl<T: Float> StepLaw<T> for ViscousDamperParams<T> {
-    const KIND: &'static str = "viscous_damper";
     type State = T;
-    type With<U: Float> = ViscousDamperParams<U>;
-
-    fn cast_law<U: Float>(&self) -> Self::With<U> {
-        crate::CastScalar::cast_scalar(self)
-    }
 
     fn initial(&self) -> T {
         T::zero()
@@ -74,5 +69,4 @@ impl<T: Float> StepLaw<T> for ViscousDamperParams<T> {
         Ok(())
     }
 
-    const EQUATION: &'static str = "F = c ẋ, ẋ the backward difference (x_k − x_{k−1})/dt";
 }
