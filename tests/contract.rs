@@ -904,8 +904,8 @@ fn given(label: &str, op: Box<dyn Operator<f64>>) -> Given {
 /// Every registered leaf inside every combinator keeps the hints the
 /// combinator's equation passes on: a cascade or a parallel connection each
 /// hint both its parts give, a scaled operator all of its operator's, an
-/// oversampled one its rest; the implicit combinators (inverse, feedback,
-/// series) state theirs. A combinator that forgets to forward a hint fails
+/// oversampled one its rest, a feedback loop its value-only trial where
+/// both its paths give theirs. A combinator that forgets to forward a hint fails
 /// here, and every wrapped leaf also passes the whole contract (the
 /// curvature against differences of the tangent, the rest when held).
 #[test]
@@ -969,8 +969,11 @@ fn every_registered_leaf_keeps_its_hints_in_every_combinator() {
             ),
             (
                 "feedback",
-                serde_json::json!({"type": "feedback", "forward": l, "back": {"type": "gain", "k": 0.0}}),
-                none,
+                serde_json::json!({"type": "feedback", "forward": l, "back": mms}),
+                Given {
+                    value: alone.value && partner.value,
+                    ..none
+                },
             ),
         ];
         for (name, spec, expected) in cases {

@@ -1,6 +1,8 @@
 //! Feedback: `y = A[x − B[y]]`, solved implicitly every sample.
 
-use crate::solve::{params_probe_free, root_from_values, solve, Residual, SolverOptions, Start};
+use crate::solve::{
+    params_probe_free, root_from_values, solve, Residual, Root, SolverOptions, Start,
+};
 use crate::Child;
 use hysteron_operators::{
     check_input, CastScalar, Derivatives, Dual, Error, Float, Hints, Operator, Result, Trial,
@@ -89,6 +91,48 @@ impl<T: Float, A, B> Feedback<T, A, B> {
     }
 }
 
+impl<T: Float, A: Child<T>, B: Child<T>> Feedback<T, A, B> {
+    /// The root for input `x` searched on the children's values
+    /// ([`Hints::trial_value`]) from the committed root and the prediction
+    /// `guess`, with the steps a search over `T` takes; `None` where a
+    /// child has no value path or the search fails.
+    fn root_on_values(&mut self, x: f64, guess: T) -> Option<Root<f64>> {
+        let (forward, back) = (&mut self.forward, &mut self.back);
+        let values = |y: f64| -> Result<(f64, f64)> {
+            let no_path = || Error::NonFiniteInput { value: y };
+            let b = back.trial_value(y).ok_or_else(no_path)??;
+            let a = forward.trial_value(x - b.output).ok_or_else(no_path)??;
+            Ok((y - a.output, 1.0 + a.tangent * b.tangent))
+        };
+        let start =
+            Start::at_committed(self.y.as_f64(), self.x.as_f64(), x).with_guess(guess.as_f64());
+        solve("feedback", values, start, &self.opts.cast_scalar()).ok()
+    }
+}
+
+/// The loop's tangent `A'/(1 + A'B')` from the children's tangents `ta`,
+/// `tb` at the root.
+fn loop_tangent<T: Float>(ta: T, tb: T) -> T {
+    let loop_gain = T::one() + ta * tb;
+    if ta.is_infinite() {
+        // a vertical forward path: the limit of A'/(1 + A'B') is 1/B',
+        // or A' itself where B' = 0 (∞/∞ or ∞·0 would be NaN)
+        if tb == T::zero() {
+            ta
+        } else {
+            T::one() / tb
+        }
+    } else if tb.is_infinite() {
+        // a vertical back path: A'/(1 + A'B') → 0 as B' → ∞, and it is
+        // 0 for a flat forward path too (where 0·∞ would be NaN)
+        T::zero()
+    } else if loop_gain == T::zero() {
+        T::infinity()
+    } else {
+        ta / loop_gain
+    }
+}
+
 /// The loop's residual `R(y) = y − A[x − B[y]]` with both children
 /// trialled, and their tangents at the last evaluation.
 struct LoopResidual<'a, T, A, B> {
@@ -133,22 +177,12 @@ impl<T: Float, A: Child<T>, B: Child<T>> Operator<T> for Feedback<T, A, B> {
             self.params_probe_free = Some(free);
             free
         };
-        let (forward, back) = (&mut self.forward, &mut self.back);
         // Over dual numbers, the root is searched on values where both
         // children have a value path (`trial_value`), and the children are
         // evaluated over dual numbers at the root only; any failure of
         // that search leaves the solve to the dual numbers from the start.
         let by_value = if T::CARRIES_DERIVATIVES {
-            let xv = x.as_f64();
-            let values = |y: f64| -> Result<(f64, f64)> {
-                let no_path = || Error::NonFiniteInput { value: y };
-                let b = back.trial_value(y).ok_or_else(no_path)??;
-                let a = forward.trial_value(xv - b.output).ok_or_else(no_path)??;
-                Ok((y - a.output, 1.0 + a.tangent * b.tangent))
-            };
-            let start = Start::at_committed(self.y.as_f64(), self.x.as_f64(), xv)
-                .with_guess(guess.as_f64());
-            solve("feedback", values, start, &self.opts.cast_scalar()).ok()
+            self.root_on_values(x.as_f64(), guess)
         } else {
             None
         };
@@ -167,24 +201,7 @@ impl<T: Float, A: Child<T>, B: Child<T>> Operator<T> for Feedback<T, A, B> {
             }
         };
         let (ta, tb) = residual.tangents;
-        let loop_gain = T::one() + ta * tb;
-        let tangent = if ta.is_infinite() {
-            // a vertical forward path: the limit of A'/(1 + A'B') is 1/B',
-            // or A' itself where B' = 0 (∞/∞ or ∞·0 would be NaN)
-            if tb == T::zero() {
-                ta
-            } else {
-                T::one() / tb
-            }
-        } else if tb.is_infinite() {
-            // a vertical back path: A'/(1 + A'B') → 0 as B' → ∞, and it is
-            // 0 for a flat forward path too (where 0·∞ would be NaN)
-            T::zero()
-        } else if loop_gain == T::zero() {
-            T::infinity()
-        } else {
-            ta / loop_gain
-        };
+        let tangent = loop_tangent(ta, tb);
         self.pending = Some((x, y));
         Ok(Trial { output: y, tangent })
     }
@@ -211,11 +228,44 @@ impl<T: Float, A: Child<T>, B: Child<T>> Operator<T> for Feedback<T, A, B> {
     }
 }
 
-/// None of the hints: the loop's root is found to a tolerance, so a second
-/// search at a held input may move it within that tolerance (no rest), and
-/// a value-only trial, a curvature or a fold would each be a search or an
-/// implicit derivative of their own (not derived).
-impl<T: Float, A: Child<T>, B: Child<T>> Hints<T> for Feedback<T, A, B> {}
+/// The value-only trial, where both children give theirs: the search on
+/// values that `trial` makes over dual numbers, and the children's values
+/// at its root. The loop's root is found to a tolerance, so a second search
+/// at a held input may move it within that tolerance (no rest); a
+/// curvature or a fold would be implicit derivatives of their own (not
+/// derived).
+impl<T: Float, A: Child<T>, B: Child<T>> Hints<T> for Feedback<T, A, B> {
+    /// The values `trial` computes over dual numbers: the root of the
+    /// search on values (which `trial` keeps as its output's value), and
+    /// the tangent from the children's values there; `None` where `trial`
+    /// would search over dual numbers instead (no value path, a failed
+    /// search, a root where `∂R/∂y` is 0 or not finite).
+    fn trial_value(&mut self, x: f64) -> Option<Result<Trial<f64>>> {
+        self.pending = None;
+        if !(T::CARRIES_DERIVATIVES && x.is_finite()) {
+            return None;
+        }
+        let Root::Inside(y) = self.root_on_values(x, self.guess())? else {
+            return None;
+        };
+        let b = match self.back.trial_value(y)? {
+            Ok(b) => b,
+            Err(e) => return Some(Err(e)),
+        };
+        let a = match self.forward.trial_value(x - b.output)? {
+            Ok(a) => a,
+            Err(e) => return Some(Err(e)),
+        };
+        let d = 1.0 + a.tangent * b.tangent;
+        if !(d != 0.0 && d.is_finite()) {
+            return None;
+        }
+        Some(Ok(Trial {
+            output: y,
+            tangent: loop_tangent(a.tangent, b.tangent),
+        }))
+    }
+}
 
 impl<T: Float, A: Child<T>, B: Child<T>> Derivatives<T> for Feedback<T, A, B> {
     fn to_dual(&self) -> Option<Box<dyn Operator<Dual>>> {
