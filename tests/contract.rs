@@ -722,6 +722,14 @@ fn combinators() {
     );
     check("inverse", pi().inverse());
     check("inverse bouc_wen", spring(1.0).inverse());
+    // (whose curvature, from the spring's, the check compares with
+    // differences of its tangent)
+    let mut inverse = spring(1.0).inverse();
+    inverse.trial(0.3).unwrap();
+    assert!(
+        inverse.trial_curvature().is_some(),
+        "inverse bouc_wen: curvature"
+    );
     check(
         "inverse preisach + gain",
         Preisach::from_params(PreisachParams {
@@ -934,6 +942,7 @@ fn every_registered_leaf_keeps_its_hints_in_every_combinator() {
         curvature: false,
         fold: false,
     };
+    let mut inverted = Vec::new();
     for leaf in LEAVES {
         let kind = leaf.kind();
         let l = serde_json::to_value(leaf.example_spec()).unwrap();
@@ -982,5 +991,23 @@ fn every_registered_leaf_keeps_its_hints_in_every_combinator() {
             assert_eq!(given(&label, op.clone()), expected, "{label}: hints");
             check(&label, op);
         }
+        // the inverse of a leaf that is increasing along the signal (the
+        // others have none there): its curvature where the leaf gives one
+        let label = format!("{kind} in inverse");
+        let inverse = build(&label, serde_json::json!({"type": "inverse", "inner": l}));
+        if inverse.clone().run(&signal::<f64>()).is_ok() {
+            let expected = Given {
+                curvature: alone.curvature,
+                ..none
+            };
+            assert_eq!(given(&label, inverse), expected, "{label}: hints");
+            inverted.push(kind);
+        }
+    }
+    for kind in ["bouc_wen", "gain", "dead_zone"] {
+        assert!(
+            inverted.contains(&kind),
+            "{kind} has no inverse: {inverted:?}"
+        );
     }
 }
