@@ -189,7 +189,19 @@ fn bouc_wen_fit(c: &mut Criterion) {
     g.finish();
 }
 
-fn paper_two_stages(c: &mut Criterion) {
+/// The records of `paper_two_stages` and the start it identifies from.
+struct PaperRecords {
+    loop_x: Vec<f64>,
+    loop_f: Vec<f64>,
+    chirp_x: Vec<f64>,
+    chirp_f: Vec<f64>,
+    start: TransmissionParams,
+}
+
+/// The paper's model with the truth's spring `n = 1.5`, `h0 = 0.1`,
+/// sampled at 250 Hz over a 0.5 Hz major loop (2 cycles) and the 5 → 0.1 Hz
+/// down-chirp over 20 s; the start 20 % off in backlash, `F_c` and `K`.
+fn paper_records() -> PaperRecords {
     let fs = 250.0;
     let mut truth = TransmissionParams::default();
     truth.spring.n = 1.5;
@@ -205,6 +217,23 @@ fn paper_two_stages(c: &mut Criterion) {
     start.backlash *= 1.2;
     start.friction.f_c *= 1.2;
     start.friction.k *= 0.8;
+    PaperRecords {
+        loop_x,
+        loop_f,
+        chirp_x,
+        chirp_f,
+        start,
+    }
+}
+
+fn paper_two_stages(c: &mut Criterion) {
+    let PaperRecords {
+        loop_x,
+        loop_f,
+        chirp_x,
+        chirp_f,
+        start,
+    } = paper_records();
     // the paper's two stages only (stage 3 off), as the README's figure
     let opts = PaperOptions {
         joint: None,
@@ -284,21 +313,13 @@ fn benchmark_system(c: &mut Criterion) {
 /// and 40 evaluations of the benchmark system's fit on the record's first
 /// 1024 samples, upsampled 20× (20 480 samples a simulation).
 fn speculation(c: &mut Criterion) {
-    let fs = 250.0;
-    let mut truth = TransmissionParams::default();
-    truth.spring.n = 1.5;
-    truth.spring.h0 = 0.1;
-    let model = truth.build().expect("true model");
-    let loop_x = sine(0.5, DRIVE.amplitude(0.5), 2.0, fs).expect("loop").x;
-    let loop_f = model.clone().run(&loop_x).expect("loop record");
-    let chirp_x = chirp(5.0, 0.1, 20.0, fs, |f| DRIVE.amplitude(f))
-        .expect("chirp")
-        .x;
-    let chirp_f = model.clone().run(&chirp_x).expect("chirp record");
-    let mut start = TransmissionParams::default();
-    start.backlash *= 1.2;
-    start.friction.f_c *= 1.2;
-    start.friction.k *= 0.8;
+    let PaperRecords {
+        loop_x,
+        loop_f,
+        chirp_x,
+        chirp_f,
+        start,
+    } = paper_records();
 
     let (u, y) = train_multisine();
     let from = start_from_data(&u, &y, 750.0, 20).expect("data start");
