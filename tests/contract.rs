@@ -942,7 +942,7 @@ fn every_registered_leaf_keeps_its_hints_in_every_combinator() {
         curvature: false,
         fold: false,
     };
-    let mut inverted = Vec::new();
+    let mut ran = Vec::new();
     for leaf in LEAVES {
         let kind = leaf.kind();
         let l = serde_json::to_value(leaf.example_spec()).unwrap();
@@ -992,22 +992,53 @@ fn every_registered_leaf_keeps_its_hints_in_every_combinator() {
             check(&label, op);
         }
         // the inverse of a leaf that is increasing along the signal (the
-        // others have none there): its curvature where the leaf gives one
-        let label = format!("{kind} in inverse");
-        let inverse = build(&label, serde_json::json!({"type": "inverse", "inner": l}));
-        if inverse.clone().run(&signal::<f64>()).is_ok() {
-            let expected = Given {
-                curvature: alone.curvature,
-                ..none
-            };
-            assert_eq!(given(&label, inverse), expected, "{label}: hints");
-            inverted.push(kind);
+        // others have none there): its curvature where the leaf gives one;
+        // a series with the Maxwell-slip element, with and without a gap,
+        // where the split exists along the signal: its value-only trial
+        let implicit = [
+            (
+                "inverse",
+                serde_json::json!({"type": "inverse", "inner": l}),
+                Given {
+                    curvature: alone.curvature,
+                    ..none
+                },
+            ),
+            (
+                "series",
+                serde_json::json!({"type": "series", "left": l, "right": mms}),
+                Given {
+                    value: alone.value && partner.value,
+                    ..none
+                },
+            ),
+            (
+                "series with a gap",
+                serde_json::json!({"type": "series", "left": mms, "right": l,
+                    "limits": {"type": "gap", "b": 0.2, "r0": 0.0}}),
+                Given {
+                    value: alone.value && partner.value,
+                    ..none
+                },
+            ),
+        ];
+        for (name, spec, expected) in implicit {
+            let label = format!("{kind} in {name}");
+            let op = build(&label, spec);
+            if op.clone().run(&signal::<f64>()).is_ok() {
+                assert_eq!(given(&label, op), expected, "{label}: hints");
+                ran.push(label);
+            }
         }
     }
-    for kind in ["bouc_wen", "gain", "dead_zone"] {
-        assert!(
-            inverted.contains(&kind),
-            "{kind} has no inverse: {inverted:?}"
-        );
+    for case in [
+        "bouc_wen in inverse",
+        "dead_zone in inverse",
+        "mms in series",
+        "bouc_wen in series",
+        "mass_spring_damper in series",
+        "bouc_wen in series with a gap",
+    ] {
+        assert!(ran.iter().any(|r| r == case), "{case} did not run: {ran:?}");
     }
 }

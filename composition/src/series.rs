@@ -379,6 +379,69 @@ fn trial_split<T: Float, L: Operator<T>, R: Operator<T>>(
     Ok(((l.output - r.output, l.tangent + r.tangent), (l, r)))
 }
 
+/// The split for the right element's share `x_r = x − r0` searched on the
+/// elements' values ([`Hints::trial_value`]) from `from` (over `T`, taken
+/// as values), with the steps a search over `T` takes; `None` where an
+/// element has no value path or the search fails.
+fn split_on_values<T: Float, L: Operator<T>, R: Operator<T>>(
+    left: &mut L,
+    right: &mut R,
+    x_r: f64,
+    from: &Start<T>,
+    opts: &SolverOptions<T>,
+) -> Option<Root<f64>> {
+    let values = |xl: f64| -> Result<(f64, f64)> {
+        let no_path = || Error::NonFiniteInput { value: xl };
+        let l = left.trial_value(xl).ok_or_else(no_path)??;
+        let r = right.trial_value(x_r - xl).ok_or_else(no_path)??;
+        Ok((l.output - r.output, l.tangent + r.tangent))
+    };
+    let v = |t: T| t.as_f64();
+    let from = Start {
+        x0: v(from.x0),
+        step: v(from.step),
+        hint: from.hint.map(v),
+        bounds: from.bounds.map(|(lo, hi)| (v(lo), v(hi))),
+        guess: from.guess.map(v),
+        evaluated: None,
+        scale: v(from.scale),
+    };
+    solve("series", values, from, &opts.cast_scalar()).ok()
+}
+
+/// The series' force and tangent at its split `root` from the elements'
+/// trials `l` and `r` there: at a travel limit the right element's; inside,
+/// the compliances add, and the force is that of the element with the
+/// smaller stiffness.
+fn force_at<T: Float>(root: &Root<T>, l: Trial<T>, r: Trial<T>) -> (T, T) {
+    match root {
+        Root::AtBound(_) => (r.output, r.tangent),
+        Root::Inside(_) => {
+            let sum = l.tangent + r.tangent;
+            // A rigid element (tangent ±∞) adds no compliance: the
+            // stiffness is the other one's (∞/∞ = NaN otherwise).
+            let tangent = if l.tangent.is_infinite() {
+                r.tangent
+            } else if r.tangent.is_infinite() {
+                l.tangent
+            } else if sum == T::zero() {
+                T::zero()
+            } else {
+                l.tangent * r.tangent / sum
+            };
+            // The split is exact to the solver tolerance δ; the element
+            // with the smaller stiffness carries the smaller force
+            // error (|F'| δ), so its force is reported.
+            let force = if l.tangent.abs() <= r.tangent.abs() {
+                l.output
+            } else {
+                r.output
+            };
+            (force, tangent)
+        }
+    }
+}
+
 impl<T: Float, L: Child<T>, R: Child<T>> Residual<T> for SplitResidual<'_, T, L, R> {
     fn eval(&mut self, xl: T) -> Result<(T, T)> {
         let (e, last) = trial_split(self.left, self.right, self.x - self.r0, xl)?;
@@ -630,24 +693,7 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
         // elements have a value path (see `Feedback`), and any failure of
         // that search leaves it to the dual numbers from the start.
         let by_value = if T::CARRIES_DERIVATIVES {
-            let (xv, r0v) = (x.as_f64(), r0.as_f64());
-            let values = |xl: f64| -> Result<(f64, f64)> {
-                let no_path = || Error::NonFiniteInput { value: xl };
-                let l = left.trial_value(xl).ok_or_else(no_path)??;
-                let r = right.trial_value(xv - r0v - xl).ok_or_else(no_path)??;
-                Ok((l.output - r.output, l.tangent + r.tangent))
-            };
-            let v = |t: T| t.as_f64();
-            let from = Start {
-                x0: v(from.x0),
-                step: v(from.step),
-                hint: from.hint.map(v),
-                bounds: from.bounds.map(|(lo, hi)| (v(lo), v(hi))),
-                guess: from.guess.map(v),
-                evaluated: None,
-                scale: v(from.scale),
-            };
-            solve("series", values, from, &self.opts.cast_scalar()).ok()
+            split_on_values(left, right, x.as_f64() - r0.as_f64(), &from, &self.opts)
         } else {
             None
         };
@@ -667,32 +713,7 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
             None => solve("series", |xl| residual.eval(xl), from, &self.opts)?,
         };
         let (l, r) = residual.last;
-        let (force, tangent) = match root {
-            Root::AtBound(_) => (r.output, r.tangent),
-            Root::Inside(_) => {
-                let sum = l.tangent + r.tangent;
-                // A rigid element (tangent ±∞) adds no compliance: the
-                // stiffness is the other one's (∞/∞ = NaN otherwise).
-                let tangent = if l.tangent.is_infinite() {
-                    r.tangent
-                } else if r.tangent.is_infinite() {
-                    l.tangent
-                } else if sum == T::zero() {
-                    T::zero()
-                } else {
-                    l.tangent * r.tangent / sum
-                };
-                // The split is exact to the solver tolerance δ; the element
-                // with the smaller stiffness carries the smaller force
-                // error (|F'| δ), so its force is reported.
-                let force = if l.tangent.abs() <= r.tangent.abs() {
-                    l.output
-                } else {
-                    r.output
-                };
-                (force, tangent)
-            }
-        };
+        let (force, tangent) = force_at(&root, l, r);
         if !force.is_finite() {
             return Err(Error::NonFiniteOutput {
                 operator: "series",
@@ -773,11 +794,91 @@ impl<T: Float, L: Child<T>, R: Child<T>> Operator<T> for MechanicalSeries<T, L, 
     }
 }
 
-/// None of the hints: the split is found to a tolerance, so a second
-/// search at a held input may move it within that tolerance (no rest), and
-/// a value-only trial, a curvature or a fold would each be a search or an
-/// implicit derivative of their own (not derived).
-impl<T: Float, L: Child<T>, R: Child<T>> Hints<T> for MechanicalSeries<T, L, R> {}
+/// The value-only trial, where both elements give theirs: the steps of
+/// `trial` over dual numbers, on values. The split is found to a
+/// tolerance, so a second search at a held input may move it within that
+/// tolerance (no rest); a curvature or a fold would be implicit
+/// derivatives of their own (not derived).
+impl<T: Float, L: Child<T>, R: Child<T>> Hints<T> for MechanicalSeries<T, L, R> {
+    /// The values `trial` computes over dual numbers: at a travel limit
+    /// where the contact holds, the right element's; else the split the
+    /// search on values finds (which `trial` keeps as its split's value)
+    /// and the force and tangent from the elements' values there. `None`
+    /// where `trial` would search over dual numbers instead (no value path,
+    /// a failed search, a split inside the limits where `∂R/∂x_L` is 0 or
+    /// not finite).
+    fn trial_value(&mut self, x: f64) -> Option<Result<Trial<f64>>> {
+        self.s.discard();
+        if !(T::CARRIES_DERIVATIVES && x.is_finite()) {
+            return None;
+        }
+        let value = |t: Trial<f64>| Some(Ok(t));
+        let r0 = self.limits.start();
+        let x_r = x - r0.as_f64();
+        let bounds = self.limits.bounds();
+        if let Some((lo, hi)) = bounds {
+            let xl = self.s.committed().x_left.max(lo).min(hi);
+            if xl == hi || xl == lo {
+                let xl = xl.as_f64();
+                let (l, r) = (
+                    self.left.trial_value(xl)?,
+                    self.right.trial_value(x_r - xl)?,
+                );
+                if let (Ok(l), Ok(r)) = (l, r) {
+                    let res = l.output - r.output;
+                    let holds =
+                        (xl == hi.as_f64() && res < 0.0) || (xl == lo.as_f64() && res > 0.0);
+                    if holds && r.output.is_finite() {
+                        return value(r);
+                    }
+                }
+            }
+        }
+        let s = *self.s.committed();
+        let dx = T::lit(x) - s.x;
+        let start = s.x_left;
+        let from = Start {
+            x0: start,
+            step: dx,
+            hint: Some(start + dx),
+            bounds,
+            guess: s.share.map(|w| w.guess(start, dx)),
+            evaluated: None,
+            scale: T::lit(x).abs().max(start.abs()),
+        };
+        let root = split_on_values(&mut self.left, &mut self.right, x_r, &from, &self.opts)?;
+        let xl = root.value();
+        if let Root::AtBound(b) = root {
+            // (`trial` takes a bound's derivatives from the bound itself)
+            bounds.filter(|&(lo, hi)| lo.as_f64() == b || hi.as_f64() == b)?;
+        }
+        let l = match self.left.trial_value(xl)? {
+            Ok(l) => l,
+            Err(e) => return Some(Err(e)),
+        };
+        let r = match self.right.trial_value(x_r - xl)? {
+            Ok(r) => r,
+            Err(e) => return Some(Err(e)),
+        };
+        if let Root::Inside(_) = root {
+            let d = l.tangent + r.tangent;
+            if !(d != 0.0 && d.is_finite()) {
+                return None;
+            }
+        }
+        let (force, tangent) = force_at(&root, l, r);
+        if !force.is_finite() {
+            return Some(Err(Error::NonFiniteOutput {
+                operator: "series",
+                input: x,
+            }));
+        }
+        value(Trial {
+            output: force,
+            tangent,
+        })
+    }
+}
 
 impl<T: Float, L: Child<T>, R: Child<T>> Derivatives<T> for MechanicalSeries<T, L, R> {
     fn to_dual(&self) -> Option<Box<dyn Operator<Dual>>> {
