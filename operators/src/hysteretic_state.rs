@@ -130,10 +130,17 @@ pub(crate) struct SubstepCap<T> {
 ///
 /// `g(s) = g_a + f(g_a) (1 − e^{−c_a s}) / c_a` for `s ≤ s0`, and
 /// `g(s) = α (1 − e^{−c_0 (s − s0)}) / c_0` beyond the zero crossing at
-/// travel `s0` (`g + f s` where a `c` is 0). Each piece is evaluated by
-/// [`closed_form`], with its asymptote `g∞ = g + f/c` (`= α/c`) cached.
-/// The absolute rounding error is a few ulps of the state's range on the
-/// branch; at travel 0 the result is `g_a` exactly.
+/// travel `s0` (`g + f s` where a `c` is 0). Each piece is evaluated as
+/// `g∞ − (f/c) e^{−c s}` ([`closed_form`]) with its asymptote
+/// `g∞ = g + f/c` (`= α/c`) cached: one `exp`, of shorter latency than
+/// `expm1`, which a single step through a series waits for. The absolute
+/// rounding error is a few ulps of `max(|g_a|, |g(s)|, α/|β + γ|)`, the
+/// state's scale. Only on the lower side, where `|β − γ|` is less than a
+/// sixteenth of `|β + γ|`, `|f/c|` would exceed that scale many times
+/// (at `β ≈ γ` it loses every digit of a short travel); such a piece is
+/// evaluated as `g − (f/c) expm1(−c s)` ([`closed_form_near`]), whose error
+/// is a few ulps of `|g_a| + |g(s) − g_a|`. The choice is made once per
+/// branch, so it costs the upper side nothing.
 ///
 /// Evaluating every sample from the branch start (not step by step) makes
 /// the `n = 1` spring exactly rate-independent: the output at an input does
@@ -149,6 +156,9 @@ pub(crate) struct Branch<T> {
     inf_a: T,
     /// Travel to the zero crossing (`+∞` if the branch does not cross).
     s0: T,
+    /// Whether the first piece is on a side whose `|f/c|` is far above the
+    /// state's scale, and so is evaluated by [`closed_form_near`].
+    near_a: bool,
     f_0: T,
     c_0: T,
     /// `f_0 / c_0` (also the asymptote, from `g = 0`), cached.
@@ -185,6 +195,7 @@ impl<T: Float> Branch<T> {
             fc_a: v(self.fc_a),
             inf_a: v(self.inf_a),
             s0: v(self.s0),
+            near_a: self.near_a,
             f_0: v(self.f_0),
             c_0: v(self.c_0),
             fc_0: v(self.fc_0),
@@ -203,32 +214,36 @@ impl<T: Float> Branch<T> {
                 self.fc_0,
                 s - self.s0,
             )
+        } else if self.near_a {
+            closed_form_near(self.g_a, self.f_a, self.c_a, self.fc_a, s)
         } else {
             closed_form(self.g_a, self.f_a, self.c_a, self.fc_a, self.inf_a, s)
         }
     }
 }
 
-/// `g + (f/c) (1 − e^{−c s})`, or `g + f s` for `c = 0`.
-///
-/// Near the branch's start (`|c s| < 1/2`) as `g − (f/c) expm1(−c s)`,
-/// whose error is a few ulps of `|g| + |f s|`. Beyond, as
-/// `g∞ − (f/c) e^{−c s}` with `g∞ = g + f/c` (one `exp`, shorter latency
-/// than `expm1`); its error is a few ulps of `|g∞| + |f/c| e^{−c s}`, which
-/// there is at most `|g| + 2.6 |g(s) − g|` because `|1 − e^{−c s}| ≥ 0.39`.
-/// Either way the error is a few ulps of the state's range on the branch,
-/// also where `|c|` is tiny and `f/c` huge (`β ≈ γ`), where the asymptotic
-/// form alone would lose every digit of a short travel.
+/// `g + (f/c) (1 − e^{−c s})` as `g∞ − (f/c) e^{−c s}` with
+/// `g∞ = g + f/c` (one `exp`, whose latency is shorter than `expm1`'s), or
+/// `g + f s` for `c = 0`. Its error is a few ulps of
+/// `|g∞| + |f/c| e^{−c s}`.
 #[inline(always)]
 fn closed_form<T: Float>(g: T, f: T, c: T, f_over_c: T, asymptote: T, s: T) -> T {
     if c == T::zero() {
-        return flat_side(g, f, c, s);
-    }
-    let x = -c * s;
-    if x.abs() < T::lit(0.5) {
-        g - f_over_c * x.exp_m1()
+        flat_side(g, f, c, s)
     } else {
-        asymptote - f_over_c * x.exp()
+        asymptote - f_over_c * (-c * s).exp()
+    }
+}
+
+/// The same as `g − (f/c) expm1(−c s)`, whose error is a few ulps of
+/// `|g| + |g(s) − g|` however large `f/c` is (for a side whose decay rate
+/// `c` is tiny, see [`Branch`]).
+#[inline(always)]
+fn closed_form_near<T: Float>(g: T, f: T, c: T, f_over_c: T, s: T) -> T {
+    if c == T::zero() {
+        flat_side(g, f, c, s)
+    } else {
+        g - f_over_c * (-c * s).exp_m1()
     }
 }
 
@@ -518,6 +533,9 @@ impl<T: Float> StateEquation<T> {
             }
         }
         let c_0 = self.side_coefficient(zero, self.alpha);
+        // the lower side (`c_a` is not the upper side's `c_0`) with a decay
+        // rate far below the upper side's
+        let near_a = c_a != c_0 && c_a.abs() * T::lit(16.0) < c_0.abs();
         Branch {
             g_a,
             f_a,
@@ -525,6 +543,7 @@ impl<T: Float> StateEquation<T> {
             fc_a: f_a / c_a,
             inf_a: g_a + f_a / c_a,
             s0,
+            near_a,
             f_0: self.alpha,
             c_0,
             fc_0: self.alpha / c_0,
@@ -873,6 +892,29 @@ mod tests {
             }
         }
         assert!(worst <= 4.0, "{worst} ulps of the state scale");
+    }
+
+    /// Where `β ≈ γ` the lower side's decay rate `c = β − γ` is tiny and
+    /// `f/c` huge: the branch still agrees with the step's `expm1` form to
+    /// a few ulps of the state's scale, `|g_a| + |g(s) − g_a|` or the
+    /// saturation state `α/(β + γ)` if larger (the asymptotic form alone
+    /// was up to 5·10¹⁰ ulps off).
+    #[test]
+    fn branch_keeps_the_states_digits_where_the_decay_rate_is_tiny() {
+        let mut worst = 0.0_f64;
+        for gamma_minus_beta in [8e-8, -8e-8, 1e-12, 1e-4] {
+            let e = eq(1.0, 2.055, 0.05, 0.05 + gamma_minus_beta);
+            for g_a in [-20.5, -5.0, -0.1, 0.0, 3.0] {
+                let b = e.branch(g_a);
+                for s in [1e-9, 1e-3, 0.03, 0.5, 2.0, 9.0, 30.0] {
+                    let (got, want) = (b.at(s), e.advance_linear(g_a, s));
+                    let scale =
+                        (g_a.abs() + (want - g_a).abs()).max(2.055 / (0.1 + gamma_minus_beta));
+                    worst = worst.max((got - want).abs() / (f64::EPSILON * scale));
+                }
+            }
+        }
+        assert!(worst <= 8.0, "{worst} ulps of the state's scale");
     }
 
     #[test]
