@@ -108,3 +108,16 @@ pub mod prelude {
 #[doc = include_str!("../README.md")]
 #[cfg(doctest)]
 pub struct ReadmeDoctests;
+
+/// The user guide's chapters that hold Rust, each compiled and run as a
+/// doctest (`tests/docs.rs` fails when a chapter with Rust is missing
+/// here).
+#[cfg(doctest)]
+pub mod guide {
+    /// `docs/concepts.md`
+    #[doc = include_str!("../docs/concepts.md")]
+    pub struct Concepts;
+    /// `docs/composing.md`
+    #[doc = include_str!("../docs/composing.md")]
+    pub struct Composing;
+}

@@ -11,7 +11,7 @@ use std::path::Path;
 /// Where generated text goes: a whole file, or the lines between a line
 /// holding `BEGIN generated: NAME` and one holding `END generated: NAME`.
 struct Target {
-    path: &'static str,
+    path: String,
     region: Option<&'static str>,
     text: String,
 }
@@ -23,11 +23,28 @@ fn targets() -> Vec<Target> {
         .chain(std::iter::once(")\n".to_string()))
         .collect();
     let all: String = names.iter().map(|n| format!("    \"{n}\",\n")).collect();
-    let target = |path, region, text| Target { path, region, text };
-    vec![
+    let target = |path: &str, region, text| Target {
+        path: path.to_string(),
+        region,
+        text,
+    };
+    let pages = reference::reference_pages()
+        .into_iter()
+        .map(|(name, text)| Target {
+            path: format!("{REFERENCE}/{name}"),
+            region: None,
+            text,
+        });
+    let mut all_targets = vec![
         target("README.md", Some("leaves"), reference::leaf_table()),
         target(
             "README.md",
+            Some("combinators"),
+            reference::combinator_table(),
+        ),
+        target("docs/operators.md", Some("leaves"), reference::leaf_table()),
+        target(
+            "docs/composing.md",
             Some("combinators"),
             reference::combinator_table(),
         ),
@@ -52,8 +69,18 @@ fn targets() -> Vec<Target> {
             Some("constructor names"),
             all,
         ),
-    ]
+        target(
+            "docs/SUMMARY.md",
+            Some("reference"),
+            reference::summary_entries(),
+        ),
+    ];
+    all_targets.extend(pages);
+    all_targets
 }
+
+/// The folder of the generated reference pages.
+const REFERENCE: &str = "docs/reference";
 
 /// `text` with the region `name` holding `content`; `None` if the
 /// markers are missing.
@@ -88,11 +115,12 @@ fn generated_files_match_the_registry() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let regenerate = std::env::var_os("HYSTERON_REGENERATE").is_some();
     let mut stale = Vec::new();
-    let mut files: Vec<(&str, String, String)> = Vec::new();
+    let mut files: Vec<(String, String, String)> = Vec::new();
     for t in targets() {
         if !files.iter().any(|(p, _, _)| *p == t.path) {
-            let text = std::fs::read_to_string(root.join(t.path)).unwrap();
-            files.push((t.path, text.clone(), text));
+            // a page of a new leaf does not exist yet: it is stale
+            let text = std::fs::read_to_string(root.join(&t.path)).unwrap_or_default();
+            files.push((t.path.clone(), text.clone(), text));
         }
         let Some(file) = files.iter_mut().find(|(p, _, _)| *p == t.path) else {
             unreachable!()
@@ -106,9 +134,27 @@ fn generated_files_match_the_registry() {
     for (path, old, new) in files {
         if old != new {
             if regenerate {
-                std::fs::write(root.join(path), new).unwrap();
+                if let Some(dir) = root.join(&path).parent() {
+                    std::fs::create_dir_all(dir).unwrap();
+                }
+                std::fs::write(root.join(&path), new).unwrap();
             } else {
                 stale.push(path);
+            }
+        }
+    }
+    // a page whose operator left the registry
+    let generated: Vec<String> = reference::reference_pages()
+        .into_iter()
+        .map(|(name, _)| name)
+        .collect();
+    for entry in std::fs::read_dir(root.join(REFERENCE)).unwrap() {
+        let name = entry.unwrap().file_name().to_string_lossy().into_owned();
+        if !generated.contains(&name) {
+            if regenerate {
+                std::fs::remove_file(root.join(REFERENCE).join(&name)).unwrap();
+            } else {
+                stale.push(format!("{REFERENCE}/{name} (no such operator)"));
             }
         }
     }
@@ -116,4 +162,53 @@ fn generated_files_match_the_registry() {
         stale.is_empty(),
         "generated text differs from the registry in {stale:?}: run `bash scripts/generate.sh`"
     );
+}
+
+/// Every example spec of the reference (the leaves' pages and the
+/// combinators') builds and runs a short signal to finite outputs.
+#[test]
+fn every_reference_example_builds_and_runs() {
+    use hysteron::models::spec::registry::LEAVES;
+    use hysteron::models::spec::COMBINATOR_LAWS;
+    use hysteron::models::Spec;
+    let x: Vec<f64> = (0..200).map(|i| (f64::from(i) * 0.05).sin()).collect();
+    let specs =
+        LEAVES
+            .iter()
+            .map(|l| (l.kind(), l.example_spec()))
+            .chain(COMBINATOR_LAWS.iter().map(|c| {
+                let spec = Spec::from_json(c.example).unwrap_or_else(|e| panic!("{}: {e}", c.kind));
+                assert_eq!(spec.kind(), c.kind);
+                (c.kind, spec)
+            }));
+    for (kind, spec) in specs {
+        let mut model = spec.build().unwrap_or_else(|e| panic!("{kind}: {e}"));
+        let y = model.run(&x).unwrap_or_else(|e| panic!("{kind}: {e}"));
+        assert!(y.iter().all(|v| v.is_finite()), "{kind}");
+    }
+}
+
+/// Each combinator documents exactly the fields its JSON example and its
+/// summary name, and every field of its example is documented.
+#[test]
+fn every_combinator_field_is_documented() {
+    use hysteron::models::spec::COMBINATOR_LAWS;
+    for c in COMBINATOR_LAWS {
+        let example: serde_json::Value = serde_json::from_str(c.example).unwrap();
+        for key in example.as_object().unwrap().keys().filter(|k| *k != "type") {
+            assert!(
+                c.field_docs.iter().any(|(name, _)| name == key),
+                "{}: `{key}` of the example is not documented",
+                c.kind
+            );
+        }
+        for (name, _) in c.field_docs {
+            assert!(
+                c.fields.contains(name),
+                "{}: `{name}` not in `{}`",
+                c.kind,
+                c.fields
+            );
+        }
+    }
 }

@@ -66,6 +66,8 @@ pub const COMBINATOR_LAWS: &[Combinator] = &[
         law: "y = B[A[x]]",
         fields: "first, second",
         implicit: false,
+        field_docs: &[("first", "the operator applied to the input"), ("second", "the operator applied to the output of `first`")],
+        example: r#"{"type": "cascade", "first": {"type": "play", "r": 0.2}, "second": {"type": "dead_zone", "b_l": -0.1, "b_r": 0.1}}"#,
     },
     Combinator {
         kind: "parallel",
@@ -73,6 +75,8 @@ pub const COMBINATOR_LAWS: &[Combinator] = &[
         law: "y = A[x] + B[x]",
         fields: "left, right",
         implicit: false,
+        field_docs: &[("left", "one branch, driven by the input"), ("right", "the other branch, driven by the same input; the outputs add")],
+        example: r#"{"type": "parallel", "left": {"type": "gain", "k": 2.0}, "right": {"type": "play", "r": 0.5}}"#,
     },
     Combinator {
         kind: "scaled",
@@ -80,6 +84,8 @@ pub const COMBINATOR_LAWS: &[Combinator] = &[
         law: "y = w A[x]",
         fields: "w (a parameter), inner",
         implicit: false,
+        field_docs: &[("w", "the weight, a finite number and a fitted parameter (`scaled.w`)"), ("inner", "the weighted operator")],
+        example: r#"{"type": "scaled", "w": 0.5, "inner": {"type": "stop", "r": 1.0}}"#,
     },
     Combinator {
         kind: "feedback",
@@ -87,6 +93,8 @@ pub const COMBINATOR_LAWS: &[Combinator] = &[
         law: "y = A[x − B[y]]",
         fields: "forward, back, solver",
         implicit: true,
+        field_docs: &[("forward", "the forward path `A`"), ("back", "the return path `B`, driven by the output"), ("solver", "optional: the implicit solve's options, an object of `rel_tol` (relative tolerance on the root, default `16 ε`), `abs_tol` (absolute tolerance, default the smallest positive normal number), `max_iter` (iterations once bracketed, default 200) and `max_expansions` (widenings of the bracket search, default 64); each may be left out")],
+        example: r#"{"type": "feedback", "forward": {"type": "mms", "f_c": 1.0, "k": 40.0}, "back": {"type": "gain", "k": 0.05}}"#,
     },
     Combinator {
         kind: "series",
@@ -94,6 +102,8 @@ pub const COMBINATOR_LAWS: &[Combinator] = &[
         law: "F = L[x_L] = R[x_R], x = x_L + x_R, optional travel limits on L",
         fields: "left, right, limits (none, range lo hi, gap b r0), solver",
         implicit: true,
+        field_docs: &[("left", "the element the travel limits apply to (the slider, in the paper's model)"), ("right", "the other element; both carry the same force and their travels add"), ("limits", "optional, default `{\"type\": \"none\"}`: `{\"type\": \"range\", \"lo\", \"hi\"}` holds the left element's travel in `[lo, hi]`, `{\"type\": \"gap\", \"b\", \"r0\"}` in a gap of width `b ≥ 0` centred at `r0`; `b` and `r0` (or `lo`, `hi`) are fitted parameters (`limits.b`)"), ("solver", "optional: the implicit solve's options, an object of `rel_tol` (relative tolerance on the root, default `16 ε`), `abs_tol` (absolute tolerance, default the smallest positive normal number), `max_iter` (iterations once bracketed, default 200) and `max_expansions` (widenings of the bracket search, default 64); each may be left out")],
+        example: r#"{"type": "series", "left": {"type": "mms", "f_c": 1.5, "k": 30.0}, "right": {"type": "bouc_wen", "w": 0.6, "alpha": 1.0, "beta": 2.5, "gamma": 1.5, "n": 1.0, "stiffness": 10.0}, "limits": {"type": "gap", "b": 0.3, "r0": 0.0}}"#,
     },
     Combinator {
         kind: "inverse",
@@ -101,6 +111,8 @@ pub const COMBINATOR_LAWS: &[Combinator] = &[
         law: "u = A⁻¹[x] for a non-decreasing A",
         fields: "inner, solver",
         implicit: true,
+        field_docs: &[("inner", "the operator inverted; it must be non-decreasing in its input (an error names the sample where it is not)"), ("solver", "optional: the implicit solve's options, an object of `rel_tol` (relative tolerance on the root, default `16 ε`), `abs_tol` (absolute tolerance, default the smallest positive normal number), `max_iter` (iterations once bracketed, default 200) and `max_expansions` (widenings of the bracket search, default 64); each may be left out")],
+        example: r#"{"type": "inverse", "inner": {"type": "parallel", "left": {"type": "gain", "k": 1.0}, "right": {"type": "play", "r": 0.3}}}"#,
     },
     Combinator {
         kind: "oversample",
@@ -108,6 +120,8 @@ pub const COMBINATOR_LAWS: &[Combinator] = &[
         law: "A run at q sub-steps per sample, the input linear in between; rate-dependent nodes at dt/q",
         fields: "inner, q",
         implicit: false,
+        field_docs: &[("inner", "the oversampled operator"), ("q", "sub-steps per data sample, an integer ≥ 1 (not a fitted parameter)")],
+        example: r#"{"type": "oversample", "inner": {"type": "lugre", "sigma0": 1e5, "sigma1": 300.0, "sigma2": 0.4, "f_c": 1.0, "f_s": 1.5, "v_s": 0.01, "dt": 1e-3}, "q": 4}"#,
     },
     Combinator {
         kind: "transmission",
@@ -115,6 +129,8 @@ pub const COMBINATOR_LAWS: &[Combinator] = &[
         law: "the paper's model: mms in a gap, in series with bouc_wen",
         fields: "backlash, slider0, friction, spring",
         implicit: true,
+        field_docs: &[("backlash", "the gap `b ≥ 0` the slider moves in"), ("slider0", "optional, default 0: the slider's initial position, `|slider0| ≤ b/2`"), ("friction", "the slider's MMS friction: `f_c`, `k`, `y0` as the `mms` leaf"), ("spring", "the spring: the fields of the `bouc_wen` leaf")],
+        example: r#"{"type": "transmission", "backlash": 0.3, "friction": {"f_c": 1.5, "k": 30.0, "y0": 0.0}, "spring": {"w": 0.6, "alpha": 1.0, "beta": 2.5, "gamma": 1.5, "n": 1.0, "h0": 0.0, "z0": 0.0, "stiffness": {"z": [0.0, 0.6], "s": [10.0, 14.0]}}}"#,
     },
 ];
 
@@ -131,6 +147,11 @@ pub struct Combinator {
     pub fields: &'static str,
     /// Whether it solves an equation every sample.
     pub implicit: bool,
+    /// Each spec field and what it holds, in the order of `fields`.
+    pub field_docs: &'static [(&'static str, &'static str)],
+    /// A small spec of this combinator, as JSON (it builds and runs:
+    /// tested).
+    pub example: &'static str,
 }
 
 /// The most nodes a spec may have on one path from its root to a leaf.

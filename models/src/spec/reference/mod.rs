@@ -1,7 +1,8 @@
 //! The reference of every registered leaf and combinator, rendered from
 //! the [`registry`](super::registry) and [`COMBINATOR_LAWS`]: the tables of
 //! README.md and of the crates' front pages, the listing of `hysteron
-//! operators`, and the Python constructors' docstrings and stubs. Nothing
+//! operators`, the Python constructors' docstrings and stubs, the guide's
+//! reference pages ([`reference_pages`]) and the spec's JSON Schema ([`json_schema`]). Nothing
 //! of it is written by hand: the test `tests/generated.rs` compares the
 //! committed files with what these functions render, and
 //! `scripts/generate.sh` writes them anew.
@@ -10,6 +11,12 @@ use super::registry::{LeafKind, Omitted, LEAVES};
 use super::{Combinator, COMBINATOR_LAWS};
 use hysteron_operators::{FieldInfo, FieldKind};
 use serde_json::Value;
+
+mod pages;
+mod schema;
+
+pub use pages::{combinator_page, leaf_page, reference_index, reference_pages, summary_entries};
+pub use schema::json_schema;
 
 /// A JSON value as a reader writes it: numbers shortest, an array whose
 /// entries are all equal as `v each`, an empty array as `none`.
@@ -71,7 +78,7 @@ fn link(after: &str) -> Option<(&str, &str)> {
 }
 
 /// Whether the declaration's example gives the field as an array.
-fn is_vector(leaf: &dyn LeafKind, field: &str) -> bool {
+pub(crate) fn is_vector(leaf: &dyn LeafKind, field: &str) -> bool {
     leaf.example().get(field).is_some_and(Value::is_array)
 }
 
@@ -91,7 +98,7 @@ fn constraint(leaf: &dyn LeafKind, f: &FieldInfo) -> String {
 
 /// What leaving the field out means, as a short phrase (empty when it is
 /// required).
-fn omitted_text(leaf: &dyn LeafKind, f: &FieldInfo) -> String {
+pub(crate) fn omitted_text(leaf: &dyn LeafKind, f: &FieldInfo) -> String {
     match leaf.omitted(f.name) {
         Omitted::Required => String::new(),
         Omitted::Default(v) => format!("default {}", value_text(&v)),
@@ -124,7 +131,7 @@ fn params_cell(leaf: &dyn LeafKind) -> String {
 }
 
 /// Text for a markdown table cell.
-fn cell(s: &str) -> String {
+pub(crate) fn cell(s: &str) -> String {
     s.replace('|', "\\|")
 }
 
@@ -156,6 +163,7 @@ pub fn combinator_table() -> String {
         law,
         fields,
         implicit,
+        ..
     } in COMBINATOR_LAWS
     {
         let solved = if *implicit {
