@@ -3,7 +3,8 @@
 # formatting, lints and docs, the Rust tests, then the Python
 # package (installed from python/ into a fresh virtual environment, its stubs
 # checked by mypy's stubtest, mypy, pytest), then the C API and the FMUs
-# (capi/checks: C programs built with cc, FMUs checked with FMPy). Needs rustup's toolchain, python3 with
+# (capi/checks: C programs built with cc, FMUs checked with FMPy), then the
+# documentation site (scripts/site.sh, with mdBook). Needs rustup's toolchain, python3 with
 # venv, and the package registries (crates.io, PyPI).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -55,11 +56,17 @@ echo "== Python: stubtest"
 echo "== Python: mypy on the package, the examples and the benchmark"
 "$venv/python" -m mypy python/hysteron_rs examples/python python/bench
 
-echo "== Python: pytest (with every shell and Python block of README.md, run as written)"
+echo "== Python: pytest (with every shell and Python block of README.md and of the guide, run as written)"
 "$venv/python" -m pytest -q python/tests
 
 echo "== C and FMI: FMPy and the system's cc"
 "$venv/python" -m pytest -q capi/checks
+
+echo "== the documentation site: the guide (mdBook) and the API reference (scripts/site.sh)"
+if ! command -v mdbook >/dev/null 2>&1; then
+  cargo install mdbook --locked --version "^0.4"
+fi
+bash scripts/site.sh
 
 echo "== fuzz smoke: each cargo-fuzz target (fuzz/) for up to 30 s on its committed corpus"
 if cargo +nightly --version >/dev/null 2>&1; then
