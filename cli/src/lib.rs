@@ -22,6 +22,7 @@ pub mod output;
 pub mod paper;
 pub mod period;
 pub mod plot;
+pub mod reference_figures;
 pub mod sensitivity;
 pub mod simulate;
 pub mod validate;

@@ -457,7 +457,13 @@ enum Command {
     /// List every operator a spec can name: its spec type, equation, and
     /// each parameter with its domain, default and documentation; then the
     /// combinators.
-    Operators,
+    Operators {
+        /// Also draw each operator's and combinator's example spec over a
+        /// decaying sine, one loop figure per `type`, into DIR/TYPE.svg
+        /// (the guide's reference pages show them).
+        #[arg(long, value_name = "DIR")]
+        figures: Option<PathBuf>,
+    },
     /// Time the operator kernels (play, 64-play PI, Bouc-Wen n = 1 and
     /// 1.5, MMS, the paper's model static and boxed from JSON, rayon
     /// batches on 1 and 2 threads) on the input
@@ -696,9 +702,15 @@ fn main() -> ExitCode {
             None
         })
         .map_err(|e| e.to_string()),
-        Command::Operators => {
+        Command::Operators { figures } => {
             print!("{}", hysteron_cli::models::spec::reference::listing());
-            Ok(None)
+            match figures {
+                None => Ok(None),
+                Some(dir) => hysteron_cli::reference_figures::write_figures(&dir).map(|written| {
+                    eprintln!("{} figures written to {}", written.len(), dir.display());
+                    None
+                }),
+            }
         }
         Command::Bench {
             samples,

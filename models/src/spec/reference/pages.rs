@@ -23,12 +23,19 @@ fn domain_text(leaf: &dyn LeafKind, f: &FieldInfo) -> String {
     }
 }
 
+/// The page's loop figure: the example spec over a decaying sine, drawn by
+/// `hysteron operators --figures docs/reference/figures`.
+fn figure(kind: &str) -> String {
+    format!("![The example spec of `{kind}` driven by a sine whose amplitude decays from 2 to 0.4: y against x](figures/{kind}.svg)")
+}
+
 /// The reference page of a leaf (`docs/reference/KIND.md`): its equation,
 /// a table of its fields (domain, what leaving it out means, meaning), an
 /// example spec, and how Rust and Python name it.
 pub fn leaf_page(leaf: &dyn LeafKind) -> String {
     let mut out = format!(
-        "# `{kind}`\n\n`{eq}`\n\n| field | domain | if left out | meaning |\n|---|---|---|---|\n",
+        "# `{kind}`\n\n`{eq}`\n\n{figure}\n\n| field | domain | if left out | meaning |\n|---|---|---|---|\n",
+        figure = figure(leaf.kind()),
         kind = leaf.kind(),
         eq = leaf.equation(),
     );
@@ -77,7 +84,8 @@ pub fn combinator_page(c: &Combinator) -> String {
         "It is explicit: one pass per sample."
     };
     let mut out = format!(
-        "# `{kind}`\n\n`{law}`\n\n{solved} Rust: `{rust}`.\n\n| field | holds |\n|---|---|\n",
+        "# `{kind}`\n\n`{law}`\n\n{solved} Rust: `{rust}`.\n\n{figure}\n\n| field | holds |\n|---|---|\n",
+        figure = figure(c.kind),
         kind = c.kind,
         law = c.law,
         rust = c.rust,
