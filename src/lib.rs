@@ -104,7 +104,7 @@ pub mod prelude {
     hysteron_operators::for_each_leaf!(every_leaf);
 }
 
-/// The README's API tour, compiled and run as a doctest.
+/// The README's Rust quickstart, compiled and run as a doctest.
 #[doc = include_str!("../README.md")]
 #[cfg(doctest)]
 pub struct ReadmeDoctests;

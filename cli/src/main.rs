@@ -37,8 +37,15 @@
 //!   NAME] [--library libhysteron_c.so]`: the spec as an FMI 2.0
 //!   co-simulation FMU (see [`hysteron_cli::export_fmu`]).
 //!
-//! * `hysteron operators`: lists every operator a spec can name, with its
-//!   equation and parameters (see [`hysteron_cli::models::spec::reference`]).
+//! * `hysteron compare --candidates CANDIDATES.json --train DATA.csv ...
+//!   --validate DATA.csv ... --work-dir DIR [--lowpass HZ] [--csv OUT.csv]
+//!   [--plot OUT.svg]`: fits candidate structures, scores them on held-out
+//!   records and ranks them (see [`hysteron_cli::compare`]).
+//!
+//! * `hysteron operators [--figures DIR]`: lists every operator a spec can
+//!   name, with its equation and parameters (see
+//!   [`hysteron_cli::models::spec::reference`]), and draws each one's loop
+//!   (see [`hysteron_cli::reference_figures`]).
 //!
 //! * `hysteron bench [--samples N] [--runs R] [--kernel NAME]`: times the
 //!   the performance kernels (see [`hysteron_cli::bench`]).
@@ -56,8 +63,8 @@ use clap::{Parser, Subcommand, ValueEnum};
 use hysteron_cli::identify::{Jacobian, MultiStart};
 use hysteron_cli::models::describing::SineOptions;
 use hysteron_cli::{
-    analyze, args, bench, csvio, export_fmu, fit_cmd, fitting, identify_paper, paper, period,
-    sensitivity, simulate, validate,
+    analyze, args, bench, compare, csvio, export_fmu, fit_cmd, fitting, identify_paper, paper,
+    period, sensitivity, simulate, validate,
 };
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -241,7 +248,7 @@ enum Command {
         patience: u64,
         /// How the Jacobian is computed: `exact` (forward-mode derivatives
         /// through the model over dual numbers, one simulation per 8
-        /// parameters; see README "Derivatives") or `fd` (central finite
+        /// parameters; see the guide's docs/derivatives.md) or `fd` (central finite
         /// differences, two simulations per parameter).
         #[arg(long, value_enum, default_value_t = JacobianArg::Exact)]
         jacobian: JacobianArg,
@@ -453,6 +460,61 @@ enum Command {
         /// built by `cargo build --release`).
         #[arg(long, value_name = "libhysteron_c.so")]
         library: Option<PathBuf>,
+    },
+    /// Compare candidate structures: fit each (a spec and the parameters
+    /// to free, listed in a JSON file) on the training records as `fit`
+    /// does, score it on the held-out records as `validate` does, and
+    /// rank the candidates by their held-out mean NRMSE (low-passed with
+    /// --lowpass). Prints one table: k, training cost, AIC and BIC on
+    /// training, held-out NRMSE mean and worst (full band and low-passed),
+    /// the rank, and a sign test against the next rank. A candidate that
+    /// fails is reported in its row; the others go on.
+    Compare {
+        /// The candidates: {"candidates": [{"name": "...", "model":
+        /// "SPEC.json", "free": ["f_c", ...], "own": [...]}]}, model paths
+        /// relative to this file; at least two.
+        #[arg(long, value_name = "CANDIDATES.json")]
+        candidates: PathBuf,
+        /// A training record (CSV or .csv.gz); repeat for several.
+        #[arg(long, value_name = "DATA.csv", required = true)]
+        train: Vec<PathBuf>,
+        /// A held-out record; repeat for several.
+        #[arg(long, value_name = "DATA.csv", required = true)]
+        validate: Vec<PathBuf>,
+        /// The input column of every record.
+        #[arg(long, value_name = "NAME", default_value = "x")]
+        input_column: String,
+        /// The measured output column of every record.
+        #[arg(long, value_name = "NAME", default_value = "F")]
+        output_column: String,
+        /// Also score after `validate`'s zero-phase low-pass at HZ, and
+        /// rank by it. Needs --time-column or --dt.
+        #[arg(long, value_name = "HZ", value_parser = args::positive_f64, allow_hyphen_values = true)]
+        lowpass: Option<f64>,
+        #[command(flatten)]
+        period: SamplePeriodArgs,
+        /// Simulate but do not score the first SECONDS of each record.
+        #[arg(long, value_name = "SECONDS", value_parser = args::non_negative_f64, allow_hyphen_values = true)]
+        skip: Option<f64>,
+        /// Fit each candidate from N starting points (as `fit --starts`).
+        #[arg(long, value_name = "N", default_value_t = 1, value_parser = args::at_least_1, allow_negative_numbers = true)]
+        starts: u64,
+        /// Seed of the starting points.
+        #[arg(long, value_name = "K", default_value_t = 0)]
+        seed: u64,
+        /// Wall-time limit of each candidate's search, in seconds.
+        #[arg(long, value_name = "SECONDS", value_parser = args::positive_f64, allow_hyphen_values = true)]
+        max_seconds: Option<f64>,
+        /// Where the fitted specs go, one NAME.json per candidate (created
+        /// if missing).
+        #[arg(long, value_name = "DIR")]
+        work_dir: PathBuf,
+        /// Also write the table as CSV (written atomically).
+        #[arg(long, value_name = "OUT.csv")]
+        csv: Option<PathBuf>,
+        /// Also draw each candidate's held-out NRMSE per record (SVG).
+        #[arg(long, value_name = "OUT.svg")]
+        plot: Option<PathBuf>,
     },
     /// List every operator a spec can name: its spec type, equation, and
     /// each parameter with its domain, default and documentation; then the
@@ -696,6 +758,47 @@ fn main() -> ExitCode {
             output,
             name,
             library,
+        })
+        .map(|report| {
+            println!("{report}");
+            None
+        })
+        .map_err(|e| e.to_string()),
+        Command::Compare {
+            candidates,
+            train,
+            validate,
+            input_column,
+            output_column,
+            lowpass,
+            period,
+            skip,
+            starts,
+            seed,
+            max_seconds,
+            work_dir,
+            csv,
+            plot,
+        } => compare::run(&compare::CompareOptions {
+            candidates,
+            train,
+            validate,
+            input_column,
+            output_column,
+            lowpass,
+            skip,
+            dt: period.source(),
+            starts: MultiStart {
+                starts: usize::try_from(starts).unwrap_or(usize::MAX),
+                spread: 4f64.ln(),
+                seed,
+            },
+            max_seconds,
+            patience: 200,
+            jacobian: Jacobian::Exact,
+            work_dir,
+            csv,
+            plot,
         })
         .map(|report| {
             println!("{report}");

@@ -1,0 +1,653 @@
+//! `hysteron compare`: fits candidate structures on training records,
+//! scores each on held-out records with the metrics of `validate`, and
+//! ranks them.
+//!
+//! Each candidate is a spec and the parameters to free (a JSON file of
+//! candidates, paths relative to it). A candidate is fitted exactly as
+//! `hysteron fit` fits it ([`fit_cmd::run`]: multi-start, the budget, the
+//! sample period), its fitted spec written to the work folder, then
+//! validated exactly as `hysteron validate` does ([`validate::run`]). The
+//! candidates run in parallel. A candidate that fails (a spec that does not
+//! build, a name that matches no parameter, a model error at some sample)
+//! gets its error in its row; the others go on.
+//!
+//! The table gives, per candidate:
+//! * `k`, the free parameters, and the training cost `½ Σ r²` over the `n`
+//!   scored training samples;
+//! * `AIC = n ln(RSS/n) + 2k` and `BIC = n ln(RSS/n) + k ln n` with
+//!   `RSS = 2 · cost` (Gaussian residuals of unknown variance; `RSS/n` is
+//!   floored at the smallest positive normal number, so an exact fit has a
+//!   finite criterion);
+//! * the held-out NRMSE (`validate`'s: RMS error over the RMS of the data),
+//!   full band and low-passed, mean and worst over the validation records;
+//! * the rank, by the held-out mean (low-passed where `--lowpass` is
+//!   given), and a two-sided sign test of each candidate against the next
+//!   one in the ranking over the per-record held-out errors: `p` is the
+//!   probability of a split at least as uneven if neither were better.
+//!
+//! Reference: K. P. Burnham, D. R. Anderson, *Model Selection and
+//! Multimodel Inference*, 2nd ed., Springer, 2002 (AIC, BIC for least
+//! squares, §2.2); W. J. Conover, *Practical Nonparametric Statistics*,
+//! 3rd ed., Wiley, 1999, §3.4 (the sign test).
+
+use crate::csvio::{self, CsvIoError};
+use crate::fit_cmd::{self, FitCmdOptions};
+use crate::identify::{Jacobian, MultiStart};
+use crate::output::OutputError;
+use crate::period::DtSource;
+use crate::plot::{self, Panel, Series, Style};
+use crate::validate::{self, ValidateOptions};
+use rayon::prelude::*;
+use serde::Deserialize;
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// One candidate structure: a spec and what to fit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Candidate {
+    /// Its name in the table (letters, digits, `-`, `_`; unique).
+    pub name: String,
+    /// The spec; its values are the start.
+    pub model: PathBuf,
+    /// The parameters to fit (full names or unique suffixes).
+    pub free: Vec<String>,
+    /// Parameters fitted per record (`fit --own`).
+    pub own: Vec<String>,
+}
+
+/// The candidates file: `{"candidates": [{"name", "model", "free", "own"?}]}`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CandidatesFile {
+    candidates: Vec<CandidateEntry>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CandidateEntry {
+    name: String,
+    model: PathBuf,
+    free: Vec<String>,
+    #[serde(default)]
+    own: Vec<String>,
+}
+
+/// Options of the compare job.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CompareOptions {
+    /// The candidates file (JSON).
+    pub candidates: PathBuf,
+    /// Training records (CSV, `.csv.gz`).
+    pub train: Vec<PathBuf>,
+    /// Held-out records.
+    pub validate: Vec<PathBuf>,
+    /// The input column of every record.
+    pub input_column: String,
+    /// The measured output column of every record.
+    pub output_column: String,
+    /// Cut-off (Hz) of `validate`'s zero-phase low-pass, if any.
+    pub lowpass: Option<f64>,
+    /// Seconds at the start of each record simulated but not scored.
+    pub skip: Option<f64>,
+    /// Where the sample period comes from.
+    pub dt: DtSource,
+    /// The starting points of each fit.
+    pub starts: MultiStart,
+    /// Wall-time limit of each candidate's search (seconds).
+    pub max_seconds: Option<f64>,
+    /// Levenberg-Marquardt's patience ([`FitCmdOptions::patience`]).
+    pub patience: usize,
+    /// How the Jacobians are computed.
+    pub jacobian: Jacobian,
+    /// Where the fitted specs go (`NAME.json`; created if missing).
+    pub work_dir: PathBuf,
+    /// Where to write the table as CSV.
+    pub csv: Option<PathBuf>,
+    /// Where to draw the held-out NRMSE per record per candidate (SVG).
+    pub plot: Option<PathBuf>,
+}
+
+/// An error of the compare job as a whole (a candidate's own failure is in
+/// its row instead).
+#[derive(Debug, thiserror::Error)]
+pub enum CompareError {
+    /// The candidates file could not be read.
+    #[error("candidates `{}`: {}", .0.display(), .1)]
+    Read(PathBuf, String),
+    /// The candidates file is not a valid list of candidates.
+    #[error("candidates `{}`: {}", .0.display(), .1)]
+    Invalid(PathBuf, String),
+    /// No training or no validation record.
+    #[error("{0}: give at least one record")]
+    NoRecords(&'static str),
+    /// The work folder could not be made.
+    #[error("cannot create the work folder `{}`: {}", .0.display(), .1)]
+    WorkDir(PathBuf, String),
+    /// Writing the table failed.
+    #[error("output {0}")]
+    Write(CsvIoError),
+    /// Drawing the figure failed.
+    #[error(transparent)]
+    Output(#[from] OutputError),
+}
+
+/// Reads a candidates file; model paths are taken relative to its folder.
+pub fn read_candidates(path: &Path) -> Result<Vec<Candidate>, CompareError> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| CompareError::Read(path.to_path_buf(), csvio::one_line(&e.to_string())))?;
+    let file: CandidatesFile = serde_json::from_str(&text)
+        .map_err(|e| CompareError::Invalid(path.to_path_buf(), e.to_string()))?;
+    let invalid = |msg: String| CompareError::Invalid(path.to_path_buf(), msg);
+    if file.candidates.len() < 2 {
+        return Err(invalid(format!(
+            "give at least two candidates to compare (got {})",
+            file.candidates.len()
+        )));
+    }
+    let base = path.parent().unwrap_or_else(|| Path::new(""));
+    let mut out: Vec<Candidate> = Vec::with_capacity(file.candidates.len());
+    for (i, c) in file.candidates.into_iter().enumerate() {
+        let ok_name = !c.name.is_empty()
+            && c.name
+                .chars()
+                .all(|ch| ch.is_ascii_alphanumeric() || ch == '-' || ch == '_');
+        if !ok_name {
+            return Err(invalid(format!(
+                "candidates[{i}].name: letters, digits, `-` and `_` only, not empty (got {:?})",
+                c.name
+            )));
+        }
+        if out.iter().any(|o| o.name == c.name) {
+            return Err(invalid(format!(
+                "candidates[{i}].name: `{}` is used twice",
+                c.name
+            )));
+        }
+        if c.free.is_empty() {
+            return Err(invalid(format!(
+                "candidates[{i}].free: name at least one parameter"
+            )));
+        }
+        out.push(Candidate {
+            name: c.name,
+            model: base.join(c.model),
+            free: c.free,
+            own: c.own,
+        });
+    }
+    Ok(out)
+}
+
+/// One held-out record's scores.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HeldOut {
+    /// The record.
+    pub record: PathBuf,
+    /// NRMSE, full band.
+    pub nrmse: f64,
+    /// NRMSE after the low-pass (with `--lowpass`).
+    pub lowpassed: Option<f64>,
+}
+
+/// What a candidate's fit and validation gave.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scores {
+    /// Free parameters fitted (shared and per record).
+    pub k: usize,
+    /// Scored training samples.
+    pub n: usize,
+    /// Training cost `½ Σ r²`.
+    pub cost: f64,
+    /// Whether the fit converged.
+    pub converged: bool,
+    /// Akaike's criterion on training.
+    pub aic: f64,
+    /// The Bayesian (Schwarz) criterion on training.
+    pub bic: f64,
+    /// Per held-out record.
+    pub held_out: Vec<HeldOut>,
+    /// The fitted spec.
+    pub fitted: PathBuf,
+}
+
+impl Scores {
+    /// The per-record errors the ranking uses: low-passed where every
+    /// record has one, else full band.
+    pub fn ranking_errors(&self) -> Vec<f64> {
+        let low: Option<Vec<f64>> = self.held_out.iter().map(|h| h.lowpassed).collect();
+        low.unwrap_or_else(|| self.held_out.iter().map(|h| h.nrmse).collect())
+    }
+
+    /// Mean and worst of the full-band NRMSE.
+    pub fn full_band(&self) -> (f64, f64) {
+        mean_and_worst(self.held_out.iter().map(|h| h.nrmse))
+    }
+
+    /// Mean and worst of the low-passed NRMSE, with `--lowpass`.
+    pub fn lowpassed(&self) -> Option<(f64, f64)> {
+        let low: Option<Vec<f64>> = self.held_out.iter().map(|h| h.lowpassed).collect();
+        low.map(|v| mean_and_worst(v.into_iter()))
+    }
+}
+
+fn mean_and_worst(v: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (mut sum, mut worst, mut n) = (0.0, f64::NEG_INFINITY, 0usize);
+    for x in v {
+        sum += x;
+        worst = worst.max(x);
+        n += 1;
+    }
+    (sum / n.max(1) as f64, worst)
+}
+
+/// `(AIC, BIC)` of a least-squares fit: `n ln(RSS/n) + 2k` and
+/// `n ln(RSS/n) + k ln n`, `RSS = 2 cost`, `RSS/n` floored at the smallest
+/// positive normal number.
+pub fn information_criteria(cost: f64, n: usize, k: usize) -> (f64, f64) {
+    let n_f = n.max(1) as f64;
+    let fit = n_f * ((2.0 * cost / n_f).max(f64::MIN_POSITIVE)).ln();
+    let k_f = k as f64;
+    (fit + 2.0 * k_f, fit + k_f * n_f.ln())
+}
+
+/// The two-sided sign test of paired errors `a` against `b`: ties are
+/// dropped; `p = min(1, 2 P(X ≤ min(wins, losses)))`, `X ~ Bin(m, 1/2)`
+/// over the `m` untied pairs. `None` without an untied pair.
+pub fn sign_test(a: &[f64], b: &[f64]) -> Option<f64> {
+    let (mut wins, mut losses) = (0u32, 0u32);
+    for (x, y) in a.iter().zip(b) {
+        if x < y {
+            wins += 1;
+        } else if x > y {
+            losses += 1;
+        }
+    }
+    let m = wins + losses;
+    if m == 0 {
+        return None;
+    }
+    let small = wins.min(losses);
+    // P(X ≤ small) = Σ_{j ≤ small} C(m, j) / 2^m, the terms built by the
+    // ratio C(m, j+1) = C(m, j) (m − j)/(j + 1) from 2^−m
+    let mut term = 0.5_f64.powi(m as i32);
+    let mut tail = 0.0;
+    for j in 0..=small {
+        tail += term;
+        term *= f64::from(m - j) / f64::from(j + 1);
+    }
+    Some((2.0 * tail).min(1.0))
+}
+
+/// One row of the table: a candidate and its scores or its error.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Row {
+    /// The candidate's name.
+    pub name: String,
+    /// Its scores, or why it has none.
+    pub result: Result<Scores, String>,
+    /// Its rank (1 = best held-out mean; `None` for a failed candidate).
+    pub rank: Option<usize>,
+    /// The sign test against the next candidate in the ranking.
+    pub p_next: Option<f64>,
+}
+
+/// What the compare job did: the rows in ranking order (failed candidates
+/// last).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CompareReport {
+    /// The rows, best first.
+    pub rows: Vec<Row>,
+    /// Whether the ranking is by the low-passed NRMSE.
+    pub by_lowpassed: bool,
+    /// Files written.
+    pub files: Vec<PathBuf>,
+}
+
+/// Fits and scores one candidate.
+fn score(c: &Candidate, opts: &CompareOptions) -> Result<Scores, String> {
+    let fitted = opts.work_dir.join(format!("{}.json", c.name));
+    let fit = fit_cmd::run(&FitCmdOptions {
+        model: c.model.clone(),
+        data: opts.train.clone(),
+        input_column: opts.input_column.clone(),
+        output_column: opts.output_column.clone(),
+        free: c.free.clone(),
+        own: c.own.clone(),
+        skip: opts.skip,
+        max_evaluations: None,
+        max_seconds: opts.max_seconds,
+        output: fitted.clone(),
+        plot: None,
+        patience: opts.patience,
+        jacobian: opts.jacobian,
+        starts: opts.starts,
+        progress: false,
+        dt: opts.dt.clone(),
+    })
+    .map_err(|e| format!("fit: {e}"))?;
+    let report = &fit.report;
+    let n: usize = report.records.iter().map(|r| r.samples).sum();
+    let k = report.params.len();
+    let (aic, bic) = information_criteria(report.cost, n, k);
+    let validated = validate::run(&ValidateOptions {
+        model: fitted.clone(),
+        data: opts.validate.clone(),
+        input_column: opts.input_column.clone(),
+        output_column: opts.output_column.clone(),
+        lowpass: opts.lowpass,
+        dt: opts.dt.clone(),
+        skip: opts.skip,
+        plot: None,
+        csv: None,
+    })
+    .map_err(|e| format!("validate: {e}"))?;
+    let held_out = validated
+        .rows
+        .iter()
+        .map(|r| {
+            let nrmse = r.figures.nrmse;
+            if nrmse.is_finite() {
+                Ok(HeldOut {
+                    record: r.record.clone(),
+                    nrmse,
+                    lowpassed: r.lowpassed_nrmse,
+                })
+            } else {
+                Err(format!(
+                    "validate: `{}` has a measured output of RMS 0 (no NRMSE)",
+                    r.record.display()
+                ))
+            }
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(Scores {
+        k,
+        n,
+        cost: report.cost,
+        converged: fit.converged(),
+        aic,
+        bic,
+        held_out,
+        fitted,
+    })
+}
+
+/// Runs the job: fits and scores every candidate (in parallel), ranks
+/// them, and writes the CSV.
+pub fn run(opts: &CompareOptions) -> Result<CompareReport, CompareError> {
+    if opts.train.is_empty() {
+        return Err(CompareError::NoRecords("--train"));
+    }
+    if opts.validate.is_empty() {
+        return Err(CompareError::NoRecords("--validate"));
+    }
+    let candidates = read_candidates(&opts.candidates)?;
+    std::fs::create_dir_all(&opts.work_dir).map_err(|e| {
+        CompareError::WorkDir(opts.work_dir.clone(), csvio::one_line(&e.to_string()))
+    })?;
+    let results: Vec<Result<Scores, String>> = candidates
+        .par_iter()
+        .map(|c| {
+            let r = score(c, opts);
+            eprintln!(
+                "compare: `{}` {}",
+                c.name,
+                if r.is_ok() { "done" } else { "failed" }
+            );
+            r
+        })
+        .collect();
+    let mut rows: Vec<Row> = candidates
+        .iter()
+        .zip(results)
+        .map(|(c, result)| Row {
+            name: c.name.clone(),
+            result,
+            rank: None,
+            p_next: None,
+        })
+        .collect();
+    let by_lowpassed = opts.lowpass.is_some();
+    let key = |r: &Row| match &r.result {
+        Ok(s) => {
+            let e = s.ranking_errors();
+            e.iter().sum::<f64>() / e.len().max(1) as f64
+        }
+        Err(_) => f64::INFINITY,
+    };
+    rows.sort_by(|a, b| key(a).total_cmp(&key(b)));
+    let ranked = rows.iter().filter(|r| r.result.is_ok()).count();
+    for (i, row) in rows.iter_mut().enumerate().take(ranked) {
+        row.rank = Some(i + 1);
+    }
+    for i in 0..ranked.saturating_sub(1) {
+        if let (Ok(a), Ok(b)) = (&rows[i].result, &rows[i + 1].result) {
+            rows[i].p_next = sign_test(&a.ranking_errors(), &b.ranking_errors());
+        }
+    }
+    let mut files: Vec<PathBuf> = rows
+        .iter()
+        .filter_map(|r| r.result.as_ref().ok().map(|s| s.fitted.clone()))
+        .collect();
+    let report = CompareReport {
+        rows,
+        by_lowpassed,
+        files: Vec::new(),
+    };
+    if let Some(csv) = &opts.csv {
+        csvio::write_string_atomic(csv, &report.csv()).map_err(CompareError::Write)?;
+        files.push(csv.clone());
+    }
+    if let Some(path) = &opts.plot {
+        let svg = plot::render(&[report.panel()], 1, 1, (900, 520))
+            .map_err(|e| OutputError::Plot(path.clone(), e))?;
+        csvio::write_string_atomic(path, &svg)
+            .map_err(|e| CompareError::Output(OutputError::Write(e)))?;
+        files.push(path.clone());
+    }
+    Ok(CompareReport { files, ..report })
+}
+
+/// The CSV header of `--csv`.
+pub const CSV_HEADER: [&str; 14] = [
+    "rank",
+    "candidate",
+    "k",
+    "n",
+    "training_cost",
+    "aic",
+    "bic",
+    "heldout_nrmse_mean",
+    "heldout_nrmse_worst",
+    "heldout_lowpassed_mean",
+    "heldout_lowpassed_worst",
+    "p_vs_next",
+    "converged",
+    "error",
+];
+
+/// A cell: shortest round-trip, empty for none.
+fn num(v: Option<f64>) -> String {
+    v.map_or_else(String::new, |v| format!("{v}"))
+}
+
+/// A CSV cell: quoted when it holds a comma, a quote or a line break.
+fn text_cell(s: &str) -> String {
+    if s.contains([',', '"', '\n']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}
+
+impl CompareReport {
+    /// The figure's panel: each ranked candidate's held-out error (the
+    /// ranking's: low-passed with `--lowpass`) over the validation
+    /// records, numbered in the order given.
+    pub fn panel(&self) -> Panel {
+        let what = if self.by_lowpassed {
+            "held-out low-passed NRMSE"
+        } else {
+            "held-out NRMSE"
+        };
+        let mut p = Panel::new(
+            &format!("{what} per record, candidates by rank"),
+            "validation record (in the order given)",
+            what,
+        );
+        for (i, r) in self.rows.iter().enumerate() {
+            if let Ok(s) = &r.result {
+                let points: Vec<(f64, f64)> = s
+                    .ranking_errors()
+                    .into_iter()
+                    .enumerate()
+                    .map(|(j, e)| ((j + 1) as f64, e))
+                    .collect();
+                let label = format!("{}. {}", r.rank.unwrap_or(i + 1), r.name);
+                p.series
+                    .push(Series::line(label.clone(), points.clone(), i));
+                p.series
+                    .push(Series::line("", points, i).with_style(Style::Markers));
+            }
+        }
+        p
+    }
+
+    /// The table as CSV ([`CSV_HEADER`]), one line per candidate.
+    pub fn csv(&self) -> String {
+        let mut out = CSV_HEADER.join(",");
+        out.push('\n');
+        for r in &self.rows {
+            let cells: Vec<String> = match &r.result {
+                Ok(s) => {
+                    let (mean, worst) = s.full_band();
+                    let low = s.lowpassed();
+                    vec![
+                        r.rank.map_or_else(String::new, |k| k.to_string()),
+                        text_cell(&r.name),
+                        s.k.to_string(),
+                        s.n.to_string(),
+                        num(Some(s.cost)),
+                        num(Some(s.aic)),
+                        num(Some(s.bic)),
+                        num(Some(mean)),
+                        num(Some(worst)),
+                        num(low.map(|l| l.0)),
+                        num(low.map(|l| l.1)),
+                        num(r.p_next),
+                        s.converged.to_string(),
+                        String::new(),
+                    ]
+                }
+                Err(e) => {
+                    let mut v = vec![String::new(), text_cell(&r.name)];
+                    v.extend(std::iter::repeat_n(String::new(), 11));
+                    v.push(text_cell(e));
+                    v
+                }
+            };
+            out.push_str(&cells.join(","));
+            out.push('\n');
+        }
+        out
+    }
+}
+
+/// 4 significant digits (scientific notation below 1e-3 and from 1e5).
+fn short(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 || !a.is_finite() {
+        return format!("{v}");
+    }
+    if !(1e-3..1e5).contains(&a) {
+        return format!("{v:.3e}");
+    }
+    let decimals = (3 - a.log10().floor() as i32).max(0) as usize;
+    format!("{v:.decimals$}")
+}
+
+impl fmt::Display for CompareReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let by = if self.by_lowpassed {
+            "held-out low-passed NRMSE, mean"
+        } else {
+            "held-out NRMSE, mean"
+        };
+        writeln!(
+            f,
+            "ranked by {by}; p: sign test against the next rank over the held-out records"
+        )?;
+        writeln!(
+            f,
+            "| rank | candidate | k | training cost | AIC | BIC | held-out NRMSE mean | worst | low-passed mean | worst | p vs next |"
+        )?;
+        writeln!(f, "|---|---|---|---|---|---|---|---|---|---|---|")?;
+        for r in &self.rows {
+            match &r.result {
+                Ok(s) => {
+                    let (mean, worst) = s.full_band();
+                    let (lm, lw) = s
+                        .lowpassed()
+                        .map_or(("".into(), "".into()), |(a, b)| (short(a), short(b)));
+                    let note = if s.converged { "" } else { " (not converged)" };
+                    writeln!(
+                        f,
+                        "| {} | {}{note} | {} | {} | {} | {} | {} | {} | {lm} | {lw} | {} |",
+                        r.rank.map_or_else(String::new, |k| k.to_string()),
+                        r.name,
+                        s.k,
+                        short(s.cost),
+                        short(s.aic),
+                        short(s.bic),
+                        short(mean),
+                        short(worst),
+                        r.p_next.map_or_else(String::new, short),
+                    )?;
+                }
+                Err(e) => writeln!(f, "| | {} | failed: {} |", r.name, e.replace('|', "\\|"))?,
+            }
+        }
+        for file in &self.files {
+            writeln!(f, "wrote {}", file.display())?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sign_test_matches_the_binomial_tail() {
+        // 8 of 8 better: 2 · 2^-8
+        assert_eq!(sign_test(&[0.0; 8], &[1.0; 8]), Some(2.0 / 256.0));
+        // 7 of 8: 2 · (1 + 8) / 256
+        let a = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 2.0];
+        assert!((sign_test(&a, &[1.0; 8]).unwrap() - 18.0 / 256.0).abs() < 1e-15);
+        // an even split, and ties only
+        assert_eq!(sign_test(&[0.0, 2.0], &[1.0, 1.0]), Some(1.0));
+        assert_eq!(sign_test(&[1.0], &[1.0]), None);
+    }
+
+    #[test]
+    fn short_keeps_four_significant_digits() {
+        assert_eq!(short(-21064.2559), "-21064");
+        assert_eq!(short(0.021828), "0.02183");
+        assert_eq!(short(1.3371), "1.337");
+        assert_eq!(short(2.5e-5), "2.500e-5");
+        assert_eq!(short(0.0), "0");
+    }
+
+    #[test]
+    fn information_criteria_penalize_parameters() {
+        let (aic1, bic1) = information_criteria(0.5, 100, 2);
+        let (aic2, bic2) = information_criteria(0.5, 100, 3);
+        assert!((aic2 - aic1 - 2.0).abs() < 1e-12);
+        assert!((bic2 - bic1 - 100f64.ln()).abs() < 1e-12);
+        // RSS/n = 0.01: n ln(0.01) + 2k
+        assert!((aic1 - (100.0 * 0.01f64.ln() + 4.0)).abs() < 1e-12);
+        // an exact fit stays finite
+        assert!(information_criteria(0.0, 10, 1).0.is_finite());
+    }
+}
