@@ -37,9 +37,11 @@ use crate::output::OutputError;
 use crate::period::DtSource;
 use crate::plot::{self, Panel, Series, Style};
 use crate::validate::{self, ValidateOptions};
+use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 use serde::Deserialize;
 use std::fmt;
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
 /// One candidate structure: a spec and what to fit.
@@ -105,6 +107,8 @@ pub struct CompareOptions {
     pub csv: Option<PathBuf>,
     /// Where to draw the held-out NRMSE per record per candidate (SVG).
     pub plot: Option<PathBuf>,
+    /// Draw a progress bar (only ever on a terminal).
+    pub progress: bool,
 }
 
 /// An error of the compare job as a whole (a candidate's own failure is in
@@ -303,6 +307,21 @@ pub struct CompareReport {
     pub files: Vec<PathBuf>,
 }
 
+/// A bar of the candidates done, drawn when `wanted` and stderr is a
+/// terminal (hidden otherwise: then each candidate's line is printed).
+fn progress_bar(n: usize, wanted: bool) -> ProgressBar {
+    if !(wanted && std::io::stderr().is_terminal()) {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(n as u64);
+    if let Ok(style) = ProgressStyle::with_template(
+        "{bar:30} {pos}/{len} candidates fitted and scored [{elapsed}]",
+    ) {
+        bar.set_style(style);
+    }
+    bar
+}
+
 /// Fits and scores one candidate.
 fn score(c: &Candidate, opts: &CompareOptions) -> Result<Scores, String> {
     let fitted = opts.work_dir.join(format!("{}.json", c.name));
@@ -385,18 +404,26 @@ pub fn run(opts: &CompareOptions) -> Result<CompareReport, CompareError> {
     std::fs::create_dir_all(&opts.work_dir).map_err(|e| {
         CompareError::WorkDir(opts.work_dir.clone(), csvio::one_line(&e.to_string()))
     })?;
+    let bar = progress_bar(candidates.len(), opts.progress);
     let results: Vec<Result<Scores, String>> = candidates
         .par_iter()
         .map(|c| {
             let r = score(c, opts);
-            eprintln!(
+            let line = format!(
                 "compare: `{}` {}",
                 c.name,
                 if r.is_ok() { "done" } else { "failed" }
             );
+            if bar.is_hidden() {
+                eprintln!("{line}");
+            } else {
+                bar.println(line);
+            }
+            bar.inc(1);
             r
         })
         .collect();
+    bar.finish_and_clear();
     let mut rows: Vec<Row> = candidates
         .iter()
         .zip(results)

@@ -515,6 +515,10 @@ enum Command {
         /// Also draw each candidate's held-out NRMSE per record (SVG).
         #[arg(long, value_name = "OUT.svg")]
         plot: Option<PathBuf>,
+        /// Do not draw the progress bar (it is only drawn when stderr is a
+        /// terminal anyway).
+        #[arg(long)]
+        no_progress: bool,
     },
     /// List every operator a spec can name: its spec type, equation, and
     /// each parameter with its domain, default and documentation; then the
@@ -779,6 +783,7 @@ fn main() -> ExitCode {
             work_dir,
             csv,
             plot,
+            no_progress,
         } => compare::run(&compare::CompareOptions {
             candidates,
             train,
@@ -799,6 +804,7 @@ fn main() -> ExitCode {
             work_dir,
             csv,
             plot,
+            progress: !no_progress,
         })
         .map(|report| {
             println!("{report}");
