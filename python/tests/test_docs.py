@@ -33,7 +33,6 @@ NOT_RUN: Dict[str, str] = {
     "cargo bench": "a benchmark: measured on its own, never timed in a test",
     "python python/bench/": "a benchmark against reference implementations outside the repository",
     "pip install": "the test command installs the package into the environment this test runs in",
-    "bash scripts/site.sh": "builds the guide; the test command runs it as its own step",
     "bash scripts/brfd.sh": "regenerates the committed example specs (examples/specs/brfd*.json); "
     "its fits and scores are checked by cli/tests/brfd.rs",
 }
