@@ -80,6 +80,18 @@ struct Cli {
     command: Command,
 }
 
+/// The columns `validate` and `compare` score: the input, and the measured
+/// output.
+#[derive(Debug, clap::Args)]
+struct ScoredColumns {
+    /// The input column of every record.
+    #[arg(long, value_name = "NAME", default_value = "x")]
+    input_column: String,
+    /// The measured output column of every record.
+    #[arg(long, value_name = "NAME", default_value = "F")]
+    output_column: String,
+}
+
 /// `--dt` or `--time-column`, the sample period of the rate-dependent nodes,
 /// as `simulate` and `fit` take it.
 #[derive(Debug, clap::Args)]
@@ -291,12 +303,8 @@ enum Command {
         /// output and time columns, matched by name).
         #[arg(long, value_name = "DATA.csv", required = true)]
         data: Vec<PathBuf>,
-        /// The input column of every record.
-        #[arg(long, value_name = "NAME", default_value = "x")]
-        input_column: String,
-        /// The measured output column of every record.
-        #[arg(long, value_name = "NAME", default_value = "F")]
-        output_column: String,
+        #[command(flatten)]
+        columns: ScoredColumns,
         /// Also score both signals after a 4th-order Butterworth low-pass
         /// at HZ run forward and backward (zero phase; the whole record is
         /// filtered, then scored): the "low-passed NRMSE" column. Needs
@@ -481,12 +489,8 @@ enum Command {
         /// A held-out record; repeat for several.
         #[arg(long, value_name = "DATA.csv", required = true)]
         validate: Vec<PathBuf>,
-        /// The input column of every record.
-        #[arg(long, value_name = "NAME", default_value = "x")]
-        input_column: String,
-        /// The measured output column of every record.
-        #[arg(long, value_name = "NAME", default_value = "F")]
-        output_column: String,
+        #[command(flatten)]
+        columns: ScoredColumns,
         /// Also score after `validate`'s zero-phase low-pass at HZ, and
         /// rank by it. Needs --time-column or --dt.
         #[arg(long, value_name = "HZ", value_parser = args::positive_f64, allow_hyphen_values = true)]
@@ -684,8 +688,7 @@ fn main() -> ExitCode {
         Command::Validate {
             model,
             data,
-            input_column,
-            output_column,
+            columns,
             lowpass,
             dt,
             time_column,
@@ -695,8 +698,8 @@ fn main() -> ExitCode {
         } => validate::run(&validate::ValidateOptions {
             model,
             data,
-            input_column,
-            output_column,
+            input_column: columns.input_column,
+            output_column: columns.output_column,
             lowpass,
             dt: period::DtSource::from_options(dt, time_column),
             skip,
@@ -772,8 +775,7 @@ fn main() -> ExitCode {
             candidates,
             train,
             validate,
-            input_column,
-            output_column,
+            columns,
             lowpass,
             period,
             skip,
@@ -788,8 +790,8 @@ fn main() -> ExitCode {
             candidates,
             train,
             validate,
-            input_column,
-            output_column,
+            input_column: columns.input_column,
+            output_column: columns.output_column,
             lowpass,
             skip,
             dt: period.source(),
