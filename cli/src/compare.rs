@@ -81,8 +81,12 @@ pub struct CompareOptions {
     pub candidates: PathBuf,
     /// Training records (CSV, `.csv.gz`).
     pub train: Vec<PathBuf>,
-    /// Held-out records.
+    /// Held-out records (none with `cross_validate`).
     pub validate: Vec<PathBuf>,
+    /// `K`-fold cross-validation over `train` instead of `validate`:
+    /// record `i` is scored by the fit on the folds without it (fold
+    /// `i mod K`).
+    pub cross_validate: Option<usize>,
     /// The input column of every record.
     pub input_column: String,
     /// The measured output column of every record.
@@ -122,8 +126,14 @@ pub enum CompareError {
     #[error("candidates `{}`: {}", .0.display(), .1)]
     Invalid(PathBuf, String),
     /// No training or no validation record.
-    #[error("{0}: give at least one record")]
+    #[error("{0}: give at least one record (or --cross-validate K over the --train records)")]
     NoRecords(&'static str),
+    /// `--cross-validate K` outside `2 ≤ K ≤` the training records.
+    #[error("--cross-validate {0}: K must be at least 2 and at most the {1} --train records")]
+    Folds(usize, usize),
+    /// `--cross-validate` with `--validate`.
+    #[error("--cross-validate folds the --train records; give no --validate with it")]
+    FoldsAndValidate,
     /// The work folder could not be made.
     #[error("cannot create the work folder `{}`: {}", .0.display(), .1)]
     WorkDir(PathBuf, String),
@@ -322,12 +332,16 @@ fn progress_bar(n: usize, wanted: bool) -> ProgressBar {
     bar
 }
 
-/// Fits and scores one candidate.
-fn score(c: &Candidate, opts: &CompareOptions) -> Result<Scores, String> {
-    let fitted = opts.work_dir.join(format!("{}.json", c.name));
-    let fit = fit_cmd::run(&FitCmdOptions {
+/// Fits a candidate on `records`, writing the fitted spec to `output`.
+fn fit_on(
+    c: &Candidate,
+    records: &[PathBuf],
+    output: &Path,
+    opts: &CompareOptions,
+) -> Result<fit_cmd::FitCmdReport, String> {
+    fit_cmd::run(&FitCmdOptions {
         model: c.model.clone(),
-        data: opts.train.clone(),
+        data: records.to_vec(),
         input_column: opts.input_column.clone(),
         output_column: opts.output_column.clone(),
         free: c.free.clone(),
@@ -335,7 +349,7 @@ fn score(c: &Candidate, opts: &CompareOptions) -> Result<Scores, String> {
         skip: opts.skip,
         max_evaluations: None,
         max_seconds: opts.max_seconds,
-        output: fitted.clone(),
+        output: output.to_path_buf(),
         plot: None,
         patience: opts.patience,
         jacobian: opts.jacobian,
@@ -343,14 +357,18 @@ fn score(c: &Candidate, opts: &CompareOptions) -> Result<Scores, String> {
         progress: false,
         dt: opts.dt.clone(),
     })
-    .map_err(|e| format!("fit: {e}"))?;
-    let report = &fit.report;
-    let n: usize = report.records.iter().map(|r| r.samples).sum();
-    let k = report.params.len();
-    let (aic, bic) = information_criteria(report.cost, n, k);
+    .map_err(|e| format!("fit: {e}"))
+}
+
+/// Scores the fitted spec `model` on `records` as `validate` does.
+fn held_out_on(
+    model: &Path,
+    records: &[PathBuf],
+    opts: &CompareOptions,
+) -> Result<Vec<HeldOut>, String> {
     let validated = validate::run(&ValidateOptions {
-        model: fitted.clone(),
-        data: opts.validate.clone(),
+        model: model.to_path_buf(),
+        data: records.to_vec(),
         input_column: opts.input_column.clone(),
         output_column: opts.output_column.clone(),
         lowpass: opts.lowpass,
@@ -360,7 +378,7 @@ fn score(c: &Candidate, opts: &CompareOptions) -> Result<Scores, String> {
         csv: None,
     })
     .map_err(|e| format!("validate: {e}"))?;
-    let held_out = validated
+    validated
         .rows
         .iter()
         .map(|r| {
@@ -378,7 +396,49 @@ fn score(c: &Candidate, opts: &CompareOptions) -> Result<Scores, String> {
                 ))
             }
         })
-        .collect::<Result<Vec<_>, _>>()?;
+        .collect()
+}
+
+/// The folds of `k`-fold cross-validation over `n` records: record `i` is
+/// held out in fold `i mod k`.
+pub fn folds(n: usize, k: usize) -> Vec<Vec<usize>> {
+    (0..k)
+        .map(|f| (0..n).filter(|i| i % k == f).collect())
+        .collect()
+}
+
+/// Fits and scores one candidate: fitted on every training record (the
+/// training figures and the fitted spec), and scored on the held-out
+/// records, or with `--cross-validate K` on each record from the fit on
+/// the other folds (`NAME.foldF.json`).
+fn score(c: &Candidate, opts: &CompareOptions) -> Result<Scores, String> {
+    let fitted = opts.work_dir.join(format!("{}.json", c.name));
+    let fit = fit_on(c, &opts.train, &fitted, opts)?;
+    let report = &fit.report;
+    let n: usize = report.records.iter().map(|r| r.samples).sum();
+    let k = report.params.len();
+    let (aic, bic) = information_criteria(report.cost, n, k);
+    let held_out = match opts.cross_validate {
+        None => held_out_on(&fitted, &opts.validate, opts)?,
+        Some(folds_k) => {
+            let mut by_record: Vec<Option<HeldOut>> = vec![None; opts.train.len()];
+            for (f, fold) in folds(opts.train.len(), folds_k).iter().enumerate() {
+                let rest: Vec<PathBuf> = (0..opts.train.len())
+                    .filter(|i| !fold.contains(i))
+                    .map(|i| opts.train[i].clone())
+                    .collect();
+                let out = opts.work_dir.join(format!("{}.fold{}.json", c.name, f + 1));
+                fit_on(c, &rest, &out, opts).map_err(|e| format!("fold {}: {e}", f + 1))?;
+                let held: Vec<PathBuf> = fold.iter().map(|&i| opts.train[i].clone()).collect();
+                let scores =
+                    held_out_on(&out, &held, opts).map_err(|e| format!("fold {}: {e}", f + 1))?;
+                for (&i, s) in fold.iter().zip(scores) {
+                    by_record[i] = Some(s);
+                }
+            }
+            by_record.into_iter().flatten().collect()
+        }
+    };
     Ok(Scores {
         k,
         n,
@@ -397,8 +457,15 @@ pub fn run(opts: &CompareOptions) -> Result<CompareReport, CompareError> {
     if opts.train.is_empty() {
         return Err(CompareError::NoRecords("--train"));
     }
-    if opts.validate.is_empty() {
-        return Err(CompareError::NoRecords("--validate"));
+    match opts.cross_validate {
+        None if opts.validate.is_empty() => {
+            return Err(CompareError::NoRecords("--validate"));
+        }
+        Some(k) if k < 2 || k > opts.train.len() => {
+            return Err(CompareError::Folds(k, opts.train.len()));
+        }
+        Some(_) if !opts.validate.is_empty() => return Err(CompareError::FoldsAndValidate),
+        _ => {}
     }
     let candidates = read_candidates(&opts.candidates)?;
     std::fs::create_dir_all(&opts.work_dir).map_err(|e| {
@@ -655,6 +722,17 @@ mod tests {
         // an even split, and ties only
         assert_eq!(sign_test(&[0.0, 2.0], &[1.0, 1.0]), Some(1.0));
         assert_eq!(sign_test(&[1.0], &[1.0]), None);
+    }
+
+    #[test]
+    fn folds_hold_out_every_record_once() {
+        assert_eq!(folds(5, 2), vec![vec![0, 2, 4], vec![1, 3]]);
+        let all: Vec<usize> = {
+            let mut v: Vec<usize> = folds(7, 3).into_iter().flatten().collect();
+            v.sort_unstable();
+            v
+        };
+        assert_eq!(all, (0..7).collect::<Vec<_>>());
     }
 
     #[test]

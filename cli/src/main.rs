@@ -486,9 +486,18 @@ enum Command {
         /// A training record (CSV or .csv.gz); repeat for several.
         #[arg(long, value_name = "DATA.csv", required = true)]
         train: Vec<PathBuf>,
-        /// A held-out record; repeat for several.
-        #[arg(long, value_name = "DATA.csv", required = true)]
+        /// A held-out record; repeat for several (or --cross-validate).
+        #[arg(
+            long,
+            value_name = "DATA.csv",
+            required_unless_present = "cross_validate"
+        )]
         validate: Vec<PathBuf>,
+        /// Instead of --validate: K-fold cross-validation over the --train
+        /// records (record i held out in fold i mod K, scored by the fit on
+        /// the other folds; the training figures come from the fit on all).
+        #[arg(long, value_name = "K", value_parser = args::at_least_1, allow_negative_numbers = true)]
+        cross_validate: Option<u64>,
         #[command(flatten)]
         columns: ScoredColumns,
         /// Also score after `validate`'s zero-phase low-pass at HZ, and
@@ -775,6 +784,7 @@ fn main() -> ExitCode {
             candidates,
             train,
             validate,
+            cross_validate,
             columns,
             lowpass,
             period,
@@ -790,6 +800,7 @@ fn main() -> ExitCode {
             candidates,
             train,
             validate,
+            cross_validate: cross_validate.map(|k| usize::try_from(k).unwrap_or(usize::MAX)),
             input_column: columns.input_column,
             output_column: columns.output_column,
             lowpass,

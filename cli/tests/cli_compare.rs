@@ -205,3 +205,77 @@ fn a_malformed_candidates_file_is_an_error_naming_it() {
         assert!(!tmp.path().join("table.svg").exists());
     }
 }
+
+#[test]
+fn cross_validation_scores_every_record_from_the_fit_without_it() {
+    let tmp = TempDir::new().unwrap();
+    let (train, validate) = records(tmp.path());
+    candidates(tmp.path(), "");
+    let all: Vec<String> = train.iter().chain(&validate).cloned().collect();
+    let mut cmd = hysteron(tmp.path());
+    cmd.args([
+        "compare",
+        "--candidates",
+        "candidates.json",
+        "--work-dir",
+        "fitted",
+    ]);
+    for r in &all {
+        cmd.args(["--train", r]);
+    }
+    let out = cmd
+        .args(["--cross-validate", "4", "--csv", "table.csv"])
+        .assert()
+        .success();
+    let table = stdout_of(&out);
+    let (headers, rows) = read_csv(&tmp.path().join("table.csv"));
+    let col = |name: &str| headers.iter().position(|h| h == name).unwrap();
+    let get = |cand: &str, name: &str| -> String {
+        rows.iter().find(|r| r[col("candidate")] == cand).unwrap()[col(name)].clone()
+    };
+    // every one of the 8 records held out once: the wrong structure loses
+    // on all of them (p = 2/2^8 against the rank before it)
+    assert_eq!(get("elastoplastic", "rank"), "3", "{table}");
+    let second = rows.iter().find(|r| r[col("rank")] == "2").unwrap();
+    let p: f64 = second[col("p_vs_next")].parse().unwrap();
+    assert!((p - 2.0 / 256.0).abs() < 1e-12, "{table}");
+    // training figures from the fit on all 8 records
+    assert_eq!(get("mms", "n"), "12000");
+    for fold in 1..=4 {
+        assert!(tmp
+            .path()
+            .join(format!("fitted/mms.fold{fold}.json"))
+            .exists());
+    }
+    assert!(!tmp.path().join("fitted/mms.fold5.json").exists());
+}
+
+#[test]
+fn cross_validation_needs_folds_that_fit_the_records() {
+    let tmp = TempDir::new().unwrap();
+    let (train, validate) = records(tmp.path());
+    candidates(tmp.path(), "");
+    for (k, with_validate, expect) in [
+        ("1", false, "at least 2"),
+        ("3", false, "at most the 2 --train records"),
+        ("2", true, "give no --validate"),
+    ] {
+        let mut cmd = hysteron(tmp.path());
+        cmd.args([
+            "compare",
+            "--candidates",
+            "candidates.json",
+            "--work-dir",
+            "fitted",
+        ]);
+        for r in &train {
+            cmd.args(["--train", r]);
+        }
+        if with_validate {
+            cmd.args(["--validate", &validate[0]]);
+        }
+        let out = cmd.args(["--cross-validate", k]).assert().code(1);
+        let err = String::from_utf8_lossy(&out.get_output().stderr).into_owned();
+        assert!(err.contains(expect), "K = {k}: {err}");
+    }
+}
