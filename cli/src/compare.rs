@@ -25,13 +25,12 @@
 //!   one in the ranking over the per-record held-out errors: `p` is the
 //!   probability of a split at least as uneven if neither were better.
 //!
-//! Reference: K. P. Burnham, D. R. Anderson, *Model Selection and
-//! Multimodel Inference*, 2nd ed., Springer, 2002 (AIC, BIC for least
-//! squares, §2.2); W. J. Conover, *Practical Nonparametric Statistics*,
-//! 3rd ed., Wiley, 1999, §3.4 (the sign test).
+//! The criteria, the folds, the ranking and the test are the library's
+//! ([`crate::identify::selection`]), which Python's `compare` uses too.
 
 use crate::csvio::{self, CsvIoError};
 use crate::fit_cmd::{self, FitCmdOptions};
+use crate::identify::selection::{folds, information_criteria, rank};
 use crate::identify::{Jacobian, MultiStart};
 use crate::output::OutputError;
 use crate::period::DtSource;
@@ -254,44 +253,6 @@ fn mean_and_worst(v: impl Iterator<Item = f64>) -> (f64, f64) {
     (sum / n.max(1) as f64, worst)
 }
 
-/// `(AIC, BIC)` of a least-squares fit: `n ln(RSS/n) + 2k` and
-/// `n ln(RSS/n) + k ln n`, `RSS = 2 cost`, `RSS/n` floored at the smallest
-/// positive normal number.
-pub fn information_criteria(cost: f64, n: usize, k: usize) -> (f64, f64) {
-    let n_f = n.max(1) as f64;
-    let fit = n_f * ((2.0 * cost / n_f).max(f64::MIN_POSITIVE)).ln();
-    let k_f = k as f64;
-    (fit + 2.0 * k_f, fit + k_f * n_f.ln())
-}
-
-/// The two-sided sign test of paired errors `a` against `b`: ties are
-/// dropped; `p = min(1, 2 P(X ≤ min(wins, losses)))`, `X ~ Bin(m, 1/2)`
-/// over the `m` untied pairs. `None` without an untied pair.
-pub fn sign_test(a: &[f64], b: &[f64]) -> Option<f64> {
-    let (mut wins, mut losses) = (0u32, 0u32);
-    for (x, y) in a.iter().zip(b) {
-        if x < y {
-            wins += 1;
-        } else if x > y {
-            losses += 1;
-        }
-    }
-    let m = wins + losses;
-    if m == 0 {
-        return None;
-    }
-    let small = wins.min(losses);
-    // P(X ≤ small) = Σ_{j ≤ small} C(m, j) / 2^m, the terms built by the
-    // ratio C(m, j+1) = C(m, j) (m − j)/(j + 1) from 2^−m
-    let mut term = 0.5_f64.powi(m as i32);
-    let mut tail = 0.0;
-    for j in 0..=small {
-        tail += term;
-        term *= f64::from(m - j) / f64::from(j + 1);
-    }
-    Some((2.0 * tail).min(1.0))
-}
-
 /// One row of the table: a candidate and its scores or its error.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Row {
@@ -399,14 +360,6 @@ fn held_out_on(
         .collect()
 }
 
-/// The folds of `k`-fold cross-validation over `n` records: record `i` is
-/// held out in fold `i mod k`.
-pub fn folds(n: usize, k: usize) -> Vec<Vec<usize>> {
-    (0..k)
-        .map(|f| (0..n).filter(|i| i % k == f).collect())
-        .collect()
-}
-
 /// Fits and scores one candidate: fitted on every training record (the
 /// training figures and the fitted spec), and scored on the held-out
 /// records, or with `--cross-validate K` on each record from the fit on
@@ -502,23 +455,21 @@ pub fn run(opts: &CompareOptions) -> Result<CompareReport, CompareError> {
         })
         .collect();
     let by_lowpassed = opts.lowpass.is_some();
-    let key = |r: &Row| match &r.result {
-        Ok(s) => {
-            let e = s.ranking_errors();
-            e.iter().sum::<f64>() / e.len().max(1) as f64
-        }
-        Err(_) => f64::INFINITY,
-    };
-    rows.sort_by(|a, b| key(a).total_cmp(&key(b)));
-    let ranked = rows.iter().filter(|r| r.result.is_ok()).count();
-    for (i, row) in rows.iter_mut().enumerate().take(ranked) {
-        row.rank = Some(i + 1);
+    let errors: Vec<Option<Vec<f64>>> = rows
+        .iter()
+        .map(|r| r.result.as_ref().ok().map(Scores::ranking_errors))
+        .collect();
+    let ranking = rank(&errors);
+    for (i, row) in rows.iter_mut().enumerate() {
+        row.rank = ranking.rank.get(i).copied().flatten();
+        row.p_next = ranking.p_next.get(i).copied().flatten();
     }
-    for i in 0..ranked.saturating_sub(1) {
-        if let (Ok(a), Ok(b)) = (&rows[i].result, &rows[i + 1].result) {
-            rows[i].p_next = sign_test(&a.ranking_errors(), &b.ranking_errors());
-        }
-    }
+    let mut slots: Vec<Option<Row>> = rows.into_iter().map(Some).collect();
+    let rows: Vec<Row> = ranking
+        .order
+        .iter()
+        .filter_map(|&i| slots.get_mut(i).and_then(Option::take))
+        .collect();
     let mut files: Vec<PathBuf> = rows
         .iter()
         .filter_map(|r| r.result.as_ref().ok().map(|s| s.fitted.clone()))
@@ -713,46 +664,11 @@ mod tests {
     use super::*;
 
     #[test]
-    fn sign_test_matches_the_binomial_tail() {
-        // 8 of 8 better: 2 · 2^-8
-        assert_eq!(sign_test(&[0.0; 8], &[1.0; 8]), Some(2.0 / 256.0));
-        // 7 of 8: 2 · (1 + 8) / 256
-        let a = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 2.0];
-        assert!((sign_test(&a, &[1.0; 8]).unwrap() - 18.0 / 256.0).abs() < 1e-15);
-        // an even split, and ties only
-        assert_eq!(sign_test(&[0.0, 2.0], &[1.0, 1.0]), Some(1.0));
-        assert_eq!(sign_test(&[1.0], &[1.0]), None);
-    }
-
-    #[test]
-    fn folds_hold_out_every_record_once() {
-        assert_eq!(folds(5, 2), vec![vec![0, 2, 4], vec![1, 3]]);
-        let all: Vec<usize> = {
-            let mut v: Vec<usize> = folds(7, 3).into_iter().flatten().collect();
-            v.sort_unstable();
-            v
-        };
-        assert_eq!(all, (0..7).collect::<Vec<_>>());
-    }
-
-    #[test]
     fn short_keeps_four_significant_digits() {
         assert_eq!(short(-21064.2559), "-21064");
         assert_eq!(short(0.021828), "0.02183");
         assert_eq!(short(1.3371), "1.337");
         assert_eq!(short(2.5e-5), "2.500e-5");
         assert_eq!(short(0.0), "0");
-    }
-
-    #[test]
-    fn information_criteria_penalize_parameters() {
-        let (aic1, bic1) = information_criteria(0.5, 100, 2);
-        let (aic2, bic2) = information_criteria(0.5, 100, 3);
-        assert!((aic2 - aic1 - 2.0).abs() < 1e-12);
-        assert!((bic2 - bic1 - 100f64.ln()).abs() < 1e-12);
-        // RSS/n = 0.01: n ln(0.01) + 2k
-        assert!((aic1 - (100.0 * 0.01f64.ln() + 4.0)).abs() < 1e-12);
-        // an exact fit stays finite
-        assert!(information_criteria(0.0, 10, 1).0.is_finite());
     }
 }

@@ -39,6 +39,7 @@ pub mod paper;
 mod problem;
 mod record;
 pub mod report;
+pub mod selection;
 mod transform;
 mod triangular;
 

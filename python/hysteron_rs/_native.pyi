@@ -20,6 +20,7 @@ __all__ = [
     "SolverError",
     "SpecError",
     "__version__",
+    "compare",
     "describing_function",
     "fit",
     "fit_records",
@@ -471,4 +472,43 @@ def sensitivity(
     is `∂y/∂params[i]`. The derivatives are forward-mode automatic
     differentiation (dual numbers: no step size; at a kink, the derivative
     of the branch the model takes). The GIL is released while it runs.
+    """
+def compare(
+    candidates: Sequence[Mapping[str, Any]],
+    train: Sequence[Tuple[_ArrayLike, _ArrayLike]],
+    validate: Optional[Sequence[Tuple[_ArrayLike, _ArrayLike]]] = None,
+    *,
+    cross_validate: Optional[int] = None,
+    skip: int = 0,
+    dt: Optional[float] = None,
+    lowpass: Optional[float] = None,
+    patience: int = 200,
+    max_seconds: Optional[float] = None,
+    starts: int = 1,
+    spread: float = 1.3862943611198906,
+    seed: int = 0,
+) -> List[Dict[str, Any]]:
+    """Compares candidate structures: each candidate, a dict
+    `{"name": str, "model": Model, "free": [names], "own": [names]}`
+    (`own` optional: parameters fitted per training record), is fitted on
+    the `train` records `[(x, y), …]` as `fit_records` fits it, and scored
+    on the `validate` records by its held-out NRMSE (RMS error over the RMS
+    of the measured output, from sample `skip` on), and with `lowpass`
+    (Hz; needs `dt`) after a zero-phase 4th-order Butterworth low-pass of
+    both signals. With `cross_validate=K` instead of `validate`, each
+    training record is scored by the fit on the folds without it (record
+    `i` in fold `i mod K`).
+
+    Returns one dict per candidate, best first, with the keys of
+    `hysteron compare --csv` (`rank`, `candidate`, `k`, `n`,
+    `training_cost`, `aic`, `bic`, `heldout_nrmse_mean`,
+    `heldout_nrmse_worst`, `heldout_lowpassed_mean`,
+    `heldout_lowpassed_worst`, `p_vs_next`, `converged`, `error`) and the
+    per-record `heldout_nrmse`, `heldout_lowpassed` and the fitted `model`;
+    `pandas.DataFrame(rows)` makes it a table. The ranking is by the
+    held-out mean (low-passed with `lowpass`); `p_vs_next` is a two-sided
+    sign test against the next rank over the per-record errors. A
+    candidate whose fit or score fails has its `error` and no rank; the
+    others go on. The GIL is released while the candidates run (in
+    parallel).
     """
