@@ -30,7 +30,7 @@
 
 use crate::csvio::{self, CsvIoError};
 use crate::fit_cmd::{self, FitCmdOptions};
-use crate::identify::selection::{folds, information_criteria, rank};
+use crate::identify::selection::{self, folds, information_criteria, rank};
 use crate::identify::{Jacobian, MultiStart};
 use crate::output::OutputError;
 use crate::period::DtSource;
@@ -227,30 +227,28 @@ impl Scores {
     /// The per-record errors the ranking uses: low-passed where every
     /// record has one, else full band.
     pub fn ranking_errors(&self) -> Vec<f64> {
-        let low: Option<Vec<f64>> = self.held_out.iter().map(|h| h.lowpassed).collect();
-        low.unwrap_or_else(|| self.held_out.iter().map(|h| h.nrmse).collect())
+        selection::ranking_errors(&self.pairs())
     }
 
     /// Mean and worst of the full-band NRMSE.
     pub fn full_band(&self) -> (f64, f64) {
-        mean_and_worst(self.held_out.iter().map(|h| h.nrmse))
+        let v: Vec<f64> = self.held_out.iter().map(|h| h.nrmse).collect();
+        selection::mean_and_worst(&v)
     }
 
     /// Mean and worst of the low-passed NRMSE, with `--lowpass`.
     pub fn lowpassed(&self) -> Option<(f64, f64)> {
         let low: Option<Vec<f64>> = self.held_out.iter().map(|h| h.lowpassed).collect();
-        low.map(|v| mean_and_worst(v.into_iter()))
+        low.map(|v| selection::mean_and_worst(&v))
     }
-}
 
-fn mean_and_worst(v: impl Iterator<Item = f64>) -> (f64, f64) {
-    let (mut sum, mut worst, mut n) = (0.0, f64::NEG_INFINITY, 0usize);
-    for x in v {
-        sum += x;
-        worst = worst.max(x);
-        n += 1;
+    /// `(NRMSE, low-passed NRMSE)` per record, as the library takes them.
+    fn pairs(&self) -> Vec<(f64, Option<f64>)> {
+        self.held_out
+            .iter()
+            .map(|h| (h.nrmse, h.lowpassed))
+            .collect()
     }
-    (sum / n.max(1) as f64, worst)
 }
 
 /// One row of the table: a candidate and its scores or its error.
@@ -493,23 +491,8 @@ pub fn run(opts: &CompareOptions) -> Result<CompareReport, CompareError> {
     Ok(CompareReport { files, ..report })
 }
 
-/// The CSV header of `--csv`.
-pub const CSV_HEADER: [&str; 14] = [
-    "rank",
-    "candidate",
-    "k",
-    "n",
-    "training_cost",
-    "aic",
-    "bic",
-    "heldout_nrmse_mean",
-    "heldout_nrmse_worst",
-    "heldout_lowpassed_mean",
-    "heldout_lowpassed_worst",
-    "p_vs_next",
-    "converged",
-    "error",
-];
+/// The CSV header of `--csv` (the library's column names).
+pub const CSV_HEADER: [&str; 14] = selection::COLUMNS;
 
 /// A cell: shortest round-trip, empty for none.
 fn num(v: Option<f64>) -> String {

@@ -68,6 +68,40 @@ pub fn sign_test(a: &[f64], b: &[f64]) -> Option<f64> {
     Some((2.0 * tail).min(1.0))
 }
 
+/// The columns of a comparison's table, as the command line's `--csv` and
+/// Python's `compare` name them.
+pub const COLUMNS: [&str; 14] = [
+    "rank",
+    "candidate",
+    "k",
+    "n",
+    "training_cost",
+    "aic",
+    "bic",
+    "heldout_nrmse_mean",
+    "heldout_nrmse_worst",
+    "heldout_lowpassed_mean",
+    "heldout_lowpassed_worst",
+    "p_vs_next",
+    "converged",
+    "error",
+];
+
+/// `(mean, worst)` of per-record errors (`(NaN, −∞)` for none).
+pub fn mean_and_worst(v: &[f64]) -> (f64, f64) {
+    (
+        v.iter().sum::<f64>() / v.len() as f64,
+        v.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+    )
+}
+
+/// The per-record errors a ranking uses, from `(NRMSE, low-passed NRMSE)`
+/// per record: low-passed where every record has one, else full band.
+pub fn ranking_errors(held_out: &[(f64, Option<f64>)]) -> Vec<f64> {
+    let low: Option<Vec<f64>> = held_out.iter().map(|h| h.1).collect();
+    low.unwrap_or_else(|| held_out.iter().map(|h| h.0).collect())
+}
+
 /// The folds of `k`-fold cross-validation over `n` records: record `i` is
 /// held out in fold `i mod k`.
 pub fn folds(n: usize, k: usize) -> Vec<Vec<usize>> {
@@ -195,8 +229,7 @@ impl Outcome {
     /// The per-record errors a ranking uses: low-passed where every record
     /// has one, else full band.
     pub fn ranking_errors(&self) -> Vec<f64> {
-        let low: Option<Vec<f64>> = self.held_out.iter().map(|h| h.1).collect();
-        low.unwrap_or_else(|| self.held_out.iter().map(|h| h.0).collect())
+        ranking_errors(&self.held_out)
     }
 }
 

@@ -125,14 +125,8 @@ fn row<'py>(
         Ok(o) => {
             let full: Vec<f64> = o.held_out.iter().map(|h| h.0).collect();
             let low: Option<Vec<f64>> = o.held_out.iter().map(|h| h.1).collect();
-            let mean_worst = |v: &[f64]| {
-                (
-                    v.iter().sum::<f64>() / v.len().max(1) as f64,
-                    v.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-                )
-            };
-            let (mean, worst) = mean_worst(&full);
-            let low_mw = low.as_deref().map(mean_worst);
+            let (mean, worst) = selection::mean_and_worst(&full);
+            let low_mw = low.as_deref().map(selection::mean_and_worst);
             d.set_item("k", o.k)?;
             d.set_item("n", o.n)?;
             d.set_item("training_cost", o.cost)?;
@@ -161,22 +155,10 @@ fn row<'py>(
             d.set_item("model", model)?;
         }
         Err(e) => {
-            for key in [
-                "k",
-                "n",
-                "training_cost",
-                "aic",
-                "bic",
-                "heldout_nrmse_mean",
-                "heldout_nrmse_worst",
-                "heldout_lowpassed_mean",
-                "heldout_lowpassed_worst",
-                "p_vs_next",
-                "converged",
-                "heldout_nrmse",
-                "heldout_lowpassed",
-                "model",
-            ] {
+            let columns = selection::COLUMNS
+                .iter()
+                .filter(|k| !matches!(**k, "rank" | "candidate" | "error"));
+            for key in columns.chain(&["heldout_nrmse", "heldout_lowpassed", "model"]) {
                 d.set_item(key, py.None())?;
             }
             d.set_item("error", e)?;
