@@ -4,6 +4,7 @@
 use crate::compressed::Compressed;
 use crate::diagnostics;
 use crate::error::{option, FitError};
+use crate::metrics;
 use crate::options::{FitOptions, Progress};
 use crate::outcome::{Fit, FitReport, FitStatus, FittedParam, IdentifiabilityWarning, RecordFit};
 use crate::problem::{Layout, Problem};
@@ -451,15 +452,14 @@ fn identifiability(
     warnings
 }
 
-/// `(rms, rms / std(y))` of residuals `res` against the data `y` (the
-/// second `None` for a constant `y`).
+/// `(RMS(res), RMS(res) / RMS(y))` of residuals `res` against the data
+/// `y`, with the root mean squares of [`metrics::rms`] (about zero, as
+/// `hysteron validate` scores); the second `None` where `y` is zero
+/// throughout.
 fn figures(res: &[f64], y: &[f64]) -> (f64, Option<f64>) {
-    let m = res.len().max(1) as f64;
-    let rms = (res.iter().map(|r| r * r).sum::<f64>() / m).sqrt();
-    let n = y.len().max(1) as f64;
-    let mean = y.iter().sum::<f64>() / n;
-    let sd_y = (y.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n).sqrt();
-    (rms, (sd_y > 0.0).then(|| rms / sd_y))
+    let rms = metrics::rms(res);
+    let reference = metrics::rms(y);
+    (rms, (reference > 0.0).then(|| rms / reference))
 }
 
 fn status_of(t: &TerminationReason) -> FitStatus {

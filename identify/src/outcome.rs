@@ -30,8 +30,9 @@ pub struct FitReport {
     pub cost: f64,
     /// Root-mean-square residual over every scored sample.
     pub rms: f64,
-    /// `rms / std(y)` over every scored sample; `None` for a constant
-    /// output.
+    /// `rms / RMS(y)` over every scored sample, `y`'s root mean square
+    /// taken about zero ([`metrics::errors`](crate::metrics::errors)'s
+    /// NRMSE); `None` for an output that is zero throughout.
     pub nrmse: Option<f64>,
     /// The same figures per record, in the order given.
     pub records: Vec<RecordFit>,
@@ -135,7 +136,8 @@ pub struct RecordFit {
     pub samples: usize,
     /// Root-mean-square residual.
     pub rms: f64,
-    /// `rms / std(y)` over the scored samples; `None` for a constant output.
+    /// `rms / RMS(y)` over the scored samples (RMS about zero); `None` for
+    /// an output that is zero throughout.
     pub nrmse: Option<f64>,
 }
 

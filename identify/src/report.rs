@@ -70,7 +70,7 @@ impl fmt::Display for FitReport {
         writeln!(f, "RMS          {:.6e}", r.rms)?;
         match r.nrmse {
             Some(v) => writeln!(f, "NRMSE        {v:.6e}")?,
-            None => writeln!(f, "NRMSE        - (constant output)")?,
+            None => writeln!(f, "NRMSE        - (output zero throughout)")?,
         }
         if r.records.len() > 1 {
             writeln!(f, "record  samples  RMS           NRMSE")?;

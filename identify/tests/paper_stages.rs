@@ -397,7 +397,7 @@ fn errors(p: &TransmissionParams, t: &TransmissionParams) -> [(&'static str, f64
 /// finds a degenerate bedstop: b → 0.02 (−93 %), F_c 3×, K → ∞ (a pure
 /// Coulomb step). The parameters are **not** recovered; what is achieved is
 /// a model that reproduces the loop (nrmse 0.006) and the chirp (nrmse
-/// 0.058, from 0.30 at stage 2's start; the starting model, which has the
+/// 0.057, from 0.30 at stage 2's start; the starting model, which has the
 /// true knots, gives 0.10). Asserted: both fits converge, these nrmse
 /// levels (with margin), and stage 2 improves on its start. Stage 3
 /// (`stage3_recovers_the_full_model_noise_free`) recovers the model.
@@ -754,12 +754,12 @@ fn stage3_bad_inputs_are_typed_errors() {
     ));
 }
 
+/// The NRMSE of `y` against the data `d`, as the fit reports it
+/// (`metrics::errors`: the RMS error over `d`'s RMS about zero).
 fn nrmse(y: &[f64], d: &[f64]) -> f64 {
-    let m = d.len() as f64;
-    let mean = d.iter().sum::<f64>() / m;
-    let sd = (d.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / m).sqrt();
-    let rms = (y.iter().zip(d).map(|(a, b)| (a - b).powi(2)).sum::<f64>() / m).sqrt();
-    rms / sd
+    hysteron_identify::metrics::errors(y, d)
+        .expect("finite outputs of equal length")
+        .nrmse
 }
 
 /// Where the paper's assumption holds better (a small backlash, b = 0.05

@@ -4,7 +4,7 @@
 
 use hysteron_identify::{fit, free_by_names, FitOptions, FitReport};
 use hysteron_operators::Parameters;
-use hysteron_operators::{BoucWen, Operator};
+use hysteron_operators::{BoucWen, Gain, Operator};
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};
 
@@ -65,6 +65,34 @@ fn noise_free_bouc_wen_recovers_its_parameters() {
     println!(
         "noise-free: {} iterations, {} evaluations, {:?}, rms {:e}",
         r.iterations, r.evaluations, r.wall_time, r.rms
+    );
+}
+
+/// `fit` reports the NRMSE that `validate` and `compare` score
+/// (`metrics::errors`: RMS about zero). On a record with a large mean the
+/// standard deviation is a fifth of the RMS, so a report that divided by
+/// it would be five times too large.
+#[test]
+fn fit_reports_the_nrmse_that_validate_scores() {
+    let x: Vec<f64> = decaying_sine(2_000).iter().map(|v| 5.0 + v).collect();
+    let noise = Normal::new(0.0, 0.05).unwrap();
+    let mut rng = StdRng::seed_from_u64(7);
+    let y: Vec<f64> = x.iter().map(|v| 3.0 * v + noise.sample(&mut rng)).collect();
+    let start = Gain::new(1.0).unwrap();
+    let mut f = fit(&start, &x, &y, &[0], &FitOptions::default()).unwrap();
+    let scored = hysteron_identify::metrics::errors(&f.model.run(&x).unwrap(), &y).unwrap();
+    let reported = f.report.nrmse.unwrap();
+    assert!(
+        (reported - scored.nrmse).abs() <= 1e-12 * scored.nrmse,
+        "fit {reported:e} vs validate {:e}",
+        scored.nrmse
+    );
+    assert!((f.report.rms - scored.rms).abs() <= 1e-12 * scored.rms);
+    let mean = y.iter().sum::<f64>() / y.len() as f64;
+    let sd = (y.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / y.len() as f64).sqrt();
+    assert!(
+        scored.rms / sd > 4.0 * reported,
+        "the two definitions must differ here"
     );
 }
 

@@ -246,7 +246,9 @@ class FitResult:
         """Root-mean-square residual."""
     @property
     def nrmse(self) -> Optional[float]:
-        """`rms / std(y)`; `None` for a constant record."""
+        """`rms / RMS(y)`, `y`'s root mean square about zero (as `validate`
+        and `compare` score); `None` for an output that is zero throughout.
+        """
     @property
     def status(self) -> str:
         """`"converged"`, `"not_converged"` (the budget ran out) or `"failed"`."""
@@ -279,7 +281,8 @@ class FitResult:
     @property
     def records(self) -> List[Dict[str, Any]]:
         """Per record (in the order given): a dict of `samples` (compared),
-        `rms` and `nrmse` (`rms / std(y)`, `None` for a constant output).
+        `rms` and `nrmse` (`rms / RMS(y)`, RMS about zero; `None` for an
+        output that is zero throughout).
         """
 
 @final

@@ -33,7 +33,8 @@ pub struct FitResult {
     /// Root-mean-square residual.
     #[pyo3(get)]
     rms: f64,
-    /// `rms / std(y)`; `None` for a constant record.
+    /// `rms / RMS(y)`, `y`'s root mean square about zero (as `validate`
+    /// and `compare` score); `None` for an output that is zero throughout.
     #[pyo3(get)]
     nrmse: Option<f64>,
     /// `"converged"`, `"not_converged"` (the budget ran out) or `"failed"`.
@@ -127,7 +128,8 @@ impl FitResult {
     }
 
     /// Per record (in the order given): a dict of `samples` (compared),
-    /// `rms` and `nrmse` (`rms / std(y)`, `None` for a constant output).
+    /// `rms` and `nrmse` (`rms / RMS(y)`, RMS about zero; `None` for an
+    /// output that is zero throughout).
     #[getter]
     fn records<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
         self.report
