@@ -757,9 +757,7 @@ fn stage3_bad_inputs_are_typed_errors() {
 /// The NRMSE of `y` against the data `d`, as the fit reports it
 /// (`metrics::errors`: the RMS error over `d`'s RMS about zero).
 fn nrmse(y: &[f64], d: &[f64]) -> f64 {
-    hysteron_identify::metrics::errors(y, d)
-        .expect("finite outputs of equal length")
-        .nrmse
+    hysteron_identify::metrics::errors(y, d).unwrap().nrmse
 }
 
 /// Where the paper's assumption holds better (a small backlash, b = 0.05
