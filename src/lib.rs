@@ -29,6 +29,7 @@
 //!   [`lugre`](operators::LuGre), [`gms`](operators::Gms),
 //!   [`offset`](operators::Offset),
 //!   [`asymmetric_friction`](operators::AsymmetricFriction),
+//!   [`transient_friction`](operators::TransientFriction),
 //!   [`backlash_contact`](operators::BacklashContact),
 //!   [`relay`](operators::Relay), [`pi_bank`](composition::PiBank),
 //!   [`pi_inverse`](composition::PiInverse).

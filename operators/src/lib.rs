@@ -24,6 +24,7 @@
 //! | [`Gms`] | `gms` | `F = Σ F_i + σ2 v; stick Ḟ_i = k_i v until \|F_i\| = α_i s(v), slip Ḟ_i = sgn(v) C (1 − sgn(v) F_i/(α_i s(v)))` |
 //! | [`Offset`] | `offset` | `y = x + c` |
 //! | [`AsymmetricFriction`] | `asymmetric_friction` | `F = k · (x − x_p), x_p moving only to keep −f_neg ≤ F ≤ f_pos: slope k while sticking, sliding at f_pos or −f_neg` |
+//! | [`TransientFriction`] | `transient_friction` | `F = k · (x − x_p), x_p moving only to keep −L_neg(u) ≤ F ≤ L_pos(u), L(u) = f (1 + a e^{−u/λ}) with u the slip since the last change of slip direction` |
 //! | [`BacklashContact`] | `backlash_contact` | `u = x − c, d = max(\|u\| − b/2, 0), F = sgn(u)·(k1 d + k2 d² + k3 d³)` |
 //! | [`Relay`] | `relay` | `y = a s, s = +1 once x ≥ h/2, −1 once x ≤ −h/2, held in between (from s0)` |
 //! <!-- END generated: operators -->
@@ -118,6 +119,7 @@ leaves! { $;
     gms => Gms,
     offset => Offset,
     asymmetric_friction => AsymmetricFriction,
+    transient_friction => TransientFriction,
     backlash_contact => BacklashContact,
     relay => Relay,
 }

@@ -68,6 +68,7 @@ from ._operators import (
     relay,
     saturation,
     stop,
+    transient_friction,
     viscous_damper,
 )
 # END generated: constructors
@@ -118,6 +119,7 @@ __all__ += [
     "relay",
     "saturation",
     "stop",
+    "transient_friction",
     "viscous_damper",
     # END generated: constructor names
 ]
