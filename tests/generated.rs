@@ -168,6 +168,39 @@ fn generated_files_match_the_registry() {
     );
 }
 
+/// Every leaf's kind and parameter names are Python identifiers that are
+/// not keywords: they become the Python constructors and their keyword
+/// arguments (a parameter named `lambda` could not be passed).
+#[test]
+fn every_leaf_name_and_parameter_is_a_python_argument_name() {
+    use hysteron::models::spec::registry::LEAVES;
+    const KEYWORDS: [&str; 35] = [
+        "False", "None", "True", "and", "as", "assert", "async", "await", "break", "class",
+        "continue", "def", "del", "elif", "else", "except", "finally", "for", "from", "global",
+        "if", "import", "in", "is", "lambda", "nonlocal", "not", "or", "pass", "raise", "return",
+        "try", "while", "with", "yield",
+    ];
+    let usable = |name: &str| {
+        let mut chars = name.chars();
+        chars
+            .next()
+            .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+            && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
+            && !KEYWORDS.contains(&name)
+    };
+    for leaf in LEAVES {
+        assert!(usable(leaf.kind()), "the kind `{}`", leaf.kind());
+        for f in leaf.fields() {
+            assert!(
+                usable(f.name),
+                "{}: the parameter `{}`",
+                leaf.kind(),
+                f.name
+            );
+        }
+    }
+}
+
 /// Every example spec of the reference (the leaves' pages and the
 /// combinators') builds and runs a short signal to finite outputs.
 #[test]

@@ -23,9 +23,10 @@ declare_params! {
         /// Relative excess of the negative level at the onset of negative
         /// slip, `a_neg ≥ −1` (as `a_pos`).
         a_neg: T => AtLeast(-1.0) = -0.3,
-        /// Slip constant `λ > 0` (input units): the excess decays as
-        /// `e^{−u/λ}` with the slip `u` since the onset.
-        lambda: T => Positive = 0.5,
+        /// Slip constant `λ > 0` (input units; `lam`, as `lambda` is a
+        /// keyword in Python): the excess decays as `e^{−u/λ}` with the
+        /// slip `u` since the onset.
+        lam: T => Positive = 0.5,
         /// Force at input `x = 0` before the first sample (default 0), one
         /// the element can hold: in `[−f_neg (1 + a_neg), f_pos (1 + a_pos)]`.
         #[serde(default)]
@@ -56,11 +57,11 @@ impl<T: Float> TransientFrictionParams<T> {
             ("a_pos", self.f_pos, self.a_pos),
             ("a_neg", self.f_neg, self.a_neg),
         ] {
-            if a > T::zero() && a * f >= self.k * self.lambda {
+            if a > T::zero() && a * f >= self.k * self.lam {
                 return Err(invalid(
                     name,
                     a,
-                    "with a > 0, a · f must be below k · lambda (the level may not soften faster than the spring stiffens)",
+                    "with a > 0, a · f must be below k · lam (the level may not soften faster than the spring stiffens)",
                 ));
             }
         }
@@ -85,7 +86,7 @@ impl<T: Float> TransientFrictionParams<T> {
     #[inline(always)]
     fn level(&self, dir: i8, u: T) -> T {
         let (f, a) = self.direction(dir);
-        f * (T::one() + a * (-u / self.lambda).exp())
+        f * (T::one() + a * (-u / self.lam).exp())
     }
 
     /// `(f, a)` of direction `dir`: positive for `dir > 0`, else negative.
@@ -112,15 +113,15 @@ impl<T: Float> TransientFrictionParams<T> {
     /// `∂Δ = −∂g / g'` at the root). Returns `(Δ, dL/du at u0 + Δ)`.
     fn slip(&self, dir: i8, e: T, u0: T) -> (T, T) {
         let (f, a) = self.direction(dir);
-        let (k, lambda) = (self.k, self.lambda);
+        let (k, lam) = (self.k, self.lam);
         let g = |d: T| {
-            let decay = (-(u0 + d) / lambda).exp();
+            let decay = (-(u0 + d) / lam).exp();
             let value = k * (e - d) - f * (T::one() + a * decay);
-            let slope = -f * a * decay / lambda; // L'(u0 + d)
+            let slope = -f * a * decay / lam; // L'(u0 + d)
             (value, slope)
         };
         let (kv, fv, av, ev) = (k.as_f64(), f.as_f64(), a.as_f64(), e.as_f64());
-        let (u0v, lv) = (u0.as_f64(), lambda.as_f64());
+        let (u0v, lv) = (u0.as_f64(), lam.as_f64());
         let gv = |d: f64| {
             let decay = (-(u0v + d) / lv).exp();
             (kv * (ev - d) - fv * (1.0 + av * decay), -fv * av * decay / lv)
@@ -209,15 +210,15 @@ pub type TransientFriction<T> = Stepped<TransientFrictionParams<T>, T>;
 impl<T: Float> TransientFriction<T> {
     /// An element with stiffness `k`, steady levels `f_pos, f_neg`, the
     /// same relative excess `a` at the onset of slip in either direction
-    /// and slip constant `lambda`, unloaded.
-    pub fn new(k: T, f_pos: T, f_neg: T, a: T, lambda: T) -> Result<Self> {
+    /// and slip constant `lam`, unloaded.
+    pub fn new(k: T, f_pos: T, f_neg: T, a: T, lam: T) -> Result<Self> {
         Self::from_params(TransientFrictionParams {
             k,
             f_pos,
             f_neg,
             a_pos: a,
             a_neg: a,
-            lambda,
+            lam,
             f0: T::zero(),
         })
     }
@@ -269,14 +270,14 @@ mod tests {
     use super::*;
     use crate::{AsymmetricFriction, Operator};
 
-    fn element(a_pos: f64, a_neg: f64, lambda: f64) -> TransientFriction<f64> {
+    fn element(a_pos: f64, a_neg: f64, lam: f64) -> TransientFriction<f64> {
         TransientFriction::from_params(TransientFrictionParams {
             k: 10.0,
             f_pos: 1.5,
             f_neg: 1.0,
             a_pos,
             a_neg,
-            lambda,
+            lam,
             f0: 0.0,
         })
         .unwrap()
@@ -317,7 +318,7 @@ mod tests {
             } else if xi >= 0.22 {
                 // slip u = x − F/k (x_p starts at 0)
                 let u = xi - yi / p.k;
-                let level = p.f_pos * (1.0 + p.a_pos * (-u / p.lambda).exp());
+                let level = p.f_pos * (1.0 + p.a_pos * (-u / p.lam).exp());
                 assert!((yi - level).abs() <= 1e-13, "x = {xi}: {yi} vs {level}");
             }
         }

@@ -228,7 +228,7 @@ def asymmetric_friction(k: float, f_pos: float, f_neg: float, f0: Optional[float
     Example: ``asymmetric_friction(**{"k":4.0,"f_pos":1.5,"f_neg":0.5,"f0":-0.25})``.
     """
 
-def transient_friction(k: float, f_pos: float, f_neg: float, a_pos: float, a_neg: float, lambda: float, f0: Optional[float] = None) -> Model:
+def transient_friction(k: float, f_pos: float, f_neg: float, a_pos: float, a_neg: float, lam: float, f0: Optional[float] = None) -> Model:
     """The ``transient_friction`` operator: F = k · (x − x_p), x_p moving only to keep −L_neg(u) ≤ F ≤ L_pos(u), L(u) = f (1 + a e^{−u/λ}) with u the slip since the last change of slip direction.
 
     Parameters:
@@ -237,10 +237,10 @@ def transient_friction(k: float, f_pos: float, f_neg: float, a_pos: float, a_neg
         f_neg (≥ 0): Steady sliding level in the negative direction, `f_neg ≥ 0`.
         a_pos (≥ -1): Relative excess of the positive level at the onset of positive slip, `a_pos ≥ −1`: the level is `f_pos (1 + a_pos)` there (a breakaway peak for `a_pos > 0`, a dip for `a_pos < 0`). With `a_pos > 0`, `a_pos f_pos < k λ` (the level may not soften faster than the spring stiffens).
         a_neg (≥ -1): Relative excess of the negative level at the onset of negative slip, `a_neg ≥ −1` (as `a_pos`).
-        lambda (> 0): Slip constant `λ > 0` (input units): the excess decays as `e^{−u/λ}` with the slip `u` since the onset.
+        lam (> 0): Slip constant `λ > 0` (input units; `lam`, as `lambda` is a keyword in Python): the excess decays as `e^{−u/λ}` with the slip `u` since the onset.
         f0 (real; default 0): Force at input `x = 0` before the first sample (default 0), one the element can hold: in `[−f_neg (1 + a_neg), f_pos (1 + a_pos)]`.
 
-    Example: ``transient_friction(**{"k":4.0,"f_pos":1.5,"f_neg":1.0,"a_pos":0.3,"a_neg":-0.3,"lambda":0.5,"f0":0.0})``.
+    Example: ``transient_friction(**{"k":4.0,"f_pos":1.5,"f_neg":1.0,"a_pos":0.3,"a_neg":-0.3,"lam":0.5,"f0":0.0})``.
     """
 
 def backlash_contact(b: float, k1: float, k2: float, k3: Optional[float] = None, c: Optional[float] = None) -> Model:
