@@ -172,8 +172,8 @@ fn run_in_process(spec_path: &Path, xs: &[f64]) -> Vec<f64> {
 #[test]
 fn simulate_matches_the_spec_run_in_process() {
     let s = Setup::new();
-    let assert = s
-        .simulate(&[
+    succeeds_saying(
+        &mut s.simulate(&[
             "--model",
             "model.json",
             "--input",
@@ -182,11 +182,9 @@ fn simulate_matches_the_spec_run_in_process() {
             "out.csv",
             "--plot",
             "loop.svg",
-        ])
-        .assert()
-        .success();
-    let stdout = stdout_of(&assert);
-    assert!(stdout.contains("simulated 5 samples"), "{stdout}");
+        ]),
+        &["simulated 5 samples"],
+    );
     let (headers, rows) = read_csv(&s.path("out.csv"));
     assert_eq!(headers, ["t", "x", "label", "y"]);
     // All input columns kept verbatim (the quoted comma too).
@@ -218,13 +216,7 @@ fn simulate_every_example_spec() {
     assert!(paths.iter().any(|p| p.ends_with("paper.json")), "{paths:?}");
     let s = Setup::new();
     // Two cycles of a 1.2 deg sine, 400 samples.
-    let x: Vec<f64> = (0..400)
-        .map(|i| 1.2 * (std::f64::consts::TAU * i as f64 / 200.0).sin())
-        .collect();
-    let mut text = String::from("i,x\n");
-    for (i, v) in x.iter().enumerate() {
-        text.push_str(&format!("{i},{v}\n"));
-    }
+    let (text, x) = two_sine_cycles(400);
     s.write("sine.csv", &text);
     for spec in &paths {
         s.simulate(&[
@@ -649,15 +641,14 @@ fn simulate_mass_spring_damper_with_time_column_matches_in_process() {
         spec.build().unwrap().run(&x).unwrap()
     };
     for dt_args in [&["--time-column", "t"][..], &["--dt", "0.0078125"][..]] {
-        s.simulate(&[
-            "--model", "msd.json", "--input", "f.csv", "--output", "o.csv",
-        ])
-        .args(dt_args)
-        .assert()
-        .success();
-        let (headers, rows) = read_csv(&s.path("o.csv"));
-        assert_eq!(headers, ["t", "x", "y"]);
-        assert_eq!(column(&headers, &rows, "y"), expected, "{dt_args:?}");
+        let (_, y) = succeeds_writing_txy(
+            s.simulate(&[
+                "--model", "msd.json", "--input", "f.csv", "--output", "o.csv",
+            ])
+            .args(dt_args),
+            &s.path("o.csv"),
+        );
+        assert_eq!(y, expected, "{dt_args:?}");
     }
     // Without either, the spec's own dt (1 s) disagrees with the data's
     // time column `t`: refused, naming both periods and both ways out,

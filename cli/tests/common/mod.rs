@@ -18,6 +18,54 @@ pub fn hysteron(dir: &Path) -> Command {
     cmd
 }
 
+/// Runs `cmd` expecting success and a standard output that contains every
+/// `expect`ed fragment. Returns the standard output.
+pub fn succeeds_saying(cmd: &mut Command, expect: &[&str]) -> String {
+    let stdout = stdout_of(&cmd.assert().success());
+    for e in expect {
+        assert!(stdout.contains(e), "`{e}` not in: {stdout}");
+    }
+    stdout
+}
+
+/// Runs `cmd` expecting success, then reads the CSV file it wrote at
+/// `path`: its header and records, as [`read_csv`] gives them.
+pub fn succeeds_writing_csv(cmd: &mut Command, path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    cmd.assert().success();
+    read_csv(path)
+}
+
+/// Runs `cmd` expecting success, then reads the CSV file it wrote at
+/// `path`, checking its header is `t,x,y`: returns the `x` and `y` columns.
+pub fn succeeds_writing_txy(cmd: &mut Command, path: &Path) -> (Vec<f64>, Vec<f64>) {
+    let (headers, rows) = succeeds_writing_csv(cmd, path);
+    assert_eq!(headers, ["t", "x", "y"], "{}", path.display());
+    (column(&headers, &rows, "x"), column(&headers, &rows, "y"))
+}
+
+/// Two cycles of a sine of amplitude 1.2 in `samples` samples, as the text
+/// of a CSV file with columns `i,x`, and the `x` values.
+pub fn two_sine_cycles(samples: usize) -> (String, Vec<f64>) {
+    let x: Vec<f64> = (0..samples)
+        .map(|i| 1.2 * (std::f64::consts::TAU * 2.0 * i as f64 / samples as f64).sin())
+        .collect();
+    let mut text = String::from("i,x\n");
+    for (i, v) in x.iter().enumerate() {
+        text.push_str(&format!("{i},{v}\n"));
+    }
+    (text, x)
+}
+
+/// Runs `cmd` expecting the exit code `code`: its standard output and
+/// standard error, as text.
+pub fn exits_with(cmd: &mut Command, code: i32) -> (String, String) {
+    let out = cmd.assert().code(code).get_output().clone();
+    (
+        String::from_utf8(out.stdout).expect("stdout is UTF-8"),
+        String::from_utf8(out.stderr).expect("stderr is UTF-8"),
+    )
+}
+
 /// A well-formed SVG with lines and labels.
 pub fn assert_svg(path: &Path) {
     let svg = fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
