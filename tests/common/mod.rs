@@ -1,5 +1,5 @@
 //! Helpers shared by the library's integration tests.
-#![allow(dead_code)] // each test crate uses a subset
+#![allow(dead_code, unused_macros)] // each test crate uses a subset
 
 use hysteron::prelude::*;
 
@@ -20,3 +20,46 @@ pub fn trial_commit_loop<T: Float, O: Operator<T> + ?Sized>(op: &mut O, xs: &[T]
         })
         .collect()
 }
+
+/// The `trial`, `commit` and `reset` of an operator that wraps the operator
+/// in its field `inner` and counts its trials in its `trials`
+/// (`Arc<AtomicUsize>`): for a test's counting wrapper, in its
+/// `impl Operator<T>` (`T` the sample type).
+macro_rules! counted_trials {
+    ($t:ty, $inner:ident) => {
+        fn trial(&mut self, x: $t) -> hysteron::Result<hysteron::Trial<$t>> {
+            self.trials
+                .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            self.$inner.trial(x)
+        }
+        fn commit(&mut self) {
+            self.$inner.commit()
+        }
+        fn reset(&mut self) {
+            self.$inner.reset()
+        }
+    };
+}
+#[allow(unused_imports)] // each test crate uses a subset
+pub(crate) use counted_trials;
+
+/// The parameters of a wrapper, those of the operator in its field
+/// `inner`: the body of its `impl Parameters<T>` (`T` the sample type).
+macro_rules! parameters_of {
+    ($t:ty, $inner:ident) => {
+        fn n_params(&self) -> usize {
+            self.$inner.n_params()
+        }
+        fn params_into(&self, out: &mut Vec<$t>) {
+            self.$inner.params_into(out)
+        }
+        fn param_names(&self) -> Vec<String> {
+            self.$inner.param_names()
+        }
+        fn set_params(&mut self, p: &[$t]) -> hysteron::Result<()> {
+            self.$inner.set_params(p)
+        }
+    };
+}
+#[allow(unused_imports)] // each test crate uses a subset
+pub(crate) use parameters_of;
