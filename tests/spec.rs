@@ -1017,6 +1017,12 @@ fn examples() -> Vec<(&'static str, Spec)> {
             hysteron::operators::GainParams { k },
         ))
     };
+    let eight_plays = PiBankParams {
+        a0: 0.2,
+        r: vec![0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7],
+        w: vec![1.0, 0.6, 0.4, 0.3, 0.2, 0.15, 0.1, 0.05],
+        y0: vec![],
+    };
     vec![
         // The paper's model (illustrative default parameters) from the
         // algebra: MMS slider in a backlash gap, in series with the spring.
@@ -1024,23 +1030,13 @@ fn examples() -> Vec<(&'static str, Spec)> {
         // A Prandtl-Ishlinskii operator with eight plays.
         (
             "prandtl-ishlinskii.json",
-            Spec::leaf::<hysteron::composition::PiBank<f64>>(PiBankParams {
-                a0: 0.2,
-                r: vec![0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7],
-                w: vec![1.0, 0.6, 0.4, 0.3, 0.2, 0.15, 0.1, 0.05],
-                y0: vec![],
-            }),
+            Spec::leaf::<hysteron::composition::PiBank<f64>>(eight_plays.clone()),
         ),
         // The analytic inverse of that operator (a compensator): the same
         // fields, type `pi_inverse`.
         (
             "pi-inverse.json",
-            Spec::leaf::<hysteron::composition::PiInverse<f64>>(PiBankParams {
-                a0: 0.2,
-                r: vec![0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7],
-                w: vec![1.0, 0.6, 0.4, 0.3, 0.2, 0.15, 0.1, 0.05],
-                y0: vec![],
-            }),
+            Spec::leaf::<hysteron::composition::PiInverse<f64>>(eight_plays),
         ),
         // A Preisach model with the closed-form two-peak Everett function.
         (
@@ -1343,24 +1339,23 @@ fn rate_dependent_errors_name_the_path() {
         },
         "scaled.inner.oversample.inner.viscous_damper.dt: must be > 0 (got -0.1)",
     );
-    invalid(
-        &Spec::Oversample {
-            inner: Box::new(Spec::leaf::<hysteron::operators::Gain<f64>>(
-                hysteron::operators::GainParams { k: 1.0 },
-            )),
-            q: 0,
-        },
-        "oversample.q: must lie in [1, 100000] (got 0)",
-    );
-    invalid(
-        &Spec::Oversample {
-            inner: Box::new(Spec::leaf::<hysteron::operators::Gain<f64>>(
-                hysteron::operators::GainParams { k: 1.0 },
-            )),
-            q: 1_000_000,
-        },
-        "oversample.q: must lie in [1, 100000] (got 1000000)",
-    );
+    for (q, expected) in [
+        (0, "oversample.q: must lie in [1, 100000] (got 0)"),
+        (
+            1_000_000,
+            "oversample.q: must lie in [1, 100000] (got 1000000)",
+        ),
+    ] {
+        invalid(
+            &Spec::Oversample {
+                inner: Box::new(Spec::leaf::<hysteron::operators::Gain<f64>>(
+                    hysteron::operators::GainParams { k: 1.0 },
+                )),
+                q,
+            },
+            expected,
+        );
+    }
     // a rate-dependent leaf may leave dt out (it reads), but does not build
     // until the period is given; fields are strict, q is a count
     for (text, path) in [
@@ -1418,16 +1413,20 @@ fn rate_dependent_errors_name_the_path() {
 /// parameter).
 #[test]
 fn with_dt_sets_the_period_the_tree_gives_every_rate_dependent_node() {
-    let spec = Spec::Cascade {
+    // the tree, with the oscillator's and the damper's sample periods
+    let tree = |msd_dt, damper_dt| Spec::Cascade {
         first: Box::new(Spec::Oversample {
             inner: Box::new(Spec::leaf::<hysteron::operators::MassSpringDamper<f64>>(
-                msd_params(0.01),
+                msd_params(msd_dt),
             )),
             q: 3,
         }),
         second: Box::new(Spec::Parallel {
             left: Box::new(Spec::leaf::<hysteron::operators::ViscousDamper<f64>>(
-                hysteron::operators::ViscousDamperParams { c: 2.0, dt: 0.02 },
+                hysteron::operators::ViscousDamperParams {
+                    c: 2.0,
+                    dt: damper_dt,
+                },
             )),
             right: Box::new(Spec::leaf::<hysteron::operators::Play<f64>>(PlayParams {
                 r: 0.1,
@@ -1435,23 +1434,8 @@ fn with_dt_sets_the_period_the_tree_gives_every_rate_dependent_node() {
             })),
         }),
     };
-    let expected = Spec::Cascade {
-        first: Box::new(Spec::Oversample {
-            inner: Box::new(Spec::leaf::<hysteron::operators::MassSpringDamper<f64>>(
-                msd_params(0.5 / 3.0),
-            )),
-            q: 3,
-        }),
-        second: Box::new(Spec::Parallel {
-            left: Box::new(Spec::leaf::<hysteron::operators::ViscousDamper<f64>>(
-                hysteron::operators::ViscousDamperParams { c: 2.0, dt: 0.5 },
-            )),
-            right: Box::new(Spec::leaf::<hysteron::operators::Play<f64>>(PlayParams {
-                r: 0.1,
-                y0: 0.0,
-            })),
-        }),
-    };
+    let spec = tree(0.01, 0.02);
+    let expected = tree(0.5 / 3.0, 0.5);
     assert_eq!(spec.with_dt(0.5), expected);
     assert!(spec.is_rate_dependent());
     // rate-independent trees are unchanged
