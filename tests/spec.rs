@@ -20,6 +20,8 @@ use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
 use std::path::PathBuf;
 
+mod common;
+
 // ---------------------------------------------------------------------------
 // Random specs
 // ---------------------------------------------------------------------------
@@ -167,19 +169,7 @@ fn lugre() -> impl Strategy<Value = LuGreParams<f64>> {
         (0.1..2.0f64, 0.1..3.0f64, 0.001..1.0f64, 0.5..3.0f64),
         (num(-1e-3, 1e-3), 0.001..0.1f64),
     )
-        .prop_map(
-            |((sigma0, sigma1, sigma2), (f_c, f_s, v_s, delta), (z0, dt))| LuGreParams {
-                sigma0,
-                sigma1,
-                sigma2,
-                f_c,
-                f_s,
-                v_s,
-                delta,
-                z0,
-                dt,
-            },
-        )
+        .prop_map(|(bristles, stribeck, (z0, dt))| common::lugre_of(bristles, stribeck, z0, dt))
 }
 
 fn gms() -> impl Strategy<Value = GmsParams<f64>> {
@@ -196,20 +186,7 @@ fn gms() -> impl Strategy<Value = GmsParams<f64>> {
             ];
             (Just(elements), Just(stribeck), Just(rest), f0)
         })
-        .prop_map(
-            |(elements, (c, f_c, f_s, v_s), (delta, sigma2, dt), f0)| GmsParams {
-                k: elements.iter().map(|e| e.0).collect(),
-                alpha: elements.iter().map(|e| e.1).collect(),
-                f0,
-                c,
-                f_c,
-                f_s,
-                v_s,
-                delta,
-                sigma2,
-                dt,
-            },
-        )
+        .prop_map(|(elements, stribeck, rest, f0)| common::gms_of(&elements, stribeck, rest, f0))
 }
 
 fn transmission() -> impl Strategy<Value = TransmissionParams> {
@@ -1114,17 +1091,7 @@ fn examples() -> Vec<(&'static str, Spec)> {
         // or `--time-column` overrides the dt).
         (
             "lugre.json",
-            Spec::leaf::<hysteron::operators::LuGre<f64>>(LuGreParams {
-                sigma0: 1e3,
-                sigma1: 5.0,
-                sigma2: 0.2,
-                f_c: 1.0,
-                f_s: 1.5,
-                v_s: 0.5,
-                delta: 2.0,
-                z0: 0.0,
-                dt: 0.01,
-            }),
+            Spec::leaf::<hysteron::operators::LuGre<f64>>(common::lugre_at_100_hz()),
         ),
         // Generalized Maxwell-slip friction sampled at 100 Hz: four
         // elements, Stribeck velocity 0.5, attraction rate 20 per second.
