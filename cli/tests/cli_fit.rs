@@ -73,11 +73,7 @@ struct Setup {
     y: Vec<f64>,
 }
 
-impl InTempDir for Setup {
-    fn tmp(&self) -> &TempDir {
-        &self.tmp
-    }
-}
+in_temp_dir!(Setup);
 
 impl Setup {
     /// `data.csv` (t,x,y: the true model's noise-free response), `in.csv`
@@ -716,10 +712,9 @@ fn fit_error_model_fails_at_the_start() {
 #[test]
 fn fit_refuses_to_overwrite_its_inputs() {
     let s = Setup::new();
-    fs::create_dir(s.path("sub")).unwrap();
-    for out in ["data.csv", "./data.csv", "sub/../data.csv"] {
+    for out in spellings_of(s.dir(), "data.csv") {
         s.fails(
-            &[("--output", out)],
+            &[("--output", &out)],
             &["output", "same file as the data", "refusing"],
         );
     }

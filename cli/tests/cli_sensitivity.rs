@@ -22,11 +22,7 @@ struct Setup {
     tmp: TempDir,
 }
 
-impl InTempDir for Setup {
-    fn tmp(&self) -> &TempDir {
-        &self.tmp
-    }
-}
+in_temp_dir!(Setup);
 
 impl Setup {
     /// A temp dir with `cascade.json` and `in.csv` (t, x = 1, 2, label).
