@@ -4,6 +4,8 @@ use hysteron::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 
+mod common;
+
 fn ramp(n: usize, hi: f64) -> Vec<f64> {
     // up to hi, down to −hi, back to 0: covers both directions
     let q = n / 4;
@@ -246,16 +248,7 @@ impl<O: Operator<f64> + Clone + std::fmt::Debug> Operator<f64> for Counted<O> {
     fn name(&self) -> &'static str {
         "counted"
     }
-    fn trial(&mut self, x: f64) -> Result<Trial<f64>> {
-        self.trials.fetch_add(1, Ordering::Relaxed);
-        self.inner.trial(x)
-    }
-    fn commit(&mut self) {
-        self.inner.commit()
-    }
-    fn reset(&mut self) {
-        self.inner.reset()
-    }
+    common::counted_trials!(f64, inner);
 }
 
 impl<O: Operator<f64> + Clone + std::fmt::Debug> hysteron_operators::Hints<f64> for Counted<O> {
@@ -272,18 +265,7 @@ impl<O: Operator<f64> + Clone + std::fmt::Debug> hysteron_operators::SamplePerio
 impl<O: Operator<f64> + Clone + std::fmt::Debug> hysteron_operators::Parameters<f64>
     for Counted<O>
 {
-    fn n_params(&self) -> usize {
-        self.inner.n_params()
-    }
-    fn params_into(&self, out: &mut Vec<f64>) {
-        self.inner.params_into(out)
-    }
-    fn param_names(&self) -> Vec<String> {
-        self.inner.param_names()
-    }
-    fn set_params(&mut self, p: &[f64]) -> Result<()> {
-        self.inner.set_params(p)
-    }
+    common::parameters_of!(f64, inner);
 }
 
 impl<O: Operator<f64> + Clone + std::fmt::Debug> hysteron_operators::Derivatives<f64>

@@ -495,22 +495,25 @@ fn slider_params(
         ),
     )
         .prop_map(|((k, f_pos, f_neg), (b, k1, k2, k3, t))| {
-            (
-                AsymmetricFrictionParams {
-                    k,
-                    f_pos,
-                    f_neg,
-                    f0: 0.0,
-                },
-                BacklashContactParams {
-                    b,
-                    k1,
-                    k2,
-                    k3,
-                    c: t * b / 2.0,
-                },
-            )
+            slider_parts([k, f_pos, f_neg], [b, k1, k2, k3, t * b / 2.0])
         })
+}
+
+/// The friction element `[k, f_pos, f_neg]` (starting at `f0 = 0`) and
+/// the contact `[b, k1, k2, k3, c]` of a slider behind a backlash.
+fn slider_parts(
+    [k, f_pos, f_neg]: [f64; 3],
+    [b, k1, k2, k3, c]: [f64; 5],
+) -> (AsymmetricFrictionParams<f64>, BacklashContactParams<f64>) {
+    (
+        AsymmetricFrictionParams {
+            k,
+            f_pos,
+            f_neg,
+            f0: 0.0,
+        },
+        BacklashContactParams { b, k1, k2, k3, c },
+    )
 }
 
 /// The series follows the independent model: exactly 0 while the gap is
@@ -605,19 +608,8 @@ fn friction_behind_backlash_follows_the_slider_model() {
 /// b/2 + c]`.
 #[test]
 fn friction_behind_backlash_crosses_the_gap_at_zero_force() {
-    let f = AsymmetricFrictionParams {
-        k: 1e4,
-        f_pos: 2.0,
-        f_neg: 0.5,
-        f0: 0.0,
-    };
-    let g = BacklashContactParams {
-        b: 0.4,
-        k1: 5.0,
-        k2: 20.0,
-        k3: 0.0,
-        c: 0.05,
-    };
+    // [k, f_pos, f_neg], [b, k1, k2, k3, c]
+    let (f, g) = slider_parts([1e4, 2.0, 0.5], [0.4, 5.0, 20.0, 0.0, 0.05]);
     let reference = Reference::new(f, g);
     let x_turn = 1.5;
     let n = 600;
@@ -671,19 +663,11 @@ fn friction_behind_backlash_crosses_the_gap_at_zero_force() {
 /// terms the spring's memory holds, `law10_bouc_wen_inverse_near_zero_ci_case`.)
 #[test]
 fn series_solver_converges_at_the_stick_slip_kink() {
-    let f = AsymmetricFrictionParams {
-        k: 94627.34361190128,
-        f_pos: 0.05,
-        f_neg: 0.6541794282314229,
-        f0: 0.0,
-    };
-    let g = BacklashContactParams {
-        b: 0.05,
-        k1: 0.5,
-        k2: 1.1943401263402587,
-        k3: 0.0,
-        c: 0.0,
-    };
+    // [k, f_pos, f_neg], [b, k1, k2, k3, c]
+    let (f, g) = slider_parts(
+        [94627.34361190128, 0.05, 0.6541794282314229],
+        [0.05, 0.5, 1.1943401263402587, 0.0, 0.0],
+    );
     let xs = [-1.1719023606411632, -0.4787080961797828];
     let ys = slider(&f, &g).run(&xs).unwrap();
     let want = Reference::new(f, g).run(&xs);
@@ -696,19 +680,8 @@ fn series_solver_converges_at_the_stick_slip_kink() {
 /// in `[0, f_pos]`, and reports exactly 0 whenever the contact is open.
 #[test]
 fn one_way_slider_behind_backlash_runs() {
-    let f = AsymmetricFrictionParams {
-        k: 1e4,
-        f_pos: 1.0,
-        f_neg: 0.0,
-        f0: 0.0,
-    };
-    let g = BacklashContactParams {
-        b: 0.4,
-        k1: 5.0,
-        k2: 0.0,
-        k3: 1.0,
-        c: 0.0,
-    };
+    // [k, f_pos, f_neg], [b, k1, k2, k3, c]
+    let (f, g) = slider_parts([1e4, 1.0, 0.0], [0.4, 5.0, 0.0, 1.0, 0.0]);
     let xs: Vec<f64> = (0..2000)
         .map(|i| 1.2 * (i as f64 * 0.013).sin() + 0.3 * (i as f64 * 0.07).sin())
         .collect();

@@ -31,6 +31,26 @@ fn signal<T: Float>() -> Vec<T> {
     xs
 }
 
+/// The signal and the outputs of a fresh operator on it, to check others
+/// against, bit for bit.
+struct Reference<'a, T> {
+    label: &'a str,
+    xs: &'a [T],
+    ys: &'a [T],
+}
+
+impl<T: Float> Reference<'_, T> {
+    /// `op` run on the signal from sample `from` on gives the reference's
+    /// outputs there; `what` names the check.
+    fn resumed_by(&self, op: &mut impl Operator<T>, from: usize, what: &str) {
+        let label = self.label;
+        let ys = op
+            .run(&self.xs[from..])
+            .unwrap_or_else(|e| panic!("{label}: {what}: {e}"));
+        assert_eq!(bits(&ys), bits(&self.ys[from..]), "{label}: {what}");
+    }
+}
+
 /// The bits of each value (exact for `f32` too: widening is exact).
 /// The whole contract for one operator, for any scalar.
 fn check<T: Float, O: Operator<T> + Clone + 'static>(label: &str, op: O) {
@@ -41,6 +61,11 @@ fn check<T: Float, O: Operator<T> + Clone + 'static>(label: &str, op: O) {
     // process == trial + commit loop, bit for bit
     let mut a = fresh.clone();
     let reference = a.run(&xs).unwrap_or_else(|e| panic!("{label}: {e}"));
+    let expected = Reference {
+        label,
+        xs: &xs,
+        ys: &reference,
+    };
     let mut b = fresh.clone();
     assert_eq!(
         bits(&trial_commit_loop(&mut b, &xs)),
@@ -144,10 +169,10 @@ fn check<T: Float, O: Operator<T> + Clone + 'static>(label: &str, op: O) {
             .collect();
         assert_eq!(seen, offered, "{label}: process_while offers (cut {cut})");
         // the refused sample left no trace
-        assert_eq!(
-            bits(&p.run(&xs[n..]).unwrap()),
-            bits(&reference[n..]),
-            "{label}: process_while refused sample left a trace (cut {cut})"
+        expected.resumed_by(
+            &mut p,
+            n,
+            &format!("process_while refused sample left a trace (cut {cut})"),
         );
     }
     // process_while_beyond == process_while with `Beyond::admits` as keep:
@@ -170,10 +195,10 @@ fn check<T: Float, O: Operator<T> + Clone + 'static>(label: &str, op: O) {
                 bits(&reference[..n]),
                 "{label}: process_while_beyond outputs ({beyond:?})"
             );
-            assert_eq!(
-                bits(&p.run(&xs[n..]).unwrap()),
-                bits(&reference[n..]),
-                "{label}: process_while_beyond refused sample left a trace ({beyond:?})"
+            expected.resumed_by(
+                &mut p,
+                n,
+                &format!("process_while_beyond refused sample left a trace ({beyond:?})"),
             );
         }
     }
@@ -188,27 +213,15 @@ fn check<T: Float, O: Operator<T> + Clone + 'static>(label: &str, op: O) {
         "{label}: process_while past a NaN"
     );
     assert_eq!(bits(&ys[..150]), bits(&reference[..150]), "{label}");
-    assert_eq!(
-        bits(&p.run(&xs[150..]).unwrap()),
-        bits(&reference[150..]),
-        "{label}: process_while failed sample left a trace"
-    );
+    expected.resumed_by(&mut p, 150, "process_while failed sample left a trace");
 
     // replay after reset is identical (twice, and after a partial run)
     a.reset();
-    assert_eq!(
-        bits(&a.run(&xs).unwrap()),
-        bits(&reference),
-        "{label}: replay after reset"
-    );
+    expected.resumed_by(&mut a, 0, "replay after reset");
     a.reset();
     a.run(&xs[..123]).unwrap();
     a.reset();
-    assert_eq!(
-        bits(&a.run(&xs).unwrap()),
-        bits(&reference),
-        "{label}: reset after partial run"
-    );
+    expected.resumed_by(&mut a, 0, "reset after partial run");
 
     // repeated and discarded trials leave no trace
     let mut c = fresh.clone();
@@ -252,20 +265,12 @@ fn check<T: Float, O: Operator<T> + Clone + 'static>(label: &str, op: O) {
         d.trial(T::infinity()).is_err(),
         "{label}: infinite input accepted"
     );
-    assert_eq!(
-        bits(&d.run(&xs[half..]).unwrap()),
-        bits(&reference[half..]),
-        "{label}: failed trial left a trace"
-    );
+    expected.resumed_by(&mut d, half, "failed trial left a trace");
 
     // commit on a fresh operator without a trial does nothing
     let mut e = fresh.clone();
     e.commit();
-    assert_eq!(
-        bits(&e.run(&xs).unwrap()),
-        bits(&reference),
-        "{label}: commit without trial"
-    );
+    expected.resumed_by(&mut e, 0, "commit without trial");
 
     // clones are independent
     let mut f = fresh.clone();
@@ -273,31 +278,15 @@ fn check<T: Float, O: Operator<T> + Clone + 'static>(label: &str, op: O) {
     let mut g = f.clone();
     g.run(&[lit(5.0), lit(-5.0), lit(2.0)]).unwrap(); // drive the clone elsewhere
     g.reset();
-    assert_eq!(
-        bits(&f.run(&xs[half..]).unwrap()),
-        bits(&reference[half..]),
-        "{label}: clone shares state"
-    );
-    assert_eq!(
-        bits(&g.run(&xs).unwrap()),
-        bits(&reference),
-        "{label}: reset clone differs"
-    );
+    expected.resumed_by(&mut f, half, "clone shares state");
+    expected.resumed_by(&mut g, 0, "reset clone differs");
 
     // boxed equals static, and a boxed clone of a boxed operator too
     let mut boxed: Box<dyn Operator<T>> = Box::new(fresh.clone());
-    assert_eq!(
-        bits(&boxed.run(&xs).unwrap()),
-        bits(&reference),
-        "{label}: boxed vs static"
-    );
+    expected.resumed_by(&mut boxed, 0, "boxed vs static");
     let mut boxed_clone = boxed.clone();
     boxed_clone.reset();
-    assert_eq!(
-        bits(&boxed_clone.run(&xs).unwrap()),
-        bits(&reference),
-        "{label}: boxed clone"
-    );
+    expected.resumed_by(&mut boxed_clone, 0, "boxed clone");
     let mut boxed_trials = fresh.clone().boxed();
     assert_eq!(
         bits(&trial_commit_loop(&mut boxed_trials, &xs)),
@@ -342,11 +331,7 @@ fn check<T: Float, O: Operator<T> + Clone + 'static>(label: &str, op: O) {
     }
     h.run(&xs[..half]).unwrap();
     h.set_params(&p).unwrap();
-    assert_eq!(
-        bits(&h.run(&xs).unwrap()),
-        bits(&reference),
-        "{label}: set_params(params())"
-    );
+    expected.resumed_by(&mut h, 0, "set_params(params())");
     assert!(
         h.set_params(&p[..p.len().saturating_sub(1)]).is_err() || p.is_empty(),
         "{label}: short vector accepted"
@@ -462,6 +447,17 @@ fn spring(n: f64) -> BoucWen<f64> {
     .unwrap()
 }
 
+/// `left` in series with `right` across a centred gap of width `b`.
+fn across_gap<A, B>(left: A, b: f64, right: B) -> MechanicalSeries<f64, A, B>
+where
+    A: Operator<f64> + Clone + 'static,
+    B: Operator<f64> + Clone,
+{
+    left.series(right)
+        .with_limits(TravelLimits::Gap { b, r0: 0.0 })
+        .unwrap()
+}
+
 /// 37 plays: four full chunks of the vector kernels' 8 lanes and a scalar
 /// tail of 5, so process (vector) against trial + commit (portable) checks
 /// both, bit for bit (`scripts/test.sh` runs this file once more with
@@ -502,25 +498,22 @@ fn leaves() {
         })
         .unwrap(),
     );
-    check("bouc_wen n=1", spring(1.0));
-    check("bouc_wen n=1.5", spring(1.5));
-    check("bouc_wen n=2", spring(2.0));
-    check("bouc_wen n=2.7", spring(2.7));
-    check(
-        "bouc_wen n=1.5 adaptive",
-        spring(1.5).with_solver(StateSolver::Adaptive),
-    );
-    check(
-        "bouc_wen n=2.7 adaptive",
-        spring(2.7).with_solver(StateSolver::Adaptive),
-    );
+    for n in [1.0, 1.5, 2.0, 2.7] {
+        check(&format!("bouc_wen n={n}"), spring(n));
+    }
+    for n in [1.5, 2.7] {
+        check(
+            &format!("bouc_wen n={n} adaptive"),
+            spring(n).with_solver(StateSolver::Adaptive),
+        );
+    }
     check("pi bank", pi());
-    check("pi bank of 64", pi_of(64));
-    check("pi bank of 8", pi_of(8));
-    // banks the AVX-512 kernel does not keep in registers: scalar plays
-    // only, and more chunks than registers with a tail
-    check("pi bank of 5", pi_of(5));
-    check("pi bank of 100", pi_of(100));
+    // 64 and 8 plays; then banks the AVX-512 kernel does not keep in
+    // registers: scalar plays only, and more chunks than registers with a
+    // tail
+    for n in [64, 8, 5, 100] {
+        check(&format!("pi bank of {n}"), pi_of(n));
+    }
     check(
         "mass-spring-damper",
         MassSpringDamper::new(2.0, 10.0, 5e4, 1.0 / 750.0).unwrap(),
@@ -678,11 +671,7 @@ fn combinators() {
     );
     check(
         "series with gap",
-        Mms::new(2.0, 40.0)
-            .unwrap()
-            .series(spring(1.0))
-            .with_limits(TravelLimits::Gap { b: 0.3, r0: 0.0 })
-            .unwrap(),
+        across_gap(Mms::new(2.0, 40.0).unwrap(), 0.3, spring(1.0)),
     );
     check(
         "series with range",
@@ -758,11 +747,7 @@ fn nested_and_boxed() {
     let friction: Box<dyn Operator<f64>> = Mms::new(1.5, 25.0).unwrap().boxed();
     check(
         "boxed child in series",
-        friction
-            .clone()
-            .series(spring(1.5))
-            .with_limits(TravelLimits::Gap { b: 0.25, r0: 0.0 })
-            .unwrap(),
+        across_gap(friction.clone(), 0.25, spring(1.5)),
     );
     check(
         "cascade of boxes",
@@ -947,6 +932,21 @@ fn every_registered_leaf_keeps_its_hints_in_every_combinator() {
         let kind = leaf.kind();
         let l = serde_json::to_value(leaf.example_spec()).unwrap();
         let alone = given(kind, build(kind, l.clone()));
+        // a combinator that passes on one hint: the leaf's rests or
+        // curvature, or a value-only trial where both the leaf and the
+        // partner give one
+        let rests = Given {
+            rests: alone.rests,
+            ..none
+        };
+        let curvature = Given {
+            curvature: alone.curvature,
+            ..none
+        };
+        let value = Given {
+            value: alone.value && partner.value,
+            ..none
+        };
         let cases = [
             (
                 "cascade",
@@ -971,18 +971,12 @@ fn every_registered_leaf_keeps_its_hints_in_every_combinator() {
             (
                 "oversample",
                 serde_json::json!({"type": "oversample", "q": 1, "inner": l}),
-                Given {
-                    rests: alone.rests,
-                    ..none
-                },
+                rests,
             ),
             (
                 "feedback",
                 serde_json::json!({"type": "feedback", "forward": l, "back": mms}),
-                Given {
-                    value: alone.value && partner.value,
-                    ..none
-                },
+                value,
             ),
         ];
         for (name, spec, expected) in cases {
@@ -999,27 +993,18 @@ fn every_registered_leaf_keeps_its_hints_in_every_combinator() {
             (
                 "inverse",
                 serde_json::json!({"type": "inverse", "inner": l}),
-                Given {
-                    curvature: alone.curvature,
-                    ..none
-                },
+                curvature,
             ),
             (
                 "series",
                 serde_json::json!({"type": "series", "left": l, "right": mms}),
-                Given {
-                    value: alone.value && partner.value,
-                    ..none
-                },
+                value,
             ),
             (
                 "series with a gap",
                 serde_json::json!({"type": "series", "left": mms, "right": l,
                     "limits": {"type": "gap", "b": 0.2, "r0": 0.0}}),
-                Given {
-                    value: alone.value && partner.value,
-                    ..none
-                },
+                value,
             ),
         ];
         for (name, spec, expected) in implicit {

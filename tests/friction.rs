@@ -13,6 +13,7 @@ use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
 use std::cell::Cell;
 
+mod common;
 mod props;
 use props::*;
 
@@ -102,15 +103,30 @@ fn bank_rounding(p: &MaxwellSlipParams<f64>, x: f64) -> f64 {
     per + n * EPS * sum_f
 }
 
+/// Measures `law` of the Maxwell-slip bank over 256 cases of its
+/// parameters (initial forces in `±1.5 F_i`, some beyond the break-away
+/// forces) and a signal of amplitude `amplitude`.
+fn measure_maxwell_slip(
+    label: &str,
+    amplitude: f64,
+    law: impl Fn(MaxwellSlipParams<f64>, Vec<f64>) -> Result<f64, TestCaseError>,
+) {
+    measure(
+        label,
+        256,
+        (maxwell_slip(1.5), signal(amplitude, 30)),
+        |(p, xs)| law(p, xs),
+    );
+}
+
 /// The bank equals a left-nested `Parallel` of `ElastoPlastic` elements
 /// bit for bit: outputs and tangents, sample by sample.
 #[test]
 fn maxwell_slip_equals_a_parallel_of_elastoplastic_elements_bit_for_bit() {
-    measure(
+    measure_maxwell_slip(
         "maxwell-slip vs parallel elastoplastic (bits differing)",
-        256,
-        (maxwell_slip(1.5), signal(1.5, 30)),
-        |(p, xs)| {
+        1.5,
+        |p, xs| {
             let elements: Vec<ElastoPlastic<f64>> = (0..p.k.len())
                 .map(|i| {
                     ElastoPlastic::from_params(hysteron::operators::ElastoPlasticParams {
@@ -255,19 +271,14 @@ fn maxwell_slip_virgin_curve_and_masing_rules() {
 /// within the rounding allowance `(N + 4) ε`.
 #[test]
 fn maxwell_slip_force_is_bounded_by_the_sum_of_break_away_forces() {
-    measure(
-        "maxwell-slip max |F| / Σ F_i",
-        256,
-        (maxwell_slip(1.5), signal(3.0, 30)),
-        |(p, xs)| {
-            let bound: f64 = p.f_b.iter().sum();
-            let ys = ok(ok(MaxwellSlip::from_params(p.clone()))?.run(&xs))?;
-            let peak = ys.iter().fold(0.0_f64, |m, y| m.max(y.abs()));
-            let slack = (p.k.len() as f64 + 4.0) * EPS;
-            prop_assert!(peak <= bound * (1.0 + slack), "{peak} > {bound}");
-            Ok(peak / bound)
-        },
-    );
+    measure_maxwell_slip("maxwell-slip max |F| / Σ F_i", 3.0, |p, xs| {
+        let bound: f64 = p.f_b.iter().sum();
+        let ys = ok(ok(MaxwellSlip::from_params(p.clone()))?.run(&xs))?;
+        let peak = ys.iter().fold(0.0_f64, |m, y| m.max(y.abs()));
+        let slack = (p.k.len() as f64 + 4.0) * EPS;
+        prop_assert!(peak <= bound * (1.0 + slack), "{peak} > {bound}");
+        Ok(peak / bound)
+    });
 }
 
 /// Rate independence, exactly: inserting linearly interpolated samples
@@ -420,16 +431,20 @@ fn dahl_rk4(p: &DahlParams<f64>, f: f64, a: f64, b: f64, n: usize) -> f64 {
     let w_a = (1.0 - s * f / p.f_c).abs();
     let l = p.sigma * p.alpha * w_a.powf(p.alpha - 1.0) / p.f_c;
     let n = n.max(((b - a).abs() * l / 0.01).ceil() as usize);
-    let h = (b - a) / n as f64;
-    let mut f = f;
+    rk4(rhs, f, (b - a) / n as f64, n)
+}
+
+/// Classic RK4 on `dy/dt = rhs(y)` from `y`: `n` steps of `h`.
+fn rk4(rhs: impl Fn(f64) -> f64, y: f64, h: f64, n: usize) -> f64 {
+    let mut y = y;
     for _ in 0..n {
-        let k1 = rhs(f);
-        let k2 = rhs(f + h / 2.0 * k1);
-        let k3 = rhs(f + h / 2.0 * k2);
-        let k4 = rhs(f + h * k3);
-        f += h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+        let k1 = rhs(y);
+        let k2 = rhs(y + h / 2.0 * k1);
+        let k3 = rhs(y + h / 2.0 * k2);
+        let k4 = rhs(y + h * k3);
+        y += h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
     }
-    f
+    y
 }
 
 /// The closed forms for any `α ≥ 1` and any starting force (also beyond
@@ -477,39 +492,50 @@ fn dahl_agrees_with_rk4_of_the_differential_form() {
     );
 }
 
+/// Measures `law` of the Dahl model over `cases` cases of its parameters
+/// (`|f0| ≤ F_c`) and a signal of amplitude `amplitude`.
+fn measure_dahl(
+    label: &str,
+    cases: u32,
+    amplitude: f64,
+    law: impl Fn(DahlParams<f64>, Vec<f64>) -> Result<f64, TestCaseError>,
+) {
+    measure(
+        label,
+        cases,
+        (dahl(true), signal(amplitude, 30)),
+        |(p, xs)| law(p, xs),
+    );
+}
+
 /// `|F| ≤ F_c` exactly whenever `|f0| ≤ F_c`, and every branch is monotone
 /// in the direction of the input (non-decreasing while `x` rises).
 #[test]
 fn dahl_is_bounded_and_its_branches_monotone() {
-    measure(
-        "dahl max |F| / F_c",
-        512,
-        (dahl(true), signal(2.0, 30)),
-        |(p, xs)| {
-            let ys = ok(ok(Dahl::from_params(p))?.run(&xs))?;
-            let mut prev = (0.0, p.f0);
-            let mut peak = 0.0_f64;
-            for (&x, &y) in xs.iter().zip(&ys) {
-                prop_assert!(y.abs() <= p.f_c, "|{y}| > {}", p.f_c);
-                let (dx, dy) = (x - prev.0, y - prev.1);
-                prop_assert!(dx * dy >= 0.0, "not monotone: dx={dx} dy={dy}");
-                prev = (x, y);
-                peak = peak.max(y.abs() / p.f_c);
-            }
-            Ok(peak)
-        },
-    );
+    measure_dahl("dahl max |F| / F_c", 512, 2.0, |p, xs| {
+        let ys = ok(ok(Dahl::from_params(p))?.run(&xs))?;
+        let mut prev = (0.0, p.f0);
+        let mut peak = 0.0_f64;
+        for (&x, &y) in xs.iter().zip(&ys) {
+            prop_assert!(y.abs() <= p.f_c, "|{y}| > {}", p.f_c);
+            let (dx, dy) = (x - prev.0, y - prev.1);
+            prop_assert!(dx * dy >= 0.0, "not monotone: dx={dx} dy={dy}");
+            prev = (x, y);
+            peak = peak.max(y.abs() / p.f_c);
+        }
+        Ok(peak)
+    });
 }
 
 /// `α = 0` is the elastoplastic element of stiffness σ and break-away force
 /// F_c (different formulas: agreement to rounding, `8ε(σ|x| + F_c)`).
 #[test]
 fn dahl_alpha_zero_is_the_elastoplastic_element() {
-    measure(
+    measure_dahl(
         "dahl α=0 vs elastoplastic (error / 8ε(σ|x| + F_c))",
         256,
-        (dahl(true), signal(1.0, 30)),
-        |(p, xs)| {
+        1.0,
+        |p, xs| {
             let p = DahlParams { alpha: 0.0, ..p };
             let dahl = ok(ok(Dahl::from_params(p))?.run(&xs))?;
             let ep = ok(ok(ElastoPlastic::from_params(
@@ -541,19 +567,31 @@ fn lugre_params() -> impl Strategy<Value = LuGreParams<f64>> {
         (0.2..2.0f64, 0.2..3.0f64, 0.001..0.5f64, 0.5..3.0f64),
         1e-4..1e-2f64,
     )
-        .prop_map(
-            |((sigma0, sigma1, sigma2), (f_c, f_s, v_s, delta), dt)| LuGreParams {
-                sigma0,
-                sigma1,
-                sigma2,
-                f_c,
-                f_s,
-                v_s,
-                delta,
-                z0: 0.0,
-                dt,
-            },
-        )
+        .prop_map(|(bristles, stribeck, dt)| common::lugre_of(bristles, stribeck, 0.0, dt))
+}
+
+/// Measures `law` of a friction model driven at a constant velocity `v`
+/// (not 0) from rest for `n` samples, against its closed form: 256 cases
+/// of the `params`, `v` in `(−v_max, v_max)` and `n` in `1..n_end`.
+fn measure_constant_velocity<S>(
+    model: &str,
+    params: S,
+    v_max: f64,
+    n_end: usize,
+    law: impl Fn(S::Value, f64, usize) -> Result<f64, TestCaseError>,
+) where
+    S: Strategy,
+    S::Value: std::fmt::Debug,
+{
+    measure(
+        &format!("{model} constant velocity vs closed form (relative)"),
+        256,
+        (params, -v_max..v_max, 1_usize..n_end),
+        |(p, v, n)| {
+            prop_assume!(v != 0.0);
+            law(p, v, n)
+        },
+    );
 }
 
 /// The Stribeck curve written out: `F_c + (F_s − F_c) e^{−|v/v_s|^δ}`.
@@ -569,30 +607,23 @@ fn g(p: &LuGreParams<f64>, v: f64) -> f64 {
 /// `g(v) sgn(v) + σ2 v`.
 #[test]
 fn lugre_constant_velocity_closed_form_and_stribeck_curve() {
-    measure(
-        "lugre constant velocity vs closed form (relative)",
-        256,
-        (lugre_params(), -2.0..2.0f64, 1_usize..400),
-        |(p, v, n)| {
-            prop_assume!(v != 0.0);
-            let mut op = ok(LuGre::from_params(p))?;
-            let gv = g(&p, v);
-            let scale = gv + (p.sigma1 + p.sigma2) * v.abs();
-            let mut worst = 0.0_f64;
-            for k in 1..=n {
-                let x = v * p.dt * k as f64;
-                let y = ok(op.trial(x))?.output;
-                op.commit();
-                let decay = (-p.sigma0 * x.abs() / gv).exp();
-                let expected =
-                    gv * (1.0 - decay) * v.signum() + p.sigma1 * v * decay + p.sigma2 * v;
-                let e = (y - expected).abs() / scale;
-                prop_assert!(e < 1e-13 + 8.0 * EPS * k as f64, "k={k}: {y} vs {expected}");
-                worst = worst.max(e);
-            }
-            Ok(worst)
-        },
-    );
+    measure_constant_velocity("lugre", lugre_params(), 2.0, 400, |p, v, n| {
+        let mut op = ok(LuGre::from_params(p))?;
+        let gv = g(&p, v);
+        let scale = gv + (p.sigma1 + p.sigma2) * v.abs();
+        let mut worst = 0.0_f64;
+        for k in 1..=n {
+            let x = v * p.dt * k as f64;
+            let y = ok(op.trial(x))?.output;
+            op.commit();
+            let decay = (-p.sigma0 * x.abs() / gv).exp();
+            let expected = gv * (1.0 - decay) * v.signum() + p.sigma1 * v * decay + p.sigma2 * v;
+            let e = (y - expected).abs() / scale;
+            prop_assert!(e < 1e-13 + 8.0 * EPS * k as f64, "k={k}: {y} vs {expected}");
+            worst = worst.max(e);
+        }
+        Ok(worst)
+    });
     // Far into sliding the force is the Stribeck curve itself (in closed
     // form, with g written out here): the transient has decayed by
     // e^{−σ0 x/g} < e^{−50}.
@@ -708,17 +739,7 @@ fn lugre_bristle_is_bounded() {
 /// sub-steps, `v` constant (an independent explicit reference).
 fn lugre_rk4(p: &LuGreParams<f64>, z: f64, v: f64, m: usize) -> f64 {
     let a = p.sigma0 * v.abs() / g(p, v);
-    let rhs = |z: f64| v - a * z;
-    let h = p.dt / m as f64;
-    let mut z = z;
-    for _ in 0..m {
-        let k1 = rhs(z);
-        let k2 = rhs(z + h / 2.0 * k1);
-        let k3 = rhs(z + h / 2.0 * k2);
-        let k4 = rhs(z + h * k3);
-        z += h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
-    }
-    z
+    rk4(|z: f64| v - a * z, z, p.dt / m as f64, m)
 }
 
 /// The exact per-sample update against RK4 with 1000 sub-steps per sample
@@ -842,17 +863,7 @@ fn lugre_converges_under_refinement_of_dt() {
 /// force), Dahl and Maxwell-slip do not.
 #[test]
 fn lugre_is_rate_dependent() {
-    let p = LuGreParams {
-        sigma0: 1e3,
-        sigma1: 5.0,
-        sigma2: 0.2,
-        f_c: 1.0,
-        f_s: 1.5,
-        v_s: 0.5,
-        delta: 2.0,
-        z0: 0.0,
-        dt: 0.01,
-    };
+    let p = common::lugre_at_100_hz();
     let xs: Vec<f64> = (1..200).map(|k| (k as f64 * 0.05).sin()).collect();
     let a = LuGre::from_params(p).unwrap().run(&xs).unwrap();
     let b = LuGre::from_params(LuGreParams { dt: 0.1, ..p })
@@ -880,20 +891,9 @@ fn gms_params() -> impl Strategy<Value = GmsParams<f64>> {
         (1.0..100.0f64, 0.2..2.0f64, 0.2..3.0f64, 0.001..0.5f64),
         (1.0..3.0f64, 0.0..2.0f64, 1e-4..1e-2f64),
     )
-        .prop_map(
-            |(elements, (c, f_c, f_s, v_s), (delta, sigma2, dt))| GmsParams {
-                k: elements.iter().map(|e| e.0).collect(),
-                alpha: elements.iter().map(|e| e.1).collect(),
-                f0: Vec::new(),
-                c,
-                f_c,
-                f_s,
-                v_s,
-                delta,
-                sigma2,
-                dt,
-            },
-        )
+        .prop_map(|(elements, stribeck, rest)| {
+            common::gms_of(&elements, stribeck, rest, Vec::new())
+        })
 }
 
 /// With `F_s = F_c` (no Stribeck effect) and `σ2 = 0`, GMS is the
@@ -953,36 +953,30 @@ fn gms_without_stribeck_effect_is_maxwell_slip() {
 /// of the force scale).
 #[test]
 fn gms_constant_velocity_closed_form() {
-    measure(
-        "gms constant velocity vs closed form (relative)",
-        256,
-        (gms_params(), -1.0..1.0f64, 1_usize..300),
-        |(p, v, n)| {
-            prop_assume!(v != 0.0);
-            let s = p.f_c + (p.f_s - p.f_c) * (-(v.abs() / p.v_s).powf(p.delta)).exp();
-            let scale = p.alpha.iter().sum::<f64>() * p.f_c.max(p.f_s) + p.sigma2 * v.abs();
-            let mut op = ok(Gms::from_params(p.clone()))?;
-            let mut worst = 0.0_f64;
-            for j in 1..=n {
-                let x = v * p.dt * j as f64;
-                let y = ok(op.trial(x))?.output;
-                op.commit();
-                let elements: f64 =
-                    p.k.iter()
-                        .zip(&p.alpha)
-                        .map(|(k, a)| (k * x.abs()).min(a * s))
-                        .sum();
-                let expected = v.signum() * elements + p.sigma2 * v;
-                let e = (y - expected).abs() / scale;
-                prop_assert!(
-                    e <= 4.0 * EPS * (j as f64 + 4.0),
-                    "j={j}: {y} vs {expected}"
-                );
-                worst = worst.max(e);
-            }
-            Ok(worst)
-        },
-    );
+    measure_constant_velocity("gms", gms_params(), 1.0, 300, |p, v, n| {
+        let s = p.f_c + (p.f_s - p.f_c) * (-(v.abs() / p.v_s).powf(p.delta)).exp();
+        let scale = p.alpha.iter().sum::<f64>() * p.f_c.max(p.f_s) + p.sigma2 * v.abs();
+        let mut op = ok(Gms::from_params(p.clone()))?;
+        let mut worst = 0.0_f64;
+        for j in 1..=n {
+            let x = v * p.dt * j as f64;
+            let y = ok(op.trial(x))?.output;
+            op.commit();
+            let elements: f64 =
+                p.k.iter()
+                    .zip(&p.alpha)
+                    .map(|(k, a)| (k * x.abs()).min(a * s))
+                    .sum();
+            let expected = v.signum() * elements + p.sigma2 * v;
+            let e = (y - expected).abs() / scale;
+            prop_assert!(
+                e <= 4.0 * EPS * (j as f64 + 4.0),
+                "j={j}: {y} vs {expected}"
+            );
+            worst = worst.max(e);
+        }
+        Ok(worst)
+    });
 }
 
 /// Frictional lag: sliding steadily at `v1` (every element slipping at
@@ -1108,19 +1102,10 @@ fn friction_specs_build_round_trip_and_report_errors() {
         (
             r#"{"type": "lugre", "sigma0": 1000, "sigma1": 5, "sigma2": 0.2,
                 "f_c": 1, "f_s": 1.5, "v_s": 0.5, "dt": 0.01}"#,
-            LuGre::from_params(LuGreParams {
-                sigma0: 1e3,
-                sigma1: 5.0,
-                sigma2: 0.2,
-                f_c: 1.0,
-                f_s: 1.5,
-                v_s: 0.5,
-                delta: 2.0, // the default
-                z0: 0.0,
-                dt: 0.01,
-            })
-            .unwrap()
-            .boxed(),
+            // delta = 2 and z0 = 0, the defaults the text leaves out
+            LuGre::from_params(common::lugre_at_100_hz())
+                .unwrap()
+                .boxed(),
         ),
         (
             r#"{"type": "gms", "k": [20, 8], "alpha": [0.6, 0.4], "c": 15,
@@ -1253,26 +1238,9 @@ fn friction_models_run_in_f32() {
     let xs32: Vec<f32> = xs.iter().map(|&x| x as f32).collect();
     let lugre = |sigma0: f64| LuGreParams {
         sigma0,
-        sigma1: 5.0,
-        sigma2: 0.2,
-        f_c: 1.0,
-        f_s: 1.5,
-        v_s: 0.5,
-        delta: 2.0,
-        z0: 0.0,
-        dt: 0.01,
+        ..common::lugre_at_100_hz()
     };
-    let l32 = LuGreParams::<f32> {
-        sigma0: 1e3,
-        sigma1: 5.0,
-        sigma2: 0.2,
-        f_c: 1.0,
-        f_s: 1.5,
-        v_s: 0.5,
-        delta: 2.0,
-        z0: 0.0,
-        dt: 0.01,
-    };
+    let l32 = common::lugre_at_100_hz::<f32>();
     let pairs: [(&str, Vec<f64>, Vec<f32>, f64); 3] = [
         (
             "maxwell-slip",

@@ -263,13 +263,10 @@ fn law1_play_plus_stop_is_identity() {
             let p0 = f * r;
             let play = ok(Play::from_params(PlayParams { r, y0: p0 }))?;
             let stop = ok(Stop::from_params(StopParams { r, s0: -p0 }))?;
-            let yp = ok(play.clone().run(&xs))?;
-            let ys = ok(stop.clone().run(&xs))?;
-            let sum = ok(play.plus(stop).run(&xs))?;
+            let (yp, ys, sum) = outputs_and_sum(play, stop, &xs)?;
             let mut worst = 0.0_f64;
             for k in 0..xs.len() {
                 let x = xs[k];
-                prop_assert_eq!(sum[k], yp[k] + ys[k]);
                 let e = (sum[k] - x).abs();
                 prop_assert!(
                     e <= 1e-12 * x.abs().max(1.0),
@@ -285,6 +282,25 @@ fn law1_play_plus_stop_is_identity() {
             Ok(worst)
         },
     );
+}
+
+/// The outputs of two operators and of their parallel connection.
+type ParallelOutputs = (Vec<f64>, Vec<f64>, Vec<f64>);
+
+/// The outputs of `a`, of `b` and of `a.plus(b)` on `xs`, checked: the
+/// parallel's output is the sum of theirs, exactly.
+fn outputs_and_sum<A, B>(a: A, b: B, xs: &[f64]) -> Result<ParallelOutputs, TestCaseError>
+where
+    A: Operator<f64> + Clone + 'static,
+    B: Operator<f64> + Clone + 'static,
+{
+    let ya = ok(a.clone().run(xs))?;
+    let yb = ok(b.clone().run(xs))?;
+    let sum = ok(a.plus(b).run(xs))?;
+    for k in 0..xs.len() {
+        prop_assert_eq!(sum[k], ya[k] + yb[k], "sample {}", k);
+    }
+    Ok((ya, yb, sum))
 }
 
 // ---------------------------------------------------------------------------
@@ -531,13 +547,10 @@ fn law5_dead_zone_plus_saturation_is_identity() {
             let (lo, hi) = (lo * s, hi * s);
             let dz = ok(DeadZone::new(lo, hi))?;
             let sat = ok(Saturation::new(lo, hi))?;
-            let yd = ok(dz.clone().run(&xs))?;
-            let ys = ok(sat.clone().run(&xs))?;
-            let sum = ok(dz.plus(sat).run(&xs))?;
+            let (_, _, sum) = outputs_and_sum(dz, sat, &xs)?;
             let mut worst = 0.0_f64;
             for k in 0..xs.len() {
                 let x = xs[k];
-                prop_assert_eq!(sum[k], yd[k] + ys[k]);
                 if (lo..=hi).contains(&x) {
                     prop_assert_eq!(sum[k], x, "inside the limits, sample {}", k);
                 } else {
@@ -584,6 +597,18 @@ fn mms_case() -> impl Strategy<Value = (MmsParams<f64>, Vec<f64>)> {
         })
 }
 
+/// Measures a law of MMS friction over 1024 cases of [`mms_case`]: `law`
+/// gets the parameters, the input and the output, and returns the measure.
+fn measure_mms(
+    label: &str,
+    law: impl Fn(MmsParams<f64>, &[f64], &[f64]) -> Result<f64, TestCaseError>,
+) {
+    measure(label, 1024, mms_case(), |(p, xs)| {
+        let ys = ok(ok(Mms::from_params(p))?.run(&xs))?;
+        law(p, &xs, &ys)
+    });
+}
+
 /// For `F_c > 0`, `K > 0`, `|y0| ≤ F_c`, the friction force stays in
 /// `[−F_c, F_c]`, exactly. Measured: the excess `|y| − F_c` in units of
 /// `ε F_c`.
@@ -593,27 +618,21 @@ fn mms_case() -> impl Strategy<Value = (MmsParams<f64>, Vec<f64>)> {
 /// the branch value is now clamped between `y_r` and `±F_c`.
 #[test]
 fn law6_mms_bounded() {
-    measure(
-        "law 6 MMS |y| − F_c [ulp of F_c]",
-        1024,
-        mms_case(),
-        |(p, xs)| {
-            let ys = ok(ok(Mms::from_params(p))?.run(&xs))?;
-            let mut worst = f64::NEG_INFINITY;
-            for (i, (&x, &y)) in xs.iter().zip(&ys).enumerate() {
-                worst = worst.max((y.abs() - p.f_c) / (EPS * p.f_c));
-                prop_assert!(
-                    y.abs() <= p.f_c,
-                    "sample {} (x = {:e}): |y| = {:e} > F_c = {:e}",
-                    i,
-                    x,
-                    y.abs(),
-                    p.f_c
-                );
-            }
-            Ok(worst)
-        },
-    );
+    measure_mms("law 6 MMS |y| − F_c [ulp of F_c]", |p, xs, ys| {
+        let mut worst = f64::NEG_INFINITY;
+        for (i, (&x, &y)) in xs.iter().zip(ys).enumerate() {
+            worst = worst.max((y.abs() - p.f_c) / (EPS * p.f_c));
+            prop_assert!(
+                y.abs() <= p.f_c,
+                "sample {} (x = {:e}): |y| = {:e} > F_c = {:e}",
+                i,
+                x,
+                y.abs(),
+                p.f_c
+            );
+        }
+        Ok(worst)
+    });
 }
 
 /// Coulomb saturation: after travel `d` since the last reversal (tracked
@@ -623,16 +642,13 @@ fn law6_mms_bounded() {
 /// of `ε F_c` (≤ 0: no slack needed).
 #[test]
 fn law6_mms_convergence() {
-    measure(
+    measure_mms(
         "law 6 MMS |y − sgn(ẋ)F_c| − 2F_c e^(−Kd) [ulp of F_c]",
-        1024,
-        mms_case(),
-        |(p, xs)| {
-            let ys = ok(ok(Mms::from_params(p))?.run(&xs))?;
+        |p, xs, ys| {
             let slack = 4.0 * EPS * p.f_c;
             let mut worst = f64::NEG_INFINITY;
             let (mut x_prev, mut dir, mut x_r) = (0.0, 0_i8, 0.0);
-            for (i, (&x, &y)) in xs.iter().zip(&ys).enumerate() {
+            for (i, (&x, &y)) in xs.iter().zip(ys).enumerate() {
                 let d = if x > x_prev {
                     1
                 } else if x < x_prev {
@@ -889,18 +905,36 @@ fn bw_refinement_error(
 /// outputs) unchanged, bit for bit.
 #[test]
 fn law7_rate_independence_bouc_wen_n1() {
-    let strategy = (bouc_wen(Just(1.0)), signal(12), refinement());
-    measure(
+    measure_bw_refinement(
         "law 7 Bouc-Wen n = 1, refined − coarse [relative to max|h|]",
         1024,
-        strategy,
-        |(p, xs, ms)| {
-            let xs: Vec<f64> = xs.iter().map(|x| 3.0 * x).collect();
-            let e = bw_refinement_error(p, StateSolver::Tabulated, &xs, &ms)?;
+        (bouc_wen(Just(1.0)), signal(12), refinement()),
+        StateSolver::Tabulated,
+        |_, e| {
             prop_assert!(e == 0.0, "relative error {:e}", e);
-            Ok(e)
+            Ok(())
         },
     );
+}
+
+/// Measures law 7 ([`bw_refinement_error`] on three times the signal,
+/// solved by `solver`) over `n` cases of `strategy`; `check` holds each
+/// case's parameters to its error.
+fn measure_bw_refinement<S>(
+    label: &str,
+    n: u32,
+    strategy: S,
+    solver: StateSolver,
+    check: impl Fn(&BoucWenParams<f64>, f64) -> Result<(), TestCaseError>,
+) where
+    S: Strategy<Value = (BoucWenParams<f64>, Vec<f64>, Vec<usize>)>,
+{
+    measure(label, n, strategy, |(p, xs, ms)| {
+        let xs: Vec<f64> = xs.iter().map(|x| 3.0 * x).collect();
+        let e = bw_refinement_error(p.clone(), solver, &xs, &ms)?;
+        check(&p, e)?;
+        Ok(e)
+    });
 }
 
 /// Bouc-Wen with non-integer `n ∈ (1, 4)` solved step by step
@@ -914,16 +948,14 @@ fn law7_rate_independence_bouc_wen_n1() {
 /// (`LAWS_CASES_FACTOR=40`).
 #[test]
 fn law7_rate_independence_bouc_wen_general_n() {
-    let strategy = (bouc_wen(exponent_non_integer()), signal(10), refinement());
-    measure(
+    measure_bw_refinement(
         "law 7 Bouc-Wen non-integer n, refined − coarse [relative to max|h|]",
         8192,
-        strategy,
-        |(p, xs, ms)| {
-            let xs: Vec<f64> = xs.iter().map(|x| 3.0 * x).collect();
-            let e = bw_refinement_error(p, StateSolver::Adaptive, &xs, &ms)?;
+        (bouc_wen(exponent_non_integer()), signal(10), refinement()),
+        StateSolver::Adaptive,
+        |_, e| {
             prop_assert!(e <= 1e-7, "relative error {:e}", e);
-            Ok(e)
+            Ok(())
         },
     );
 }
@@ -936,22 +968,20 @@ fn law7_rate_independence_bouc_wen_general_n() {
 /// held to the adaptive solver's `1e-7 · max|h|`.
 #[test]
 fn law7_rate_independence_bouc_wen_tabulated() {
-    let strategy = (bouc_wen(exponent_non_integer()), signal(10), refinement());
-    measure(
+    measure_bw_refinement(
         "law 7 Bouc-Wen non-integer n, tabulated, refined − coarse [relative to max|h|]",
         2048,
-        strategy,
-        |(p, xs, ms)| {
+        (bouc_wen(exponent_non_integer()), signal(10), refinement()),
+        StateSolver::Tabulated,
+        |p, e| {
             let inside = p.h0.abs() <= bw_bound(p.alpha, p.beta, p.gamma, p.n);
             prop_assert!(ok(BoucWen::from_params(p.clone()))?.is_tabulated());
-            let xs: Vec<f64> = xs.iter().map(|x| 3.0 * x).collect();
-            let e = bw_refinement_error(p, StateSolver::Tabulated, &xs, &ms)?;
             if inside {
                 prop_assert!(e == 0.0, "relative error {:e}", e);
             } else {
                 prop_assert!(e <= 1e-7, "relative error {:e}", e);
             }
-            Ok(e)
+            Ok(())
         },
     );
 }
@@ -1605,10 +1635,17 @@ fn law10_bouc_wen_inverse_near_zero_reproduction() {
         1.0,
     )
     .unwrap();
-    let xs: Vec<f64> = [0.9713996441659665, -0.9733122724984214, 0.0, 0.0]
-        .iter()
-        .map(|x| 0.1 * x)
-        .collect();
+    inverse_is_exact(
+        bw,
+        0.1,
+        &[0.9713996441659665, -0.9733122724984214, 0.0, 0.0],
+    );
+}
+
+/// A case of law 10 for the spring `bw` on the input `scale · xs`: both
+/// compositions with the inverse give back their input to 1e-12.
+fn inverse_is_exact(bw: BoucWen<f64>, scale: f64, xs: &[f64]) {
+    let xs: Vec<f64> = xs.iter().map(|x| scale * x).collect();
     let (e1, e2) = inverse_errors(bw, &xs).unwrap();
     assert!(e1 <= 1e-12 && e2 <= 1e-12, "{e1:e} {e2:e}");
 }
@@ -1625,12 +1662,7 @@ fn law10_bouc_wen_inverse_near_zero_reproduction() {
 #[test]
 fn law10_bouc_wen_inverse_near_zero_ci_case() {
     let bw = BoucWen::constant(0.5, 0.05, 2.85768174744632, 0.05, 0.05, 1.0).unwrap();
-    let xs: Vec<f64> = [0.00010584419514600915, 0.0, 0.0]
-        .iter()
-        .map(|x| 3.0 * x)
-        .collect();
-    let (e1, e2) = inverse_errors(bw, &xs).unwrap();
-    assert!(e1 <= 1e-12 && e2 <= 1e-12, "{e1:e} {e2:e}");
+    inverse_is_exact(bw, 3.0, &[0.00010584419514600915, 0.0, 0.0]);
 }
 
 #[test]

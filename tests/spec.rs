@@ -20,6 +20,8 @@ use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
 use std::path::PathBuf;
 
+mod common;
+
 // ---------------------------------------------------------------------------
 // Random specs
 // ---------------------------------------------------------------------------
@@ -167,19 +169,7 @@ fn lugre() -> impl Strategy<Value = LuGreParams<f64>> {
         (0.1..2.0f64, 0.1..3.0f64, 0.001..1.0f64, 0.5..3.0f64),
         (num(-1e-3, 1e-3), 0.001..0.1f64),
     )
-        .prop_map(
-            |((sigma0, sigma1, sigma2), (f_c, f_s, v_s, delta), (z0, dt))| LuGreParams {
-                sigma0,
-                sigma1,
-                sigma2,
-                f_c,
-                f_s,
-                v_s,
-                delta,
-                z0,
-                dt,
-            },
-        )
+        .prop_map(|(bristles, stribeck, (z0, dt))| common::lugre_of(bristles, stribeck, z0, dt))
 }
 
 fn gms() -> impl Strategy<Value = GmsParams<f64>> {
@@ -196,20 +186,7 @@ fn gms() -> impl Strategy<Value = GmsParams<f64>> {
             ];
             (Just(elements), Just(stribeck), Just(rest), f0)
         })
-        .prop_map(
-            |(elements, (c, f_c, f_s, v_s), (delta, sigma2, dt), f0)| GmsParams {
-                k: elements.iter().map(|e| e.0).collect(),
-                alpha: elements.iter().map(|e| e.1).collect(),
-                f0,
-                c,
-                f_c,
-                f_s,
-                v_s,
-                delta,
-                sigma2,
-                dt,
-            },
-        )
+        .prop_map(|(elements, stribeck, rest, f0)| common::gms_of(&elements, stribeck, rest, f0))
 }
 
 fn transmission() -> impl Strategy<Value = TransmissionParams> {
@@ -1017,6 +994,12 @@ fn examples() -> Vec<(&'static str, Spec)> {
             hysteron::operators::GainParams { k },
         ))
     };
+    let eight_plays = PiBankParams {
+        a0: 0.2,
+        r: vec![0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7],
+        w: vec![1.0, 0.6, 0.4, 0.3, 0.2, 0.15, 0.1, 0.05],
+        y0: vec![],
+    };
     vec![
         // The paper's model (illustrative default parameters) from the
         // algebra: MMS slider in a backlash gap, in series with the spring.
@@ -1024,23 +1007,13 @@ fn examples() -> Vec<(&'static str, Spec)> {
         // A Prandtl-Ishlinskii operator with eight plays.
         (
             "prandtl-ishlinskii.json",
-            Spec::leaf::<hysteron::composition::PiBank<f64>>(PiBankParams {
-                a0: 0.2,
-                r: vec![0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7],
-                w: vec![1.0, 0.6, 0.4, 0.3, 0.2, 0.15, 0.1, 0.05],
-                y0: vec![],
-            }),
+            Spec::leaf::<hysteron::composition::PiBank<f64>>(eight_plays.clone()),
         ),
         // The analytic inverse of that operator (a compensator): the same
         // fields, type `pi_inverse`.
         (
             "pi-inverse.json",
-            Spec::leaf::<hysteron::composition::PiInverse<f64>>(PiBankParams {
-                a0: 0.2,
-                r: vec![0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7],
-                w: vec![1.0, 0.6, 0.4, 0.3, 0.2, 0.15, 0.1, 0.05],
-                y0: vec![],
-            }),
+            Spec::leaf::<hysteron::composition::PiInverse<f64>>(eight_plays),
         ),
         // A Preisach model with the closed-form two-peak Everett function.
         (
@@ -1118,17 +1091,7 @@ fn examples() -> Vec<(&'static str, Spec)> {
         // or `--time-column` overrides the dt).
         (
             "lugre.json",
-            Spec::leaf::<hysteron::operators::LuGre<f64>>(LuGreParams {
-                sigma0: 1e3,
-                sigma1: 5.0,
-                sigma2: 0.2,
-                f_c: 1.0,
-                f_s: 1.5,
-                v_s: 0.5,
-                delta: 2.0,
-                z0: 0.0,
-                dt: 0.01,
-            }),
+            Spec::leaf::<hysteron::operators::LuGre<f64>>(common::lugre_at_100_hz()),
         ),
         // Generalized Maxwell-slip friction sampled at 100 Hz: four
         // elements, Stribeck velocity 0.5, attraction rate 20 per second.
@@ -1343,24 +1306,23 @@ fn rate_dependent_errors_name_the_path() {
         },
         "scaled.inner.oversample.inner.viscous_damper.dt: must be > 0 (got -0.1)",
     );
-    invalid(
-        &Spec::Oversample {
-            inner: Box::new(Spec::leaf::<hysteron::operators::Gain<f64>>(
-                hysteron::operators::GainParams { k: 1.0 },
-            )),
-            q: 0,
-        },
-        "oversample.q: must lie in [1, 100000] (got 0)",
-    );
-    invalid(
-        &Spec::Oversample {
-            inner: Box::new(Spec::leaf::<hysteron::operators::Gain<f64>>(
-                hysteron::operators::GainParams { k: 1.0 },
-            )),
-            q: 1_000_000,
-        },
-        "oversample.q: must lie in [1, 100000] (got 1000000)",
-    );
+    for (q, expected) in [
+        (0, "oversample.q: must lie in [1, 100000] (got 0)"),
+        (
+            1_000_000,
+            "oversample.q: must lie in [1, 100000] (got 1000000)",
+        ),
+    ] {
+        invalid(
+            &Spec::Oversample {
+                inner: Box::new(Spec::leaf::<hysteron::operators::Gain<f64>>(
+                    hysteron::operators::GainParams { k: 1.0 },
+                )),
+                q,
+            },
+            expected,
+        );
+    }
     // a rate-dependent leaf may leave dt out (it reads), but does not build
     // until the period is given; fields are strict, q is a count
     for (text, path) in [
@@ -1418,16 +1380,20 @@ fn rate_dependent_errors_name_the_path() {
 /// parameter).
 #[test]
 fn with_dt_sets_the_period_the_tree_gives_every_rate_dependent_node() {
-    let spec = Spec::Cascade {
+    // the tree, with the oscillator's and the damper's sample periods
+    let tree = |msd_dt, damper_dt| Spec::Cascade {
         first: Box::new(Spec::Oversample {
             inner: Box::new(Spec::leaf::<hysteron::operators::MassSpringDamper<f64>>(
-                msd_params(0.01),
+                msd_params(msd_dt),
             )),
             q: 3,
         }),
         second: Box::new(Spec::Parallel {
             left: Box::new(Spec::leaf::<hysteron::operators::ViscousDamper<f64>>(
-                hysteron::operators::ViscousDamperParams { c: 2.0, dt: 0.02 },
+                hysteron::operators::ViscousDamperParams {
+                    c: 2.0,
+                    dt: damper_dt,
+                },
             )),
             right: Box::new(Spec::leaf::<hysteron::operators::Play<f64>>(PlayParams {
                 r: 0.1,
@@ -1435,23 +1401,8 @@ fn with_dt_sets_the_period_the_tree_gives_every_rate_dependent_node() {
             })),
         }),
     };
-    let expected = Spec::Cascade {
-        first: Box::new(Spec::Oversample {
-            inner: Box::new(Spec::leaf::<hysteron::operators::MassSpringDamper<f64>>(
-                msd_params(0.5 / 3.0),
-            )),
-            q: 3,
-        }),
-        second: Box::new(Spec::Parallel {
-            left: Box::new(Spec::leaf::<hysteron::operators::ViscousDamper<f64>>(
-                hysteron::operators::ViscousDamperParams { c: 2.0, dt: 0.5 },
-            )),
-            right: Box::new(Spec::leaf::<hysteron::operators::Play<f64>>(PlayParams {
-                r: 0.1,
-                y0: 0.0,
-            })),
-        }),
-    };
+    let spec = tree(0.01, 0.02);
+    let expected = tree(0.5 / 3.0, 0.5);
     assert_eq!(spec.with_dt(0.5), expected);
     assert!(spec.is_rate_dependent());
     // rate-independent trees are unchanged

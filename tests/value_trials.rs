@@ -14,6 +14,16 @@ use hysteron_operators::Derivatives;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 
+mod common;
+
+/// The benchmark's parameters with `n = 1.5`: the spring on its table.
+fn benchmark_on_its_table() -> BoucWenBenchmarkParams {
+    BoucWenBenchmarkParams {
+        n: 1.5,
+        ..BoucWenBenchmarkParams::published()
+    }
+}
+
 /// A walk with reversals of every size and stretches held still, scaled
 /// to `a`.
 fn walk(n: usize, a: f64) -> Vec<f64> {
@@ -104,10 +114,7 @@ fn every_leaf_gives_the_values_of_its_trials() {
 /// (`n = 1`) away from a start at rest.
 #[test]
 fn the_oscillator_and_the_tabulated_spring_have_value_paths() {
-    let p = BoucWenBenchmarkParams {
-        n: 1.5,
-        ..BoucWenBenchmarkParams::published()
-    };
+    let p = benchmark_on_its_table();
     // displacements of the benchmark's size (its output RMS is 6.7e-4 m)
     let xs = walk(2000, 6e-4);
     let msd = seeded(p.oscillator().unwrap().to_dual().unwrap());
@@ -150,16 +157,7 @@ impl Operator<Dual> for Counted {
     fn name(&self) -> &'static str {
         self.op.name()
     }
-    fn trial(&mut self, x: Dual) -> Result<Trial<Dual>> {
-        self.trials.fetch_add(1, Ordering::Relaxed);
-        self.op.trial(x)
-    }
-    fn commit(&mut self) {
-        self.op.commit()
-    }
-    fn reset(&mut self) {
-        self.op.reset()
-    }
+    common::counted_trials!(Dual, op);
 }
 
 impl hysteron_operators::Hints<Dual> for Counted {
@@ -186,18 +184,7 @@ impl hysteron_operators::Hints<Dual> for Counted {
 impl hysteron_operators::SamplePeriod<Dual> for Counted {}
 
 impl hysteron_operators::Parameters<Dual> for Counted {
-    fn n_params(&self) -> usize {
-        self.op.n_params()
-    }
-    fn params_into(&self, out: &mut Vec<Dual>) {
-        self.op.params_into(out)
-    }
-    fn param_names(&self) -> Vec<String> {
-        self.op.param_names()
-    }
-    fn set_params(&mut self, p: &[Dual]) -> Result<()> {
-        self.op.set_params(p)
-    }
+    common::parameters_of!(Dual, op);
 }
 
 impl hysteron_operators::Derivatives<Dual> for Counted {}
@@ -253,10 +240,7 @@ fn assert_same_outputs(label: &str, by_value: &[Dual], by_duals: &[Dual], seeded
 /// Newton steps and two at the root), and the same outputs.
 #[test]
 fn a_loop_searched_on_values_has_the_roots_and_derivatives_of_one_searched_on_duals() {
-    let p = BoucWenBenchmarkParams {
-        n: 1.5,
-        ..BoucWenBenchmarkParams::published()
-    };
+    let p = benchmark_on_its_table();
     // a force of 60 N, 25 Hz at 15 kHz, rising from rest
     let xs: Vec<Dual> = (0..6000)
         .map(|i| {
@@ -289,10 +273,7 @@ fn a_loop_searched_on_values_has_the_roots_and_derivatives_of_one_searched_on_du
 /// to the period are those of the search over dual numbers.
 #[test]
 fn a_probe_slot_taken_by_a_sample_period_is_not_folded() {
-    let p = BoucWenBenchmarkParams {
-        n: 1.5,
-        ..BoucWenBenchmarkParams::published()
-    };
+    let p = benchmark_on_its_table();
     let xs: Vec<Dual> = (0..3000)
         .map(|i| Dual::constant(60.0 * (25.0 * std::f64::consts::TAU * i as f64 * p.dt()).sin()))
         .collect();

@@ -129,11 +129,7 @@ struct Setup {
 
 const INPUT: &str = "t,x,label\n0,0,start\n0.1,0.4,\"a, b\"\n0.2,1.2,c\n0.3,-0.3,d\n0.4,0.9,e\n";
 
-impl InTempDir for Setup {
-    fn tmp(&self) -> &TempDir {
-        &self.tmp
-    }
-}
+in_temp_dir!(Setup);
 
 impl Setup {
     fn new() -> Self {
@@ -164,6 +160,13 @@ impl Setup {
     }
 }
 
+/// `--model MODEL --input INPUT --output OUTPUT`, then `extra`.
+fn files<'a>(model: &'a str, input: &'a str, output: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
+    let mut args = vec!["--model", model, "--input", input, "--output", output];
+    args.extend(extra);
+    args
+}
+
 fn run_in_process(spec_path: &Path, xs: &[f64]) -> Vec<f64> {
     let mut model = Spec::from_json_file(spec_path).unwrap().build().unwrap();
     model.run(xs).unwrap()
@@ -172,21 +175,15 @@ fn run_in_process(spec_path: &Path, xs: &[f64]) -> Vec<f64> {
 #[test]
 fn simulate_matches_the_spec_run_in_process() {
     let s = Setup::new();
-    let assert = s
-        .simulate(&[
-            "--model",
+    succeeds_saying(
+        &mut s.simulate(&files(
             "model.json",
-            "--input",
             "in.csv",
-            "--output",
             "out.csv",
-            "--plot",
-            "loop.svg",
-        ])
-        .assert()
-        .success();
-    let stdout = stdout_of(&assert);
-    assert!(stdout.contains("simulated 5 samples"), "{stdout}");
+            &["--plot", "loop.svg"],
+        )),
+        &["simulated 5 samples"],
+    );
     let (headers, rows) = read_csv(&s.path("out.csv"));
     assert_eq!(headers, ["t", "x", "label", "y"]);
     // All input columns kept verbatim (the quoted comma too).
@@ -218,13 +215,7 @@ fn simulate_every_example_spec() {
     assert!(paths.iter().any(|p| p.ends_with("paper.json")), "{paths:?}");
     let s = Setup::new();
     // Two cycles of a 1.2 deg sine, 400 samples.
-    let x: Vec<f64> = (0..400)
-        .map(|i| 1.2 * (std::f64::consts::TAU * i as f64 / 200.0).sin())
-        .collect();
-    let mut text = String::from("i,x\n");
-    for (i, v) in x.iter().enumerate() {
-        text.push_str(&format!("{i},{v}\n"));
-    }
+    let (text, x) = two_sine_cycles(400);
     s.write("sine.csv", &text);
     for spec in &paths {
         s.simulate(&[
@@ -261,31 +252,13 @@ fn simulate_hand_written_spec_on_another_column() {
     s.write("u.csv", "u;v\n0;1\n3;2\n1;3\n");
     // Not comma-separated: one column named "u;v", so `u` is missing.
     s.fails(
-        &[
-            "--model",
-            "cascade.json",
-            "--input",
-            "u.csv",
-            "--column",
-            "u",
-            "--output",
-            "o.csv",
-        ],
+        &files("cascade.json", "u.csv", "o.csv", &["--column", "u"]),
         &["u.csv", "no column `u`"],
     );
     s.write("u.csv", "v,u\n1,0\n2,3\n3,1\n4,-2\n");
-    s.simulate(&[
-        "--model",
-        "cascade.json",
-        "--input",
-        "u.csv",
-        "--column",
-        "u",
-        "--output",
-        "o.csv",
-    ])
-    .assert()
-    .success();
+    s.simulate(&files("cascade.json", "u.csv", "o.csv", &["--column", "u"]))
+        .assert()
+        .success();
     let (headers, rows) = read_csv(&s.path("o.csv"));
     assert_eq!(headers, ["v", "u", "y"]);
     // play 0.5: 0, 2.5, 1.5, -1.5; dead-zone ±0.25: 0, 2.25, 1.25, -1.25.
@@ -315,271 +288,148 @@ fn simulate_overwrites_an_existing_output_atomically() {
     assert_no_temp_files(s.dir());
 }
 
-#[test]
-fn simulate_error_missing_model_file() {
-    let s = Setup::new();
-    s.fails(
-        &[
-            "--model",
-            "nope.json",
-            "--input",
-            "in.csv",
-            "--output",
-            "out.csv",
-        ],
-        &["model `nope.json`", "No such file"],
-    );
-}
+/// A `simulate` that must fail: the files written first (name and text),
+/// the arguments, and what the error says.
+type Refusal<'a> = (Vec<(&'a str, &'a str)>, Vec<&'a str>, &'a [&'a str]);
 
+/// A model that is missing, malformed, invalid or fails at a sample, an
+/// input that is missing or lacks the column, a cell that is not a number
+/// or not finite, an empty file or a ragged row: the one-line error names
+/// the model or the input (and the field, or the sample, row and column).
 #[test]
-fn simulate_error_malformed_spec_json() {
+fn simulate_errors_name_the_bad_model_or_input() {
     let s = Setup::new();
-    s.write("bad.json", "{\"type\": \"play\",\n \"r\": }\n");
-    s.fails(
-        &[
-            "--model", "bad.json", "--input", "in.csv", "--output", "out.csv",
-        ],
-        &["model `bad.json`", "line 2"],
-    );
-    s.write("bad.json", r#"{"type": "cascade", "first": {"type": "plya", "r": 1}, "second": {"type": "gain", "k": 1}}"#);
-    s.fails(
-        &[
-            "--model", "bad.json", "--input", "in.csv", "--output", "out.csv",
-        ],
-        &["model `bad.json`", "first.type", "plya"],
-    );
-}
-
-#[test]
-fn simulate_error_invalid_spec_parameter_names_the_field() {
-    let s = Setup::new();
-    s.write(
-        "bad.json",
-        r#"{"type": "scaled", "w": 2, "inner": {"type": "play", "r": -1}}"#,
-    );
-    s.fails(
-        &[
-            "--model", "bad.json", "--input", "in.csv", "--output", "out.csv",
-        ],
-        &["model `bad.json`", "scaled.inner.play.r", "-1"],
-    );
-}
-
-#[test]
-fn simulate_error_missing_input_file() {
-    let s = Setup::new();
-    s.fails(
-        &[
-            "--model",
-            "model.json",
-            "--input",
-            "nope.csv",
-            "--output",
-            "out.csv",
-        ],
-        &["input `nope.csv`", "No such file"],
-    );
-}
-
-#[test]
-fn simulate_error_missing_column() {
-    let s = Setup::new();
-    s.fails(
-        &[
-            "--model",
-            "model.json",
-            "--input",
-            "in.csv",
-            "--column",
-            "theta",
-            "--output",
-            "out.csv",
-        ],
-        &["input `in.csv`", "no column `theta`", "`t`, `x`, `label`"],
-    );
-}
-
-#[test]
-fn simulate_error_non_numeric_cell() {
-    let s = Setup::new();
-    s.write("in2.csv", "t,x\n0,0\n1,0.5\n2,abc\n");
-    s.fails(
-        &[
-            "--model",
-            "model.json",
-            "--input",
-            "in2.csv",
-            "--output",
-            "out.csv",
-        ],
-        &[
-            "input `in2.csv`",
-            "row 3 (line 4)",
-            "column `x`",
-            "`abc` is not a number",
-        ],
-    );
-    // An empty cell is not a number either.
-    s.write("in2.csv", "t,x\n0,\n");
-    s.fails(
-        &[
-            "--model",
-            "model.json",
-            "--input",
-            "in2.csv",
-            "--output",
-            "out.csv",
-        ],
-        &["row 1 (line 2)", "column `x`", "not a number"],
-    );
-}
-
-#[test]
-fn simulate_error_non_finite_cells() {
-    let s = Setup::new();
-    for bad in ["NaN", "inf", "-inf", "infinity"] {
-        s.write("in2.csv", &format!("t,x\n0,0\n1,{bad}\n2,1\n"));
-        s.fails(
-            &[
-                "--model",
-                "model.json",
-                "--input",
-                "in2.csv",
-                "--output",
-                "out.csv",
+    let non_finite =
+        ["NaN", "inf", "-inf", "infinity"].map(|bad| format!("t,x\n0,0\n1,{bad}\n2,1\n"));
+    let mut cases: Vec<Refusal> = vec![
+        (
+            vec![],
+            files("nope.json", "in.csv", "out.csv", &[]),
+            &["model `nope.json`", "No such file"],
+        ),
+        (
+            vec![("bad.json", "{\"type\": \"play\",\n \"r\": }\n")],
+            files("bad.json", "in.csv", "out.csv", &[]),
+            &["model `bad.json`", "line 2"],
+        ),
+        (
+            vec![(
+                "bad.json",
+                r#"{"type": "cascade", "first": {"type": "plya", "r": 1}, "second": {"type": "gain", "k": 1}}"#,
+            )],
+            files("bad.json", "in.csv", "out.csv", &[]),
+            &["model `bad.json`", "first.type", "plya"],
+        ),
+        (
+            vec![(
+                "bad.json",
+                r#"{"type": "scaled", "w": 2, "inner": {"type": "play", "r": -1}}"#,
+            )],
+            files("bad.json", "in.csv", "out.csv", &[]),
+            &["model `bad.json`", "scaled.inner.play.r", "-1"],
+        ),
+        // The inverse of a saturation has no solution beyond the limits.
+        (
+            vec![
+                (
+                    "inv.json",
+                    r#"{"type": "inverse", "inner": {"type": "saturation", "lo": -1, "hi": 1}}"#,
+                ),
+                ("in2.csv", "t,x\n0,0\n1,0.5\n2,1.5\n3,0\n"),
             ],
+            files("inv.json", "in2.csv", "out.csv", &[]),
+            &[
+                "model `inv.json`",
+                "sample 2",
+                "`in2.csv`",
+                "row 3 (line 4)",
+                "column `x`",
+                "1.5",
+            ],
+        ),
+        (
+            vec![],
+            files("model.json", "nope.csv", "out.csv", &[]),
+            &["input `nope.csv`", "No such file"],
+        ),
+        (
+            vec![],
+            files("model.json", "in.csv", "out.csv", &["--column", "theta"]),
+            &["input `in.csv`", "no column `theta`", "`t`, `x`, `label`"],
+        ),
+        (
+            vec![("in2.csv", "t,x\n0,0\n1,0.5\n2,abc\n")],
+            files("model.json", "in2.csv", "out.csv", &[]),
+            &[
+                "input `in2.csv`",
+                "row 3 (line 4)",
+                "column `x`",
+                "`abc` is not a number",
+            ],
+        ),
+        // An empty cell is not a number either.
+        (
+            vec![("in2.csv", "t,x\n0,\n")],
+            files("model.json", "in2.csv", "out.csv", &[]),
+            &["row 1 (line 2)", "column `x`", "not a number"],
+        ),
+        (
+            vec![("hdr.csv", "t,x\n")],
+            files("model.json", "hdr.csv", "out.csv", &[]),
+            &["input `hdr.csv`", "no data rows"],
+        ),
+        (
+            vec![("empty.csv", "")],
+            files("model.json", "empty.csv", "out.csv", &[]),
+            &["input `empty.csv`", "empty file"],
+        ),
+        (
+            vec![("rag.csv", "t,x\n0,0\n1\n")],
+            files("model.json", "rag.csv", "out.csv", &[]),
+            &["input `rag.csv`", "row 2 (line 3)", "field"],
+        ),
+    ];
+    for text in &non_finite {
+        cases.push((
+            vec![("in2.csv", text.as_str())],
+            files("model.json", "in2.csv", "out.csv", &[]),
             &[
                 "input `in2.csv`",
                 "row 2 (line 3)",
                 "column `x`",
                 "not finite",
             ],
-        );
+        ));
     }
-}
-
-#[test]
-fn simulate_error_empty_files() {
-    let s = Setup::new();
-    s.write("hdr.csv", "t,x\n");
-    s.fails(
-        &[
-            "--model",
-            "model.json",
-            "--input",
-            "hdr.csv",
-            "--output",
-            "out.csv",
-        ],
-        &["input `hdr.csv`", "no data rows"],
-    );
-    s.write("empty.csv", "");
-    s.fails(
-        &[
-            "--model",
-            "model.json",
-            "--input",
-            "empty.csv",
-            "--output",
-            "out.csv",
-        ],
-        &["input `empty.csv`", "empty file"],
-    );
-}
-
-#[test]
-fn simulate_error_ragged_row() {
-    let s = Setup::new();
-    s.write("rag.csv", "t,x\n0,0\n1\n");
-    s.fails(
-        &[
-            "--model",
-            "model.json",
-            "--input",
-            "rag.csv",
-            "--output",
-            "out.csv",
-        ],
-        &["input `rag.csv`", "row 2 (line 3)", "field"],
-    );
-}
-
-#[test]
-fn simulate_error_operator_fails_at_a_sample() {
-    let s = Setup::new();
-    // The inverse of a saturation has no solution beyond the limits.
-    s.write(
-        "inv.json",
-        r#"{"type": "inverse", "inner": {"type": "saturation", "lo": -1, "hi": 1}}"#,
-    );
-    s.write("in2.csv", "t,x\n0,0\n1,0.5\n2,1.5\n3,0\n");
-    s.fails(
-        &[
-            "--model", "inv.json", "--input", "in2.csv", "--output", "out.csv",
-        ],
-        &[
-            "model `inv.json`",
-            "sample 2",
-            "`in2.csv`",
-            "row 3 (line 4)",
-            "column `x`",
-            "1.5",
-        ],
-    );
+    for (writes, args, expect) in cases {
+        for (name, text) in writes {
+            s.write(name, text);
+        }
+        s.fails(&args, expect);
+    }
 }
 
 #[test]
 fn simulate_refuses_to_overwrite_its_inputs() {
     let s = Setup::new();
-    fs::create_dir(s.path("sub")).unwrap();
-    for out in ["in.csv", "./in.csv", "sub/../in.csv"] {
+    for out in spellings_of(s.dir(), "in.csv") {
         s.fails(
-            &[
-                "--model",
-                "model.json",
-                "--input",
-                "in.csv",
-                "--output",
-                out,
-            ],
+            &files("model.json", "in.csv", &out, &[]),
             &["output", "same file as the input", "refusing"],
         );
     }
     let abs = s.path("in.csv");
     s.fails(
-        &[
-            "--model",
-            "model.json",
-            "--input",
-            "in.csv",
-            "--output",
-            abs.to_str().unwrap(),
-        ],
+        &files("model.json", "in.csv", abs.to_str().unwrap(), &[]),
         &["same file as the input"],
     );
     s.fails(
-        &[
-            "--model",
-            "model.json",
-            "--input",
-            "in.csv",
-            "--output",
-            "model.json",
-        ],
+        &files("model.json", "in.csv", "model.json", &[]),
         &["same file as the model"],
     );
     // Neither exists yet: the plot would overwrite the output.
     s.fails(
-        &[
-            "--model",
-            "model.json",
-            "--input",
-            "in.csv",
-            "--output",
-            "o.csv",
-            "--plot",
-            "sub/../o.csv",
-        ],
+        &files("model.json", "in.csv", "o.csv", &["--plot", "sub/../o.csv"]),
         &["plot", "same file as the output"],
     );
 }
@@ -588,14 +438,7 @@ fn simulate_refuses_to_overwrite_its_inputs() {
 fn simulate_error_output_directory_missing() {
     let s = Setup::new();
     s.fails(
-        &[
-            "--model",
-            "model.json",
-            "--input",
-            "in.csv",
-            "--output",
-            "nodir/out.csv",
-        ],
+        &files("model.json", "in.csv", "nodir/out.csv", &[]),
         &["output `nodir/out.csv`", "does not exist"],
     );
 }
@@ -606,14 +449,7 @@ fn simulate_error_keeps_an_existing_output() {
     s.write("out.csv", "previous\n");
     s.write("in2.csv", "t,x\n0,0\n1,NaN\n");
     s.fails(
-        &[
-            "--model",
-            "model.json",
-            "--input",
-            "in2.csv",
-            "--output",
-            "out.csv",
-        ],
+        &files("model.json", "in2.csv", "out.csv", &[]),
         &["not finite"],
     );
     assert_eq!(fs::read_to_string(s.path("out.csv")).unwrap(), "previous\n");
@@ -649,24 +485,19 @@ fn simulate_mass_spring_damper_with_time_column_matches_in_process() {
         spec.build().unwrap().run(&x).unwrap()
     };
     for dt_args in [&["--time-column", "t"][..], &["--dt", "0.0078125"][..]] {
-        s.simulate(&[
-            "--model", "msd.json", "--input", "f.csv", "--output", "o.csv",
-        ])
-        .args(dt_args)
-        .assert()
-        .success();
-        let (headers, rows) = read_csv(&s.path("o.csv"));
-        assert_eq!(headers, ["t", "x", "y"]);
-        assert_eq!(column(&headers, &rows, "y"), expected, "{dt_args:?}");
+        let (_, y) = succeeds_writing_txy(
+            s.simulate(&files("msd.json", "f.csv", "o.csv", &[]))
+                .args(dt_args),
+            &s.path("o.csv"),
+        );
+        assert_eq!(y, expected, "{dt_args:?}");
     }
     // Without either, the spec's own dt (1 s) disagrees with the data's
     // time column `t`: refused, naming both periods and both ways out,
     // and nothing is written.
     fs::remove_file(s.path("o.csv")).unwrap();
     s.fails(
-        &[
-            "--model", "msd.json", "--input", "f.csv", "--output", "o.csv",
-        ],
+        &files("msd.json", "f.csv", "o.csv", &[]),
         &[
             "data `f.csv`: its time column `t` steps 0.0078125 s",
             "the model's spec gives the sample period 1 s",
@@ -679,9 +510,7 @@ fn simulate_mass_spring_damper_with_time_column_matches_in_process() {
     // is used, and the report says so.
     s.write("f.csv", &text.replacen("t,x", "stamp,x", 1));
     let out = s
-        .simulate(&[
-            "--model", "msd.json", "--input", "f.csv", "--output", "o.csv",
-        ])
+        .simulate(&files("msd.json", "f.csv", "o.csv", &[]))
         .assert()
         .success();
     let stdout = String::from_utf8_lossy(&out.get_output().stdout).into_owned();
@@ -716,16 +545,12 @@ fn simulate_accepts_rounded_time_stamps() {
     }
     assert!(text.contains("1.000976562,"), "a rounded stamp");
     s.write("f.csv", &text);
-    s.simulate(&[
-        "--model",
+    s.simulate(&files(
         "msd.json",
-        "--input",
         "f.csv",
-        "--output",
         "o.csv",
-        "--time-column",
-        "t",
-    ])
+        &["--time-column", "t"],
+    ))
     .assert()
     .success();
     let (headers, rows) = read_csv(&s.path("o.csv"));
@@ -779,20 +604,10 @@ fn simulate_time_column_gives_an_oversampled_spec_its_sub_step() {
         text.push_str(&format!("{},{}\n", i as f64 / 750.0, rows[i % n].0));
     }
     s.write("u.csv", &text);
-    s.simulate(&[
-        "--model",
-        "bw.json",
-        "--input",
-        "u.csv",
-        "--column",
-        "u",
-        "--output",
-        "o.csv",
-        "--time-column",
-        "t",
-    ])
-    .assert()
-    .success();
+    s.simulate(&files("bw.json", "u.csv", "o.csv", &[]))
+        .args(["--column", "u", "--time-column", "t"])
+        .assert()
+        .success();
     let (headers, out) = read_csv(&s.path("o.csv"));
     let y = column(&headers, &out, "y");
     let sq: f64 = y[2 * n..]
@@ -873,9 +688,7 @@ fn simulate_error_non_uniform_time_column_names_the_row() {
     for dt in ["0", "-1", "-0.5", "-inf", "inf", "NaN"] {
         let before = snapshot(s.dir());
         let err = usage_error(
-            &mut s.simulate(&[
-                "--model", "msd.json", "--input", "f.csv", "--output", "o.csv", "--dt", dt,
-            ]),
+            &mut s.simulate(&files("msd.json", "f.csv", "o.csv", &["--dt", dt])),
             "'--dt <SECONDS>'",
         );
         assert!(
@@ -886,21 +699,11 @@ fn simulate_error_non_uniform_time_column_names_the_row() {
         assert_eq!(snapshot(s.dir()), before);
     }
     // the two options exclude each other (an argument error, exit code 1)
-    s.simulate(&[
-        "--model",
-        "msd.json",
-        "--input",
-        "f.csv",
-        "--output",
-        "o.csv",
-        "--dt",
-        "0.1",
-        "--time-column",
-        "t",
-    ])
-    .assert()
-    .failure()
-    .code(1);
+    s.simulate(&files("msd.json", "f.csv", "o.csv", &[]))
+        .args(["--dt", "0.1", "--time-column", "t"])
+        .assert()
+        .failure()
+        .code(1);
     assert!(!s.path("o.csv").exists());
 }
 

@@ -295,111 +295,61 @@ fn bad_inputs_are_one_line_errors() {
         "noinverse.json",
         r#"{"type": "inverse", "inner": {"type": "saturation", "lo": -1, "hi": 1}}"#,
     );
-    let cases: Vec<(Vec<&str>, &str)> = vec![
+    // the arguments of `analyze` (split at spaces) and what the error says
+    let cases = [
         (
-            vec!["--model", "play.json", "--amplitudes", "-1"],
+            "--model play.json --amplitudes -1",
             "invalid amplitude = -1",
         ),
         (
-            vec!["--model", "play.json", "--amplitudes", "1,-0.5"],
+            "--model play.json --amplitudes 1,-0.5",
             "invalid amplitude = -0.5",
         ),
         (
-            vec!["--model", "play.json", "--amplitudes", "-1,2"],
+            "--model play.json --amplitudes -1,2",
             "invalid amplitude = -1",
         ),
+        ("--model play.json --amplitudes=0", "invalid amplitude = 0"),
         (
-            vec!["--model", "play.json", "--amplitudes=0"],
-            "invalid amplitude = 0",
-        ),
-        (
-            vec!["--model", "play.json", "--amplitudes", "nan"],
+            "--model play.json --amplitudes nan",
             "invalid amplitude = NaN",
         ),
         (
-            vec!["--model", "play.json", "--amplitudes", "inf"],
+            "--model play.json --amplitudes inf",
             "invalid amplitude = inf",
         ),
+        ("--model missing.json --amplitudes 1", "missing.json"),
+        ("--model broken.json --amplitudes 1", "broken.json"),
+        ("--model invalid.json --amplitudes 1", "must be ≥ 0"),
+        ("--model unknown.json --amplitudes 1", "sprocket"),
         (
-            vec!["--model", "missing.json", "--amplitudes", "1"],
-            "missing.json",
-        ),
-        (
-            vec!["--model", "broken.json", "--amplitudes", "1"],
-            "broken.json",
-        ),
-        (
-            vec!["--model", "invalid.json", "--amplitudes", "1"],
-            "must be ≥ 0",
-        ),
-        (
-            vec!["--model", "unknown.json", "--amplitudes", "1"],
-            "sprocket",
-        ),
-        (
-            vec![
-                "--model",
-                "play.json",
-                "--amplitudes",
-                "1",
-                "--samples-per-period",
-                "10",
-            ],
+            "--model play.json --amplitudes 1 --samples-per-period 10",
             "samples_per_period",
         ),
         (
-            vec![
-                "--model",
-                "play.json",
-                "--amplitudes",
-                "1",
-                "--steady-tol",
-                "-1",
-            ],
+            "--model play.json --amplitudes 1 --steady-tol -1",
             "steady_tol",
         ),
         (
-            vec![
-                "--model",
-                "ringing.json",
-                "--amplitudes",
-                "1",
-                "--samples-per-period",
-                "64",
-                "--settle-periods",
-                "3",
-            ],
+            "--model ringing.json --amplitudes 1 --samples-per-period 64 --settle-periods 3",
             "not periodic",
         ),
         (
-            vec!["--model", "noinverse.json", "--amplitudes", "2"],
+            "--model noinverse.json --amplitudes 2",
             "failed in period 0",
         ),
         (
-            vec![
-                "--model",
-                "play.json",
-                "--amplitudes",
-                "1",
-                "--output",
-                "play.json",
-            ],
+            "--model play.json --amplitudes 1 --output play.json",
             "same file as the model",
         ),
         (
-            vec![
-                "--model",
-                "play.json",
-                "--amplitudes",
-                "1",
-                "--output",
-                "nodir/out.csv",
-            ],
+            "--model play.json --amplitudes 1 --output nodir/out.csv",
             "does not exist",
         ),
     ];
     let before = snapshot(tmp.path());
     for (args, expected) in cases {
+        let args: Vec<&str> = args.split_whitespace().collect();
         let assert = hysteron(tmp.path())
             .arg("analyze")
             .args(&args)

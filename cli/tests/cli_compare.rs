@@ -90,7 +90,9 @@ fn records(dir: &Path) -> (Vec<String>, Vec<String>) {
     (train, validate)
 }
 
-fn compare(dir: &Path, train: &[String], validate: &[String]) -> assert_cmd::assert::Assert {
+/// `compare` of the candidates in `candidates.json` (fitted into
+/// `fitted/`) on the `train` and `validate` records.
+fn compare_cmd(dir: &Path, train: &[String], validate: &[String]) -> assert_cmd::Command {
     let mut cmd = hysteron(dir);
     cmd.args([
         "compare",
@@ -105,43 +107,88 @@ fn compare(dir: &Path, train: &[String], validate: &[String]) -> assert_cmd::ass
     for v in validate {
         cmd.args(["--validate", v]);
     }
-    cmd.args(["--csv", "table.csv", "--plot", "table.svg"])
+    cmd
+}
+
+/// [`compare_cmd`] run, writing `table.csv` and `table.svg`.
+fn compare(dir: &Path, train: &[String], validate: &[String]) -> assert_cmd::assert::Assert {
+    compare_cmd(dir, train, validate)
+        .args(["--csv", "table.csv", "--plot", "table.svg"])
         .assert()
+}
+
+/// What a successful `compare` reports: its standard output and the
+/// header and rows of `table.csv`.
+struct Table {
+    report: String,
+    headers: Vec<String>,
+    rows: Vec<Vec<String>>,
+}
+
+impl Table {
+    /// Checks that the run succeeded; reads `table.csv` in `dir`.
+    fn of(dir: &Path, run: assert_cmd::assert::Assert) -> Table {
+        let report = stdout_of(&run.success());
+        let (headers, rows) = read_csv(&dir.join("table.csv"));
+        Table {
+            report,
+            headers,
+            rows,
+        }
+    }
+
+    /// The index of the column `name`.
+    fn col(&self, name: &str) -> usize {
+        self.headers.iter().position(|h| h == name).unwrap()
+    }
+
+    /// The first row whose column `name` holds `value`.
+    fn row_with(&self, name: &str, value: &str) -> &[String] {
+        let c = self.col(name);
+        self.rows.iter().find(|r| r[c] == value).unwrap()
+    }
+
+    /// The column `name` of the candidate `cand`'s row.
+    fn get(&self, cand: &str, name: &str) -> &str {
+        &self.row_with("candidate", cand)[self.col(name)]
+    }
+}
+
+/// A temporary directory holding the records and the candidates (with
+/// `extra` ones): the directory and the training and validation records.
+fn setup(extra: &str) -> (TempDir, Vec<String>, Vec<String>) {
+    let tmp = TempDir::new().unwrap();
+    let (train, validate) = records(tmp.path());
+    candidates(tmp.path(), extra);
+    (tmp, train, validate)
 }
 
 #[test]
 fn the_true_structure_wins_by_bic_and_the_richer_one_gains_nothing_real() {
-    let tmp = TempDir::new().unwrap();
-    let (train, validate) = records(tmp.path());
-    candidates(tmp.path(), "");
-    let out = compare(tmp.path(), &train, &validate).success();
-    let table = stdout_of(&out);
-    let (headers, rows) = read_csv(&tmp.path().join("table.csv"));
-    let col = |name: &str| headers.iter().position(|h| h == name).unwrap();
-    assert_eq!(rows.len(), 3, "{table}");
-    let get = |cand: &str, name: &str| -> String {
-        rows.iter().find(|r| r[col("candidate")] == cand).unwrap()[col(name)].clone()
-    };
-    let bic = |cand: &str| get(cand, "bic").parse::<f64>().unwrap();
+    let (tmp, train, validate) = setup("");
+    let t = Table::of(tmp.path(), compare(tmp.path(), &train, &validate));
+    let table = &t.report;
+    assert_eq!(t.rows.len(), 3, "{table}");
+    let bic = |cand: &str| t.get(cand, "bic").parse::<f64>().unwrap();
     // BIC: the true structure first, the over-parameterized one pays for
     // its parameter, the wrong one last
     assert!(bic("mms") < bic("mms-spring"), "{table}");
     assert!(bic("mms-spring") < bic("elastoplastic"), "{table}");
     // k and n as fitted
-    assert_eq!(get("mms", "k"), "2");
-    assert_eq!(get("mms-spring", "k"), "3");
-    assert_eq!(get("mms", "n"), "3000");
+    assert_eq!(t.get("mms", "k"), "2");
+    assert_eq!(t.get("mms-spring", "k"), "3");
+    assert_eq!(t.get("mms", "n"), "3000");
     // the wrong structure ranks last on held-out data, significantly
     // behind the rank before it (6 of 6 records: p = 2/64)
-    assert_eq!(get("elastoplastic", "rank"), "3", "{table}");
+    assert_eq!(t.get("elastoplastic", "rank"), "3", "{table}");
     // whichever of the two MMS candidates ranks first, its gain over the
     // other on held-out records is not significant at 5 %
-    let first = rows.iter().find(|r| r[col("rank")] == "1").unwrap();
-    assert!(first[col("candidate")].starts_with("mms"), "{table}");
-    let p: f64 = first[col("p_vs_next")].parse().unwrap();
+    let first = t.row_with("rank", "1");
+    assert!(first[t.col("candidate")].starts_with("mms"), "{table}");
+    let p: f64 = first[t.col("p_vs_next")].parse().unwrap();
     assert!(p > 0.05, "p = {p}: {table}");
-    let second = rows.iter().find(|r| r[col("rank")] == "2").unwrap();
-    let p_last: f64 = second[col("p_vs_next")].parse().unwrap();
+    let second = t.row_with("rank", "2");
+    let p_last: f64 = second[t.col("p_vs_next")].parse().unwrap();
     assert!((p_last - 2.0 / 64.0).abs() < 1e-12, "{table}");
     // the fitted specs are written, and the true one recovers f_c
     let fitted = fs::read_to_string(tmp.path().join("fitted/mms.json")).unwrap();
@@ -155,21 +202,15 @@ fn the_true_structure_wins_by_bic_and_the_richer_one_gains_nothing_real() {
 
 #[test]
 fn a_failing_candidate_is_reported_in_its_row_and_the_others_go_on() {
-    let tmp = TempDir::new().unwrap();
-    let (train, validate) = records(tmp.path());
-    candidates(
-        tmp.path(),
-        r#", {"name": "typo", "model": "specs/mms.json", "free": ["f_k"]}"#,
-    );
-    let out = compare(tmp.path(), &train[..1], &validate[..2]).success();
-    let table = stdout_of(&out);
-    let (headers, rows) = read_csv(&tmp.path().join("table.csv"));
-    let col = |name: &str| headers.iter().position(|h| h == name).unwrap();
-    let typo = rows.iter().find(|r| r[col("candidate")] == "typo").unwrap();
-    assert_eq!(typo[col("rank")], "");
-    assert!(typo[col("error")].contains("f_k"), "{:?}", typo);
-    assert!(table.contains("failed"), "{table}");
-    let ranked = rows.iter().filter(|r| !r[col("rank")].is_empty()).count();
+    let (tmp, train, validate) =
+        setup(r#", {"name": "typo", "model": "specs/mms.json", "free": ["f_k"]}"#);
+    let t = Table::of(tmp.path(), compare(tmp.path(), &train[..1], &validate[..2]));
+    let typo = t.row_with("candidate", "typo");
+    assert_eq!(typo[t.col("rank")], "");
+    assert!(typo[t.col("error")].contains("f_k"), "{:?}", typo);
+    assert!(t.report.contains("failed"), "{}", t.report);
+    let rank = t.col("rank");
+    let ranked = t.rows.iter().filter(|r| !r[rank].is_empty()).count();
     assert_eq!(ranked, 3);
 }
 
@@ -208,39 +249,23 @@ fn a_malformed_candidates_file_is_an_error_naming_it() {
 
 #[test]
 fn cross_validation_scores_every_record_from_the_fit_without_it() {
-    let tmp = TempDir::new().unwrap();
-    let (train, validate) = records(tmp.path());
-    candidates(tmp.path(), "");
+    let (tmp, train, validate) = setup("");
     let all: Vec<String> = train.iter().chain(&validate).cloned().collect();
-    let mut cmd = hysteron(tmp.path());
-    cmd.args([
-        "compare",
-        "--candidates",
-        "candidates.json",
-        "--work-dir",
-        "fitted",
-    ]);
-    for r in &all {
-        cmd.args(["--train", r]);
-    }
-    let out = cmd
-        .args(["--cross-validate", "4", "--csv", "table.csv"])
-        .assert()
-        .success();
-    let table = stdout_of(&out);
-    let (headers, rows) = read_csv(&tmp.path().join("table.csv"));
-    let col = |name: &str| headers.iter().position(|h| h == name).unwrap();
-    let get = |cand: &str, name: &str| -> String {
-        rows.iter().find(|r| r[col("candidate")] == cand).unwrap()[col(name)].clone()
-    };
+    let t = Table::of(
+        tmp.path(),
+        compare_cmd(tmp.path(), &all, &[])
+            .args(["--cross-validate", "4", "--csv", "table.csv"])
+            .assert(),
+    );
+    let table = &t.report;
     // every one of the 8 records held out once: the wrong structure loses
     // on all of them (p = 2/2^8 against the rank before it)
-    assert_eq!(get("elastoplastic", "rank"), "3", "{table}");
-    let second = rows.iter().find(|r| r[col("rank")] == "2").unwrap();
-    let p: f64 = second[col("p_vs_next")].parse().unwrap();
+    assert_eq!(t.get("elastoplastic", "rank"), "3", "{table}");
+    let second = t.row_with("rank", "2");
+    let p: f64 = second[t.col("p_vs_next")].parse().unwrap();
     assert!((p - 2.0 / 256.0).abs() < 1e-12, "{table}");
     // training figures from the fit on all 8 records
-    assert_eq!(get("mms", "n"), "12000");
+    assert_eq!(t.get("mms", "n"), "12000");
     for fold in 1..=4 {
         assert!(tmp
             .path()
@@ -252,29 +277,17 @@ fn cross_validation_scores_every_record_from_the_fit_without_it() {
 
 #[test]
 fn cross_validation_needs_folds_that_fit_the_records() {
-    let tmp = TempDir::new().unwrap();
-    let (train, validate) = records(tmp.path());
-    candidates(tmp.path(), "");
+    let (tmp, train, validate) = setup("");
     for (k, with_validate, expect) in [
         ("1", false, "at least 2"),
         ("3", false, "at most the 2 --train records"),
         ("2", true, "give no --validate"),
     ] {
-        let mut cmd = hysteron(tmp.path());
-        cmd.args([
-            "compare",
-            "--candidates",
-            "candidates.json",
-            "--work-dir",
-            "fitted",
-        ]);
-        for r in &train {
-            cmd.args(["--train", r]);
-        }
-        if with_validate {
-            cmd.args(["--validate", &validate[0]]);
-        }
-        let out = cmd.args(["--cross-validate", k]).assert().code(1);
+        let validate = if with_validate { &validate[..1] } else { &[] };
+        let out = compare_cmd(tmp.path(), &train, validate)
+            .args(["--cross-validate", k])
+            .assert()
+            .code(1);
         let err = String::from_utf8_lossy(&out.get_output().stderr).into_owned();
         assert!(err.contains(expect), "K = {k}: {err}");
     }

@@ -94,13 +94,17 @@ fn value(stdout: &str, label: &str) -> f64 {
 #[test]
 fn one_parameter_set_to_three_records_with_their_own_preloads() {
     let dir = setup();
-    let out = fit(dir.path(), &RECORDS)
-        .args(["--free", "k,f_b", "--own", "f0", "--output", "fitted.json"])
-        .assert()
-        .success()
-        .get_output()
-        .clone();
-    let stdout = String::from_utf8(out.stdout).unwrap();
+    let (stdout, _) = exits_with(
+        fit(dir.path(), &RECORDS).args([
+            "--free",
+            "k,f_b",
+            "--own",
+            "f0",
+            "--output",
+            "fitted.json",
+        ]),
+        0,
+    );
     assert!(
         stdout.contains("to 3 records: 750 samples, x -> F"),
         "{stdout}"
@@ -146,21 +150,16 @@ fn skip_leaves_a_warm_up_out_and_needs_the_period() {
     let args = [
         "--data", "warm.csv", "--free", "k,f_b", "--output", "w.json",
     ];
-    let out = fit(dir.path(), &args)
-        .args(["--skip", "0.5", "--time-column", "t"])
-        .assert()
-        .success()
-        .get_output()
-        .clone();
-    let stdout = String::from_utf8(out.stdout).unwrap();
-    assert!((value(&stdout, "k ") - 4.0).abs() < 1e-6, "{stdout}");
-    let out = fit(dir.path(), &args)
-        .args(["--skip", "0.5", "--dt", "0.01"])
-        .assert()
-        .success()
-        .get_output()
-        .clone();
-    assert!((value(&String::from_utf8(out.stdout).unwrap(), "k ") - 4.0).abs() < 1e-6);
+    for period in [["--time-column", "t"], ["--dt", "0.01"]] {
+        let (stdout, _) = exits_with(
+            fit(dir.path(), &args).args(["--skip", "0.5"]).args(period),
+            0,
+        );
+        assert!(
+            (value(&stdout, "k ") - 4.0).abs() < 1e-6,
+            "{period:?}: {stdout}"
+        );
+    }
     let before = snapshot(dir.path());
     for (extra, want) in [
         (vec!["--skip", "0.5"], "--skip needs the sample period"),
@@ -170,14 +169,8 @@ fn skip_leaves_a_warm_up_out_and_needs_the_period() {
             "data `warm.csv`: --skip 3 s is 300 samples, but the record has only 300",
         ),
     ] {
-        let out = fit(dir.path(), &args)
-            .args(&extra)
-            .assert()
-            .failure()
-            .code(1)
-            .get_output()
-            .clone();
-        let e = one_line_error(&out.stderr);
+        let (_, stderr) = exits_with(fit(dir.path(), &args).args(&extra), 1);
+        let e = one_line_error(stderr.as_bytes());
         assert!(e.contains(want), "{extra:?}: {e}");
     }
     assert_eq!(snapshot(dir.path()), before);
@@ -235,13 +228,8 @@ fn bad_records_are_one_line_errors_naming_the_file() {
             a.extend(["--free", "k"]);
         }
         a.extend(["--output", "fitted.json"]);
-        let out = fit(dir.path(), &a)
-            .assert()
-            .failure()
-            .code(1)
-            .get_output()
-            .clone();
-        let e = one_line_error(&out.stderr);
+        let (_, stderr) = exits_with(&mut fit(dir.path(), &a), 1);
+        let e = one_line_error(stderr.as_bytes());
         for w in want {
             assert!(e.contains(w), "{args:?}: {e}");
         }
@@ -263,48 +251,31 @@ fn the_budget_options_bound_the_work() {
         line.split_whitespace().nth(1).unwrap().parse().unwrap()
     };
     let base = ["--free", "k,f_b", "--own", "f0", "--output", "fitted.json"];
-    let out = fit(dir.path(), &RECORDS)
-        .args(base)
-        .assert()
-        .success()
-        .get_output()
-        .clone();
-    let unbounded = evaluations(&String::from_utf8(out.stdout).unwrap());
+    let run =
+        |extra: &[&str], code| exits_with(fit(dir.path(), &RECORDS).args(base).args(extra), code);
+    let (stdout, _) = run(&[], 0);
+    let unbounded = evaluations(&stdout);
     assert!(unbounded > 12, "{unbounded}");
     let k = 2 + 3;
-    let out = fit(dir.path(), &RECORDS)
-        .args(base)
-        .args(["--max-evaluations", "12"])
-        .assert()
-        .code(3)
-        .get_output()
-        .clone();
-    let stdout = String::from_utf8(out.stdout).unwrap();
-    assert!(
-        stdout.contains("NOT CONVERGED: evaluation budget of 12"),
-        "{stdout}"
-    );
-    assert!(evaluations(&stdout) <= 12 + 2 * k + 1, "{stdout}");
-    let out = fit(dir.path(), &RECORDS)
-        .args(base)
-        .args(["--max-seconds", "1e-6"])
-        .assert()
-        .code(3)
-        .get_output()
-        .clone();
-    let stdout = String::from_utf8(out.stdout).unwrap();
-    assert!(stdout.contains("NOT CONVERGED: time limit of"), "{stdout}");
-    assert!(evaluations(&stdout) <= 1 + 2 * k + 1, "{stdout}");
+    // the budget, what the report says, and the evaluations it allows
+    for (budget, says, most) in [
+        (
+            ["--max-evaluations", "12"],
+            "NOT CONVERGED: evaluation budget of 12",
+            12,
+        ),
+        (["--max-seconds", "1e-6"], "NOT CONVERGED: time limit of", 1),
+    ] {
+        let (stdout, _) = run(&budget, 3);
+        assert!(stdout.contains(says), "{budget:?}: {stdout}");
+        assert!(
+            evaluations(&stdout) <= most + 2 * k + 1,
+            "{budget:?}: {stdout}"
+        );
+    }
     for bad in [["--max-evaluations", "0"], ["--max-seconds", "-2"]] {
-        let out = fit(dir.path(), &RECORDS)
-            .args(base)
-            .args(bad)
-            .assert()
-            .code(1)
-            .get_output()
-            .clone();
         // clap's usage error: its first line names the option
-        let e = String::from_utf8(out.stderr).unwrap();
+        let (_, e) = run(&bad, 1);
         assert!(
             e.starts_with(&format!(
                 "error: invalid value '{}' for '{}",

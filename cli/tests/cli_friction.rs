@@ -41,22 +41,21 @@ fn record(dir: &Path) -> Vec<f64> {
 /// Runs `simulate` on `x.csv` with `args` added and returns the `y` column
 /// (checking the input columns were kept and a plot was written).
 fn simulate(dir: &Path, model: &Path, args: &[&str], x: &[f64]) -> Vec<f64> {
-    hysteron(dir)
-        .arg("simulate")
-        .arg("--model")
-        .arg(model)
-        .args([
-            "--input", "x.csv", "--output", "y.csv", "--plot", "loop.svg",
-        ])
-        .args(args)
-        .assert()
-        .success();
-    let (headers, rows) = read_csv(&dir.join("y.csv"));
-    assert_eq!(headers, ["t", "x", "y"]);
-    assert_eq!(column(&headers, &rows, "x"), x);
+    let (x_written, y) = succeeds_writing_txy(
+        hysteron(dir)
+            .arg("simulate")
+            .arg("--model")
+            .arg(model)
+            .args([
+                "--input", "x.csv", "--output", "y.csv", "--plot", "loop.svg",
+            ])
+            .args(args),
+        &dir.join("y.csv"),
+    );
+    assert_eq!(x_written, x);
     assert_svg(&dir.join("loop.svg"));
     assert_no_temp_files(dir);
-    column(&headers, &rows, "y")
+    y
 }
 
 /// Runs `simulate` expecting a one-line error holding every `expect`ed

@@ -22,11 +22,7 @@ struct Setup {
     tmp: TempDir,
 }
 
-impl InTempDir for Setup {
-    fn tmp(&self) -> &TempDir {
-        &self.tmp
-    }
-}
+in_temp_dir!(Setup);
 
 impl Setup {
     /// A temp dir with `cascade.json` and `in.csv` (t, x = 1, 2, label).
@@ -37,6 +33,15 @@ impl Setup {
         s.write("cascade.json", CASCADE);
         s.write("in.csv", "t,x,label\n0,1,\"a, b\"\n0.1,2,c\n");
         s
+    }
+
+    /// Runs `sensitivity` with [`files`]`(args)` and `extra`, expecting
+    /// success; returns the output file's header and records.
+    fn sensitivity(&self, args: [&str; 4], extra: &[&str]) -> (Vec<String>, Vec<Vec<String>>) {
+        succeeds_writing_csv(
+            self.cmd("sensitivity", &files(args)).args(extra),
+            &self.path(args[3]),
+        )
     }
 
     fn cmd(&self, sub: &str, args: &[&str]) -> Command {
@@ -52,6 +57,14 @@ impl Setup {
     }
 }
 
+/// `--model MODEL --input INPUT --output OUTPUT --params PARAMS`, from
+/// `[MODEL, INPUT, PARAMS, OUTPUT]` (the first six without `--params`).
+fn files([model, input, params, output]: [&str; 4]) -> [&str; 8] {
+    [
+        "--model", model, "--input", input, "--output", output, "--params", params,
+    ]
+}
+
 /// `examples/specs/paper.json`.
 fn paper_spec() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/specs/paper.json")
@@ -59,39 +72,21 @@ fn paper_spec() -> PathBuf {
 
 /// Two cycles of a 1.2 sine, 200 samples, as `i,x`.
 fn sine_csv() -> (String, Vec<f64>) {
-    let x: Vec<f64> = (0..200)
-        .map(|i| 1.2 * (std::f64::consts::TAU * i as f64 / 100.0).sin())
-        .collect();
-    let mut text = String::from("i,x\n");
-    for (i, v) in x.iter().enumerate() {
-        text.push_str(&format!("{i},{v}\n"));
-    }
-    (text, x)
+    two_sine_cycles(200)
 }
 
 #[test]
 fn cascade_matches_the_closed_form() {
     let s = Setup::new();
-    let assert = s
-        .cmd(
-            "sensitivity",
-            &[
-                "--model",
-                "cascade.json",
-                "--input",
-                "in.csv",
-                "--params",
-                "first.play.r,second.gain.k",
-                "--output",
-                "out.csv",
-            ],
-        )
-        .assert()
-        .success();
-    let stdout = stdout_of(&assert);
-    assert!(
-        stdout.contains("2 parameter(s) (first.play.r, second.gain.k) over 2 samples"),
-        "{stdout}"
+    let args = [
+        "cascade.json",
+        "in.csv",
+        "first.play.r,second.gain.k",
+        "out.csv",
+    ];
+    succeeds_saying(
+        &mut s.cmd("sensitivity", &files(args)),
+        &["2 parameter(s) (first.play.r, second.gain.k) over 2 samples"],
     );
     let (headers, rows) = read_csv(&s.path("out.csv"));
     assert_eq!(
@@ -118,26 +113,10 @@ fn cascade_matches_the_closed_form() {
 fn suffixes_another_column_and_output_column_name() {
     let s = Setup::new();
     s.write("xy.csv", "u,y\n1,9\n2,9\n");
-    s.cmd(
-        "sensitivity",
-        &[
-            "--model",
-            "cascade.json",
-            "--input",
-            "xy.csv",
-            "--column",
-            "u",
-            "--output-column",
-            "F",
-            "--params",
-            "k, r",
-            "--output",
-            "out.csv",
-        ],
-    )
-    .assert()
-    .success();
-    let (headers, rows) = read_csv(&s.path("out.csv"));
+    let (headers, rows) = s.sensitivity(
+        ["cascade.json", "xy.csv", "k, r", "out.csv"],
+        &["--column", "u", "--output-column", "F"],
+    );
     assert_eq!(
         headers,
         ["u", "y", "F", "dF/dsecond.gain.k", "dF/dfirst.play.r"]
@@ -154,20 +133,20 @@ fn simulate_with_f_c(s: &Setup, delta: f64) -> Vec<f64> {
     let f_c = spec["left"]["f_c"].as_f64().unwrap();
     spec["left"]["f_c"] = serde_json::json!(f_c + delta);
     s.write("moved.json", &serde_json::to_string(&spec).unwrap());
-    s.cmd(
-        "simulate",
-        &[
-            "--model",
-            "moved.json",
-            "--input",
-            "sine.csv",
-            "--output",
-            "moved.csv",
-        ],
-    )
-    .assert()
-    .success();
-    let (headers, rows) = read_csv(&s.path("moved.csv"));
+    let (headers, rows) = succeeds_writing_csv(
+        &mut s.cmd(
+            "simulate",
+            &[
+                "--model",
+                "moved.json",
+                "--input",
+                "sine.csv",
+                "--output",
+                "moved.csv",
+            ],
+        ),
+        &s.path("moved.csv"),
+    );
     column(&headers, &rows, "y")
 }
 
@@ -176,13 +155,9 @@ fn paper_model_matches_central_differences_of_simulate() {
     let s = Setup::new();
     let (text, x) = sine_csv();
     s.write("sine.csv", &text);
-    s.cmd("sensitivity", &["--input", "sine.csv", "--params", "f_c"])
-        .arg("--model")
-        .arg(paper_spec())
-        .args(["--output", "sens.csv"])
-        .assert()
-        .success();
-    let (headers, rows) = read_csv(&s.path("sens.csv"));
+    let paper = paper_spec();
+    let paper = paper.to_str().unwrap();
+    let (headers, rows) = s.sensitivity([paper, "sine.csv", "f_c", "sens.csv"], &[]);
     assert_eq!(headers, ["i", "x", "y", "dy/dleft.mms.f_c"]);
     assert_eq!(column(&headers, &rows, "x"), x);
     let y = column(&headers, &rows, "y");
@@ -238,14 +213,11 @@ fn more_parameters_than_one_pass_of_dual_numbers() {
         "right.bouc_wen.stiffness.s[2]",
         "right.bouc_wen.stiffness.z[1]",
     ];
-    s.cmd("sensitivity", &["--input", "sine.csv", "--params"])
-        .arg(names.join(","))
-        .arg("--model")
-        .arg(paper_spec())
-        .args(["--output", "sens.csv"])
-        .assert()
-        .success();
-    let (headers, rows) = read_csv(&s.path("sens.csv"));
+    let (paper, params) = (paper_spec(), names.join(","));
+    let (headers, rows) = s.sensitivity(
+        [paper.to_str().unwrap(), "sine.csv", &params, "sens.csv"],
+        &[],
+    );
     let expected: Vec<String> = ["i", "x", "y"]
         .iter()
         .map(|h| h.to_string())
@@ -284,16 +256,7 @@ fn more_parameters_than_one_pass_of_dual_numbers() {
 fn error_unknown_parameter_names_it_and_lists_the_available() {
     let s = Setup::new();
     s.fails(
-        &[
-            "--model",
-            "cascade.json",
-            "--input",
-            "in.csv",
-            "--params",
-            "second.gain.k,no_such",
-            "--output",
-            "out.csv",
-        ],
+        &files(["cascade.json", "in.csv", "second.gain.k,no_such", "out.csv"]),
         &[
             "--params",
             "cascade.json",
@@ -306,19 +269,7 @@ fn error_unknown_parameter_names_it_and_lists_the_available() {
 #[test]
 fn error_bad_parameter_lists() {
     let s = Setup::new();
-    let base = [
-        "--model",
-        "cascade.json",
-        "--input",
-        "in.csv",
-        "--output",
-        "out.csv",
-    ];
-    let with = |params: &'static str| {
-        let mut args = base.to_vec();
-        args.extend(["--params", params]);
-        args
-    };
+    let with = |params| files(["cascade.json", "in.csv", params, "out.csv"]);
     // Given twice, once by suffix.
     s.fails(
         &with("k,second.gain.k"),
@@ -333,32 +284,18 @@ fn error_bad_parameter_lists() {
             "right": {"type": "play", "r": 0.2}}"#,
     );
     s.fails(
-        &[
-            "--model", "two.json", "--input", "in.csv", "--params", "r", "--output", "out.csv",
-        ],
+        &files(["two.json", "in.csv", "r", "out.csv"]),
         &["`r` is ambiguous", "left.play.r", "right.play.r"],
     );
     // --params is required.
-    usage_error(&mut s.cmd("sensitivity", &base), "--params");
+    usage_error(&mut s.cmd("sensitivity", &with("k")[..6]), "--params");
 }
 
 #[test]
 fn error_bad_input() {
     let s = Setup::new();
     let run = |input: &str, expect: &[&str]| {
-        s.fails(
-            &[
-                "--model",
-                "cascade.json",
-                "--input",
-                input,
-                "--params",
-                "k",
-                "--output",
-                "out.csv",
-            ],
-            expect,
-        )
+        s.fails(&files(["cascade.json", input, "k", "out.csv"]), expect)
     };
     s.write("nan.csv", "t,x\n0,1\n0.1,NaN\n0.2,3\n");
     run(
@@ -392,22 +329,11 @@ fn error_bad_model_and_same_file() {
     let s = Setup::new();
     s.write("bad.json", r#"{"type": "play", "r": -1}"#);
     s.fails(
-        &[
-            "--model", "bad.json", "--input", "in.csv", "--params", "r", "--output", "out.csv",
-        ],
+        &files(["bad.json", "in.csv", "r", "out.csv"]),
         &["model `bad.json`", "r"],
     );
     s.fails(
-        &[
-            "--model",
-            "cascade.json",
-            "--input",
-            "in.csv",
-            "--params",
-            "k",
-            "--output",
-            "in.csv",
-        ],
+        &files(["cascade.json", "in.csv", "k", "in.csv"]),
         &["same file"],
     );
 }

@@ -53,37 +53,66 @@ fn simulate_csv(dir: &Path, csv: &str) -> (i32, String, String) {
     simulate(dir, &[])
 }
 
+/// Writes `csv` as `in.csv` in `dir` and simulates it, expecting exit code
+/// 1, nothing on stdout, a one-line error holding every `expected`
+/// fragment, and no file changed or written; `case` names the case in every
+/// message.
+fn refused(dir: &Path, case: &str, csv: &str, expected: &[&str]) {
+    fs::write(dir.join("in.csv"), csv).unwrap();
+    let before = snapshot(dir);
+    let (code, stdout, stderr) = simulate(dir, &[]);
+    assert_eq!(code, 1, "{case}: {stderr}");
+    assert!(stdout.is_empty(), "{case}: {stdout}");
+    let err = one_line_error(stderr.as_bytes());
+    for e in expected {
+        assert!(err.contains(e), "{case}: `{e}` not in: {err}");
+    }
+    assert_eq!(snapshot(dir), before, "{case}: wrote something");
+}
+
 // ---------------------------------------------------------- CSV structure
 
+/// A blank line between rows, or a column name given twice: a one-line
+/// error naming it (and, for blank lines, where they are accepted), nothing
+/// on stdout and nothing written.
 #[test]
-fn a_blank_line_between_rows_is_an_error_naming_it() {
+fn a_blank_line_between_rows_or_a_duplicate_column_name_is_an_error_naming_it() {
     let tmp = gain_dir();
-    for (csv, expected) in [
+    const BLANK_LINES: &str = "blank lines are only accepted at the end of the file";
+    let cases: [(&str, &[&str]); 5] = [
         (
             "t,x\n0,1\n1,2\n\n2,3\n",
-            "`in.csv`, line 4: blank line before row 3 (line 5)",
+            &[
+                "`in.csv`, line 4: blank line before row 3 (line 5)",
+                BLANK_LINES,
+            ],
         ),
         (
             "t,x\r\n0,1\r\n\r\n1,2\r\n",
-            "`in.csv`, line 3: blank line before row 2 (line 4)",
+            &[
+                "`in.csv`, line 3: blank line before row 2 (line 4)",
+                BLANK_LINES,
+            ],
         ),
         (
             "t,x\n\n0,1\n",
-            "`in.csv`, line 2: blank line before row 1 (line 3)",
+            &[
+                "`in.csv`, line 2: blank line before row 1 (line 3)",
+                BLANK_LINES,
+            ],
         ),
-    ] {
-        fs::write(tmp.path().join("in.csv"), csv).unwrap();
-        let before = snapshot(tmp.path());
-        let (code, stdout, stderr) = simulate(tmp.path(), &[]);
-        assert_eq!(code, 1, "{csv:?}: {stderr}");
-        assert!(stdout.is_empty());
-        let err = one_line_error(stderr.as_bytes());
-        assert!(err.contains(expected), "{csv:?}: {err}");
-        assert!(
-            err.contains("blank lines are only accepted at the end of the file"),
-            "{err}"
-        );
-        assert_eq!(snapshot(tmp.path()), before, "{csv:?}: wrote something");
+        (
+            "x,x\n1,2\n",
+            &["`in.csv`: column `x` appears twice in the header (columns 1 and 2)"],
+        ),
+        (
+            "t,x, t \n0,1,2\n",
+            &["`in.csv`: column `t` appears twice in the header (columns 1 and 3)"],
+        ),
+    ];
+    for (csv, expected) in cases {
+        refused(tmp.path(), &format!("{csv:?}"), csv, expected);
+        assert!(!tmp.path().join("out.csv").exists(), "{csv:?}");
     }
     // a final line end and blank lines after the last row are accepted
     for csv in ["t,x\n0,1\n1,2", "t,x\n0,1\n1,2\n", "t,x\n0,1\n1,2\n\n\n"] {
@@ -93,27 +122,6 @@ fn a_blank_line_between_rows_is_an_error_naming_it() {
             fs::read_to_string(tmp.path().join("out.csv")).unwrap(),
             "t,x,y\n0,1,2\n1,2,4\n"
         );
-    }
-}
-
-#[test]
-fn a_duplicate_column_name_is_an_error_naming_it() {
-    let tmp = gain_dir();
-    for (csv, expected) in [
-        (
-            "x,x\n1,2\n",
-            "`in.csv`: column `x` appears twice in the header (columns 1 and 2)",
-        ),
-        (
-            "t,x, t \n0,1,2\n",
-            "`in.csv`: column `t` appears twice in the header (columns 1 and 3)",
-        ),
-    ] {
-        let (code, _, stderr) = simulate_csv(tmp.path(), csv);
-        assert_eq!(code, 1, "{stderr}");
-        let err = one_line_error(stderr.as_bytes());
-        assert!(err.contains(expected), "{err}");
-        assert!(!tmp.path().join("out.csv").exists());
     }
     // fit reads its record through the same reader
     fs::write(tmp.path().join("in.csv"), "x,y,y\n1,2,3\n").unwrap();
@@ -184,6 +192,18 @@ fn huge_and_tiny_values_are_written_short_and_read_back_exactly() {
 
 // ------------------------------------------------------------ exit codes
 
+/// `identify-paper` with all its files named (none of them read when an
+/// argument is refused).
+const IDENTIFY_PAPER: [&str; 7] = [
+    "identify-paper",
+    "--loop",
+    "l.csv",
+    "--chirp",
+    "c.csv",
+    "--output",
+    "o.json",
+];
+
 #[test]
 fn argument_errors_exit_with_1_help_and_version_with_0() {
     let tmp = TempDir::new().unwrap();
@@ -220,17 +240,7 @@ fn argument_errors_exit_with_1_help_and_version_with_0() {
             "--patience",
             "0",
         ],
-        &[
-            "identify-paper",
-            "--loop",
-            "l.csv",
-            "--chirp",
-            "c.csv",
-            "--output",
-            "o.json",
-            "--points",
-            "1",
-        ],
+        &[&IDENTIFY_PAPER[..], &["--points", "1"]].concat()[..],
         &[
             "analyze",
             "--model",
@@ -250,24 +260,11 @@ fn argument_errors_exit_with_1_help_and_version_with_0() {
         );
         assert!(!err.contains("panicked"), "{err}");
     }
-    let out = hysteron(tmp.path())
-        .args([
-            "identify-paper",
-            "--loop",
-            "l.csv",
-            "--chirp",
-            "c.csv",
-            "--output",
-            "o.json",
-            "--points",
-            "-4",
-        ])
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        err.contains("'--points <N>': must be at least 2 (got -4)"),
-        "{err}"
+    usage_error(
+        hysteron(tmp.path())
+            .args(IDENTIFY_PAPER)
+            .args(["--points", "-4"]),
+        "'--points <N>': must be at least 2 (got -4)",
     );
 }
 
@@ -357,17 +354,11 @@ fn streamed_errors_name_rows_past_the_first_chunk() {
             }
         })
         .collect();
-    fs::write(tmp.path().join("in.csv"), lines.join("\n")).unwrap();
-    let before = snapshot(tmp.path());
-    let (code, _, stderr) = simulate(tmp.path(), &[]);
-    assert_eq!(code, 1);
-    let err = one_line_error(stderr.as_bytes());
     let place = format!(
         "row {bad_row} (line {}), column `x`: `oops` is not a number",
         bad_row + 1
     );
-    assert!(err.contains(&place), "{err}");
-    assert_eq!(snapshot(tmp.path()), before);
+    refused(tmp.path(), "a bad cell", &lines.join("\n"), &[&place]);
 
     // an inverse that cannot be solved past the first chunk
     fs::write(
@@ -379,18 +370,12 @@ fn streamed_errors_name_rows_past_the_first_chunk() {
     for i in 0..n {
         csv.push_str(if i == bad_row - 1 { "5\n" } else { "0.5\n" });
     }
-    fs::write(tmp.path().join("in.csv"), &csv).unwrap();
-    let before = snapshot(tmp.path());
-    let (code, _, stderr) = simulate(tmp.path(), &[]);
-    assert_eq!(code, 1, "{stderr}");
-    let err = one_line_error(stderr.as_bytes());
     let place = format!(
         "at sample {}: input `in.csv`, row {bad_row} (line {}), column `x` = 5",
         bad_row - 1,
         bad_row + 1
     );
-    assert!(err.contains(&place), "{err}");
-    assert_eq!(snapshot(tmp.path()), before);
+    refused(tmp.path(), "an operator error", &csv, &[&place]);
 }
 
 // ----------------------------------------------------------------- figure

@@ -99,21 +99,17 @@ fn a_fit_whose_spec_period_disagrees_with_the_data_is_refused() {
     assert!(stderr.starts_with("error: "), "{stderr}");
 
     // --time-column t chooses the data's period: the truth, to 1e-6
-    let out = fit(tmp.path(), "start.json", &["--time-column", "t"])
-        .assert()
-        .success();
-    let report = stdout_of(&out);
-    assert!(
-        report.contains("sample period: 0.001 s (--time-column t)"),
-        "{report}"
+    succeeds_saying(
+        &mut fit(tmp.path(), "start.json", &["--time-column", "t"]),
+        &["sample period: 0.001 s (--time-column t)"],
     );
     let f_c = fitted_f_c(&tmp.path().join("fitted.json"));
     assert!((f_c - 1.0).abs() < 1e-6, "f_c = {f_c}");
     // so does --dt
-    let out = fit(tmp.path(), "start.json", &["--dt", "0.001"])
-        .assert()
-        .success();
-    assert!(stdout_of(&out).contains("sample period: 0.001 s (--dt)"));
+    succeeds_saying(
+        &mut fit(tmp.path(), "start.json", &["--dt", "0.001"]),
+        &["sample period: 0.001 s (--dt)"],
+    );
     assert!((fitted_f_c(&tmp.path().join("fitted.json")) - 1.0).abs() < 1e-6);
 }
 
@@ -124,11 +120,9 @@ fn a_spec_without_dt_takes_the_data_period() {
     let tmp = TempDir::new().unwrap();
     data(tmp.path());
     fs::write(tmp.path().join("start.json"), lugre(2.0, None)).unwrap();
-    let out = fit(tmp.path(), "start.json", &[]).assert().success();
-    let report = stdout_of(&out);
-    assert!(
-        report.contains("sample period: 0.001 s (the data's time column `t`)"),
-        "{report}"
+    succeeds_saying(
+        &mut fit(tmp.path(), "start.json", &[]),
+        &["sample period: 0.001 s (the data's time column `t`)"],
     );
     let fitted = tmp.path().join("fitted.json");
     assert!((fitted_f_c(&fitted) - 1.0).abs() < 1e-6);

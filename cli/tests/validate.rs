@@ -180,13 +180,12 @@ fn lowpass_removes_high_frequency_noise_from_the_score() {
     };
     let f: Vec<f64> = x.iter().zip(&t).map(|(x, t)| 2.0 * x + noise(*t)).collect();
     write_csv(d, "noisy.csv", "t,x,F", &[&t, &x, &f]);
-    let out = hysteron(d)
-        .args(["validate", "--model", "gain.json", "--data", "noisy.csv"])
-        .args(["--time-column", "t", "--lowpass", "15", "--csv", "t.csv"])
-        .assert()
-        .success();
-    let stdout = stdout_of(&out);
-    assert!(stdout.contains(" low-passed NRMSE |\n"), "{stdout}");
+    succeeds_saying(
+        hysteron(d)
+            .args(["validate", "--model", "gain.json", "--data", "noisy.csv"])
+            .args(["--time-column", "t", "--lowpass", "15", "--csv", "t.csv"]),
+        &[" low-passed NRMSE |\n"],
+    );
     let (header, rows) = read_csv(&d.join("t.csv"));
     assert_eq!(header.last().unwrap(), "lowpassed_nrmse");
     let (full, low) = (num(&rows[0][4]), num(&rows[0][5]));
@@ -231,17 +230,13 @@ fn plot_writes_one_figure_per_record() {
     );
     std::io::Write::write_all(&mut gz, &fs::read(d.join("offset.csv")).unwrap()).unwrap();
     gz.finish().unwrap();
-    let out = hysteron(d)
-        .args(["validate", "--model", "gain.json"])
-        .args(["--data", "exact.csv", "--data", "sine_0.5Hz.csv"])
-        .args(["--data", "rec_1.5in.csv.gz"])
-        .args(["--plot", "figs"])
-        .assert()
-        .success();
-    let stdout = stdout_of(&out);
-    assert!(
-        stdout.contains("wrote figs/exact.svg, figs/sine_0.5Hz.svg, figs/rec_1.5in.svg"),
-        "{stdout}"
+    succeeds_saying(
+        hysteron(d)
+            .args(["validate", "--model", "gain.json"])
+            .args(["--data", "exact.csv", "--data", "sine_0.5Hz.csv"])
+            .args(["--data", "rec_1.5in.csv.gz"])
+            .args(["--plot", "figs"]),
+        &["wrote figs/exact.svg, figs/sine_0.5Hz.svg, figs/rec_1.5in.svg"],
     );
     let mut names: Vec<String> = fs::read_dir(d.join("figs"))
         .unwrap()
@@ -276,65 +271,66 @@ fn plot_writes_one_figure_per_record() {
     );
 }
 
-/// Runs `validate` with `args` in the setup directory and returns its
-/// one-line error, checking that nothing was written.
-fn error(tmp: &TempDir, args: &[&str]) -> String {
+/// Runs `validate` with `args` in the setup directory expecting a one-line
+/// error holding every `expect`ed fragment, and checks that nothing was
+/// written; the messages name the arguments.
+fn refused(tmp: &TempDir, args: &[&str], expect: &[&str]) {
     let mut cmd = hysteron(tmp.path());
     cmd.arg("validate").args(args);
-    fails_leaving_dir_unchanged(tmp.path(), &mut cmd, &[])
+    let e = fails_leaving_dir_unchanged(tmp.path(), &mut cmd, &[]);
+    for x in expect {
+        assert!(e.contains(x), "{args:?}: `{x}` not in: {e}");
+    }
+}
+
+/// Runs [`refused`] on each case: `base` followed by the case's arguments.
+fn all_refused(tmp: &TempDir, base: &[&str], cases: &[(&[&str], &[&str])]) {
+    for (args, expect) in cases {
+        refused(tmp, &[base, args].concat(), expect);
+    }
 }
 
 #[test]
 fn bad_records_are_one_line_errors_naming_file_row_and_column() {
     let tmp = setup();
     let d = tmp.path();
-    let m = ["--model", "gain.json"];
-
-    // missing column in one record
-    let e = error(
-        &tmp,
-        &[&m[..], &["--data", "exact.csv", "--output-column", "G"]].concat(),
-    );
-    assert!(e.contains("`exact.csv`: no column `G`"), "{e}");
-
     // records whose headers differ in the needed columns
     write_csv(d, "other.csv", "x,Force", &[&X, &X]);
-    let e = error(
-        &tmp,
-        &[&m[..], &["--data", "exact.csv", "--data", "other.csv"]].concat(),
-    );
-    assert!(
-        e.contains("`other.csv`: no column `F`")
-            && e.contains("first record `exact.csv` has it")
-            && e.contains("headers differ"),
-        "{e}"
-    );
-
     // NaN in a record, row named
     fs::write(d.join("nan.csv"), "x,F\n1,2\n2,4\n3,NaN\n").unwrap();
-    let e = error(
-        &tmp,
-        &[&m[..], &["--data", "exact.csv", "--data", "nan.csv"]].concat(),
-    );
-    assert!(
-        e.contains("`nan.csv`, row 3 (line 4), column `F`: `NaN` is not finite"),
-        "{e}"
-    );
-
     // empty records: header only, and an empty file
     fs::write(d.join("header.csv"), "x,F\n").unwrap();
-    let e = error(&tmp, &[&m[..], &["--data", "header.csv"]].concat());
-    assert!(e.contains("`header.csv`: no data rows"), "{e}");
     fs::write(d.join("empty.csv"), "").unwrap();
-    let e = error(&tmp, &[&m[..], &["--data", "empty.csv"]].concat());
-    assert!(e.contains("`empty.csv`: empty file"), "{e}");
-
-    // the same column for input and output
-    let e = error(
+    all_refused(
         &tmp,
-        &[&m[..], &["--data", "exact.csv", "--output-column", "x"]].concat(),
+        &["--model", "gain.json"],
+        &[
+            // missing column in one record
+            (
+                &["--data", "exact.csv", "--output-column", "G"],
+                &["`exact.csv`: no column `G`"],
+            ),
+            (
+                &["--data", "exact.csv", "--data", "other.csv"],
+                &[
+                    "`other.csv`: no column `F`",
+                    "first record `exact.csv` has it",
+                    "headers differ",
+                ],
+            ),
+            (
+                &["--data", "exact.csv", "--data", "nan.csv"],
+                &["`nan.csv`, row 3 (line 4), column `F`: `NaN` is not finite"],
+            ),
+            (&["--data", "header.csv"], &["`header.csv`: no data rows"]),
+            (&["--data", "empty.csv"], &["`empty.csv`: empty file"]),
+            // the same column for input and output
+            (
+                &["--data", "exact.csv", "--output-column", "x"],
+                &["both name the column `x`"],
+            ),
+        ],
     );
-    assert!(e.contains("both name the column `x`"), "{e}");
 }
 
 #[test]
@@ -344,43 +340,22 @@ fn a_non_finite_model_output_is_an_error_naming_the_sample() {
     gain(d, 1e300);
     // 1e300 · 1e10 overflows at sample 1 (row 2, line 3)
     write_csv(d, "big.csv", "x,F", &[&[1.0, 1e10, 1.0], &[1.0, 1.0, 1.0]]);
-    let e = error(&tmp, &["--model", "gain.json", "--data", "big.csv"]);
-    assert!(
-        e.contains("model `gain.json`")
-            && e.contains("sample 1")
-            && e.contains("`big.csv`, row 2 (line 3), column `x`"),
-        "{e}"
+    refused(
+        &tmp,
+        &["--model", "gain.json", "--data", "big.csv"],
+        &[
+            "model `gain.json`",
+            "sample 1",
+            "`big.csv`, row 2 (line 3), column `x`",
+        ],
     );
 }
 
 #[test]
 fn outputs_may_not_be_inputs() {
     let tmp = setup();
-    let m = [
-        "--model",
-        "gain.json",
-        "--data",
-        "exact.csv",
-        "--data",
-        "offset.csv",
-    ];
-    let e = error(&tmp, &[&m[..], &["--csv", "offset.csv"]].concat());
-    assert!(
-        e.contains("is the same file as the data `offset.csv`"),
-        "{e}"
-    );
-    let e = error(&tmp, &[&m[..], &["--csv", "./gain.json"]].concat());
-    assert!(
-        e.contains("is the same file as the model `gain.json`"),
-        "{e}"
-    );
     // a figure DIR/<stem>.svg that is an input
     fs::write(tmp.path().join("exact.svg"), "x,F\n1,2\n").unwrap();
-    let e = error(
-        &tmp,
-        &[&m[..], &["--data", "exact.svg", "--plot", "."]].concat(),
-    );
-    assert!(e.contains("exact.svg"), "{e}");
     // two records with one stem
     fs::create_dir(tmp.path().join("sub")).unwrap();
     fs::copy(
@@ -388,37 +363,59 @@ fn outputs_may_not_be_inputs() {
         tmp.path().join("sub/exact.csv"),
     )
     .unwrap();
-    let e = error(
+    all_refused(
         &tmp,
-        &[&m[..], &["--data", "sub/exact.csv", "--plot", "figs"]].concat(),
+        &[
+            "--model",
+            "gain.json",
+            "--data",
+            "exact.csv",
+            "--data",
+            "offset.csv",
+        ],
+        &[
+            (
+                &["--csv", "offset.csv"],
+                &["is the same file as the data `offset.csv`"],
+            ),
+            (
+                &["--csv", "./gain.json"],
+                &["is the same file as the model `gain.json`"],
+            ),
+            (&["--data", "exact.svg", "--plot", "."], &["exact.svg"]),
+            (
+                &["--data", "sub/exact.csv", "--plot", "figs"],
+                &["same file stem"],
+            ),
+        ],
     );
-    assert!(e.contains("same file stem"), "{e}");
 }
 
 #[test]
 fn lowpass_and_skip_need_a_rate_and_a_cut_off_below_nyquist() {
     let tmp = setup();
     let m = ["--model", "gain.json", "--data", "exact.csv"];
-    let e = error(&tmp, &[&m[..], &["--lowpass", "10"]].concat());
-    assert!(e.contains("--lowpass needs the sample period"), "{e}");
-    let e = error(&tmp, &[&m[..], &["--skip", "1"]].concat());
-    assert!(e.contains("--skip needs the sample period"), "{e}");
-    // dt = 0.01 s: Nyquist 50 Hz
-    let e = error(
+    all_refused(
         &tmp,
-        &[&m[..], &["--dt", "0.01", "--lowpass", "50"]].concat(),
+        &m,
+        &[
+            (&["--lowpass", "10"], &["--lowpass needs the sample period"]),
+            (&["--skip", "1"], &["--skip needs the sample period"]),
+            // dt = 0.01 s: Nyquist 50 Hz
+            (
+                &["--dt", "0.01", "--lowpass", "50"],
+                &[
+                    "--lowpass 50 Hz must be below the Nyquist frequency 50 Hz",
+                    "`exact.csv`",
+                ],
+            ),
+            // six samples are too few for the filter's end padding
+            (
+                &["--dt", "0.01", "--lowpass", "10"],
+                &["`exact.csv`", "too short"],
+            ),
+        ],
     );
-    assert!(
-        e.contains("--lowpass 50 Hz must be below the Nyquist frequency 50 Hz")
-            && e.contains("`exact.csv`"),
-        "{e}"
-    );
-    // six samples are too few for the filter's end padding
-    let e = error(
-        &tmp,
-        &[&m[..], &["--dt", "0.01", "--lowpass", "10"]].concat(),
-    );
-    assert!(e.contains("`exact.csv`") && e.contains("too short"), "{e}");
     // a negative cut-off is clap's error naming the option
     let out = hysteron(tmp.path())
         .arg("validate")

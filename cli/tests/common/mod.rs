@@ -1,5 +1,5 @@
 //! Helpers shared by the end-to-end CLI tests.
-#![allow(dead_code)] // each test crate uses a subset
+#![allow(dead_code, unused_macros)] // each test crate uses a subset
 
 use assert_cmd::Command;
 use std::fs;
@@ -16,6 +16,65 @@ pub fn hysteron(dir: &Path) -> Command {
     let mut cmd = Command::cargo_bin("hysteron").expect("binary built");
     cmd.current_dir(dir);
     cmd
+}
+
+/// Runs `cmd` expecting success and a standard output that contains every
+/// `expect`ed fragment. Returns the standard output.
+pub fn succeeds_saying(cmd: &mut Command, expect: &[&str]) -> String {
+    let stdout = stdout_of(&cmd.assert().success());
+    for e in expect {
+        assert!(stdout.contains(e), "`{e}` not in: {stdout}");
+    }
+    stdout
+}
+
+/// Runs `cmd` expecting success, then reads the CSV file it wrote at
+/// `path`: its header and records, as [`read_csv`] gives them.
+pub fn succeeds_writing_csv(cmd: &mut Command, path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    cmd.assert().success();
+    read_csv(path)
+}
+
+/// Runs `cmd` expecting success, then reads the CSV file it wrote at
+/// `path`, checking its header is `t,x,y`: returns the `x` and `y` columns.
+pub fn succeeds_writing_txy(cmd: &mut Command, path: &Path) -> (Vec<f64>, Vec<f64>) {
+    let (headers, rows) = succeeds_writing_csv(cmd, path);
+    assert_eq!(headers, ["t", "x", "y"], "{}", path.display());
+    (column(&headers, &rows, "x"), column(&headers, &rows, "y"))
+}
+
+/// Two cycles of a sine of amplitude 1.2 in `samples` samples, as the text
+/// of a CSV file with columns `i,x`, and the `x` values.
+pub fn two_sine_cycles(samples: usize) -> (String, Vec<f64>) {
+    let x: Vec<f64> = (0..samples)
+        .map(|i| 1.2 * (std::f64::consts::TAU * 2.0 * i as f64 / samples as f64).sin())
+        .collect();
+    let mut text = String::from("i,x\n");
+    for (i, v) in x.iter().enumerate() {
+        text.push_str(&format!("{i},{v}\n"));
+    }
+    (text, x)
+}
+
+/// Runs `cmd` expecting the exit code `code`: its standard output and
+/// standard error, as text.
+pub fn exits_with(cmd: &mut Command, code: i32) -> (String, String) {
+    let out = cmd.assert().code(code).get_output().clone();
+    (
+        String::from_utf8(out.stdout).expect("stdout is UTF-8"),
+        String::from_utf8(out.stderr).expect("stderr is UTF-8"),
+    )
+}
+
+/// Three names of the file `name` in `dir`: as it is, `./name` and
+/// `sub/../name` (the subdirectory `sub` is made here).
+pub fn spellings_of(dir: &Path, name: &str) -> [String; 3] {
+    fs::create_dir(dir.join("sub")).unwrap();
+    [
+        name.to_string(),
+        format!("./{name}"),
+        format!("sub/../{name}"),
+    ]
 }
 
 /// A well-formed SVG with lines and labels.
@@ -59,12 +118,18 @@ pub fn snapshot(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
 /// The error text, checked to be exactly one line `error: ...` with no
 /// panic message.
 pub fn one_line_error(stderr: &[u8]) -> String {
+    one_line_error_in("", stderr)
+}
+
+/// [`one_line_error`], each message starting with `context` (which case
+/// it is).
+pub fn one_line_error_in(context: &str, stderr: &[u8]) -> String {
     let s = String::from_utf8(stderr.to_vec()).unwrap();
-    assert!(!s.contains("panicked"), "panic: {s}");
-    assert!(s.starts_with("error: "), "{s}");
+    assert!(!s.contains("panicked"), "{context}panic: {s}");
+    assert!(s.starts_with("error: "), "{context}{s}");
     assert!(
         s.ends_with('\n') && s.lines().count() == 1,
-        "not one line: {s:?}"
+        "{context}not one line: {s:?}"
     );
     s.trim_end().to_string()
 }
@@ -89,17 +154,23 @@ pub fn column(headers: &[String], rows: &[Vec<String>], name: &str) -> Vec<f64> 
 /// Runs `cmd` in `dir` expecting failure: exit code 1, one line on stderr
 /// starting with `error:` and containing every `expect`ed fragment, nothing
 /// on stdout, all files in `dir` unchanged and no new file (in particular no
-/// output and no temporary file). Returns the error line.
+/// output and no temporary file). Returns the error line. Every message
+/// names the command.
 pub fn fails_leaving_dir_unchanged(dir: &Path, cmd: &mut Command, expect: &[&str]) -> String {
+    let context = format!("{cmd:?}: ");
     let before = snapshot(dir);
     let assert = cmd.assert().failure().code(1);
     let out = assert.get_output();
-    let stderr = one_line_error(&out.stderr);
-    assert!(out.stdout.is_empty(), "stdout: {:?}", out.stdout);
+    let stderr = one_line_error_in(&context, &out.stderr);
+    assert!(out.stdout.is_empty(), "{context}stdout: {:?}", out.stdout);
     for e in expect {
-        assert!(stderr.contains(e), "`{e}` not in: {stderr}");
+        assert!(stderr.contains(e), "{context}`{e}` not in: {stderr}");
     }
-    assert_eq!(snapshot(dir), before, "files changed by a failed run");
+    assert_eq!(
+        snapshot(dir),
+        before,
+        "{context}files changed by a failed run"
+    );
     stderr
 }
 
@@ -134,6 +205,20 @@ pub fn usage_error(cmd: &mut Command, expected: &str) -> String {
     );
     err
 }
+
+/// Implements [`InTempDir`] for a setup struct that holds its directory in
+/// its field `tmp`.
+macro_rules! in_temp_dir {
+    ($setup:ty) => {
+        impl InTempDir for $setup {
+            fn tmp(&self) -> &TempDir {
+                &self.tmp
+            }
+        }
+    };
+}
+#[allow(unused_imports)] // each test crate uses a subset
+pub(crate) use in_temp_dir;
 
 /// A test setup that owns a temporary directory: shortcuts to its files.
 pub trait InTempDir {
