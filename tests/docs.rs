@@ -1,7 +1,8 @@
 //! The front door's rules: README.md stays short, the documentation speaks
 //! of the library only, every relative link resolves, every chapter is in
 //! the guide's table of contents, and every chapter that holds Rust is
-//! compiled as a doctest (`src/lib.rs`, module `guide`).
+//! compiled as a doctest (`src/lib.rs`, module `guide`), and every test
+//! the documentation cites exists.
 
 use std::path::{Path, PathBuf};
 
@@ -235,4 +236,51 @@ fn every_chapter_with_rust_is_a_doctest() {
             }
         }
     }
+}
+
+/// The backticked spans of `line`.
+fn code_spans(line: &str) -> Vec<&str> {
+    line.split('`').skip(1).step_by(2).collect()
+}
+
+/// Every test or function the documentation cites as `path.rs::name` or
+/// `path.py::name` (or `::name` after such a citation on the same line)
+/// exists: its file defines `fn name` or `def name`. The changelog,
+/// which records names as they were, is left out.
+#[test]
+fn every_cited_test_exists() {
+    let mut missing = Vec::new();
+    for doc in documents().iter().filter(|d| !d.ends_with("CHANGELOG.md")) {
+        let text = read(doc);
+        for (n, line) in prose(&text) {
+            let mut file: Option<&str> = None;
+            for span in code_spans(line) {
+                let (path, name) = match span.split_once("::") {
+                    Some(("", name)) => match file {
+                        Some(path) => (path, name),
+                        None => continue,
+                    },
+                    Some((path, name)) if path.ends_with(".rs") || path.ends_with(".py") => {
+                        file = Some(path);
+                        (path, name)
+                    }
+                    _ => continue,
+                };
+                if !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+                    continue;
+                }
+                let source = std::fs::read_to_string(root().join(path)).unwrap_or_default();
+                if !source.contains(&format!("fn {name}"))
+                    && !source.contains(&format!("def {name}"))
+                {
+                    missing.push(format!("{}:{n}: `{path}::{name}`", doc.display()));
+                }
+            }
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "cited but not defined:\n{}",
+        missing.join("\n")
+    );
 }
