@@ -1,7 +1,7 @@
 //! The elastoplastic (Prandtl / Maxwell-slip) element with different
 //! sliding levels in the two directions.
 
-use crate::{declare_params, Error, Float, Result, StepLaw, Stepped, Trial};
+use crate::{check, declare_params, Error, Float, Result, StepLaw, Stepped, Trial};
 
 declare_params! {
     /// Parameters of the [`AsymmetricFriction`] element.
@@ -38,19 +38,9 @@ impl<T: Float> AsymmetricFrictionParams<T> {
                 "must lie in [−f_neg, f_pos] (a force the element can hold)",
             ));
         }
-        for (name, f) in [("f_pos", self.f_pos), ("f_neg", self.f_neg)] {
-            let r = f / self.k;
-            if !r.is_finite() || (f > T::zero() && r == T::zero()) {
-                return Err(invalid(
-                    name,
-                    f,
-                    "the level / k must be a finite, non-zero number when the level is > 0",
-                ));
-            }
-        }
-        if !(self.f0 / self.k).is_finite() {
-            return Err(invalid("f0", self.f0, "f0 / k must be finite"));
-        }
+        check::level_over_stiffness("f_pos", self.f_pos, self.k)?;
+        check::level_over_stiffness("f_neg", self.f_neg, self.k)?;
+        check::start_over_stiffness(self.f0, self.k)?;
         Ok(())
     }
 }

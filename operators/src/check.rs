@@ -21,6 +21,24 @@ fn require<T: Float>(holds: bool, name: &str, value: T, reason: &'static str) ->
     }
 }
 
+/// `level / k` must be a finite displacement, and not rounded to 0 from a
+/// positive `level`: an element that works in `level / k` (a friction
+/// level over its spring's stiffness) needs it.
+pub fn level_over_stiffness<T: Float>(name: &str, level: T, k: T) -> Result<()> {
+    let r = level / k;
+    require(
+        r.is_finite() && !(level > T::zero() && r == T::zero()),
+        name,
+        level,
+        "the level / k must be a finite, non-zero number when the level is > 0",
+    )
+}
+
+/// The initial force `f0` over the stiffness `k` must be finite.
+pub fn start_over_stiffness<T: Float>(f0: T, k: T) -> Result<()> {
+    require((f0 / k).is_finite(), "f0", f0, "f0 / k must be finite")
+}
+
 /// `value` must be finite.
 pub fn finite<T: Float>(name: &str, value: T) -> Result<()> {
     require(value.is_finite(), name, value, "must be finite")

@@ -1,6 +1,6 @@
 //! The elastoplastic (Maxwell-slip) element: a scaled stop.
 
-use crate::{declare_params, stop_step, Float, Result, StepLaw, Stepped, StopParams, Trial};
+use crate::{check, declare_params, stop_step, Float, Result, StepLaw, Stepped, StopParams, Trial};
 
 declare_params! {
     /// Parameters of the [`ElastoPlastic`] element.
@@ -22,21 +22,8 @@ impl<T: Float> ElastoPlasticParams<T> {
     /// The element works through a stop of threshold `F_b/k` (and initial
     /// output `f0/k`): those ratios must be representable.
     fn ratios(&self) -> Result<()> {
-        let (r, s0) = (self.f_b / self.k, self.f0 / self.k);
-        if !r.is_finite() || (self.f_b > T::zero() && r == T::zero()) {
-            return Err(crate::Error::InvalidParameter {
-                name: "f_b".into(),
-                value: self.f_b.as_f64(),
-                reason: "F_b / k must be a finite, non-zero number when F_b > 0",
-            });
-        }
-        if !s0.is_finite() {
-            return Err(crate::Error::InvalidParameter {
-                name: "f0".into(),
-                value: self.f0.as_f64(),
-                reason: "f0 / k must be finite",
-            });
-        }
+        check::level_over_stiffness("f_b", self.f_b, self.k)?;
+        check::start_over_stiffness(self.f0, self.k)?;
         Ok(())
     }
 

@@ -2,7 +2,7 @@
 //! change of slip direction the level starts off its steady value and
 //! relaxes toward it with the slip.
 
-use crate::{declare_params, Error, Float, Result, StepLaw, Stepped, Trial};
+use crate::{check, declare_params, Error, Float, Result, StepLaw, Stepped, Trial};
 
 declare_params! {
     /// Parameters of the [`TransientFriction`] element.
@@ -65,19 +65,9 @@ impl<T: Float> TransientFrictionParams<T> {
                 ));
             }
         }
-        for (name, f) in [("f_pos", self.f_pos), ("f_neg", self.f_neg)] {
-            let r = f * (T::one() + self.a_pos.max(self.a_neg).max(T::zero())) / self.k;
-            if !r.is_finite() || (f > T::zero() && r == T::zero()) {
-                return Err(invalid(
-                    name,
-                    f,
-                    "the level / k must be a finite, non-zero number when the level is > 0",
-                ));
-            }
-        }
-        if !(self.f0 / self.k).is_finite() {
-            return Err(invalid("f0", self.f0, "f0 / k must be finite"));
-        }
+        check::level_over_stiffness("f_pos", self.f_pos, self.k)?;
+        check::level_over_stiffness("f_neg", self.f_neg, self.k)?;
+        check::start_over_stiffness(self.f0, self.k)?;
         Ok(())
     }
 
