@@ -30,7 +30,7 @@
 
 use crate::csvio::{self, CsvIoError};
 use crate::fit_cmd::{self, FitCmdOptions};
-use crate::identify::selection::{self, folds, information_criteria, rank};
+use crate::identify::selection::{self, rank, Outcome};
 use crate::identify::{Jacobian, MultiStart};
 use crate::output::OutputError;
 use crate::period::DtSource;
@@ -191,64 +191,17 @@ pub fn read_candidates(path: &Path) -> Result<Vec<Candidate>, CompareError> {
     Ok(out)
 }
 
-/// One held-out record's scores.
-#[derive(Debug, Clone, PartialEq)]
-pub struct HeldOut {
-    /// The record.
-    pub record: PathBuf,
-    /// NRMSE, full band.
-    pub nrmse: f64,
-    /// NRMSE after the low-pass (with `--lowpass`).
-    pub lowpassed: Option<f64>,
-}
-
-/// What a candidate's fit and validation gave.
+/// What a candidate's fit and validation gave: the library's outcome
+/// (training figures, held-out NRMSE per record), the records it was
+/// scored on, and the fitted spec.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scores {
-    /// Free parameters fitted (shared and per record).
-    pub k: usize,
-    /// Scored training samples.
-    pub n: usize,
-    /// Training cost `½ Σ r²`.
-    pub cost: f64,
-    /// Whether the fit converged.
-    pub converged: bool,
-    /// Akaike's criterion on training.
-    pub aic: f64,
-    /// The Bayesian (Schwarz) criterion on training.
-    pub bic: f64,
-    /// Per held-out record.
-    pub held_out: Vec<HeldOut>,
+    /// Training figures and held-out scores, one per entry of `records`.
+    pub outcome: Outcome,
+    /// The scored records, in the order of `outcome.held_out`.
+    pub records: Vec<PathBuf>,
     /// The fitted spec.
     pub fitted: PathBuf,
-}
-
-impl Scores {
-    /// The per-record errors the ranking uses: low-passed where every
-    /// record has one, else full band.
-    pub fn ranking_errors(&self) -> Vec<f64> {
-        selection::ranking_errors(&self.pairs())
-    }
-
-    /// Mean and worst of the full-band NRMSE.
-    pub fn full_band(&self) -> (f64, f64) {
-        let v: Vec<f64> = self.held_out.iter().map(|h| h.nrmse).collect();
-        selection::mean_and_worst(&v)
-    }
-
-    /// Mean and worst of the low-passed NRMSE, with `--lowpass`.
-    pub fn lowpassed(&self) -> Option<(f64, f64)> {
-        let low: Option<Vec<f64>> = self.held_out.iter().map(|h| h.lowpassed).collect();
-        low.map(|v| selection::mean_and_worst(&v))
-    }
-
-    /// `(NRMSE, low-passed NRMSE)` per record, as the library takes them.
-    fn pairs(&self) -> Vec<(f64, Option<f64>)> {
-        self.held_out
-            .iter()
-            .map(|h| (h.nrmse, h.lowpassed))
-            .collect()
-    }
 }
 
 /// One row of the table: a candidate and its scores or its error.
@@ -319,12 +272,13 @@ fn fit_on(
     .map_err(|e| format!("fit: {e}"))
 }
 
-/// Scores the fitted spec `model` on `records` as `validate` does.
+/// Scores the fitted spec `model` on `records` as `validate` does:
+/// `(NRMSE, low-passed NRMSE)` per record.
 fn held_out_on(
     model: &Path,
     records: &[PathBuf],
     opts: &CompareOptions,
-) -> Result<Vec<HeldOut>, String> {
+) -> Result<Vec<(f64, Option<f64>)>, String> {
     let validated = validate::run(&ValidateOptions {
         model: model.to_path_buf(),
         data: records.to_vec(),
@@ -343,11 +297,7 @@ fn held_out_on(
         .map(|r| {
             let nrmse = r.figures.nrmse;
             if nrmse.is_finite() {
-                Ok(HeldOut {
-                    record: r.record.clone(),
-                    nrmse,
-                    lowpassed: r.lowpassed_nrmse,
-                })
+                Ok((nrmse, r.lowpassed_nrmse))
             } else {
                 Err(format!(
                     "validate: `{}` has a measured output of RMS 0 (no NRMSE)",
@@ -365,39 +315,30 @@ fn held_out_on(
 fn score(c: &Candidate, opts: &CompareOptions) -> Result<Scores, String> {
     let fitted = opts.work_dir.join(format!("{}.json", c.name));
     let fit = fit_on(c, &opts.train, &fitted, opts)?;
-    let report = &fit.report;
-    let n: usize = report.records.iter().map(|r| r.samples).sum();
-    let k = report.params.len();
-    let (aic, bic) = information_criteria(report.cost, n, k);
-    let held_out = match opts.cross_validate {
-        None => held_out_on(&fitted, &opts.validate, opts)?,
-        Some(folds_k) => {
-            let mut by_record: Vec<Option<HeldOut>> = vec![None; opts.train.len()];
-            for (f, fold) in folds(opts.train.len(), folds_k).iter().enumerate() {
-                let rest: Vec<PathBuf> = (0..opts.train.len())
-                    .filter(|i| !fold.contains(i))
-                    .map(|i| opts.train[i].clone())
-                    .collect();
-                let out = opts.work_dir.join(format!("{}.fold{}.json", c.name, f + 1));
-                fit_on(c, &rest, &out, opts).map_err(|e| format!("fold {}: {e}", f + 1))?;
-                let held: Vec<PathBuf> = fold.iter().map(|&i| opts.train[i].clone()).collect();
-                let scores =
-                    held_out_on(&out, &held, opts).map_err(|e| format!("fold {}: {e}", f + 1))?;
-                for (&i, s) in fold.iter().zip(scores) {
-                    by_record[i] = Some(s);
-                }
-            }
-            by_record.into_iter().flatten().collect()
+    let (held_out, records) = match opts.cross_validate {
+        None => (
+            held_out_on(&fitted, &opts.validate, opts)?,
+            opts.validate.clone(),
+        ),
+        Some(k) => {
+            let mut fold = 0;
+            let scores = selection::cross_validated(opts.train.len(), k, |rest, held| {
+                fold += 1;
+                let pick = |ix: &[usize]| -> Vec<PathBuf> {
+                    ix.iter()
+                        .filter_map(|&i| opts.train.get(i).cloned())
+                        .collect()
+                };
+                let out = opts.work_dir.join(format!("{}.fold{fold}.json", c.name));
+                fit_on(c, &pick(rest), &out, opts)?;
+                held_out_on(&out, &pick(held), opts)
+            })?;
+            (scores, opts.train.clone())
         }
     };
     Ok(Scores {
-        k,
-        n,
-        cost: report.cost,
-        converged: fit.converged(),
-        aic,
-        bic,
-        held_out,
+        outcome: Outcome::of_fit(&fit.report, held_out),
+        records,
         fitted,
     })
 }
@@ -455,7 +396,7 @@ pub fn run(opts: &CompareOptions) -> Result<CompareReport, CompareError> {
     let by_lowpassed = opts.lowpass.is_some();
     let errors: Vec<Option<Vec<f64>>> = rows
         .iter()
-        .map(|r| r.result.as_ref().ok().map(Scores::ranking_errors))
+        .map(|r| r.result.as_ref().ok().map(|s| s.outcome.ranking_errors()))
         .collect();
     let ranking = rank(&errors);
     for (i, row) in rows.iter_mut().enumerate() {
@@ -526,6 +467,7 @@ impl CompareReport {
         for (i, r) in self.rows.iter().enumerate() {
             if let Ok(s) = &r.result {
                 let points: Vec<(f64, f64)> = s
+                    .outcome
                     .ranking_errors()
                     .into_iter()
                     .enumerate()
@@ -548,22 +490,22 @@ impl CompareReport {
         for r in &self.rows {
             let cells: Vec<String> = match &r.result {
                 Ok(s) => {
-                    let (mean, worst) = s.full_band();
-                    let low = s.lowpassed();
+                    let (mean, worst) = s.outcome.full_band();
+                    let low = s.outcome.lowpassed();
                     vec![
                         r.rank.map_or_else(String::new, |k| k.to_string()),
                         text_cell(&r.name),
-                        s.k.to_string(),
-                        s.n.to_string(),
-                        num(Some(s.cost)),
-                        num(Some(s.aic)),
-                        num(Some(s.bic)),
+                        s.outcome.k.to_string(),
+                        s.outcome.n.to_string(),
+                        num(Some(s.outcome.cost)),
+                        num(Some(s.outcome.aic)),
+                        num(Some(s.outcome.bic)),
                         num(Some(mean)),
                         num(Some(worst)),
                         num(low.map(|l| l.0)),
                         num(low.map(|l| l.1)),
                         num(r.p_next),
-                        s.converged.to_string(),
+                        s.outcome.converged.to_string(),
                         String::new(),
                     ]
                 }
@@ -613,20 +555,25 @@ impl fmt::Display for CompareReport {
         for r in &self.rows {
             match &r.result {
                 Ok(s) => {
-                    let (mean, worst) = s.full_band();
+                    let (mean, worst) = s.outcome.full_band();
                     let (lm, lw) = s
+                        .outcome
                         .lowpassed()
                         .map_or(("".into(), "".into()), |(a, b)| (short(a), short(b)));
-                    let note = if s.converged { "" } else { " (not converged)" };
+                    let note = if s.outcome.converged {
+                        ""
+                    } else {
+                        " (not converged)"
+                    };
                     writeln!(
                         f,
                         "| {} | {}{note} | {} | {} | {} | {} | {} | {} | {lm} | {lw} | {} |",
                         r.rank.map_or_else(String::new, |k| k.to_string()),
                         r.name,
-                        s.k,
-                        short(s.cost),
-                        short(s.aic),
-                        short(s.bic),
+                        s.outcome.k,
+                        short(s.outcome.cost),
+                        short(s.outcome.aic),
+                        short(s.outcome.bic),
                         short(mean),
                         short(worst),
                         r.p_next.map_or_else(String::new, short),

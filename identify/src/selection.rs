@@ -27,7 +27,7 @@
 use crate::metrics::{self, ErrorFigures, Lowpass, MetricsError};
 use crate::multistart::{fit_multistart, MultiStart};
 use crate::options::FitOptions;
-use crate::outcome::Fit;
+use crate::outcome::{Fit, FitReport};
 use crate::record::Record;
 use hysteron_operators::Operator;
 use rayon::prelude::*;
@@ -108,6 +108,29 @@ pub fn folds(n: usize, k: usize) -> Vec<Vec<usize>> {
     (0..k)
         .map(|f| (0..n).filter(|i| i % k.max(1) == f).collect())
         .collect()
+}
+
+/// `k`-fold cross-validation over `n` records: `score_fold(rest, held)`
+/// fits on the records `rest` and scores the records `held` (one score
+/// each, in order), for each of the [`folds`]; returns every record's
+/// score, in record order. A fold's error is returned with its number
+/// (`fold F: …`, from 1).
+pub fn cross_validated<S>(
+    n: usize,
+    k: usize,
+    mut score_fold: impl FnMut(&[usize], &[usize]) -> Result<Vec<S>, String>,
+) -> Result<Vec<S>, String> {
+    let mut by_record: Vec<Option<S>> = (0..n).map(|_| None).collect();
+    for (f, held) in folds(n, k).iter().enumerate() {
+        let rest: Vec<usize> = (0..n).filter(|i| !held.contains(i)).collect();
+        let scores = score_fold(&rest, held).map_err(|e| format!("fold {}: {e}", f + 1))?;
+        for (&i, s) in held.iter().zip(scores) {
+            if let Some(slot) = by_record.get_mut(i) {
+                *slot = Some(s);
+            }
+        }
+    }
+    Ok(by_record.into_iter().flatten().collect())
 }
 
 /// The ranking of candidates by their per-record held-out errors (`None`:
@@ -226,10 +249,41 @@ pub struct Outcome {
 }
 
 impl Outcome {
+    /// The training figures of `report` (k, n, cost, convergence, AIC and
+    /// BIC, the parameters) with the held-out scores `held_out`.
+    pub fn of_fit(report: &FitReport, held_out: Vec<(f64, Option<f64>)>) -> Outcome {
+        let n: usize = report.records.iter().map(|r| r.samples).sum();
+        let k = report.params.len();
+        let (aic, bic) = information_criteria(report.cost, n, k);
+        Outcome {
+            k,
+            n,
+            cost: report.cost,
+            converged: report.status.converged(),
+            aic,
+            bic,
+            params: report.all_params.clone(),
+            held_out,
+        }
+    }
+
     /// The per-record errors a ranking uses: low-passed where every record
     /// has one, else full band.
     pub fn ranking_errors(&self) -> Vec<f64> {
         ranking_errors(&self.held_out)
+    }
+
+    /// Mean and worst of the held-out NRMSE, full band.
+    pub fn full_band(&self) -> (f64, f64) {
+        let v: Vec<f64> = self.held_out.iter().map(|h| h.0).collect();
+        mean_and_worst(&v)
+    }
+
+    /// Mean and worst of the low-passed held-out NRMSE, where every record
+    /// has one.
+    pub fn lowpassed(&self) -> Option<(f64, f64)> {
+        let low: Option<Vec<f64>> = self.held_out.iter().map(|h| h.1).collect();
+        low.map(|v| mean_and_worst(&v))
     }
 }
 
@@ -296,43 +350,17 @@ fn evaluate(
 ) -> Result<Outcome, String> {
     let fit = fit_on(c, train, opts)?;
     let report = &fit.report;
-    let n: usize = report.records.iter().map(|r| r.samples).sum();
-    let k = report.params.len();
-    let (aic, bic) = information_criteria(report.cost, n, k);
-    let scores = match opts.cross_validate {
+    let held_out = match opts.cross_validate {
         None => score_on(c, &report.all_params, held_out, opts)?,
-        Some(kf) => {
-            let mut by_record = vec![(f64::NAN, None); train.len()];
-            for (f, fold) in folds(train.len(), kf).iter().enumerate() {
-                let rest: Vec<Record<'_>> = (0..train.len())
-                    .filter(|i| !fold.contains(i))
-                    .filter_map(|i| train.get(i).copied())
-                    .collect();
-                let held: Vec<Record<'_>> =
-                    fold.iter().filter_map(|&i| train.get(i).copied()).collect();
-                let fold_fit =
-                    fit_on(c, &rest, opts).map_err(|e| format!("fold {}: {e}", f + 1))?;
-                let s = score_on(c, &fold_fit.report.all_params, &held, opts)
-                    .map_err(|e| format!("fold {}: {e}", f + 1))?;
-                for (&i, v) in fold.iter().zip(s) {
-                    if let Some(slot) = by_record.get_mut(i) {
-                        *slot = v;
-                    }
-                }
-            }
-            by_record
-        }
+        Some(kf) => cross_validated(train.len(), kf, |rest, held| {
+            let pick = |ix: &[usize]| -> Vec<Record<'_>> {
+                ix.iter().filter_map(|&i| train.get(i).copied()).collect()
+            };
+            let fold_fit = fit_on(c, &pick(rest), opts)?;
+            score_on(c, &fold_fit.report.all_params, &pick(held), opts)
+        })?,
     };
-    Ok(Outcome {
-        k,
-        n,
-        cost: report.cost,
-        converged: report.status.converged(),
-        aic,
-        bic,
-        params: report.all_params.clone(),
-        held_out: scores,
-    })
+    Ok(Outcome::of_fit(report, held_out))
 }
 
 /// Fits every candidate on `train` and scores it on `held_out` (or, with

@@ -123,10 +123,8 @@ fn row<'py>(
     d.set_item("candidate", &g.name)?;
     match outcome {
         Ok(o) => {
-            let full: Vec<f64> = o.held_out.iter().map(|h| h.0).collect();
-            let low: Option<Vec<f64>> = o.held_out.iter().map(|h| h.1).collect();
-            let (mean, worst) = selection::mean_and_worst(&full);
-            let low_mw = low.as_deref().map(selection::mean_and_worst);
+            let (mean, worst) = o.full_band();
+            let low_mw = o.lowpassed();
             d.set_item("k", o.k)?;
             d.set_item("n", o.n)?;
             d.set_item("training_cost", o.cost)?;
@@ -139,6 +137,8 @@ fn row<'py>(
             d.set_item("p_vs_next", p_next)?;
             d.set_item("converged", o.converged)?;
             d.set_item("error", py.None())?;
+            let full = o.held_out.iter().map(|h| h.0);
+            let low: Option<Vec<f64>> = o.held_out.iter().map(|h| h.1).collect();
             d.set_item("heldout_nrmse", PyList::new(py, full)?)?;
             d.set_item("heldout_lowpassed", low)?;
             let model = match prepared {
