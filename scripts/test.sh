@@ -5,7 +5,8 @@
 # checked by mypy's stubtest, mypy, pytest), then the C API and the FMUs
 # (capi/checks: C programs built with cc, FMUs checked with FMPy), then the
 # documentation site (scripts/site.sh, with mdBook). Needs rustup's toolchain, python3 with
-# venv, and the package registries (crates.io, PyPI).
+# venv, and the package registries (crates.io, PyPI, and Debian's for the
+# libraries openseespy needs, installed when run as root).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export CARGO_TERM_COLOR=never
@@ -45,6 +46,17 @@ python3 -m venv target/py-venv
 venv=target/py-venv/bin
 "$venv/python" -m pip install -q --upgrade pip
 "$venv/python" -m pip install -q "./python[test]" "fmpy>=0.3.20,<0.4"
+
+echo "== openseespy, the OpenSees peer of the degrading Bouc-Wen tests, and the Debian libraries it needs"
+if ! ldconfig -p 2>/dev/null | grep -q libgfortran.so.5; then
+  if command -v apt-get >/dev/null 2>&1 && [ "$(id -u)" = 0 ]; then
+    apt-get update -qq && apt-get install -y -qq libblas3 liblapack3 libgfortran5 > /dev/null
+  else
+    echo "openseespy needs Debian's libblas3 liblapack3 libgfortran5: install them (as root) and run again" >&2
+  fi
+fi
+"$venv/python" -m pip install -q openseespy
+export HYSTERON_REQUIRE_OPENSEES=1
 
 echo "== the release build README's commands use: the CLI (which the bit-identity tests compare with) and libhysteron_c.so"
 cargo build --release -q

@@ -31,7 +31,9 @@
 //!   [`asymmetric_friction`](operators::AsymmetricFriction),
 //!   [`transient_friction`](operators::TransientFriction),
 //!   [`backlash_contact`](operators::BacklashContact),
-//!   [`relay`](operators::Relay), [`pi_bank`](composition::PiBank),
+//!   [`relay`](operators::Relay),
+//!   [`bouc_wen_degrading`](operators::BoucWenDegrading),
+//!   [`pi_bank`](composition::PiBank),
 //!   [`pi_inverse`](composition::PiInverse).
 //! * Combinators: `cascade`, `parallel`, `scaled`, `feedback`, `series`,
 //!   `inverse`, `oversample`, `transmission`.

@@ -27,6 +27,7 @@
 //! | [`TransientFriction`] | `transient_friction` | `F = k · (x − x_p), x_p moving only to keep −L_neg(u) ≤ F ≤ L_pos(u), L(u) = f (1 + a e^{−u/λ}) with u the slip since the last change of slip direction` |
 //! | [`BacklashContact`] | `backlash_contact` | `u = x − c, d = max(\|u\| − b/2, 0), F = sgn(u)·(k1 d + k2 d² + k3 d³)` |
 //! | [`Relay`] | `relay` | `y = a s, s = +1 once x ≥ h/2, −1 once x ≤ −h/2, held in between (from s0)` |
+//! | [`BoucWenDegrading`] | `bouc_wen_degrading` | `F = α k0 x + (1 − α) k0 z, dz/dx = (A − \|z\|^n ν (γ + β sgn(ẋ z)))/η, de/dx = (1 − α) k0 z, A = a0 − δ_A e, ν = 1 + δ_ν e, η = 1 + δ_η e` |
 //! <!-- END generated: operators -->
 //!
 //! Combinators live in `hysteron-composition`.
@@ -51,6 +52,7 @@ mod float;
 mod hints;
 mod leaf;
 mod memoryless;
+mod ode;
 mod operator;
 mod parameters;
 pub mod params;
@@ -122,4 +124,5 @@ leaves! { $;
     transient_friction => TransientFriction,
     backlash_contact => BacklashContact,
     relay => Relay,
+    bouc_wen_degrading => BoucWenDegrading,
 }

@@ -26,6 +26,7 @@ __all__ = [
     "transient_friction",
     "backlash_contact",
     "relay",
+    "bouc_wen_degrading",
     "pi_bank",
     "pi_inverse",
 ]
@@ -265,6 +266,23 @@ def relay(h: float, a: Optional[float] = None, s0: Optional[float] = None) -> Mo
         s0 (real; default 0): The switch's position `s0 ∈ {−1, 1}` at input `x = 0` before the first sample (default −1).
 
     Example: ``relay(**{"h":0.5,"a":1.0,"s0":-1.0})``.
+    """
+
+def bouc_wen_degrading(alpha: float, k0: float, n: float, gamma: float, beta: float, a0: float, delta_a: float, delta_nu: float, delta_eta: float) -> Model:
+    """The ``bouc_wen_degrading`` operator: F = α k0 x + (1 − α) k0 z, dz/dx = (A − |z|^n ν (γ + β sgn(ẋ z)))/η, de/dx = (1 − α) k0 z, A = a0 − δ_A e, ν = 1 + δ_ν e, η = 1 + δ_η e.
+
+    Parameters:
+        alpha (real): Ratio `α` of the post-yield to the initial stiffness (finite).
+        k0 (> 0): Initial stiffness `k0 > 0`.
+        n (≥ 1): Sharpness of the transition `n ≥ 1`.
+        gamma (real): `γ` (finite): the loop's shape, with `β`.
+        beta (real): `β` (finite): the loop's shape, with `γ`; `β + γ > 0` bounds the hysteretic displacement.
+        a0 (> 0): Initial `A = a0 > 0`: the hysteretic stiffness `(1 − α) k0 A`.
+        delta_a (≥ 0): Strength degradation `δ_A ≥ 0`: `A = a0 − δ_A e`.
+        delta_nu (≥ 0): Strength degradation `δ_ν ≥ 0`: `ν = 1 + δ_ν e`.
+        delta_eta (≥ 0): Stiffness degradation `δ_η ≥ 0`: `η = 1 + δ_η e`.
+
+    Example: ``bouc_wen_degrading(**{"alpha":0.1,"k0":10.0,"n":1.0,"gamma":0.5,"beta":0.5,"a0":1.0,"delta_a":0.01,"delta_nu":0.01,"delta_eta":0.01})``.
     """
 
 def pi_bank(a0: float, r: Sequence[float], w: Sequence[float], y0: Optional[Sequence[float]] = None) -> Model:
