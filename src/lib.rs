@@ -33,7 +33,7 @@
 //!   [`backlash_contact`](operators::BacklashContact),
 //!   [`relay`](operators::Relay),
 //!   [`bouc_wen_degrading`](operators::BoucWenDegrading),
-//!   [`pi_bank`](composition::PiBank),
+//!   [`bwbn`](operators::Bwbn), [`pi_bank`](composition::PiBank),
 //!   [`pi_inverse`](composition::PiInverse).
 //! * Combinators: `cascade`, `parallel`, `scaled`, `feedback`, `series`,
 //!   `inverse`, `oversample`, `transmission`.

@@ -3,7 +3,7 @@
 //! integrated in the input's travel to a tolerance instead of one implicit
 //! step per sample.
 
-use crate::ode::dopri5;
+use crate::energy_flow::{power_on_side, EnergyFlow, EnergyState};
 use crate::{check, declare_params, Float, Result, StepLaw, Stepped, Trial};
 
 declare_params! {
@@ -36,64 +36,19 @@ declare_params! {
     law: "bouc_wen_degrading", "F = α k0 x + (1 − α) k0 z, dz/dx = (A − |z|^n ν (γ + β sgn(ẋ z)))/η, de/dx = (1 − α) k0 z, A = a0 − δ_A e, ν = 1 + δ_ν e, η = 1 + δ_η e";
 }
 
-/// The state between samples: the input `x` reached, the hysteretic
-/// displacement `z`, and the energy `e = ∫ (1 − α) k0 z dx`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct BoucWenDegradingState<T> {
-    /// The input of the last sample.
-    pub x: T,
-    /// Hysteretic displacement `z`.
-    pub z: T,
-    /// Hysteretic energy `e` (the integral of the hysteretic force over
-    /// the input: over a closed loop, the energy it dissipated).
-    pub e: T,
-}
+impl<T: Float> EnergyFlow<T> for BoucWenDegradingParams<T> {
+    const SOLVER: &'static str = "bouc_wen_degrading";
 
-/// The local error held per sub-step, relative to the state's scale.
-const RTOL: f64 = 1e-11;
-
-impl<T: Float> BoucWenDegradingParams<T> {
-    /// `(dz/dx, de/dx)` at `(z, e)` for travel in direction `dir` (`±1`)
-    /// on the side `positive` of `z = 0` (`z > 0`, or `z` reaching 0 and
-    /// moving up). The side, not the sign of `z`, picks `γ ± β` and the
-    /// sign of `|z|`, so that a state a rounding error across `z = 0`
-    /// keeps its side's flow and derivatives (see [`dopri5`]).
-    #[inline(always)]
-    fn slope(&self, dir: T, positive: bool, z: T, e: T) -> (T, T) {
-        let a = self.a0 - self.delta_a * e;
-        let nu = T::one() + self.delta_nu * e;
-        let eta = T::one() + self.delta_eta * e;
-        let loading = (dir > T::zero()) == positive;
-        let psi = if loading {
-            self.gamma + self.beta
-        } else {
-            self.gamma - self.beta
-        };
-        let size = if positive { z } else { -z };
-        let power = if self.n == T::one() {
-            size
-        } else if size > T::zero() {
-            size.powf(self.n)
-        } else {
-            T::zero()
-        };
-        let dz = (a - power * nu * psi) / eta;
-        (dz, (T::one() - self.alpha) * self.k0 * z)
+    fn alpha(&self) -> T {
+        self.alpha
     }
 
-    /// The side of `z = 0` the state is on: the sign of `z` beyond `snap`,
-    /// else the side `z` moves into (travelling in direction `dir`).
-    fn side(&self, dir: T, z: T, e: T, snap: f64) -> bool {
-        if z.as_f64().abs() > snap {
-            z > T::zero()
-        } else {
-            // at z = 0 both sides' flows agree
-            (dir * self.slope(dir, true, z, e).0) > T::zero()
-        }
+    fn k0(&self) -> T {
+        self.k0
     }
 
-    /// The scale of `z`: its ultimate value `(a0 / (β + γ))^{1/n}` where
-    /// `β + γ > 0`, else `a0`, or `|z|` where larger.
+    /// The ultimate `z`, `(a0 / (β + γ))^{1/n}` where `β + γ > 0`, else
+    /// `a0`.
     fn z_scale(&self) -> f64 {
         let bound = (self.beta + self.gamma).as_f64();
         let a0 = self.a0.as_f64();
@@ -102,6 +57,20 @@ impl<T: Float> BoucWenDegradingParams<T> {
         } else {
             a0
         }
+    }
+
+    /// `(A − |z|^n ν (γ ± β)) / η`, `γ + β` while loading (`ẋ z > 0`).
+    #[inline(always)]
+    fn rate(&self, dir: T, positive: bool, z: T, e: T) -> T {
+        let a = self.a0 - self.delta_a * e;
+        let nu = T::one() + self.delta_nu * e;
+        let eta = T::one() + self.delta_eta * e;
+        let psi = if (dir > T::zero()) == positive {
+            self.gamma + self.beta
+        } else {
+            self.gamma - self.beta
+        };
+        (a - power_on_side(positive, z, self.n) * nu * psi) / eta
     }
 }
 
@@ -162,56 +131,15 @@ impl<T: Float> Default for BoucWenDegradingParams<T> {
 }
 
 impl<T: Float> StepLaw<T> for BoucWenDegradingParams<T> {
-    type State = BoucWenDegradingState<T>;
+    type State = EnergyState<T>;
     const RESTS_WHEN_HELD: bool = true;
 
-    fn initial(&self) -> BoucWenDegradingState<T> {
-        BoucWenDegradingState {
-            x: T::zero(),
-            z: T::zero(),
-            e: T::zero(),
-        }
+    fn initial(&self) -> EnergyState<T> {
+        EnergyState::at_rest()
     }
 
-    fn step(&self, s: &BoucWenDegradingState<T>, x: T) -> Result<(BoucWenDegradingState<T>, Trial<T>)> {
-        let travel = x - s.x;
-        let dir = if travel < T::zero() { -T::one() } else { T::one() };
-        let (z, e) = if travel == T::zero() {
-            (s.z, s.e)
-        } else {
-            let zs = self.z_scale();
-            let hysteretic = ((T::one() - self.alpha) * self.k0).as_f64().abs();
-            let snap = 1e-8 * zs;
-            let [z, e] = dopri5(
-                |y: &[T; 2], positive| {
-                    let (dz, de) = self.slope(dir, positive, y[0], y[1]);
-                    [dir * dz, dir * de]
-                },
-                (
-                    |y: &[T; 2]| self.side(dir, y[0], y[1], snap),
-                    |y: &[T; 2]| y[0].as_f64(),
-                    snap,
-                ),
-                [s.z, s.e],
-                travel.abs(),
-                |y| {
-                    let z = y[0].as_f64().abs().max(zs);
-                    [z, y[1].as_f64().abs().max(hysteretic * z * zs)]
-                },
-                RTOL,
-                "bouc_wen_degrading",
-            )?;
-            (z, e)
-        };
-        let (dz, _) = self.slope(dir, self.side(dir, z, e, 0.0), z, e);
-        let stiffness = (T::one() - self.alpha) * self.k0;
-        Ok((
-            BoucWenDegradingState { x, z, e },
-            Trial {
-                output: self.alpha * self.k0 * x + stiffness * z,
-                tangent: self.alpha * self.k0 + stiffness * dz,
-            },
-        ))
+    fn step(&self, s: &EnergyState<T>, x: T) -> Result<(EnergyState<T>, Trial<T>)> {
+        self.energy_step(s, x)
     }
 }
 
@@ -296,7 +224,7 @@ mod tests {
     #[test]
     fn tangent_is_the_step_derivative() {
         let p = params(0.03);
-        let s = BoucWenDegradingState {
+        let s = EnergyState {
             x: 0.5,
             z: 0.3,
             e: 1.2,

@@ -28,6 +28,7 @@
 //! | [`BacklashContact`] | `backlash_contact` | `u = x − c, d = max(\|u\| − b/2, 0), F = sgn(u)·(k1 d + k2 d² + k3 d³)` |
 //! | [`Relay`] | `relay` | `y = a s, s = +1 once x ≥ h/2, −1 once x ≤ −h/2, held in between (from s0)` |
 //! | [`BoucWenDegrading`] | `bouc_wen_degrading` | `F = α k0 x + (1 − α) k0 z, dz/dx = (A − \|z\|^n ν (γ + β sgn(ẋ z)))/η, de/dx = (1 − α) k0 z, A = a0 − δ_A e, ν = 1 + δ_ν e, η = 1 + δ_η e` |
+//! | [`Bwbn`] | `bwbn` | `F = α k0 x + (1 − α) k0 z, dz/dx = h (a0 − \|z\|^n (γ + β sgn(ẋ z))), h = 1 − ζ1 exp(−(z sgn ẋ − q z_u)²/ζ2²), ζ1 = ζ_s (1 − e^{−p e}), ζ2 = (ψ0 + δ_ψ e)(λ + ζ1), z_u = (1/(β + γ))^{1/n}, de/dx = (1 − α) k0 z` |
 //! <!-- END generated: operators -->
 //!
 //! Combinators live in `hysteron-composition`.
@@ -46,6 +47,7 @@ pub use serde as __serde;
 pub mod check;
 mod domain;
 mod dual;
+mod energy_flow;
 mod error;
 mod exp_m1;
 mod float;
@@ -67,6 +69,7 @@ mod stiffness;
 pub use bouc_wen::StateSolver;
 pub use domain::Domain;
 pub use dual::{Differentiable, Dual, DualN, DUAL_WIDTH};
+pub use energy_flow::EnergyState;
 pub use error::{Error, Result};
 pub use float::Float;
 pub use hints::{
@@ -125,4 +128,5 @@ leaves! { $;
     backlash_contact => BacklashContact,
     relay => Relay,
     bouc_wen_degrading => BoucWenDegrading,
+    bwbn => Bwbn,
 }

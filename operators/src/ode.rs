@@ -128,18 +128,25 @@ pub(crate) fn dopri5<T: Float, const N: usize>(
             ],
             h,
         );
-        if y5.iter().any(|v| !v.is_finite()) {
+        let finite = y5.iter().chain(&err).all(|v| v.is_finite());
+        if !finite && h <= travel * 4.0 * f64::EPSILON {
+            // not even the shortest sub-step stays finite
             return Err(Error::NonFiniteOutput {
                 operator: solver,
                 input: travel,
             });
         }
         let weights = scale(&y);
-        let norm = err
-            .iter()
-            .zip(weights)
-            .map(|(e, w)| e.as_f64().abs() / w.max(f64::MIN_POSITIVE))
-            .fold(0.0_f64, f64::max);
+        // A trial sub-step that leaves the finite numbers (a stage far off
+        // the flow on a long first try) is rejected like an inaccurate one.
+        let norm = if finite {
+            err.iter()
+                .zip(weights)
+                .map(|(e, w)| e.as_f64().abs() / w.max(f64::MIN_POSITIVE))
+                .fold(0.0_f64, f64::max)
+        } else {
+            f64::INFINITY
+        };
         let (before, after) = (switch(&y), switch(&y5));
         if norm <= rtol && before.abs() > snap && (before < 0.0) != (after < 0.0) && after != 0.0 {
             // Crossing the switching surface: end the sub-step short of it,
@@ -150,7 +157,7 @@ pub(crate) fn dopri5<T: Float, const N: usize>(
                 continue;
             }
         }
-        if norm <= rtol || h <= travel * 4.0 * f64::EPSILON {
+        if norm <= rtol || (finite && h <= travel * 4.0 * f64::EPSILON) {
             y = y5;
             t = if last { travel } else { t + h };
             if last {

@@ -1,6 +1,7 @@
-"""hysteron's degrading Bouc-Wen model against OpenSees' own, an
-implementation no one here wrote (openseespy's `uniaxialMaterial BoucWen`,
-driven through `testUniaxialMaterial`, `setStrain` and `getStress`).
+"""hysteron's degrading and pinched Bouc-Wen models against OpenSees' own,
+implementations no one here wrote (openseespy's `uniaxialMaterial BoucWen`
+and `BWBN`, driven through `testUniaxialMaterial`, `setStrain` and
+`getStress`).
 
 OpenSees takes one backward-Euler step per strain increment, first order in
 the increment; hysteron integrates each sample's travel to a tolerance. So
@@ -30,29 +31,30 @@ except Exception as e:  # openseespy raises RuntimeError without its libraries
         raise
     pytest.skip(f"openseespy is not importable: {e}", allow_module_level=True)
 
-# OpenSees' order: alpha ko n gamma beta Ao deltaA deltaNu deltaEta
-PARAMS = {
-    "alpha": 0.1,
-    "k0": 10.0,
-    "n": 1.0,
-    "gamma": 0.5,
-    "beta": 0.5,
-    "a0": 1.0,
-    "delta_a": 0.02,
-    "delta_nu": 0.01,
-    "delta_eta": 0.01,
+# Each model: hysteron's kind, OpenSees' material, its parameters in
+# OpenSees' order (hysteron's names), and the values used.
+MODELS = {
+    "bouc_wen_degrading": (
+        "BoucWen",
+        ["alpha", "k0", "n", "gamma", "beta", "a0", "delta_a", "delta_nu", "delta_eta"],
+        {"alpha": 0.1, "k0": 10.0, "n": 1.0, "gamma": 0.5, "beta": 0.5, "a0": 1.0,
+         "delta_a": 0.02, "delta_nu": 0.01, "delta_eta": 0.01},
+    ),
+    "bwbn": (
+        "BWBN",
+        ["alpha", "k0", "n", "gamma", "beta", "a0", "q", "zeta_s", "p", "psi0", "delta_psi", "lam"],
+        {"alpha": 0.1, "k0": 10.0, "n": 1.0, "gamma": 0.5, "beta": 0.5, "a0": 1.0,
+         "q": 0.25, "zeta_s": 0.9, "p": 1.0, "psi0": 0.2, "delta_psi": 0.005, "lam": 0.5},
+    ),
 }
 PEAK = 3.0
 
 
-def opensees(strain, params=PARAMS):
+def opensees(kind, strain, params):
     """OpenSees' stress over the strain history, one committed step a sample."""
-    p = params
+    material, order, _ = MODELS[kind]
     ops.wipe()
-    ops.uniaxialMaterial(
-        "BoucWen", 1, p["alpha"], p["k0"], p["n"], p["gamma"], p["beta"],
-        p["a0"], p["delta_a"], p["delta_nu"], p["delta_eta"], 1e-14, 100,
-    )
+    ops.uniaxialMaterial(material, 1, *[params[k] for k in order], 1e-14, 100)
     ops.testUniaxialMaterial(1)
     out = np.empty(len(strain))
     for i, e in enumerate(strain):
@@ -62,8 +64,9 @@ def opensees(strain, params=PARAMS):
     return out
 
 
-def hysteron(strain, params=PARAMS):
-    return np.asarray(hy.bouc_wen_degrading(**params).run(np.asarray(strain, dtype=float)))
+def hysteron(kind, strain, params):
+    model = getattr(hy, kind)(**params)
+    return np.asarray(model.run(np.asarray(strain, dtype=float)))
 
 
 def refine(x, m):
@@ -90,19 +93,21 @@ def histories():
     return out
 
 
+@pytest.mark.parametrize("kind", sorted(MODELS))
 @pytest.mark.parametrize("n", [1.0, 2.0])
 @pytest.mark.parametrize("name", ["ramp", "random walk", "inner loops"])
-def test_opensees_converges_to_hysterons_answer_at_first_order(name, n):
-    params = dict(PARAMS, n=n)
+def test_opensees_converges_to_hysterons_answer_at_first_order(kind, name, n):
+    params = dict(MODELS[kind][2], n=n)
     x = histories()[name]
-    reference = hysteron(x, params)
+    reference = hysteron(kind, x, params)
     scale = np.abs(reference).max()
     errors = []
     for m in (1, 4, 16):
         # OpenSees on the path refined m times, compared at the shared samples
-        y = opensees(refine(x, m), params)[::m]
+        y = opensees(kind, refine(x, m), params)[::m]
         errors.append(np.abs(y - reference).max() / scale)
-    print(f"{name}, n = {n}: OpenSees - hysteron, max / peak stress, at 1, 4, 16x finer: {errors}")
+    print(f"{kind}, {name}, n = {n}: OpenSees - hysteron, max / peak stress, "
+          f"at 1, 4, 16x finer: {errors}")
     # small at OpenSees' typical step ...
     assert errors[0] < 2e-3, errors
     # ... and falling at first order: about 4x per 4x finer
@@ -110,19 +115,24 @@ def test_opensees_converges_to_hysterons_answer_at_first_order(name, n):
         assert 2.5 < coarse / fine < 6.0, errors
 
 
+@pytest.mark.parametrize("kind", sorted(MODELS))
 @pytest.mark.parametrize("name", ["ramp", "random walk", "inner loops"])
-def test_hysterons_answer_does_not_depend_on_the_sampling(name):
+def test_hysterons_answer_does_not_depend_on_the_sampling(kind, name):
+    params = MODELS[kind][2]
     x = histories()[name]
-    coarse = hysteron(x)
-    fine = hysteron(refine(x, 8))[::8]
+    coarse = hysteron(kind, x, params)
+    fine = hysteron(kind, refine(x, 8), params)[::8]
     scale = np.abs(coarse).max()
     assert np.abs(coarse - fine).max() < 1e-8 * scale
 
 
-def test_without_degradation_both_are_the_classical_bouc_wen_model():
-    plain = dict(PARAMS, delta_a=0.0, delta_nu=0.0, delta_eta=0.0)
+def test_without_degradation_or_pinching_both_are_the_classical_bouc_wen_model():
+    plain = dict(MODELS["bouc_wen_degrading"][2], delta_a=0.0, delta_nu=0.0, delta_eta=0.0)
+    unpinched = dict(MODELS["bwbn"][2], zeta_s=0.0)
     x = histories()["random walk"]
-    reference = hysteron(x, plain)
-    coarse = np.abs(opensees(x, plain) - reference).max()
-    fine = np.abs(opensees(refine(x, 16), plain)[::16] - reference).max()
-    assert fine < coarse / 8, (coarse, fine)
+    reference = hysteron("bouc_wen_degrading", x, plain)
+    assert np.abs(hysteron("bwbn", x, unpinched) - reference).max() < 1e-9 * np.abs(reference).max()
+    for kind, params in (("bouc_wen_degrading", plain), ("bwbn", unpinched)):
+        coarse = np.abs(opensees(kind, x, params) - reference).max()
+        fine = np.abs(opensees(kind, refine(x, 16), params)[::16] - reference).max()
+        assert fine < coarse / 8, (kind, coarse, fine)

@@ -1,0 +1,134 @@
+//! What the Bouc-Wen laws whose state is the hysteretic displacement and
+//! energy `(z, e)` share ([`BoucWenDegrading`](crate::BoucWenDegrading),
+//! [`Bwbn`](crate::Bwbn)): the state, and one sample's step, which
+//! integrates
+//!
+//! `dz/dx = rate(ẋ, z, e)`,  `de/dx = (1 − α) k0 z`,
+//! `F = α k0 x + (1 − α) k0 z`,
+//!
+//! over the input's travel by adaptive Dormand–Prince
+//! ([`dopri5`](crate::ode)), side by side of `z = 0`.
+
+use crate::ode::dopri5;
+use crate::{Float, Result, Trial};
+
+/// The state between samples: the input `x` reached, the hysteretic
+/// displacement `z`, and the energy `e = ∫ (1 − α) k0 z dx`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EnergyState<T> {
+    /// The input of the last sample.
+    pub x: T,
+    /// Hysteretic displacement `z`.
+    pub z: T,
+    /// Hysteretic energy `e` (the integral of the hysteretic force over
+    /// the input: over a closed loop, the energy it dissipated).
+    pub e: T,
+}
+
+impl<T: Float> EnergyState<T> {
+    /// At rest: `x = z = e = 0`.
+    pub(crate) fn at_rest() -> Self {
+        EnergyState {
+            x: T::zero(),
+            z: T::zero(),
+            e: T::zero(),
+        }
+    }
+}
+
+/// The local error held per sub-step, relative to the state's scale.
+const RTOL: f64 = 1e-11;
+
+/// A Bouc-Wen law on `(z, e)`.
+pub(crate) trait EnergyFlow<T: Float> {
+    /// The law's kind, naming it in an error.
+    const SOLVER: &'static str;
+    /// Post-yield stiffness ratio `α`.
+    fn alpha(&self) -> T;
+    /// Initial stiffness `k0`.
+    fn k0(&self) -> T;
+    /// The scale of `z` (its ultimate value) for the error control.
+    fn z_scale(&self) -> f64;
+    /// `dz/dx` at `(z, e)` travelling in direction `dir` (`±1`), on the
+    /// side `positive` of `z = 0`: the side, not the sign of `z`, picks the
+    /// branch (`γ ± β`, the sign of `|z|`), so that a state a rounding error
+    /// across `z = 0` keeps its side's flow and derivatives.
+    fn rate(&self, dir: T, positive: bool, z: T, e: T) -> T;
+
+    /// The side of `z = 0` the state is on: the sign of `z` beyond `snap`,
+    /// else the side `z` moves into (where both sides' flows agree).
+    fn side(&self, dir: T, z: T, e: T, snap: f64) -> bool {
+        if z.as_f64().abs() > snap {
+            z > T::zero()
+        } else {
+            dir * self.rate(dir, true, z, e) > T::zero()
+        }
+    }
+
+    /// One sample from `s` to the input `x`: `(z, e)` integrated over the
+    /// travel `|x − s.x|` (each sub-step's local error below `1e-11` of the
+    /// state's scale, and ending where `z` changes sign), the output
+    /// `F = α k0 x + (1 − α) k0 z` and its tangent `α k0 + (1 − α) k0 dz/dx`
+    /// at the end, in the direction travelled.
+    fn energy_step(&self, s: &EnergyState<T>, x: T) -> Result<(EnergyState<T>, Trial<T>)> {
+        let (alpha, k0) = (self.alpha(), self.k0());
+        let hysteretic = (T::one() - alpha) * k0;
+        let travel = x - s.x;
+        let dir = if travel < T::zero() {
+            -T::one()
+        } else {
+            T::one()
+        };
+        let zs = self.z_scale();
+        let snap = 1e-8 * zs;
+        let [z, e] = if travel == T::zero() {
+            [s.z, s.e]
+        } else {
+            let energy_scale = hysteretic.as_f64().abs();
+            dopri5(
+                |y: &[T; 2], positive| {
+                    [
+                        dir * self.rate(dir, positive, y[0], y[1]),
+                        dir * hysteretic * y[0],
+                    ]
+                },
+                (
+                    |y: &[T; 2]| self.side(dir, y[0], y[1], snap),
+                    |y: &[T; 2]| y[0].as_f64(),
+                    snap,
+                ),
+                [s.z, s.e],
+                travel.abs(),
+                |y| {
+                    let z = y[0].as_f64().abs().max(zs);
+                    [z, y[1].as_f64().abs().max(energy_scale * z * zs)]
+                },
+                RTOL,
+                Self::SOLVER,
+            )?
+        };
+        let dz = self.rate(dir, self.side(dir, z, e, 0.0), z, e);
+        Ok((
+            EnergyState { x, z, e },
+            Trial {
+                output: alpha * k0 * x + hysteretic * z,
+                tangent: alpha * k0 + hysteretic * dz,
+            },
+        ))
+    }
+}
+
+/// `|z|^n` on the side `positive` of `z = 0`: `z` or `−z` (so a rounding
+/// error across 0 keeps the side's derivative) for `n = 1`, else that
+/// size to the `n`, 0 where it is not positive.
+#[inline(always)]
+pub(crate) fn power_on_side<T: Float>(positive: bool, z: T, n: T) -> T {
+    let size = if positive { z } else { -z };
+    if n == T::one() {
+        size
+    } else if size > T::zero() {
+        size.powf(n)
+    } else {
+        T::zero()
+    }
+}
