@@ -33,7 +33,8 @@
 //!   [`backlash_contact`](operators::BacklashContact),
 //!   [`relay`](operators::Relay),
 //!   [`bouc_wen_degrading`](operators::BoucWenDegrading),
-//!   [`bwbn`](operators::Bwbn), [`pi_bank`](composition::PiBank),
+//!   [`bwbn`](operators::Bwbn), [`duhem`](operators::Duhem),
+//!   [`pi_bank`](composition::PiBank),
 //!   [`pi_inverse`](composition::PiInverse).
 //! * Combinators: `cascade`, `parallel`, `scaled`, `feedback`, `series`,
 //!   `inverse`, `oversample`, `transmission`.

@@ -29,6 +29,7 @@
 //! | [`Relay`] | `relay` | `y = a s, s = +1 once x ≥ h/2, −1 once x ≤ −h/2, held in between (from s0)` |
 //! | [`BoucWenDegrading`] | `bouc_wen_degrading` | `F = α k0 x + (1 − α) k0 z, dz/dx = (A − \|z\|^n ν (γ + β sgn(ẋ z)))/η, de/dx = (1 − α) k0 z, A = a0 − δ_A e, ν = 1 + δ_ν e, η = 1 + δ_η e` |
 //! | [`Bwbn`] | `bwbn` | `F = α k0 x + (1 − α) k0 z, dz/dx = h (a0 − \|z\|^n (γ + β sgn(ẋ z))), h = 1 − ζ1 exp(−(z sgn ẋ − q z_u)²/ζ2²), ζ1 = ζ_s (1 − e^{−p e}), ζ2 = (ψ0 + δ_ψ e)(λ + ζ1), z_u = (1/(β + γ))^{1/n}, de/dx = (1 − α) k0 z` |
+//! | [`Duhem`] | `duhem` | `dy/dx = α sgn(ẋ) (a x − y) + b` |
 //! <!-- END generated: operators -->
 //!
 //! Combinators live in `hysteron-composition`.
@@ -129,4 +130,5 @@ leaves! { $;
     relay => Relay,
     bouc_wen_degrading => BoucWenDegrading,
     bwbn => Bwbn,
+    duhem => Duhem,
 }

@@ -28,6 +28,7 @@ __all__ = [
     "relay",
     "bouc_wen_degrading",
     "bwbn",
+    "duhem",
     "pi_bank",
     "pi_inverse",
 ]
@@ -304,6 +305,18 @@ def bwbn(alpha: float, k0: float, n: float, gamma: float, beta: float, a0: float
         lam (> 0): `λ > 0` (OpenSees' `lamda`; `lam`, as `lambda` is a keyword in Python): the spread's floor, `ζ2 = (ψ0 + δ_ψ e)(λ + ζ1)`.
 
     Example: ``bwbn(**{"alpha":0.1,"k0":10.0,"n":1.0,"gamma":0.5,"beta":0.5,"a0":1.0,"q":0.25,"zeta_s":0.9,"p":1.0,"psi0":0.2,"delta_psi":0.005,"lam":0.5})``.
+    """
+
+def duhem(alpha: float, a: float, b: float, y0: Optional[float] = None) -> Model:
+    """The ``duhem`` operator: dy/dx = α sgn(ẋ) (a x − y) + b.
+
+    Parameters:
+        alpha (> 0): Rate `α > 0` (per input unit) at which the output approaches the anhysteretic line while the input moves.
+        a (real): Slope `a` of the anhysteretic line `y = a x` (finite).
+        b (real): Slope `b` the output keeps on the line's two sides (finite): the branches approach `y = a x ± (b − a)/α`.
+        y0 (real; default 0): Output `y0` at input `x = 0` before the first sample (default 0).
+
+    Example: ``duhem(**{"alpha":2.0,"a":1.0,"b":0.2,"y0":0.0})``.
     """
 
 def pi_bank(a0: float, r: Sequence[float], w: Sequence[float], y0: Optional[Sequence[float]] = None) -> Model:
