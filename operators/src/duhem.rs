@@ -107,6 +107,7 @@ impl<T: Float> StepLaw<T> for DuhemParams<T> {
 mod tests {
     #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
     use super::*;
+    use crate::sampling_check::refinement_difference;
     use crate::Operator;
 
     /// On an increasing ramp from rest the closed form
@@ -131,18 +132,8 @@ mod tests {
                 2.0 * (std::f64::consts::TAU * 3.0 * t).sin() + 0.3 * (50.0 * t).sin()
             })
             .collect();
-        let mut fine = vec![];
-        for w in coarse.windows(2) {
-            for j in 0..8 {
-                fine.push(w[0] + (w[1] - w[0]) * j as f64 / 8.0);
-            }
-        }
-        fine.push(*coarse.last().unwrap());
-        let yc = Duhem::new(2.0, 1.0, 0.2).unwrap().run(&coarse).unwrap();
-        let yf = Duhem::new(2.0, 1.0, 0.2).unwrap().run(&fine).unwrap();
-        for (i, a) in yc.iter().enumerate() {
-            assert!((a - yf[8 * i]).abs() < 1e-13, "sample {i}: {a} vs {}", yf[8 * i]);
-        }
+        let (i, d) = refinement_difference(&Duhem::new(2.0, 1.0, 0.2).unwrap(), &coarse, 8);
+        assert!(d < 1e-13, "sample {i}: {d:e}");
     }
 
     /// The tangent is the derivative of one step's output.

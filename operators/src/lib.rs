@@ -59,6 +59,8 @@ mod ode;
 mod operator;
 mod parameters;
 pub mod params;
+#[cfg(test)]
+mod sampling_check;
 pub mod simd;
 mod staged;
 

@@ -258,6 +258,7 @@ impl<T: Float> StepLaw<T> for TransientFrictionParams<T> {
 mod tests {
     #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
     use super::*;
+    use crate::sampling_check::refinement_difference;
     use crate::{AsymmetricFriction, Operator};
 
     fn element(a_pos: f64, a_neg: f64, lam: f64) -> TransientFriction<f64> {
@@ -318,20 +319,8 @@ mod tests {
     /// shared samples by rounding only: rate-independent.
     #[test]
     fn refining_the_sampling_changes_nothing_but_rounding() {
-        let coarse = cycles(500);
-        let mut fine = Vec::new();
-        for w in coarse.windows(2) {
-            for j in 0..7 {
-                fine.push(w[0] + (w[1] - w[0]) * j as f64 / 7.0);
-            }
-        }
-        fine.push(*coarse.last().unwrap());
-        let yc = element(0.3, -0.2, 0.1).run(&coarse).unwrap();
-        let yf = element(0.3, -0.2, 0.1).run(&fine).unwrap();
-        for (i, a) in yc.iter().enumerate() {
-            let b = yf[7 * i];
-            assert!((a - b).abs() <= 1e-12, "sample {i}: {a} vs {b}");
-        }
+        let (i, d) = refinement_difference(&element(0.3, -0.2, 0.1), &cycles(500), 7);
+        assert!(d <= 1e-12, "sample {i}: {d:e}");
     }
 
     /// A reversal restarts the transient; sliding on after a stick keeps it.
