@@ -562,6 +562,14 @@ enum Command {
     },
 }
 
+/// Prints a command's report on stdout, and gives the exit code of a fit
+/// that ended not converged
+/// ([`EXIT_NOT_CONVERGED`](fitting::EXIT_NOT_CONVERGED)), else `None`.
+fn printed(report: impl std::fmt::Display, converged: bool) -> Option<ExitCode> {
+    println!("{report}");
+    (!converged).then(|| ExitCode::from(fitting::EXIT_NOT_CONVERGED))
+}
+
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
@@ -579,10 +587,7 @@ fn main() -> ExitCode {
     };
     let result = match cli.command {
         Command::Paper { out } => paper::run(&paper::PaperOptions { out })
-            .map(|report| {
-                println!("{report}");
-                None
-            })
+            .map(|report| printed(report, true))
             .map_err(|e| e.to_string()),
         Command::Fit {
             model,
@@ -628,13 +633,7 @@ fn main() -> ExitCode {
             progress: !no_progress,
             dt: period.source(),
         })
-        .map(|report| {
-            println!("{report}");
-            if !report.converged() {
-                return Some(ExitCode::from(fitting::EXIT_NOT_CONVERGED));
-            }
-            None
-        })
+        .map(|report| printed(&report, report.converged()))
         .map_err(|e| e.to_string()),
         Command::IdentifyPaper {
             loop_record,
@@ -659,13 +658,7 @@ fn main() -> ExitCode {
             patience: usize::try_from(patience).unwrap_or(usize::MAX),
             progress: !no_progress,
         })
-        .map(|report| {
-            println!("{report}");
-            if !report.converged() {
-                return Some(ExitCode::from(fitting::EXIT_NOT_CONVERGED));
-            }
-            None
-        })
+        .map(|report| printed(&report, report.converged()))
         .map_err(|e| e.to_string()),
         Command::Analyze {
             model,
@@ -689,10 +682,7 @@ fn main() -> ExitCode {
             precision: usize::try_from(precision).unwrap_or(usize::MAX),
             output,
         })
-        .map(|report| {
-            println!("{report}");
-            None
-        })
+        .map(|report| printed(report, true))
         .map_err(|e| e.to_string()),
         Command::Validate {
             model,
@@ -715,10 +705,7 @@ fn main() -> ExitCode {
             plot,
             csv,
         })
-        .map(|report| {
-            println!("{report}");
-            None
-        })
+        .map(|report| printed(report, true))
         .map_err(|e| e.to_string()),
         Command::Simulate {
             model,
@@ -737,10 +724,7 @@ fn main() -> ExitCode {
             output_column,
             dt: period.source(),
         })
-        .map(|report| {
-            println!("{report}");
-            None
-        })
+        .map(|report| printed(report, true))
         .map_err(|e| e.to_string()),
         Command::Sensitivity {
             model,
@@ -759,10 +743,7 @@ fn main() -> ExitCode {
             output_column,
             dt: period.source(),
         })
-        .map(|report| {
-            println!("{report}");
-            None
-        })
+        .map(|report| printed(report, true))
         .map_err(|e| e.to_string()),
         Command::ExportFmu {
             model,
@@ -775,10 +756,7 @@ fn main() -> ExitCode {
             name,
             library,
         })
-        .map(|report| {
-            println!("{report}");
-            None
-        })
+        .map(|report| printed(report, true))
         .map_err(|e| e.to_string()),
         Command::Compare {
             candidates,
@@ -819,10 +797,7 @@ fn main() -> ExitCode {
             plot,
             progress: !no_progress,
         })
-        .map(|report| {
-            println!("{report}");
-            None
-        })
+        .map(|report| printed(report, true))
         .map_err(|e| e.to_string()),
         Command::Operators { figures } => {
             print!("{}", hysteron_cli::models::spec::reference::listing());
