@@ -4,7 +4,7 @@
 //! step per sample.
 
 use crate::energy_flow::{power_on_side, EnergyFlow, EnergyState};
-use crate::{check, declare_params, Float, Result, StepLaw, Stepped, Trial};
+use crate::{declare_params, Float, Result, StepLaw, Stepped, Trial};
 
 declare_params! {
     /// Parameters of the [`BoucWenDegrading`] model (OpenSees' names
@@ -32,7 +32,6 @@ declare_params! {
         /// Stiffness degradation `δ_η ≥ 0`: `η = 1 + δ_η e`.
         delta_eta: T => NonNegative = 0.01,
     }
-    check = |p| check::finite("alpha", p.alpha);
     law: "bouc_wen_degrading", "F = α k0 x + (1 − α) k0 z, dz/dx = (A − |z|^n ν (γ + β sgn(ẋ z)))/η, de/dx = (1 − α) k0 z, A = a0 − δ_A e, ν = 1 + δ_ν e, η = 1 + δ_η e";
 }
 
