@@ -41,7 +41,7 @@
 use criterion::measurement::WallTime;
 use criterion::{criterion_group, criterion_main, BenchmarkGroup, Criterion, Throughput};
 use hysteron::identify::benchmark::{start_from_data, FREE as BENCHMARK_FREE};
-use hysteron::identify::paper::{identify_paper, PaperOptions};
+use hysteron::identify::paper::{identify_paper, PaperIdentification, PaperOptions};
 use hysteron::identify::{fit, free_by_names, FitOptions};
 use hysteron::models::benchmark::boucwen_system;
 use hysteron::models::experiments::{chirp, sine, DRIVE};
@@ -198,6 +198,14 @@ struct PaperRecords {
     start: TransmissionParams,
 }
 
+impl PaperRecords {
+    /// The paper's identification on the two records from `start`.
+    fn identify(&self, opts: &PaperOptions) -> PaperIdentification {
+        let (lx, lf, cx, cf) = (&self.loop_x, &self.loop_f, &self.chirp_x, &self.chirp_f);
+        identify_paper(lx, lf, cx, cf, &self.start, opts).expect("identification runs")
+    }
+}
+
 /// The paper's model with the truth's spring `n = 1.5`, `h0 = 0.1`,
 /// sampled at 250 Hz over a 0.5 Hz major loop (2 cycles) and the 5 → 0.1 Hz
 /// down-chirp over 20 s; the start 20 % off in backlash, `F_c` and `K`.
@@ -227,23 +235,14 @@ fn paper_records() -> PaperRecords {
 }
 
 fn paper_two_stages(c: &mut Criterion) {
-    let PaperRecords {
-        loop_x,
-        loop_f,
-        chirp_x,
-        chirp_f,
-        start,
-    } = paper_records();
+    let records = paper_records();
     // the paper's two stages only (stage 3 off), as the README's figure
     let opts = PaperOptions {
         joint: None,
         ..PaperOptions::default()
     };
 
-    let run = || {
-        identify_paper(&loop_x, &loop_f, &chirp_x, &chirp_f, &start, &opts)
-            .expect("identification runs")
-    };
+    let run = || records.identify(&opts);
     let r = run();
     eprintln!(
         "paper_two_stages: stage 1 {} iterations, {} evaluations, {:.3} s, NRMSE {:.3e}, {:?}; \
@@ -260,7 +259,7 @@ fn paper_two_stages(c: &mut Criterion) {
         r.bedstop.status,
     );
 
-    let mut g = group(c, 0.1, 20, loop_x.len() + chirp_x.len());
+    let mut g = group(c, 0.1, 20, records.loop_x.len() + records.chirp_x.len());
     g.bench_function("paper_two_stages", |b| {
         b.iter(|| black_box(run().params.backlash))
     });
@@ -313,13 +312,7 @@ fn benchmark_system(c: &mut Criterion) {
 /// and 40 evaluations of the benchmark system's fit on the record's first
 /// 1024 samples, upsampled 20× (20 480 samples a simulation).
 fn speculation(c: &mut Criterion) {
-    let PaperRecords {
-        loop_x,
-        loop_f,
-        chirp_x,
-        chirp_f,
-        start,
-    } = paper_records();
+    let records = paper_records();
 
     let (u, y) = train_multisine();
     let from = start_from_data(&u, &y, 750.0, 20).expect("data start");
@@ -328,7 +321,7 @@ fn speculation(c: &mut Criterion) {
     let system = boucwen_system(&from).expect("benchmark system").boxed();
     let free = free_by_names(system.as_ref(), &BENCHMARK_FREE).expect("the seven names");
 
-    let mut g = group(c, 0.1, 10, loop_x.len() + chirp_x.len());
+    let mut g = group(c, 0.1, 10, records.loop_x.len() + records.chirp_x.len());
     for (name, parallel) in [("speculating", true), ("alone", false)] {
         let opts = PaperOptions {
             joint: None,
@@ -340,8 +333,7 @@ fn speculation(c: &mut Criterion) {
         };
         g.bench_function(format!("paper_two_stages/{name}"), |b| {
             b.iter(|| {
-                let r = identify_paper(&loop_x, &loop_f, &chirp_x, &chirp_f, &start, &opts)
-                    .expect("identification runs");
+                let r = records.identify(&opts);
                 black_box(r.params.backlash)
             })
         });

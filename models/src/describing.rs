@@ -324,14 +324,11 @@ pub struct DescribingFunction {
 /// let n = describing_function(&play, 2.0, &SineOptions::default()).unwrap();
 /// assert!(n.phase < 0.0 && n.gain < 1.0); // backlash: a lag and a loss
 /// ```
-pub fn describing_function<O>(
+pub fn describing_function<O: Operator<f64> + Clone>(
     op: &O,
     amplitude: f64,
     opts: &SineOptions,
-) -> Result<DescribingFunction, AnalysisError>
-where
-    O: Operator<f64> + Clone,
-{
+) -> Result<DescribingFunction, AnalysisError> {
     Ok(SteadyCycle::compute(op, amplitude, opts)?.describing_function(opts.harmonics))
 }
 

@@ -104,14 +104,11 @@ impl SteadyCycle {
 /// let e = loop_energy(&Stop::new(0.25_f64).unwrap(), 1.0, &SineOptions::default()).unwrap();
 /// assert!((e.work - 4.0 * 0.25 * (1.0 - 0.25)).abs() < 1e-5);
 /// ```
-pub fn loop_energy<O>(
+pub fn loop_energy<O: Operator<f64> + Clone>(
     op: &O,
     amplitude: f64,
     opts: &SineOptions,
-) -> Result<LoopEnergy, AnalysisError>
-where
-    O: Operator<f64> + Clone,
-{
+) -> Result<LoopEnergy, AnalysisError> {
     Ok(SteadyCycle::compute(op, amplitude, opts)?.loop_energy())
 }
 

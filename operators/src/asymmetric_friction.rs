@@ -5,8 +5,7 @@ use crate::{check, declare_params, Error, Float, Result, StepLaw, Stepped, Trial
 
 declare_params! {
     /// Parameters of the [`AsymmetricFriction`] element.
-    #[derive(Copy)]
-    pub struct AsymmetricFrictionParams<T> {
+    pub struct AsymmetricFrictionParams<T>: Copy {
         /// Spring stiffness `k > 0`.
         k: T => Positive = 4.0,
         /// Sliding level in the positive direction, `f_pos ≥ 0`: `F ≤ f_pos`.

@@ -1,12 +1,11 @@
 //! A memoryless backlash (a gap with zero force) whose contact stiffens
 //! with penetration.
 
-use crate::{declare_params, Float, Result, StepLaw, Stepped, Trial};
+use crate::{declare_params, Float, Result, Memoryless, Stepped, Trial};
 
 declare_params! {
     /// Parameters of the [`BacklashContact`].
-    #[derive(Copy)]
-    pub struct BacklashContactParams<T> {
+    pub struct BacklashContactParams<T>: Copy {
         /// Gap width `b ≥ 0`: no force while `|x − c| ≤ b/2`.
         b: T => NonNegative = 0.6,
         /// Linear contact stiffness `k1 > 0`.
@@ -59,13 +58,11 @@ impl<T: Float> BacklashContact<T> {
     }
 }
 
-impl<T: Float> StepLaw<T> for BacklashContactParams<T> {
-    type State = ();
+crate::memoryless_step_law!(BacklashContactParams);
 
-    fn initial(&self) {}
-
+impl<T: Float> Memoryless<T> for BacklashContactParams<T> {
     #[inline(always)]
-    fn step(&self, _: &(), x: T) -> Result<((), Trial<T>)> {
+    fn eval(&self, x: T) -> Trial<T> {
         let u = x - self.c;
         // `|u| − b/2` is 0 exactly when `|u| = b/2` (gradual underflow)
         let d = u.abs() - self.b * T::lit(0.5);
@@ -80,7 +77,7 @@ impl<T: Float> StepLaw<T> for BacklashContactParams<T> {
         } else {
             (T::zero(), T::zero())
         };
-        Ok(((), Trial { output, tangent }))
+        Trial { output, tangent }
     }
 
 }

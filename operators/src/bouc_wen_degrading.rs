@@ -10,8 +10,7 @@ declare_params! {
     /// Parameters of the [`BoucWenDegrading`] model (OpenSees' names
     /// `alpha ko n gamma beta Ao deltaA deltaNu deltaEta`, written
     /// `alpha k0 n gamma beta a0 delta_a delta_nu delta_eta`).
-    #[derive(Copy)]
-    pub struct BoucWenDegradingParams<T> {
+    pub struct BoucWenDegradingParams<T>: Copy {
         /// Ratio `α` of the post-yield to the initial stiffness (finite).
         alpha: T => Real = 0.1,
         /// Initial stiffness `k0 > 0`.

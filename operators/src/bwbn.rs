@@ -9,8 +9,7 @@ declare_params! {
     /// Parameters of the [`Bwbn`] model (OpenSees' names `alpha ko n gamma
     /// beta Ao q zetas p Shi deltaShi lamda`, written `alpha k0 n gamma beta
     /// a0 q zeta_s p psi0 delta_psi lam`).
-    #[derive(Copy)]
-    pub struct BwbnParams<T> {
+    pub struct BwbnParams<T>: Copy {
         /// Ratio `α` of the post-yield to the initial stiffness (finite).
         alpha: T => Real = 0.1,
         /// Initial stiffness `k0 > 0`.
@@ -177,16 +176,12 @@ mod tests {
     fn without_pinching_it_is_the_plain_bouc_wen_model() {
         let x = cycles();
         let y = Bwbn::from_params(params(0.0)).unwrap().run(&x).unwrap();
+        // the same α, k0, n, γ, β and a0
         let plain = BoucWenDegradingParams {
-            alpha: 0.1,
-            k0: 10.0,
-            n: 1.0,
-            gamma: 0.5,
-            beta: 0.5,
-            a0: 1.0,
             delta_a: 0.0,
             delta_nu: 0.0,
             delta_eta: 0.0,
+            ..Default::default()
         };
         let want = BoucWenDegrading::from_params(plain).unwrap().run(&x).unwrap();
         for (i, (a, b)) in y.iter().zip(&want).enumerate() {

@@ -56,6 +56,14 @@ pub fn positive<T: Float>(name: &str, value: T) -> Result<()> {
     require(value > T::zero(), name, value, "must be > 0")
 }
 
+/// Stores `value` in `slot` once it is finite and `> 0` (a sample period,
+/// for example); `slot` keeps its value on error.
+pub fn set_positive<T: Float>(name: &str, slot: &mut T, value: T) -> Result<()> {
+    positive(name, value)?;
+    *slot = value;
+    Ok(())
+}
+
 /// `value` must be finite and `≤ 0`.
 pub fn non_positive<T: Float>(name: &str, value: T) -> Result<()> {
     finite(name, value)?;

@@ -1,11 +1,10 @@
 //! The Dahl friction model, in closed form per branch.
 
-use crate::{declare_params, Error, Float, Result, StepLaw, Stepped, Trial};
+use crate::{reversal, declare_params, Error, Float, Result, StepLaw, Stepped, Trial};
 
 declare_params! {
     /// Parameters of the [`Dahl`] friction operator.
-    #[derive(Copy)]
-    pub struct DahlParams<T> {
+    pub struct DahlParams<T>: Copy {
         /// Rest stiffness `σ > 0` (slope `dF/dx` at `F = 0`), force per input unit.
         sigma: T => Positive = 40.0,
         /// Coulomb friction level `F_c > 0`.
@@ -169,18 +168,8 @@ impl<T: Float> DahlParams<T> {
     /// One step from state `s` to input `x`: the new state and the tangent.
     #[inline(always)]
     fn advance(p: &DahlParams<T>, s: &DahlState<T>, x: T) -> (DahlState<T>, T) {
-        let dir = if x > s.x {
-            1
-        } else if x < s.x {
-            -1
-        } else {
-            s.dir
-        };
-        let (x_r, f_r) = if dir != s.dir {
-            (s.x, s.f)
-        } else {
-            (s.x_r, s.f_r)
-        };
+        let dir = reversal::travel(s.x, x, s.dir);
+        let (x_r, f_r) = reversal::point(dir, s.dir, (s.x, s.f), (s.x_r, s.f_r));
         let sign = if dir < 0 { -T::one() } else { T::one() };
         let target = sign * p.f_c;
         let w_r = T::one() - sign * f_r / p.f_c;

@@ -1,12 +1,11 @@
 //! The dead-zone operator.
 
-use crate::memoryless::map_samples;
-use crate::{check, declare_params, Float, Result, StepLaw, Stepped, Trial};
+
+use crate::{check, declare_params, Float, Result, Memoryless, Stepped, Trial};
 
 declare_params! {
     /// Parameters of the [`DeadZone`] operator.
-    #[derive(Copy)]
-    pub struct DeadZoneParams<T> {
+    pub struct DeadZoneParams<T>: Copy {
         /// Left limit `b_l ≤ 0`.
         b_l: T => NonPositive = -0.5,
         /// Right limit `b_r ≥ 0`.
@@ -55,31 +54,25 @@ impl<T: Float> DeadZone<T> {
     }
 }
 
-impl<T: Float> StepLaw<T> for DeadZoneParams<T> {
-    type State = ();
+crate::memoryless_step_law!(DeadZoneParams);
 
-    fn initial(&self) {}
-
+impl<T: Float> Memoryless<T> for DeadZoneParams<T> {
     #[inline(always)]
-    fn step(&self, _: &(), x: T) -> Result<((), Trial<T>)> {
+    fn eval(&self, x: T) -> Trial<T> {
         let DeadZoneParams { b_l, b_r } = *self;
         let tangent = if x >= b_r || x <= b_l {
             T::one()
         } else {
             T::zero()
         };
-        Ok((
-            (),
-            Trial {
-                output: dead_zone(b_l, b_r, x),
-                tangent,
-            },
-        ))
+        Trial {
+            output: dead_zone(b_l, b_r, x),
+            tangent,
+        }
     }
 
-    fn run(&self, _: &mut (), xs: &[T], ys: &mut [T]) -> Result<()> {
-        let DeadZoneParams { b_l, b_r } = *self;
-        map_samples(<Self as crate::Declared<T>>::KIND, xs, ys, |x| dead_zone(b_l, b_r, x))
+    #[inline(always)]
+    fn value(&self, x: T) -> T {
+        dead_zone(self.b_l, self.b_r, x)
     }
-
 }

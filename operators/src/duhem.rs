@@ -5,8 +5,7 @@ use crate::{declare_params, Float, Result, StepLaw, Stepped, Trial};
 
 declare_params! {
     /// Parameters of the [`Duhem`] model.
-    #[derive(Copy)]
-    pub struct DuhemParams<T> {
+    pub struct DuhemParams<T>: Copy {
         /// Rate `α > 0` (per input unit) at which the output approaches the
         /// anhysteretic line while the input moves.
         alpha: T => Positive = 2.0,

@@ -4,8 +4,7 @@ use crate::{check, declare_params, stop_step, Float, Result, StepLaw, Stepped, S
 
 declare_params! {
     /// Parameters of the [`ElastoPlastic`] element.
-    #[derive(Copy)]
-    pub struct ElastoPlasticParams<T> {
+    pub struct ElastoPlasticParams<T>: Copy {
         /// Spring stiffness `k > 0`.
         k: T => Positive = 4.0,
         /// Break-away force `F_b ≥ 0`.

@@ -1,12 +1,11 @@
 //! The linear gain (a linear spring in force-displacement terms).
 
-use crate::memoryless::map_samples;
-use crate::{declare_params, Float, Result, StepLaw, Stepped, Trial};
+
+use crate::{declare_params, Float, Result, Memoryless, Stepped, Trial};
 
 declare_params! {
     /// Parameters of the [`Gain`].
-    #[derive(Copy)]
-    pub struct GainParams<T> {
+    pub struct GainParams<T>: Copy {
         /// The gain (finite).
         k: T => Real = -2.5,
     }
@@ -35,26 +34,14 @@ impl<T: Float> Gain<T> {
     }
 }
 
-impl<T: Float> StepLaw<T> for GainParams<T> {
-    type State = ();
+crate::memoryless_step_law!(GainParams);
 
-    fn initial(&self) {}
-
+impl<T: Float> Memoryless<T> for GainParams<T> {
     #[inline(always)]
-    fn step(&self, _: &(), x: T) -> Result<((), Trial<T>)> {
-        let k = self.k;
-        Ok((
-            (),
-            Trial {
-                output: k * x,
-                tangent: k,
-            },
-        ))
+    fn eval(&self, x: T) -> Trial<T> {
+        Trial {
+            output: self.k * x,
+            tangent: self.k,
+        }
     }
-
-    fn run(&self, _: &mut (), xs: &[T], ys: &mut [T]) -> Result<()> {
-        let k = self.k;
-        map_samples(<Self as crate::Declared<T>>::KIND, xs, ys, |x| k * x)
-    }
-
 }

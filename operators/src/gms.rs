@@ -279,9 +279,7 @@ impl<T: Float> crate::Hints<T> for Gms<T> {}
 
 impl<T: Float> crate::SamplePeriod<T> for Gms<T> {
     fn set_sample_period(&mut self, dt: T) -> Result<()> {
-        check::positive("dt", dt)?;
-        self.p.dt = dt;
-        Ok(())
+        check::set_positive("dt", &mut self.p.dt, dt)
     }
 }
 

@@ -54,11 +54,13 @@ mod exp_m1;
 mod float;
 mod hints;
 mod leaf;
-mod memoryless;
+#[doc(hidden)]
+pub mod memoryless;
 mod ode;
 mod operator;
 mod parameters;
 pub mod params;
+mod reversal;
 #[cfg(test)]
 mod sampling_check;
 pub mod simd;
@@ -79,6 +81,7 @@ pub use hints::{
     process_while, process_while_beyond, process_while_by_trials, Beyond, Hints, Keep,
 };
 pub use leaf::{checked_step, Declared, Leaf, StepLaw, Stepped};
+pub use memoryless::Memoryless;
 pub use operator::{check_input, check_lengths, check_output, process_by_trials, Operator, Trial};
 pub use parameters::{Derivatives, Parameters, SamplePeriod};
 pub use params::{CastScalar, FieldInfo, FieldKind, ParamField, ParamSet};

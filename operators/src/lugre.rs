@@ -4,8 +4,7 @@ use crate::{check, declare_params, Float, Result, StepLaw, Stepped, Trial};
 
 declare_params! {
     /// Parameters of the [`LuGre`] friction operator.
-    #[derive(Copy)]
-    pub struct LuGreParams<T> {
+    pub struct LuGreParams<T>: Copy {
         /// Bristle stiffness `σ0 > 0` (force per input unit).
         sigma0: T => Positive = 1e4,
         /// Bristle damping `σ1 ≥ 0` (force per velocity).
@@ -204,11 +203,8 @@ impl<T: Float> StepLaw<T> for LuGreParams<T> {
     }
 
     fn set_sample_period(&mut self, dt: T) -> Result<()> {
-        check::positive("dt", dt)?;
-        self.dt = dt;
-        Ok(())
+        check::set_positive("dt", &mut self.dt, dt)
     }
-
 }
 
 #[cfg(test)]

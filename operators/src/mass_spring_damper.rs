@@ -1,11 +1,10 @@
 //! A linear mass-spring-damper driven by force (rate-dependent).
 
-use crate::{check, declare_params, Float, Result, StepLaw, Stepped, Trial};
+use crate::{check, declare_params, CastScalar, Float, Result, StepLaw, Stepped, Trial};
 
 declare_params! {
     /// Parameters of the [`MassSpringDamper`].
-    #[derive(Copy)]
-    pub struct MassSpringDamperParams<T> {
+    pub struct MassSpringDamperParams<T>: Copy {
         /// Mass `m > 0`.
         m: T => Positive = 2.0,
         /// Viscous damping `c ≥ 0`.
@@ -125,12 +124,7 @@ impl<T: Float> StepLaw<T> for MassSpringDamperParams<T> {
     /// and the state: the same operations on the same values.
     fn step_value(&self, s: &MsdState<T>, x: f64) -> Option<Result<Trial<f64>>> {
         let v = |t: T| t.as_f64();
-        let law = MassSpringDamperParams {
-            m: v(self.m),
-            c: v(self.c),
-            k: v(self.k),
-            dt: v(self.dt),
-        };
+        let law: MassSpringDamperParams<f64> = self.cast_scalar();
         let s = MsdState {
             y: v(s.y),
             v: v(s.v),
@@ -150,11 +144,8 @@ impl<T: Float> StepLaw<T> for MassSpringDamperParams<T> {
     }
 
     fn set_sample_period(&mut self, dt: T) -> Result<()> {
-        check::positive("dt", dt)?;
-        self.dt = dt;
-        Ok(())
+        check::set_positive("dt", &mut self.dt, dt)
     }
-
 }
 
 #[cfg(test)]

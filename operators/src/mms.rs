@@ -1,12 +1,11 @@
 //! Modified Maxwell-slip (MMS) pre-sliding friction.
 
-use crate::{check_lengths, declare_params, Error, Float, Result, StepLaw, Stepped, Trial};
+use crate::{reversal, CastScalar, check_lengths, declare_params, Error, Float, Result, StepLaw, Stepped, Trial};
 use core::any::TypeId;
 
 declare_params! {
     /// Parameters of the [`Mms`] friction operator.
-    #[derive(Copy)]
-    pub struct MmsParams<T> {
+    pub struct MmsParams<T>: Copy {
         /// Coulomb friction level `F_c > 0`.
         f_c: T => Positive = 1.5,
         /// Exponential rate (initial stiffness over `F_c`) `K > 0`, in 1/input unit.
@@ -87,18 +86,8 @@ impl<T: Float> MmsParams<T> {
     /// One step from state `s` to input `x`: the new state and the tangent.
     #[inline(always)]
     fn advance(p: &MmsParams<T>, s: &MmsState<T>, x: T) -> (MmsState<T>, T) {
-        let dir = if x > s.x {
-            1
-        } else if x < s.x {
-            -1
-        } else {
-            s.dir
-        };
-        let (x_r, y_r) = if dir != s.dir {
-            (s.x, s.y)
-        } else {
-            (s.x_r, s.y_r)
-        };
+        let dir = reversal::travel(s.x, x, s.dir);
+        let (x_r, y_r) = reversal::point(dir, s.dir, (s.x, s.y), (s.x_r, s.y_r));
         let sign = if dir < 0 { -T::one() } else { T::one() };
         let target = sign * p.f_c;
         // Standing still keeps the branch (dir = s.dir), so the committed
@@ -246,11 +235,7 @@ impl<T: Float> StepLaw<T> for MmsParams<T> {
 
     fn step_value(&self, s: &MmsState<T>, x: f64) -> Option<Result<Trial<f64>>> {
         let v = |t: T| t.as_f64();
-        let law = MmsParams {
-            f_c: v(self.f_c),
-            k: v(self.k),
-            y0: v(self.y0),
-        };
+        let law: MmsParams<f64> = self.cast_scalar();
         let s = MmsState {
             x: v(s.x),
             y: v(s.y),

@@ -1,11 +1,10 @@
 //! The offset `y = x + c` (memoryless).
 
-use crate::{declare_params, Float, Result, StepLaw, Stepped, Trial};
+use crate::{declare_params, Float, Result, Memoryless, Stepped, Trial};
 
 declare_params! {
     /// Parameters of the [`Offset`].
-    #[derive(Copy)]
-    pub struct OffsetParams<T> {
+    pub struct OffsetParams<T>: Copy {
         /// The constant added to the input (finite).
         c: T => Real = -0.75,
     }
@@ -30,20 +29,13 @@ impl<T: Float> Offset<T> {
     }
 }
 
-impl<T: Float> StepLaw<T> for OffsetParams<T> {
-    type State = ();
+crate::memoryless_step_law!(OffsetParams);
 
-    fn initial(&self) {}
-
-    fn step(&self, _: &(), x: T) -> Result<((), Trial<T>)> {
-        let output = x + self.c;
-        Ok((
-            (),
-            Trial {
-                output,
-                tangent: T::one(),
-            },
-        ))
+impl<T: Float> Memoryless<T> for OffsetParams<T> {
+    fn eval(&self, x: T) -> Trial<T> {
+        Trial {
+            output: x + self.c,
+            tangent: T::one(),
+        }
     }
-
 }

@@ -288,7 +288,8 @@ impl<T: Float> ParamField<T> for Vec<T> {
 }
 
 /// Declares a parameter set once: the struct (with its serde form), and
-/// its [`ParamSet`] implementation, from one list of fields.
+/// its [`ParamSet`] implementation, from one list of fields. A set of
+/// scalars is `Copy` when its header says so: `struct NameParams<T>: Copy`.
 ///
 /// Each field is written
 /// `/// doc` … `name: Type => Kind = example,` (the example value
@@ -306,8 +307,7 @@ impl<T: Float> ParamField<T> for Vec<T> {
 ///
 /// declare_params! {
 ///     /// Parameters of a two-sided friction level.
-///     #[derive(Copy)]
-///     pub struct LevelsParams<T> {
+///     pub struct LevelsParams<T>: Copy {
 ///         /// Level in the positive direction, `> 0`.
 ///         up: T => Positive = 1.0,
 ///         /// Level in the negative direction, `> 0`.
@@ -330,7 +330,7 @@ impl<T: Float> ParamField<T> for Vec<T> {
 macro_rules! declare_params {
     (
         $(#[$sm:meta])*
-        $vis:vis struct $name:ident<T> {
+        $vis:vis struct $name:ident<T> $(: $copy:ident)? {
             $(
                 $(#[doc = $doc:literal])*
                 $(#[serde($($serde:tt)*)])*
@@ -341,7 +341,7 @@ macro_rules! declare_params {
         $(law: $law_kind:literal, $law_equation:literal;)?
     ) => {
         $(#[$sm])*
-        #[derive(Debug, Clone, PartialEq, $crate::__serde::Serialize, $crate::__serde::Deserialize)]
+        #[derive(Debug, Clone, $($copy,)? PartialEq, $crate::__serde::Serialize, $crate::__serde::Deserialize)]
         #[serde(crate = "hysteron_operators::__serde", deny_unknown_fields)]
         #[serde(bound(
             serialize = "T: hysteron_operators::__serde::Serialize",

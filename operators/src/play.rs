@@ -4,8 +4,7 @@ use crate::{declare_params, Error, Float, Result, StepLaw, Stepped, Trial};
 
 declare_params! {
     /// Parameters of the [`Play`] operator.
-    #[derive(Copy)]
-    pub struct PlayParams<T> {
+    pub struct PlayParams<T>: Copy {
         /// Threshold (half the backlash gap) `r ≥ 0`.
         r: T => NonNegative = 0.5,
         /// Output at input `x = 0` before the first sample (default 0).

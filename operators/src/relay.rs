@@ -5,8 +5,7 @@ use crate::{declare_params, Error, Float, Result, StepLaw, Stepped, Trial};
 
 declare_params! {
     /// Parameters of the [`Relay`].
-    #[derive(Copy)]
-    pub struct RelayParams<T> {
+    pub struct RelayParams<T>: Copy {
         /// Hysteresis width `h ≥ 0`: the output switches up at `x ≥ h/2` and down at `x ≤ −h/2`.
         h: T => NonNegative = 0.5,
         /// Output level `a` (finite): the output is `+a` or `−a` (default 1).

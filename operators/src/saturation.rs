@@ -1,12 +1,11 @@
 //! The saturation operator.
 
-use crate::memoryless::map_samples;
-use crate::{check, declare_params, Float, Result, StepLaw, Stepped, Trial};
+
+use crate::{check, declare_params, Float, Result, Memoryless, Stepped, Trial};
 
 declare_params! {
     /// Parameters of the [`Saturation`] operator.
-    #[derive(Copy)]
-    pub struct SaturationParams<T> {
+    pub struct SaturationParams<T>: Copy {
         /// Lower limit.
         lo: T => Real = -1.0,
         /// Upper limit, `hi > lo`.
@@ -33,31 +32,25 @@ impl<T: Float> Saturation<T> {
     }
 }
 
-impl<T: Float> StepLaw<T> for SaturationParams<T> {
-    type State = ();
+crate::memoryless_step_law!(SaturationParams);
 
-    fn initial(&self) {}
-
+impl<T: Float> Memoryless<T> for SaturationParams<T> {
     #[inline(always)]
-    fn step(&self, _: &(), x: T) -> Result<((), Trial<T>)> {
+    fn eval(&self, x: T) -> Trial<T> {
         let SaturationParams { lo, hi } = *self;
         let tangent = if x > lo && x < hi {
             T::one()
         } else {
             T::zero()
         };
-        Ok((
-            (),
-            Trial {
-                output: x.max(lo).min(hi),
-                tangent,
-            },
-        ))
+        Trial {
+            output: x.max(lo).min(hi),
+            tangent,
+        }
     }
 
-    fn run(&self, _: &mut (), xs: &[T], ys: &mut [T]) -> Result<()> {
-        let SaturationParams { lo, hi } = *self;
-        map_samples(<Self as crate::Declared<T>>::KIND, xs, ys, |x| x.max(lo).min(hi))
+    #[inline(always)]
+    fn value(&self, x: T) -> T {
+        x.max(self.lo).min(self.hi)
     }
-
 }

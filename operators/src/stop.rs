@@ -4,8 +4,7 @@ use crate::{declare_params, play_step, play_tangent, Float, Result, StepLaw, Ste
 
 declare_params! {
     /// Parameters of the [`Stop`] operator.
-    #[derive(Copy)]
-    pub struct StopParams<T> {
+    pub struct StopParams<T>: Copy {
         /// Threshold `r ≥ 0`: the output stays in `[−r, r]`.
         r: T => NonNegative = 0.5,
         /// Output at input `x = 0` before the first sample (default 0).

@@ -6,8 +6,7 @@ use crate::{check, declare_params, Error, Float, Result, StepLaw, Stepped, Trial
 
 declare_params! {
     /// Parameters of the [`TransientFriction`] element.
-    #[derive(Copy)]
-    pub struct TransientFrictionParams<T> {
+    pub struct TransientFrictionParams<T>: Copy {
         /// Spring stiffness `k > 0`.
         k: T => Positive = 4.0,
         /// Steady sliding level in the positive direction, `f_pos ≥ 0`.

@@ -4,8 +4,7 @@ use crate::{check, declare_params, Float, Result, StepLaw, Stepped, Trial};
 
 declare_params! {
     /// Parameters of the [`ViscousDamper`].
-    #[derive(Copy)]
-    pub struct ViscousDamperParams<T> {
+    pub struct ViscousDamperParams<T>: Copy {
         /// Damping coefficient `c ≥ 0`.
         c: T => NonNegative = 2.0,
         /// Sample period `dt > 0` (s) until the structure above sets one
@@ -64,9 +63,6 @@ impl<T: Float> StepLaw<T> for ViscousDamperParams<T> {
     }
 
     fn set_sample_period(&mut self, dt: T) -> Result<()> {
-        check::positive("dt", dt)?;
-        self.dt = dt;
-        Ok(())
+        check::set_positive("dt", &mut self.dt, dt)
     }
-
 }
