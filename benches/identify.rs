@@ -31,6 +31,12 @@
 //!   parameters the identification fits (the two units its cost is made
 //!   of; throughput: samples at 15 kHz).
 //!
+//! * `jiles_atherton_fit_5`: a fit of all five parameters of the
+//!   Jiles-Atherton model (`ms`, `a`, `k`, `c`, `alpha`) to its response,
+//!   with 1 % Gaussian noise (fixed seed), to two major cycles and a minor
+//!   loop (1 540 samples), from a start 20–30 % off (as
+//!   identify/tests/jiles_atherton_fit.rs; throughput: samples);
+//!
 //! * `speculation`: the paper's two stages and a bounded benchmark-system
 //!   fit, each with its dual passes started beside its simulations on a
 //!   second core and without (see the function).
@@ -48,6 +54,7 @@ use hysteron::models::experiments::{chirp, sine, DRIVE};
 use hysteron::models::sensitivity::derivatives_at;
 use hysteron::models::signal::fft_upsample;
 use hysteron::models::TransmissionParams;
+use hysteron::operators::JilesAthertonParams;
 use hysteron::prelude::*;
 use rand::rngs::StdRng;
 use rand::SeedableRng;
@@ -186,6 +193,61 @@ fn bouc_wen_fit(c: &mut Criterion) {
     g.measurement_time(Duration::from_secs(3));
     bench_eval(&mut g, "bouc_wen_eval", &mut truth.clone(), &x);
     bench_dual_pass(&mut g, "bouc_wen_dual_pass", truth.as_ref(), &x, &free);
+    g.finish();
+}
+
+/// Field corners of the Jiles-Atherton record: two major cycles, then a
+/// minor loop, on straight segments 0.01 apart.
+fn jiles_atherton_field() -> Vec<f64> {
+    let corners: [f64; 8] = [0.0, 3.0, -3.0, 3.0, -3.0, 1.2, -0.5, 1.2];
+    let mut h = Vec::new();
+    for w in corners.windows(2) {
+        let n = ((w[1] - w[0]).abs() / 0.01).round() as usize;
+        h.extend((1..=n).map(|i| w[0] + (w[1] - w[0]) * i as f64 / n as f64));
+    }
+    h
+}
+
+fn jiles_atherton_fit(c: &mut Criterion) {
+    let truth = JilesAthertonParams {
+        ms: 1.2,
+        a: 0.4,
+        k: 0.3,
+        c: 0.3,
+        alpha: 0.15,
+    };
+    let h = jiles_atherton_field();
+    let clean = JilesAtherton::from_params(truth)
+        .expect("truth")
+        .run(&h)
+        .expect("true response");
+    let peak = clean.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+    let noise = Normal::new(0.0, 0.01 * peak).expect("noise");
+    let mut rng = StdRng::seed_from_u64(11);
+    let m: Vec<f64> = clean.iter().map(|v| v + noise.sample(&mut rng)).collect();
+    let start = JilesAthertonParams {
+        ms: truth.ms * 1.3,
+        a: truth.a * 0.7,
+        k: truth.k * 1.25,
+        c: truth.c * 0.8,
+        alpha: truth.alpha * 1.2,
+    };
+    let model = JilesAtherton::from_params(start).expect("start");
+    let free: Vec<usize> = (0..model.n_params()).collect();
+    let opts = FitOptions::default();
+    let f = fit(&model, &h, &m, &free, &opts).expect("fit runs");
+    eprintln!(
+        "jiles_atherton_fit_5 (true values {truth:?}):\n{}",
+        f.report
+    );
+
+    let mut g = group(c, 0.5, 5, h.len());
+    g.bench_function("jiles_atherton_fit_5", |b| {
+        b.iter(|| {
+            let f = fit(&model, black_box(&h), black_box(&m), &free, &opts).expect("fit");
+            black_box(f.report.cost)
+        })
+    });
     g.finish();
 }
 
@@ -357,6 +419,7 @@ criterion_group!(
     benches,
     paper_model_eval,
     bouc_wen_fit,
+    jiles_atherton_fit,
     paper_two_stages,
     benchmark_system,
     speculation

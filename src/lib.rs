@@ -34,6 +34,7 @@
 //!   [`relay`](operators::Relay),
 //!   [`bouc_wen_degrading`](operators::BoucWenDegrading),
 //!   [`bwbn`](operators::Bwbn), [`duhem`](operators::Duhem),
+//!   [`jiles_atherton`](operators::JilesAtherton),
 //!   [`pi_bank`](composition::PiBank),
 //!   [`pi_inverse`](composition::PiInverse).
 //! * Combinators: `cascade`, `parallel`, `scaled`, `feedback`, `series`,

@@ -30,6 +30,7 @@
 //! | [`BoucWenDegrading`] | `bouc_wen_degrading` | `F = α k0 x + (1 − α) k0 z, dz/dx = (A − \|z\|^n ν (γ + β sgn(ẋ z)))/η, de/dx = (1 − α) k0 z, A = a0 − δ_A e, ν = 1 + δ_ν e, η = 1 + δ_η e` |
 //! | [`Bwbn`] | `bwbn` | `F = α k0 x + (1 − α) k0 z, dz/dx = h (a0 − \|z\|^n (γ + β sgn(ẋ z))), h = 1 − ζ1 exp(−(z sgn ẋ − q z_u)²/ζ2²), ζ1 = ζ_s (1 − e^{−p e}), ζ2 = (ψ0 + δ_ψ e)(λ + ζ1), z_u = (1/(β + γ))^{1/n}, de/dx = (1 − α) k0 z` |
 //! | [`Duhem`] | `duhem` | `dy/dx = α sgn(ẋ) (a x − y) + b` |
+//! | [`JilesAtherton`] | `jiles_atherton` | `M = c M_an + (1 − c) M_irr, M_an = Ms L((H + α M)/a), L(u) = coth u − 1/u, dM_irr/dH_e = δ_M (M_an − M_irr)/(δ k), δ = sgn Ḣ, δ_M = 1 where δ (M_an − M_irr) > 0 else 0` |
 //! <!-- END generated: operators -->
 //!
 //! Combinators live in `hysteron-composition`.
@@ -136,4 +137,5 @@ leaves! { $;
     bouc_wen_degrading => BoucWenDegrading,
     bwbn => Bwbn,
     duhem => Duhem,
+    jiles_atherton => JilesAtherton,
 }

@@ -3,7 +3,7 @@
 use crate::{check_lengths, Declared, Error, Float, Result, Trial};
 
 /// A law without memory, `y = f(x)` with the tangent `f'(x)`: a
-/// [`StepLaw`] whose state is `()` (dead-zone, saturation, gain, offset,
+/// [`StepLaw`](crate::StepLaw) whose state is `()` (dead-zone, saturation, gain, offset,
 /// a backlash contact). [`memoryless_step_law!`](crate::memoryless_step_law)
 /// makes it a step law from [`eval`](Memoryless::eval), whose batch loop
 /// runs [`value`](Memoryless::value).

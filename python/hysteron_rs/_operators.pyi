@@ -29,6 +29,7 @@ __all__ = [
     "bouc_wen_degrading",
     "bwbn",
     "duhem",
+    "jiles_atherton",
     "pi_bank",
     "pi_inverse",
 ]
@@ -317,6 +318,19 @@ def duhem(alpha: float, a: float, b: float, y0: Optional[float] = None) -> Model
         y0 (real; default 0): Output `y0` at input `x = 0` before the first sample (default 0).
 
     Example: ``duhem(**{"alpha":2.0,"a":1.0,"b":0.2,"y0":0.0})``.
+    """
+
+def jiles_atherton(ms: float, a: float, k: float, c: float, alpha: float) -> Model:
+    """The ``jiles_atherton`` operator: M = c M_an + (1 − c) M_irr, M_an = Ms L((H + α M)/a), L(u) = coth u − 1/u, dM_irr/dH_e = δ_M (M_an − M_irr)/(δ k), δ = sgn Ḣ, δ_M = 1 where δ (M_an − M_irr) > 0 else 0.
+
+    Parameters:
+        ms (> 0): Saturation magnetization `Ms > 0` (output units).
+        a (> 0): Shape of the anhysteretic curve `a > 0` (input units): the effective field over which it rises.
+        k (> 0): Pinning `k > 0` (input units): the width of the loops, about the coercive field.
+        c (∈ [0, 1]): Reversibility `c ∈ [0, 1]`: the share of the anhysteretic followed reversibly.
+        alpha (≥ 0): Inter-domain coupling `α ≥ 0` (output to input units), with `α c Ms / (3 a) < 1`.
+
+    Example: ``jiles_atherton(**{"ms":1.0,"a":0.3,"k":0.5,"c":0.2,"alpha":0.1})``.
     """
 
 def pi_bank(a0: float, r: Sequence[float], w: Sequence[float], y0: Optional[Sequence[float]] = None) -> Model:
