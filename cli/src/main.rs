@@ -237,7 +237,7 @@ enum Command {
         /// at the end adds 2·free + 1). The fit then ends at its best point,
         /// not converged (exit code 3).
         #[arg(long, value_name = "N", value_parser = args::at_least_1, allow_negative_numbers = true)]
-        max_evaluations: Option<u64>,
+        max_evaluations: Option<usize>,
         /// Wall-time limit of the search in seconds: no new model run starts
         /// after it (the Jacobian under way finishes). The fit then ends at
         /// its best point, not converged (exit code 3).
@@ -257,7 +257,7 @@ enum Command {
         /// (at least 1; for a hard bound use --max-evaluations or
         /// --max-seconds).
         #[arg(long, value_name = "N", default_value_t = 200, value_parser = args::at_least_1, allow_negative_numbers = true)]
-        patience: u64,
+        patience: usize,
         /// How the Jacobian is computed: `exact` (forward-mode derivatives
         /// through the model over dual numbers, one simulation per 8
         /// parameters; see the guide's docs/derivatives.md) or `fd` (central finite
@@ -269,7 +269,7 @@ enum Command {
         /// kept and the report says how many starts reached its cost
         /// (within 1 %).
         #[arg(long, value_name = "N", default_value_t = 1, value_parser = args::at_least_1, allow_negative_numbers = true)]
-        starts: u64,
+        starts: usize,
         /// Half-width of the hypercube in the fit's internal parameters: a
         /// positive parameter starts within a factor e^S of its value, one
         /// in [0, 1] within ±S in its logit, an unbounded one within
@@ -366,11 +366,11 @@ enum Command {
         amplitudes: Vec<f64>,
         /// Samples per period (a multiple of 4, at least 8).
         #[arg(long, value_name = "N", default_value_t = 1024, value_parser = args::samples_per_period, allow_negative_numbers = true)]
-        samples_per_period: u64,
+        samples_per_period: usize,
         /// Periods run before the analysed one (at least 2: the last is
         /// compared with the one before).
         #[arg(long, value_name = "P", default_value_t = 20, value_parser = args::settle_periods, allow_negative_numbers = true)]
-        settle_periods: u64,
+        settle_periods: usize,
         /// Largest accepted change of the first harmonic over the last
         /// period, relative to max|y|.
         #[arg(
@@ -391,8 +391,8 @@ enum Command {
         dt: Option<f64>,
         /// Significant digits of the printed table (1 to 17; --output
         /// writes every digit).
-        #[arg(long, value_name = "DIGITS", default_value_t = analyze::PRECISION as u64, value_parser = args::precision)]
-        precision: u64,
+        #[arg(long, value_name = "DIGITS", default_value_t = analyze::PRECISION, value_parser = args::precision)]
+        precision: usize,
         /// Also write the table as CSV (atomically; may not be the model).
         #[arg(long, value_name = "OUT.csv")]
         output: Option<PathBuf>,
@@ -438,12 +438,12 @@ enum Command {
         /// Points picked on the loop's increasing branch (the knots of the
         /// stiffness map; 2 to 999).
         #[arg(long, value_name = "N", default_value_t = 12, value_parser = args::points, allow_negative_numbers = true)]
-        points: u64,
+        points: usize,
         /// Levenberg-Marquardt's patience in each stage: at most
         /// PATIENCE·(free + 1) trial steps, each accepted one followed by a
         /// Jacobian of 2·free runs (at least 1).
         #[arg(long, value_name = "N", default_value_t = 200, value_parser = args::at_least_1, allow_negative_numbers = true)]
-        patience: u64,
+        patience: usize,
         /// Do not draw the progress line (it is only drawn when stderr is
         /// a terminal anyway).
         #[arg(long)]
@@ -497,7 +497,7 @@ enum Command {
         /// records (record i held out in fold i mod K, scored by the fit on
         /// the other folds; the training figures come from the fit on all).
         #[arg(long, value_name = "K", value_parser = args::at_least_1, allow_negative_numbers = true)]
-        cross_validate: Option<u64>,
+        cross_validate: Option<usize>,
         #[command(flatten)]
         columns: ScoredColumns,
         /// Also score after `validate`'s zero-phase low-pass at HZ, and
@@ -511,7 +511,7 @@ enum Command {
         skip: Option<f64>,
         /// Fit each candidate from N starting points (as `fit --starts`).
         #[arg(long, value_name = "N", default_value_t = 1, value_parser = args::at_least_1, allow_negative_numbers = true)]
-        starts: u64,
+        starts: usize,
         /// Seed of the starting points.
         #[arg(long, value_name = "K", default_value_t = 0)]
         seed: u64,
@@ -552,10 +552,10 @@ enum Command {
     Bench {
         /// Samples of the kernel input per run (1 to 10^9).
         #[arg(long, value_name = "N", default_value_t = 10_000_000, value_parser = args::bench_samples, allow_negative_numbers = true)]
-        samples: u64,
+        samples: usize,
         /// Timed runs per kernel, after one untimed run (1 to 1000).
         #[arg(long, value_name = "R", default_value_t = 5, value_parser = args::bench_runs, allow_negative_numbers = true)]
-        runs: u64,
+        runs: usize,
         /// Only the kernels whose name contains this.
         #[arg(long, value_name = "NAME")]
         kernel: Option<String>,
@@ -616,17 +616,17 @@ fn main() -> ExitCode {
             free,
             own,
             skip,
-            max_evaluations: max_evaluations.map(|n| usize::try_from(n).unwrap_or(usize::MAX)),
+            max_evaluations,
             max_seconds,
             output,
             plot,
-            patience: usize::try_from(patience).unwrap_or(usize::MAX),
+            patience,
             jacobian: match jacobian {
                 JacobianArg::Exact => Jacobian::Exact,
                 JacobianArg::Fd => Jacobian::FiniteDifferences,
             },
             starts: MultiStart {
-                starts: usize::try_from(starts).unwrap_or(usize::MAX),
+                starts,
                 spread,
                 seed,
             },
@@ -654,8 +654,8 @@ fn main() -> ExitCode {
             start,
             output,
             plot,
-            points: usize::try_from(points).unwrap_or(usize::MAX),
-            patience: usize::try_from(patience).unwrap_or(usize::MAX),
+            points,
+            patience,
             progress: !no_progress,
         })
         .map(|report| printed(&report, report.converged()))
@@ -673,13 +673,13 @@ fn main() -> ExitCode {
             model,
             amplitudes,
             sine: SineOptions {
-                samples_per_period: usize::try_from(samples_per_period).unwrap_or(usize::MAX),
-                settle_periods: usize::try_from(settle_periods).unwrap_or(usize::MAX),
+                samples_per_period,
+                settle_periods,
                 steady_tol,
                 ..SineOptions::default()
             },
             dt,
-            precision: usize::try_from(precision).unwrap_or(usize::MAX),
+            precision,
             output,
         })
         .map(|report| printed(report, true))
@@ -778,14 +778,14 @@ fn main() -> ExitCode {
             candidates,
             train,
             validate,
-            cross_validate: cross_validate.map(|k| usize::try_from(k).unwrap_or(usize::MAX)),
+            cross_validate,
             input_column: columns.input_column,
             output_column: columns.output_column,
             lowpass,
             skip,
             dt: period.source(),
             starts: MultiStart {
-                starts: usize::try_from(starts).unwrap_or(usize::MAX),
+                starts,
                 spread: 4f64.ln(),
                 seed,
             },
@@ -814,8 +814,8 @@ fn main() -> ExitCode {
             runs,
             kernel,
         } => bench::run(&bench::BenchOptions {
-            samples: usize::try_from(samples).unwrap_or(usize::MAX),
-            runs: usize::try_from(runs).unwrap_or(usize::MAX),
+            samples,
+            runs,
             filter: kernel,
         })
         .map(|report| {
