@@ -47,7 +47,7 @@
 //!   [`hysteron_cli::models::spec::reference`]), and draws each one's loop
 //!   (see [`hysteron_cli::reference_figures`]).
 //!
-//! * `hysteron bench [--samples N] [--runs R] [--kernel NAME]`: times the
+//! * `hysteron bench [--samples N] [--runs R] [--kernel NAME]`: times
 //!   the performance kernels (see [`hysteron_cli::bench`]).
 //!
 //! Exit codes: 0 on success (and for `--help`, `--version`); 1 for every
@@ -64,6 +64,7 @@ use hysteron_cli::{
     analyze, bench, compare, csvio, export_fmu, fit_cmd, fitting, identify_paper, paper,
     sensitivity, simulate, validate,
 };
+use std::fmt;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -163,12 +164,17 @@ enum Command {
     Bench(bench::BenchOptions),
 }
 
-/// Prints a command's report on stdout, and gives the exit code of a fit
-/// that ended not converged
-/// ([`EXIT_NOT_CONVERGED`](fitting::EXIT_NOT_CONVERGED)), else `None`.
-fn printed(report: impl std::fmt::Display, converged: bool) -> Option<ExitCode> {
+/// A command's outcome: its report printed on stdout, and the exit code of
+/// a fit that ended not converged, as `converged` tells from the report
+/// ([`EXIT_NOT_CONVERGED`](fitting::EXIT_NOT_CONVERGED)), else `None`; or
+/// its error's message.
+fn reported<R: fmt::Display, E: fmt::Display>(
+    result: Result<R, E>,
+    converged: fn(&R) -> bool,
+) -> Result<Option<ExitCode>, String> {
+    let report = result.map_err(|e| e.to_string())?;
     println!("{report}");
-    (!converged).then(|| ExitCode::from(fitting::EXIT_NOT_CONVERGED))
+    Ok((!converged(&report)).then(|| ExitCode::from(fitting::EXIT_NOT_CONVERGED)))
 }
 
 fn main() -> ExitCode {
@@ -187,33 +193,18 @@ fn main() -> ExitCode {
         }
     };
     let result = match cli.command {
-        Command::Paper(opts) => paper::run(&opts)
-            .map(|report| printed(report, true))
-            .map_err(|e| e.to_string()),
-        Command::Simulate(opts) => simulate::run(&opts)
-            .map(|report| printed(report, true))
-            .map_err(|e| e.to_string()),
-        Command::Sensitivity(opts) => sensitivity::run(&opts)
-            .map(|report| printed(report, true))
-            .map_err(|e| e.to_string()),
-        Command::Fit(opts) => fit_cmd::run(&opts)
-            .map(|report| printed(&report, report.converged()))
-            .map_err(|e| e.to_string()),
-        Command::Validate(opts) => validate::run(&opts)
-            .map(|report| printed(report, true))
-            .map_err(|e| e.to_string()),
-        Command::Analyze(opts) => analyze::run(&opts)
-            .map(|report| printed(report, true))
-            .map_err(|e| e.to_string()),
-        Command::IdentifyPaper(opts) => identify_paper::run(&opts)
-            .map(|report| printed(&report, report.converged()))
-            .map_err(|e| e.to_string()),
-        Command::ExportFmu(opts) => export_fmu::run(&opts)
-            .map(|report| printed(report, true))
-            .map_err(|e| e.to_string()),
-        Command::Compare(opts) => compare::run(&opts)
-            .map(|report| printed(report, true))
-            .map_err(|e| e.to_string()),
+        Command::Paper(opts) => reported(paper::run(&opts), |_| true),
+        Command::Simulate(opts) => reported(simulate::run(&opts), |_| true),
+        Command::Sensitivity(opts) => reported(sensitivity::run(&opts), |_| true),
+        Command::Fit(opts) => reported(fit_cmd::run(&opts), fit_cmd::FitCmdReport::converged),
+        Command::Validate(opts) => reported(validate::run(&opts), |_| true),
+        Command::Analyze(opts) => reported(analyze::run(&opts), |_| true),
+        Command::IdentifyPaper(opts) => reported(
+            identify_paper::run(&opts),
+            identify_paper::IdentifyPaperReport::converged,
+        ),
+        Command::ExportFmu(opts) => reported(export_fmu::run(&opts), |_| true),
+        Command::Compare(opts) => reported(compare::run(&opts), |_| true),
         Command::Operators { figures } => {
             print!("{}", hysteron_cli::models::spec::reference::listing());
             match figures {
