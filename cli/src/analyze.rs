@@ -26,33 +26,80 @@
 //! [`LoopEnergy::area`]: crate::models::energy::LoopEnergy::area
 //! [`LoopEnergy::work`]: crate::models::energy::LoopEnergy::work
 
+use crate::args;
 use crate::csvio;
 use crate::identify::report::fmt_g;
 use crate::model_file::ModelFileError;
 use crate::models::describing::{AnalysisError, DescribingFunction, SineOptions, SteadyCycle};
 use crate::models::Spec;
 use crate::output::OutputError;
+use crate::period;
 use std::fmt;
 use std::path::PathBuf;
 
-/// Options of the analyze job.
-#[derive(Debug, Clone, PartialEq)]
+/// Options of the analyze job: its command-line flags, whose doc comments
+/// are their help.
+#[derive(Debug, Clone, PartialEq, clap::Args)]
 pub struct AnalyzeOptions {
-    /// The model spec (JSON).
+    /// The model spec (JSON, see hysteron::models::Spec).
+    #[arg(long, value_name = "SPEC.json")]
     pub model: PathBuf,
-    /// The amplitudes (each finite and `> 0`).
+    /// Amplitudes, comma-separated (each finite and > 0).
+    #[arg(
+        long,
+        value_name = "A1,A2,...",
+        value_delimiter = ',',
+        required = true,
+        allow_hyphen_values = true
+    )]
     pub amplitudes: Vec<f64>,
-    /// Samples per period, periods to settle, steadiness tolerance and
-    /// harmonics ([`SineOptions`]).
-    pub sine: SineOptions,
-    /// Sample period (s) of the spec's rate-dependent nodes, overriding
-    /// their `dt` (default: the spec's).
+    /// Samples per period (a multiple of 4, at least 8).
+    #[arg(long, value_name = "N", default_value_t = 1024, value_parser = args::samples_per_period, allow_negative_numbers = true)]
+    pub samples_per_period: usize,
+    /// Periods run before the analysed one (at least 2: the last is
+    /// compared with the one before).
+    #[arg(long, value_name = "P", default_value_t = 20, value_parser = args::settle_periods, allow_negative_numbers = true)]
+    pub settle_periods: usize,
+    /// Largest accepted change of the first harmonic over the last
+    /// period, relative to max|y|.
+    #[arg(
+        long,
+        value_name = "TOL",
+        default_value_t = 1e-9,
+        allow_negative_numbers = true
+    )]
+    pub steady_tol: f64,
+    // Sample period (s) of the spec's rate-dependent nodes, overriding
+    // their `dt` (default: the spec's); the help lists the registry's
+    // rate-dependent kinds.
+    #[arg(
+        long,
+        value_name = "SECONDS",
+        value_parser = args::positive_f64,
+        allow_hyphen_values = true,
+        help = period::dt_help()
+    )]
     pub dt: Option<f64>,
-    /// Significant digits of the printed table (1 to 17; the CSV output
-    /// is always written in full, shortest round-trip).
+    /// Significant digits of the printed table (1 to 17; --output
+    /// writes every digit).
+    #[arg(long, value_name = "DIGITS", default_value_t = PRECISION, value_parser = args::precision)]
     pub precision: usize,
-    /// Optional CSV output.
+    /// Also write the table as CSV (atomically; may not be the model).
+    #[arg(long, value_name = "OUT.csv")]
     pub output: Option<PathBuf>,
+}
+
+impl AnalyzeOptions {
+    /// The sines: `--samples-per-period`, `--settle-periods` and
+    /// `--steady-tol`, and the default harmonics ([`SineOptions`]).
+    pub fn sine(&self) -> SineOptions {
+        SineOptions {
+            samples_per_period: self.samples_per_period,
+            settle_periods: self.settle_periods,
+            steady_tol: self.steady_tol,
+            ..SineOptions::default()
+        }
+    }
 }
 
 /// The default of [`AnalyzeOptions::precision`].
@@ -165,7 +212,8 @@ pub fn run(opts: &AnalyzeOptions) -> Result<AnalyzeReport, AnalyzeError> {
     if opts.amplitudes.is_empty() {
         return Err(AnalyzeError::NoAmplitudes);
     }
-    opts.sine.validate().map_err(AnalyzeError::Argument)?;
+    let sine = opts.sine();
+    sine.validate().map_err(AnalyzeError::Argument)?;
     for &a in &opts.amplitudes {
         if !(a.is_finite() && a > 0.0) {
             return Err(AnalyzeError::Argument(AnalysisError::InvalidArgument {
@@ -199,10 +247,10 @@ pub fn run(opts: &AnalyzeOptions) -> Result<AnalyzeReport, AnalyzeError> {
     let analysis_err = |e| AnalyzeError::Analysis(opts.model.clone(), e);
     let mut rows = Vec::with_capacity(opts.amplitudes.len());
     for &a in &opts.amplitudes {
-        let cycle = SteadyCycle::compute(&model, a, &opts.sine).map_err(analysis_err)?;
+        let cycle = SteadyCycle::compute(&model, a, &sine).map_err(analysis_err)?;
         let energy = cycle.loop_energy();
         rows.push(AnalyzeRow {
-            describing: cycle.describing_function(opts.sine.harmonics),
+            describing: cycle.describing_function(sine.harmonics),
             work: energy.work,
             dissipated: energy.area(),
         });
@@ -234,7 +282,7 @@ pub fn run(opts: &AnalyzeOptions) -> Result<AnalyzeReport, AnalyzeError> {
     }
     Ok(AnalyzeReport {
         model: model.name(),
-        sine: opts.sine,
+        sine,
         period,
         precision: opts.precision,
         rows,

@@ -25,7 +25,7 @@ pub enum ArgError {
     #[error("must be at least {min} (got {value})")]
     TooSmall {
         /// The least accepted value.
-        min: u64,
+        min: usize,
         /// The value given.
         value: String,
     },
@@ -33,7 +33,7 @@ pub enum ArgError {
     #[error("must be at most {max} (got {value})")]
     TooLarge {
         /// The greatest accepted value.
-        max: u64,
+        max: usize,
         /// The value given.
         value: String,
     },
@@ -65,8 +65,8 @@ pub fn non_negative_f64(s: &str) -> Result<f64, ArgError> {
     }
 }
 
-/// A whole number in `min..=max`.
-pub fn integer_in(s: &str, min: u64, max: u64) -> Result<u64, ArgError> {
+/// A whole number in `min..=max` (a count).
+pub fn integer_in(s: &str, min: usize, max: usize) -> Result<usize, ArgError> {
     let t = s.trim();
     let v: i128 = t.parse().map_err(|_| {
         if float(t).is_ok() {
@@ -75,54 +75,55 @@ pub fn integer_in(s: &str, min: u64, max: u64) -> Result<u64, ArgError> {
             ArgError::NotANumber(t.to_string())
         }
     })?;
-    if v < i128::from(min) {
+    // Every usize is an i128.
+    if v < min as i128 {
         Err(ArgError::TooSmall {
             min,
             value: t.to_string(),
         })
-    } else if v > i128::from(max) {
+    } else if v > max as i128 {
         Err(ArgError::TooLarge {
             max,
             value: t.to_string(),
         })
     } else {
-        Ok(v as u64)
+        Ok(v as usize)
     }
 }
 
 /// A whole number `≥ 1` (`--patience`).
-pub fn at_least_1(s: &str) -> Result<u64, ArgError> {
-    integer_in(s, 1, u64::MAX)
+pub fn at_least_1(s: &str) -> Result<usize, ArgError> {
+    integer_in(s, 1, usize::MAX)
 }
 
 /// `--samples-per-period` of `analyze`: at least 8 (that it is a multiple
 /// of 4 is checked with the other sine options).
-pub fn samples_per_period(s: &str) -> Result<u64, ArgError> {
-    integer_in(s, 8, u64::MAX)
+pub fn samples_per_period(s: &str) -> Result<usize, ArgError> {
+    integer_in(s, 8, usize::MAX)
 }
 
 /// `--settle-periods` of `analyze`: at least 2.
-pub fn settle_periods(s: &str) -> Result<u64, ArgError> {
-    integer_in(s, 2, u64::MAX)
+pub fn settle_periods(s: &str) -> Result<usize, ArgError> {
+    integer_in(s, 2, usize::MAX)
 }
 
 /// `--points` of `identify-paper`: 2 to 999.
-pub fn points(s: &str) -> Result<u64, ArgError> {
+pub fn points(s: &str) -> Result<usize, ArgError> {
     integer_in(s, 2, 999)
 }
 
 /// `--precision` of `analyze`: 1 to 17 significant digits.
-pub fn precision(s: &str) -> Result<u64, ArgError> {
+pub fn precision(s: &str) -> Result<usize, ArgError> {
     integer_in(s, 1, 17)
 }
 
 /// `--samples` of `bench`: 1 to 10⁹.
-pub fn bench_samples(s: &str) -> Result<u64, ArgError> {
+pub fn bench_samples(s: &str) -> Result<usize, ArgError> {
     integer_in(s, 1, 1_000_000_000)
 }
 
 /// `--runs` of `bench`: 1 to 1000.
-pub fn bench_runs(s: &str) -> Result<u64, ArgError> {
+pub fn bench_runs(s: &str) -> Result<usize, ArgError> {
     integer_in(s, 1, 1000)
 }
 
@@ -140,7 +141,7 @@ mod tests {
         assert_eq!(non_negative_f64("0"), Ok(0.0));
         assert!(non_negative_f64("-1e-9").is_err());
         assert_eq!(at_least_1("3"), Ok(3));
-        let message = |r: Result<u64, ArgError>| r.unwrap_err().to_string();
+        let message = |r: Result<usize, ArgError>| r.unwrap_err().to_string();
         for (got, expected) in [
             (message(at_least_1("0")), "must be at least 1 (got 0)"),
             (message(at_least_1("-5")), "must be at least 1 (got -5)"),

@@ -24,6 +24,7 @@
 //!   the boxed paper model with rayon (each record from the initial state,
 //!   into preallocated outputs), on 1 and on 2 threads.
 
+use crate::args;
 use crate::composition::PiBank;
 use crate::identify::batch::process_records;
 use crate::models::{Spec, TransmissionParams};
@@ -126,14 +127,18 @@ impl fmt::Display for Timing {
     }
 }
 
-/// Options of [`run`].
-#[derive(Debug, Clone, PartialEq)]
+/// Options of [`run`]: the command-line flags of `bench`, whose doc
+/// comments are their help.
+#[derive(Debug, Clone, PartialEq, clap::Args)]
 pub struct BenchOptions {
-    /// Samples of the kernel input (default 10⁷).
+    /// Samples of the kernel input per run (1 to 10^9).
+    #[arg(long, value_name = "N", default_value_t = 10_000_000, value_parser = args::bench_samples, allow_negative_numbers = true)]
     pub samples: usize,
-    /// Timed runs per kernel (after one untimed warm-up run).
+    /// Timed runs per kernel, after one untimed run (1 to 1000).
+    #[arg(long, value_name = "R", default_value_t = 5, value_parser = args::bench_runs, allow_negative_numbers = true)]
     pub runs: usize,
-    /// Only kernels whose name contains this.
+    /// Only the kernels whose name contains this.
+    #[arg(long = "kernel", value_name = "NAME")]
     pub filter: Option<String>,
 }
 

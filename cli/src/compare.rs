@@ -28,14 +28,14 @@
 //! The criteria, the folds, the ranking and the test are the library's
 //! ([`crate::identify::selection`]), which Python's `compare` uses too.
 
+use crate::args;
 use crate::csvio::{self, CsvIoError};
-use crate::fit_cmd::{self, FitCmdOptions};
+use crate::fit_cmd::{self, FitCmdOptions, JacobianArg};
 use crate::identify::selection::{self, rank, Outcome};
-use crate::identify::{Jacobian, MultiStart};
 use crate::output::OutputError;
-use crate::period::DtSource;
+use crate::period::SamplePeriodArgs;
 use crate::plot::{self, Panel, Series, Style};
-use crate::validate::{self, ValidateOptions};
+use crate::validate::{self, ScoredColumns, ValidateOptions};
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 use serde::Deserialize;
@@ -73,46 +73,78 @@ struct CandidateEntry {
     own: Vec<String>,
 }
 
-/// Options of the compare job.
-#[derive(Debug, Clone, PartialEq)]
+/// Options of the compare job: its command-line flags, whose doc comments
+/// are their help.
+#[derive(Debug, Clone, PartialEq, clap::Args)]
 pub struct CompareOptions {
-    /// The candidates file (JSON).
+    /// The candidates: {"candidates": [{"name": "...", "model":
+    /// "SPEC.json", "free": ["f_c", ...], "own": [...]}]}, model paths
+    /// relative to this file; at least two.
+    #[arg(long, value_name = "CANDIDATES.json")]
     pub candidates: PathBuf,
-    /// Training records (CSV, `.csv.gz`).
+    /// A training record (CSV or .csv.gz); repeat for several.
+    #[arg(long, value_name = "DATA.csv", required = true)]
     pub train: Vec<PathBuf>,
-    /// Held-out records (none with `cross_validate`).
+    /// A held-out record; repeat for several (or --cross-validate).
+    #[arg(
+        long,
+        value_name = "DATA.csv",
+        required_unless_present = "cross_validate"
+    )]
     pub validate: Vec<PathBuf>,
-    /// `K`-fold cross-validation over `train` instead of `validate`:
-    /// record `i` is scored by the fit on the folds without it (fold
-    /// `i mod K`).
+    /// Instead of --validate: K-fold cross-validation over the --train
+    /// records (record i held out in fold i mod K, scored by the fit on
+    /// the other folds; the training figures come from the fit on all).
+    #[arg(long, value_name = "K", value_parser = args::at_least_1, allow_negative_numbers = true)]
     pub cross_validate: Option<usize>,
-    /// The input column of every record.
-    pub input_column: String,
-    /// The measured output column of every record.
-    pub output_column: String,
-    /// Cut-off (Hz) of `validate`'s zero-phase low-pass, if any.
+    /// The input and measured output columns of every record.
+    #[command(flatten)]
+    pub columns: ScoredColumns,
+    /// Also score after `validate`'s zero-phase low-pass at HZ, and
+    /// rank by it. Needs --time-column or --dt.
+    #[arg(long, value_name = "HZ", value_parser = args::positive_f64, allow_hyphen_values = true)]
     pub lowpass: Option<f64>,
-    /// Seconds at the start of each record simulated but not scored.
-    pub skip: Option<f64>,
     /// Where the sample period comes from.
-    pub dt: DtSource,
-    /// The starting points of each fit.
-    pub starts: MultiStart,
-    /// Wall-time limit of each candidate's search (seconds).
+    #[command(flatten)]
+    pub period: SamplePeriodArgs,
+    /// Simulate but do not score the first SECONDS of each record.
+    #[arg(long, value_name = "SECONDS", value_parser = args::non_negative_f64, allow_hyphen_values = true)]
+    pub skip: Option<f64>,
+    /// Fit each candidate from N starting points (as `fit --starts`).
+    #[arg(long, value_name = "N", default_value_t = 1, value_parser = args::at_least_1, allow_negative_numbers = true)]
+    pub starts: usize,
+    /// Seed of the starting points.
+    #[arg(long, value_name = "K", default_value_t = 0)]
+    pub seed: u64,
+    /// Wall-time limit of each candidate's search, in seconds.
+    #[arg(long, value_name = "SECONDS", value_parser = args::positive_f64, allow_hyphen_values = true)]
     pub max_seconds: Option<f64>,
-    /// Levenberg-Marquardt's patience ([`FitCmdOptions::patience`]).
-    pub patience: usize,
-    /// How the Jacobians are computed.
-    pub jacobian: Jacobian,
-    /// Where the fitted specs go (`NAME.json`; created if missing).
+    /// Where the fitted specs go, one NAME.json per candidate (created
+    /// if missing).
+    #[arg(long, value_name = "DIR")]
     pub work_dir: PathBuf,
-    /// Where to write the table as CSV.
+    /// Also write the table as CSV (written atomically).
+    #[arg(long, value_name = "OUT.csv")]
     pub csv: Option<PathBuf>,
-    /// Where to draw the held-out NRMSE per record per candidate (SVG).
+    /// Also draw each candidate's held-out NRMSE per record (SVG).
+    #[arg(long, value_name = "OUT.svg")]
     pub plot: Option<PathBuf>,
-    /// Draw a progress bar (only ever on a terminal).
-    pub progress: bool,
+    /// Do not draw the progress bar (it is only drawn when stderr is a
+    /// terminal anyway).
+    #[arg(long)]
+    pub no_progress: bool,
 }
+
+/// Levenberg-Marquardt's patience in each candidate's fit
+/// ([`FitCmdOptions::patience`], `fit`'s default).
+pub const PATIENCE: usize = 200;
+
+/// How the Jacobians of the fits are computed (`fit`'s default).
+pub const JACOBIAN: JacobianArg = JacobianArg::Exact;
+
+/// Half-width of the hypercube of the starting points
+/// ([`FitCmdOptions::spread`]): ln 4, `fit`'s default.
+pub const SPREAD: f64 = 2.0 * std::f64::consts::LN_2;
 
 /// An error of the compare job as a whole (a candidate's own failure is in
 /// its row instead).
@@ -254,8 +286,8 @@ fn fit_on(
     fit_cmd::run(&FitCmdOptions {
         model: c.model.clone(),
         data: records.to_vec(),
-        input_column: opts.input_column.clone(),
-        output_column: opts.output_column.clone(),
+        input_column: opts.columns.input_column.clone(),
+        output_column: opts.columns.output_column.clone(),
         free: c.free.clone(),
         own: c.own.clone(),
         skip: opts.skip,
@@ -263,11 +295,13 @@ fn fit_on(
         max_seconds: opts.max_seconds,
         output: output.to_path_buf(),
         plot: None,
-        patience: opts.patience,
-        jacobian: opts.jacobian,
+        patience: PATIENCE,
+        jacobian: JACOBIAN,
         starts: opts.starts,
-        progress: false,
-        dt: opts.dt.clone(),
+        spread: SPREAD,
+        seed: opts.seed,
+        no_progress: true,
+        period: opts.period.clone(),
     })
     .map_err(|e| format!("fit: {e}"))
 }
@@ -282,10 +316,10 @@ fn held_out_on(
     let validated = validate::run(&ValidateOptions {
         model: model.to_path_buf(),
         data: records.to_vec(),
-        input_column: opts.input_column.clone(),
-        output_column: opts.output_column.clone(),
+        columns: opts.columns.clone(),
         lowpass: opts.lowpass,
-        dt: opts.dt.clone(),
+        dt: opts.period.dt,
+        time_column: opts.period.time_column.clone(),
         skip: opts.skip,
         plot: None,
         csv: None,
@@ -363,7 +397,7 @@ pub fn run(opts: &CompareOptions) -> Result<CompareReport, CompareError> {
     std::fs::create_dir_all(&opts.work_dir).map_err(|e| {
         CompareError::WorkDir(opts.work_dir.clone(), csvio::one_line(&e.to_string()))
     })?;
-    let bar = progress_bar(candidates.len(), opts.progress);
+    let bar = progress_bar(candidates.len(), !opts.no_progress);
     let results: Vec<Result<Scores, String>> = candidates
         .par_iter()
         .map(|c| {
@@ -600,5 +634,10 @@ mod tests {
         assert_eq!(short(1.3371), "1.337");
         assert_eq!(short(2.5e-5), "2.500e-5");
         assert_eq!(short(0.0), "0");
+    }
+
+    #[test]
+    fn spread_is_the_default_of_the_starts() {
+        assert_eq!(SPREAD, crate::identify::MultiStart::default().spread);
     }
 }

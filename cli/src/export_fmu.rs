@@ -16,16 +16,23 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use zip::write::SimpleFileOptions;
 
-/// Options of `hysteron export-fmu`.
-#[derive(Debug, Clone)]
+/// Options of `hysteron export-fmu`: its command-line flags, whose doc
+/// comments are their help.
+#[derive(Debug, Clone, clap::Args)]
 pub struct ExportFmuOptions {
-    /// The model spec (JSON).
+    /// The model spec (JSON, see hysteron::models::Spec).
+    #[arg(long, value_name = "SPEC.json")]
     pub model: PathBuf,
-    /// The FMU to write.
+    /// The FMU to write (a zip archive, written atomically).
+    #[arg(long, value_name = "MODEL.fmu")]
     pub output: PathBuf,
-    /// The model's name (default: the output file's stem).
+    /// The model's name and identifier (letters, digits and `_`;
+    /// default: the output's file name).
+    #[arg(long, value_name = "NAME")]
     pub name: Option<String>,
-    /// The FMU binary (default: `libhysteron_c.so` next to the program).
+    /// The FMU binary (default: libhysteron_c.so next to this program,
+    /// built by `cargo build --release`).
+    #[arg(long, value_name = "libhysteron_c.so")]
     pub library: Option<PathBuf>,
 }
 

@@ -32,6 +32,7 @@
 //! code [`EXIT_NOT_CONVERGED`](crate::fitting::EXIT_NOT_CONVERGED) (3) so that scripts can tell. A converged
 //! fit exits with 0; errors (nothing written) with 1.
 
+use crate::args;
 use crate::csvio::{self, CsvIoError};
 use crate::fitting::{not_converged_note, Display};
 use crate::identify::{
@@ -40,53 +41,129 @@ use crate::identify::{
 use crate::model_file::ModelFileError;
 use crate::models::Spec;
 use crate::output::OutputError;
-use crate::period::{self, DtSource, Period, PeriodError};
+use crate::period::{self, Period, PeriodError, SamplePeriodArgs};
 use crate::plot::{self, Panel, PlotError, Series, Style};
 use crate::Operator;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-/// Options of the fit job.
-#[derive(Debug, Clone, PartialEq)]
+/// Options of the fit job: its command-line flags, whose doc comments are
+/// their help.
+#[derive(Debug, Clone, PartialEq, clap::Args)]
 pub struct FitCmdOptions {
     /// The model spec (JSON); its parameters are the starting values.
+    #[arg(long, value_name = "SPEC.json")]
     pub model: PathBuf,
-    /// The records: CSV files with a header row (`.csv.gz` read through
-    /// gzip), each simulated from the model's initial state; one parameter
-    /// set is fitted to all of them.
+    /// A record: a CSV file (or .csv.gz) with a header row of distinct
+    /// column names (blank lines only at the end of the file). Repeat
+    /// for several records: one parameter set is fitted to all, each
+    /// record simulated from the model's initial state.
+    #[arg(long, value_name = "DATA.csv", required = true)]
     pub data: Vec<PathBuf>,
-    /// The input column of `data`.
+    /// The input column of the record.
+    #[arg(long, value_name = "NAME", default_value = "x")]
     pub input_column: String,
-    /// The measured output column of `data`.
+    /// The measured output column of the record.
+    #[arg(long, value_name = "NAME", default_value = "y")]
     pub output_column: String,
-    /// Names of the parameters to fit (full names or unique suffixes).
+    /// Parameters to fit, comma-separated: full names as the model
+    /// lists them (left.mms.f_c) or unique suffixes (f_c).
+    #[arg(long, value_name = "NAMES", value_delimiter = ',')]
     pub free: Vec<String>,
-    /// Names of parameters fitted separately for each record (an initial
-    /// state or preload); the fitted spec keeps their starting values.
+    /// Parameters fitted separately for each record, comma-separated
+    /// (an initial state or preload, e.g. f0): reported per record; the
+    /// fitted spec keeps their starting values.
+    #[arg(long, value_name = "NAMES", value_delimiter = ',')]
     pub own: Vec<String>,
-    /// Seconds at the start of each record that are simulated but not
-    /// compared (needs the sample period: `dt` or a time column).
+    /// Seconds at the start of each record that the model runs but the
+    /// residual does not count (warm-up from the initial state); needs
+    /// --dt or --time-column.
+    #[arg(long, value_name = "SECONDS", allow_hyphen_values = true)]
     pub skip: Option<f64>,
-    /// Hard bound on the model simulations of the search.
+    /// Hard bound on the work: at most N model runs over the records in
+    /// the search (trial steps and Jacobian columns alike; the report
+    /// at the end adds 2·free + 1). The fit then ends at its best point,
+    /// not converged (exit code 3).
+    #[arg(long, value_name = "N", value_parser = args::at_least_1, allow_negative_numbers = true)]
     pub max_evaluations: Option<usize>,
-    /// Wall-time limit of the search (seconds).
+    /// Wall-time limit of the search in seconds: no new model run starts
+    /// after it (the Jacobian under way finishes). The fit then ends at
+    /// its best point, not converged (exit code 3).
+    #[arg(long, value_name = "SECONDS", value_parser = args::positive_f64, allow_hyphen_values = true)]
     pub max_seconds: Option<f64>,
-    /// Where to write the fitted spec (JSON).
+    /// Where to write the fitted spec (JSON, written atomically; may
+    /// not be the model or data file).
+    #[arg(long, value_name = "FITTED.json")]
     pub output: PathBuf,
-    /// Optional SVG figure of measured and fitted output.
+    /// Also draw measured and fitted output (over the input and over
+    /// the sample index) and the residual as an SVG figure.
+    #[arg(long, value_name = "FIT.svg")]
     pub plot: Option<PathBuf>,
-    /// Evaluation budget per free parameter and iteration
-    /// ([`FitOptions::patience`]).
+    /// Levenberg-Marquardt's patience: at most PATIENCE·(free + 1) trial
+    /// steps; each accepted step also runs 2·free simulations for its
+    /// Jacobian, so at most PATIENCE·(free + 1)·(2·free + 1) model runs
+    /// (at least 1; for a hard bound use --max-evaluations or
+    /// --max-seconds).
+    #[arg(long, value_name = "N", default_value_t = 200, value_parser = args::at_least_1, allow_negative_numbers = true)]
     pub patience: usize,
-    /// How the Jacobian is computed ([`FitOptions::jacobian`]).
-    pub jacobian: Jacobian,
-    /// The starting points ([`fit_multistart`]; one start: a plain fit).
-    pub starts: MultiStart,
-    /// Draw the progress display (only ever on a terminal).
-    pub progress: bool,
+    /// How the Jacobian is computed: `exact` (forward-mode derivatives
+    /// through the model over dual numbers, one simulation per 8
+    /// parameters; see the guide's docs/derivatives.md) or `fd` (central finite
+    /// differences, two simulations per parameter).
+    #[arg(long, value_enum, default_value_t = JacobianArg::Exact)]
+    pub jacobian: JacobianArg,
+    /// Fit from N starting points: the spec's own and N − 1 from a Latin
+    /// hypercube around it (see --spread), in parallel; the best is
+    /// kept and the report says how many starts reached its cost
+    /// (within 1 %).
+    #[arg(long, value_name = "N", default_value_t = 1, value_parser = args::at_least_1, allow_negative_numbers = true)]
+    pub starts: usize,
+    /// Half-width of the hypercube in the fit's internal parameters: a
+    /// positive parameter starts within a factor e^S of its value, one
+    /// in [0, 1] within ±S in its logit, an unbounded one within
+    /// ±S·max(|p|, 1). Default ln 4.
+    #[arg(long, value_name = "S", default_value_t = 4f64.ln(), value_parser = args::positive_f64, allow_hyphen_values = true)]
+    pub spread: f64,
+    /// Seed of the hypercube (the same seed, the same starts).
+    #[arg(long, value_name = "K", default_value_t = 0)]
+    pub seed: u64,
+    /// Do not draw the progress line (it is only drawn when stderr is
+    /// a terminal anyway).
+    #[arg(long)]
+    pub no_progress: bool,
     /// Where the sample period of the rate-dependent nodes comes from (a
     /// time column is read from `data`); the fitted spec keeps it.
-    pub dt: DtSource,
+    #[command(flatten)]
+    pub period: SamplePeriodArgs,
+}
+
+impl FitCmdOptions {
+    /// The starting points ([`fit_multistart`]; one start: a plain fit).
+    pub fn multi_start(&self) -> MultiStart {
+        MultiStart {
+            starts: self.starts,
+            spread: self.spread,
+            seed: self.seed,
+        }
+    }
+}
+
+/// `--jacobian`: how the Jacobian is computed ([`FitOptions::jacobian`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum JacobianArg {
+    /// Forward-mode derivatives.
+    Exact,
+    /// Central finite differences.
+    Fd,
+}
+
+impl From<JacobianArg> for Jacobian {
+    fn from(arg: JacobianArg) -> Self {
+        match arg {
+            JacobianArg::Exact => Jacobian::Exact,
+            JacobianArg::Fd => Jacobian::FiniteDifferences,
+        }
+    }
 }
 
 /// An error of the fit job (one-line message naming file, row and column
@@ -326,9 +403,10 @@ fn with_period(opts: &FitCmdOptions, spec: Spec) -> Result<(Spec, Option<Period>
     let Some(first_path) = opts.data.first() else {
         return Ok((spec, None));
     };
-    let first = period::resolve(&spec, &opts.dt, first_path).map_err(period_error)?;
+    let source = opts.period.source();
+    let first = period::resolve(&spec, &source, first_path).map_err(period_error)?;
     for path in opts.data.iter().skip(1) {
-        let other = period::resolve(&spec, &opts.dt, path).map_err(period_error)?;
+        let other = period::resolve(&spec, &source, path).map_err(period_error)?;
         if let (Some(first), Some(other)) = (&first, &other) {
             if (other.dt - first.dt).abs() > csvio::TIME_STEP_REL_TOL * first.dt {
                 return Err(FitCmdError::PeriodMismatch {
@@ -438,13 +516,13 @@ pub fn run(opts: &FitCmdOptions) -> Result<FitCmdReport, FitCmdError> {
 
     let fit_opts = FitOptions {
         patience: opts.patience,
-        jacobian: opts.jacobian,
+        jacobian: opts.jacobian.into(),
         max_evaluations: opts.max_evaluations,
         max_seconds: opts.max_seconds,
         ..FitOptions::default()
     };
     let fit = {
-        let display = Display::new(opts.progress);
+        let display = Display::new(!opts.no_progress);
         let progress = |p| display.update(p);
         fit_multistart(
             model.as_ref(),
@@ -452,7 +530,7 @@ pub fn run(opts: &FitCmdOptions) -> Result<FitCmdReport, FitCmdError> {
             &free,
             &own,
             &fit_opts,
-            &opts.starts,
+            &opts.multi_start(),
             &progress,
         )
     }

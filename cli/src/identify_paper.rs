@@ -27,6 +27,7 @@
 //! identification whose stages ran but did not both converge exits with
 //! code [`EXIT_NOT_CONVERGED`](crate::fitting::EXIT_NOT_CONVERGED) (3) after writing its result.
 
+use crate::args;
 use crate::csvio::join_paths;
 use crate::csvio::{self, CsvIoError};
 use crate::fitting::{not_converged_note, Display};
@@ -40,30 +41,52 @@ use crate::Operator;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-/// Options of the identify-paper job.
-#[derive(Debug, Clone, PartialEq)]
+/// Options of the identify-paper job: its command-line flags, whose doc
+/// comments are their help.
+#[derive(Debug, Clone, PartialEq, clap::Args)]
 pub struct IdentifyPaperOptions {
-    /// The major-loop record (CSV with a header row).
+    /// The major-loop record (CSV with a header row): one sine, whose
+    /// whole record stage 1 fits and whose last increasing branch gives
+    /// the knots, e.g. the `paper` job's sine-5hz-I.csv (its sines.csv
+    /// holds three sines of different frequencies in a row: cut one out
+    /// first).
+    #[arg(long = "loop", value_name = "LOOP.csv")]
     pub loop_record: PathBuf,
-    /// The chirp record (CSV with a header row).
+    /// The down-chirp record (CSV with a header row; e.g. the `paper`
+    /// job's chirp.csv).
+    #[arg(long, value_name = "CHIRP.csv")]
     pub chirp: PathBuf,
     /// The input column of both records.
+    #[arg(long, value_name = "NAME", default_value = "x")]
     pub input_column: String,
     /// The force column of both records.
+    #[arg(long, value_name = "NAME", default_value = "F")]
     pub output_column: String,
-    /// Starting values: a `transmission` spec (default: the illustrative
-    /// defaults).
+    /// Starting values: a `transmission` spec (default: the
+    /// illustrative defaults of the `paper` job).
+    #[arg(long, value_name = "START.json")]
     pub start: Option<PathBuf>,
-    /// Where to write the identified model (a `transmission` spec, JSON).
+    /// Where to write the identified model: a `transmission` spec
+    /// (JSON, written atomically).
+    #[arg(long, value_name = "FITTED.json")]
     pub output: PathBuf,
-    /// Directory for the figures `loop.svg` and `chirp.svg`.
+    /// Also write the figures loop.svg and chirp.svg into DIR (created
+    /// if missing).
+    #[arg(long, value_name = "DIR")]
     pub plot: Option<PathBuf>,
-    /// Points picked on the loop's increasing branch.
+    /// Points picked on the loop's increasing branch (the knots of the
+    /// stiffness map; 2 to 999).
+    #[arg(long, value_name = "N", default_value_t = 12, value_parser = args::points, allow_negative_numbers = true)]
     pub points: usize,
-    /// Evaluation budget of each stage (see `FitOptions::patience`).
+    /// Levenberg-Marquardt's patience in each stage: at most
+    /// PATIENCE·(free + 1) trial steps, each accepted one followed by a
+    /// Jacobian of 2·free runs (at least 1).
+    #[arg(long, value_name = "N", default_value_t = 200, value_parser = args::at_least_1, allow_negative_numbers = true)]
     pub patience: usize,
-    /// Draw the progress line (only ever on a terminal).
-    pub progress: bool,
+    /// Do not draw the progress line (it is only drawn when stderr is
+    /// a terminal anyway).
+    #[arg(long)]
+    pub no_progress: bool,
 }
 
 /// An error of the identify-paper job (one-line message).
@@ -286,7 +309,7 @@ pub fn run(opts: &IdentifyPaperOptions) -> Result<IdentifyPaperReport, IdentifyP
         ..PaperOptions::default()
     };
     let result = {
-        let display = Display::new(opts.progress);
+        let display = Display::new(!opts.no_progress);
         display.message(
             "stages 1 (spring, loop), 2 (bedstop, chirp) and 3 (all, both records)".into(),
         );

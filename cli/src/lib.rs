@@ -1,9 +1,10 @@
 //! # hysteron-cli
 //!
 //! The `hysteron` program's commands as a library (the binary is
-//! `src/main.rs`): each command is a module with its options, its run
-//! function and its report; `csvio`, `plot`, `output`, `period` and
-//! `fitting` are what they share. The library facade `hysteron` depends on none of this
+//! `src/main.rs`): each command is a module with its options (its
+//! command-line flags, a clap `Args` struct whose doc comments are their
+//! help), its run function and its report; `args`, `csvio`, `plot`,
+//! `output`, `period` and `fitting` are what they share. The library facade `hysteron` depends on none of this
 //! (no clap, plotters, indicatif or csv).
 
 pub use hysteron::{composition, identify, models, operators};

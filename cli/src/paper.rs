@@ -68,10 +68,12 @@ pub enum PaperError {
     Plot(String, PlotError),
 }
 
-/// Options of the paper job.
-#[derive(Debug, Clone, PartialEq)]
+/// Options of the paper job: its command-line flags, whose doc comments
+/// are their help.
+#[derive(Debug, Clone, PartialEq, clap::Args)]
 pub struct PaperOptions {
     /// Output directory (created if missing).
+    #[arg(long, value_name = "DIR", default_value = "out")]
     pub out: PathBuf,
 }
 

@@ -65,6 +65,33 @@ impl DtSource {
     }
 }
 
+/// `--dt` or `--time-column`, the sample period of the rate-dependent
+/// nodes, as most commands take it (flattened into their options;
+/// `validate` words its `--dt` for the low-pass too).
+#[derive(Debug, Clone, PartialEq, Default, clap::Args)]
+pub struct SamplePeriodArgs {
+    // `--dt`; its help lists the registry's rate-dependent kinds.
+    #[arg(
+        long,
+        value_name = "SECONDS",
+        conflicts_with = "time_column",
+        value_parser = crate::args::positive_f64,
+        allow_hyphen_values = true,
+        help = dt_help()
+    )]
+    pub dt: Option<f64>,
+    // `--time-column`.
+    #[arg(long, value_name = "NAME", help = TIME_COLUMN_HELP)]
+    pub time_column: Option<String>,
+}
+
+impl SamplePeriodArgs {
+    /// What the two options say ([`DtSource::from_options`]).
+    pub fn source(&self) -> DtSource {
+        DtSource::from_options(self.dt, self.time_column.clone())
+    }
+}
+
 /// The sample period a record is run at, and where it came from.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Period {

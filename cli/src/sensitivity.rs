@@ -28,7 +28,7 @@ use crate::model_file::ModelFileError;
 use crate::models::sensitivity::{sensitivity, Sensitivity, SensitivityError};
 use crate::models::Spec;
 use crate::output::OutputError;
-use crate::period::{self, DtSource, Period, PeriodError};
+use crate::period::{self, Period, PeriodError, SamplePeriodArgs};
 use crate::Operator;
 use std::fmt;
 use std::path::PathBuf;
@@ -36,27 +36,39 @@ use std::path::PathBuf;
 /// The default name of the output column (as for `simulate`).
 pub const OUTPUT_COLUMN: &str = crate::simulate::OUTPUT_COLUMN;
 
-/// Options of the sensitivity job.
-#[derive(Debug, Clone, PartialEq)]
+/// Options of the sensitivity job: its command-line flags, whose doc
+/// comments are their help.
+#[derive(Debug, Clone, PartialEq, clap::Args)]
 pub struct SensitivityOptions {
-    /// The model spec (JSON).
+    /// The model spec (JSON, see hysteron::models::Spec); the model
+    /// runs from its initial state.
+    #[arg(long, value_name = "SPEC.json")]
     pub model: PathBuf,
-    /// The input CSV file (with a header row).
+    /// The input CSV file, with a header row of distinct column names
+    /// (blank lines only at the end of the file; every value of the
+    /// input column a finite number).
+    #[arg(long, value_name = "IN.csv")]
     pub input: PathBuf,
     /// The input column.
+    #[arg(long, value_name = "NAME", default_value = "x")]
     pub column: String,
-    /// The parameters (full paths or unique suffixes), in the order of the
-    /// derivative columns.
+    /// The parameters, comma-separated: full names as the model lists
+    /// them (left.mms.f_c) or unique suffixes (f_c), each at most once;
+    /// the columns are named by the full names.
+    #[arg(long, value_name = "NAMES", value_delimiter = ',', required = true)]
     pub params: Vec<String>,
-    /// The output CSV file.
+    /// The output CSV file (written atomically; may not be the input).
+    #[arg(long, value_name = "OUT.csv")]
     pub output: PathBuf,
-    /// The name of the output column ([`OUTPUT_COLUMN`] by default); the
-    /// derivative columns are `d<name>/d<path>`. None of them may be a
-    /// column of the input already.
+    /// The name of the output column written (the derivative columns
+    /// are then `d<NAME>/d<path>`; an error if the input already has a
+    /// column of one of these names).
+    #[arg(long, value_name = "NAME", default_value = OUTPUT_COLUMN)]
     pub output_column: String,
     /// Where the sample period of the rate-dependent nodes of the model
     /// comes from (default: the spec's own `dt`).
-    pub dt: DtSource,
+    #[command(flatten)]
+    pub period: SamplePeriodArgs,
 }
 
 /// An error of the sensitivity job (one-line message naming file, row and
@@ -193,8 +205,8 @@ pub fn run(opts: &SensitivityOptions) -> Result<SensitivityReport, SensitivityCm
     let spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
     // The spec's own errors first (a period it leaves out is a stand-in here).
     spec.or_dt(Spec::STAND_IN_DT).build().map_err(model_err)?;
-    let (spec, period) =
-        period::for_record(&spec, &opts.dt, &opts.input).map_err(SensitivityCmdError::period)?;
+    let (spec, period) = period::for_record(&spec, &opts.period.source(), &opts.input)
+        .map_err(SensitivityCmdError::period)?;
     let model = spec.build().map_err(model_err)?;
     let params = full_names(opts, model.as_ref())?;
 

@@ -22,7 +22,7 @@ use crate::csvio::{self, CsvIoError};
 use crate::model_file::ModelFileError;
 use crate::models::Spec;
 use crate::output::OutputError;
-use crate::period::{self, Period, PeriodError};
+use crate::period::{self, Period, PeriodError, SamplePeriodArgs};
 use crate::plot;
 use crate::Operator;
 use std::fmt;
@@ -31,25 +31,34 @@ use std::path::{Path, PathBuf};
 /// The default name of the output column.
 pub const OUTPUT_COLUMN: &str = "y";
 
-/// Options of the simulate job.
-#[derive(Debug, Clone, PartialEq)]
+/// Options of the simulate job: its command-line flags, whose doc
+/// comments are their help.
+#[derive(Debug, Clone, PartialEq, clap::Args)]
 pub struct SimulateOptions {
-    /// The model spec (JSON).
+    /// The model spec (JSON, see hysteron::models::Spec).
+    #[arg(long, value_name = "SPEC.json")]
     pub model: PathBuf,
-    /// The input CSV file (with a header row).
+    /// The input CSV file, with a header row of distinct column names
+    /// (blank lines only at the end of the file).
+    #[arg(long, value_name = "IN.csv")]
     pub input: PathBuf,
     /// The input column.
+    #[arg(long, value_name = "NAME", default_value = "x")]
     pub column: String,
-    /// The output CSV file.
+    /// The output CSV file (written atomically; may not be the input).
+    #[arg(long, value_name = "OUT.csv")]
     pub output: PathBuf,
-    /// Optional SVG figure of the output over the input column.
+    /// Also draw the output over the input column as an SVG figure.
+    #[arg(long, value_name = "LOOP.svg")]
     pub plot: Option<PathBuf>,
-    /// The name of the output column ([`OUTPUT_COLUMN`] by default); it may
-    /// not be a column of the input already.
+    /// The name of the output column written (an error if the input
+    /// already has a column of that name).
+    #[arg(long, value_name = "NAME", default_value = OUTPUT_COLUMN)]
     pub output_column: String,
     /// Where the sample period of the rate-dependent nodes of the model
     /// comes from (see [`period`]).
-    pub dt: period::DtSource,
+    #[command(flatten)]
+    pub period: SamplePeriodArgs,
 }
 
 /// An error of the simulate job (one-line message naming file, row and
@@ -143,8 +152,8 @@ pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
     let spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
     // The spec's own errors first (a period it leaves out is a stand-in here).
     spec.or_dt(Spec::STAND_IN_DT).build().map_err(model_err)?;
-    let (spec, period) =
-        period::for_record(&spec, &opts.dt, &opts.input).map_err(SimulateError::period)?;
+    let (spec, period) = period::for_record(&spec, &opts.period.source(), &opts.input)
+        .map_err(SimulateError::period)?;
     let mut model = spec.build().map_err(model_err)?;
 
     let mut reader = csvio::CsvReader::open(&opts.input).map_err(SimulateError::Input)?;

@@ -22,6 +22,7 @@
 //! may be a record or the model file (compared after canonicalization),
 //! and two records with the same file stem cannot both have a figure.
 
+use crate::args;
 use crate::csvio::{self, CsvIoError};
 use crate::identify::metrics::{self, ErrorFigures, Lowpass, MetricsError};
 use crate::model_file::ModelFileError;
@@ -33,30 +34,80 @@ use crate::Operator;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-/// Options of the validate job.
-#[derive(Debug, Clone, PartialEq)]
+/// Options of the validate job: its command-line flags, whose doc comments
+/// are their help.
+#[derive(Debug, Clone, PartialEq, clap::Args)]
 pub struct ValidateOptions {
-    /// The model spec (JSON).
+    /// The model spec (JSON, see hysteron::models::Spec).
+    #[arg(long, value_name = "SPEC.json")]
     pub model: PathBuf,
-    /// The records: CSV files with a header row (at least one).
+    /// A record: a CSV file with a header row of distinct column names
+    /// (repeat for several records; every record needs the input,
+    /// output and time columns, matched by name).
+    #[arg(long, value_name = "DATA.csv", required = true)]
     pub data: Vec<PathBuf>,
-    /// The input column of every record.
-    pub input_column: String,
-    /// The measured output column of every record.
-    pub output_column: String,
-    /// Cut-off (Hz) of the zero-phase low-pass; `None`: no low-passed
-    /// column.
+    /// The input and measured output columns of every record.
+    #[command(flatten)]
+    pub columns: ScoredColumns,
+    /// Also score both signals after a 4th-order Butterworth low-pass
+    /// at HZ run forward and backward (zero phase; the whole record is
+    /// filtered, then scored): the "low-passed NRMSE" column. Needs
+    /// --time-column or --dt; HZ must be below Nyquist (half the
+    /// sample rate).
+    #[arg(long, value_name = "HZ", value_parser = args::positive_f64, allow_hyphen_values = true)]
     pub lowpass: Option<f64>,
+    // `--dt` as in `SamplePeriodArgs`, but also the low-pass's sample rate
+    // and the length of --skip; the help lists the registry's
+    // rate-dependent kinds.
+    #[arg(
+        long,
+        value_name = "SECONDS",
+        conflicts_with = "time_column",
+        value_parser = args::positive_f64,
+        allow_hyphen_values = true,
+        help = period::dt_help() + "; also the low-pass's sample rate and the length of --skip"
+    )]
+    pub dt: Option<f64>,
+    // `--time-column`, as in `SamplePeriodArgs`.
+    #[arg(long, value_name = "NAME", help = period::TIME_COLUMN_HELP)]
+    pub time_column: Option<String>,
+    /// Simulate but do not score the first SECONDS of each record
+    /// (the samples i with i·dt < SECONDS; a warm-up). Needs
+    /// --time-column or --dt; a record not longer is an error.
+    #[arg(long, value_name = "SECONDS", value_parser = args::non_negative_f64, allow_hyphen_values = true)]
+    pub skip: Option<f64>,
+    /// Also write DIR/STEM.svg per record, STEM its file stem (DIR created if
+    /// missing): the loop (output over input) and the output over
+    /// time, the measurement as a thin sky-blue line (low-passed when
+    /// --lowpass is given) under the model as a thick vermillion line.
+    #[arg(long, value_name = "DIR")]
+    pub plot: Option<PathBuf>,
+    /// Also write the table as CSV (one row per record, no mean row;
+    /// columns record,samples,rms,max_abs_err,nrmse and
+    /// lowpassed_nrmse with --lowpass; written atomically, may not be
+    /// an input).
+    #[arg(long, value_name = "OUT.csv")]
+    pub csv: Option<PathBuf>,
+}
+
+impl ValidateOptions {
     /// Where the sample period comes from (a time column is read from each
     /// record); needed by `lowpass` and `skip`.
-    pub dt: DtSource,
-    /// Seconds at the start of each record simulated but not scored.
-    pub skip: Option<f64>,
-    /// Directory for one SVG figure per record (`<stem>.svg`; `A.csv.gz`
-    /// gives `A.svg`).
-    pub plot: Option<PathBuf>,
-    /// Where to write the table as CSV.
-    pub csv: Option<PathBuf>,
+    pub fn dt_source(&self) -> DtSource {
+        DtSource::from_options(self.dt, self.time_column.clone())
+    }
+}
+
+/// The columns `validate` scores, and `compare` with it: the input, and
+/// the measured output.
+#[derive(Debug, Clone, PartialEq, clap::Args)]
+pub struct ScoredColumns {
+    /// The input column of every record.
+    #[arg(long, value_name = "NAME", default_value = "x")]
+    pub input_column: String,
+    /// The measured output column of every record.
+    #[arg(long, value_name = "NAME", default_value = "F")]
+    pub output_column: String,
 }
 
 /// An error of the validate job (one line naming file, row and column
@@ -453,8 +504,8 @@ pub fn run(opts: &ValidateOptions) -> Result<ValidateReport, ValidateError> {
             svgs.push(svg);
         }
     }
-    if opts.input_column.trim() == opts.output_column.trim() {
-        return Err(ValidateError::SameColumn(opts.input_column.clone()));
+    if opts.columns.input_column.trim() == opts.columns.output_column.trim() {
+        return Err(ValidateError::SameColumn(opts.columns.input_column.clone()));
     }
     let model_err = |e| ModelFileError::new(&opts.model, e);
     let spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
@@ -464,7 +515,8 @@ pub fn run(opts: &ValidateOptions) -> Result<ValidateReport, ValidateError> {
     spec.or_dt(Spec::STAND_IN_DT).build().map_err(model_err)?;
     // A rate-independent model has no period unless one is given (a
     // rate-dependent one's is checked with each record).
-    if opts.dt == DtSource::Spec && !spec.is_rate_dependent() {
+    let source = opts.dt_source();
+    if source == DtSource::Spec && !spec.is_rate_dependent() {
         if opts.lowpass.is_some() {
             return Err(ValidateError::NeedsRate("--lowpass"));
         }
@@ -476,7 +528,7 @@ pub fn run(opts: &ValidateOptions) -> Result<ValidateReport, ValidateError> {
     let mut scored: Vec<Scored> = Vec::with_capacity(opts.data.len());
     let mut columns = (String::new(), String::new());
     for (k, path) in opts.data.iter().enumerate() {
-        let s = score(opts, &spec, path, k)?;
+        let s = score(opts, &source, &spec, path, k)?;
         if k == 0 {
             columns = s.1;
         }
@@ -531,11 +583,15 @@ fn csv_error(path: Option<&Path>, e: csv::Error) -> CsvIoError {
 /// also returns the input and output column names as in its header.
 fn score(
     opts: &ValidateOptions,
+    source: &DtSource,
     spec: &Spec,
     path: &Path,
     k: usize,
 ) -> Result<(Scored, (String, String)), ValidateError> {
-    let wanted = [opts.input_column.as_str(), opts.output_column.as_str()];
+    let wanted = [
+        opts.columns.input_column.as_str(),
+        opts.columns.output_column.as_str(),
+    ];
     let cols = csvio::read_columns(path, &wanted).map_err(|e| match e {
         CsvIoError::MissingColumn {
             path,
@@ -557,7 +613,7 @@ fn score(
     let mut values = cols.values.into_iter();
     let x = values.next().unwrap_or_default();
     let measured = values.next().unwrap_or_default();
-    let period = period::resolve(spec, &opts.dt, path).map_err(|e| match e {
+    let period = period::resolve(spec, source, path).map_err(|e| match e {
         PeriodError::Data(e) => ValidateError::Data(e),
         e => ValidateError::Period(e),
     })?;
