@@ -35,6 +35,10 @@
 //!   [`bouc_wen_degrading`](operators::BoucWenDegrading),
 //!   [`bwbn`](operators::Bwbn), [`duhem`](operators::Duhem),
 //!   [`jiles_atherton`](operators::JilesAtherton),
+//!   [`envelope`](operators::Envelope),
+//!   [`envelope_inverse`](operators::EnvelopeInverse),
+//!   [`rate_dependent_pi`](operators::RateDependentPi),
+//!   [`krasnoselskii_pokrovskii`](operators::KrasnoselskiiPokrovskii),
 //!   [`pi_bank`](composition::PiBank),
 //!   [`pi_inverse`](composition::PiInverse).
 //! * Combinators: `cascade`, `parallel`, `scaled`, `feedback`, `series`,

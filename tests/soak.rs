@@ -43,7 +43,11 @@ fn ten_million_random_samples_through_every_leaf() {
             block(&mut rng, &mut x, &mut xs);
             op.process(&xs, &mut ys)
                 .unwrap_or_else(|e| panic!("{}: block {b}: {e}", leaf.kind()));
-            assert!(ys.iter().all(|y| y.is_finite()), "{}: block {b}", leaf.kind());
+            assert!(
+                ys.iter().all(|y| y.is_finite()),
+                "{}: block {b}",
+                leaf.kind()
+            );
         }
         println!(
             "{:<22} {SAMPLES} samples in {:.2} s",

@@ -31,6 +31,10 @@
 //! | [`Bwbn`] | `bwbn` | `F = α k0 x + (1 − α) k0 z, dz/dx = h (a0 − \|z\|^n (γ + β sgn(ẋ z))), h = 1 − ζ1 exp(−(z sgn ẋ − q z_u)²/ζ2²), ζ1 = ζ_s (1 − e^{−p e}), ζ2 = (ψ0 + δ_ψ e)(λ + ζ1), z_u = (1/(β + γ))^{1/n}, de/dx = (1 − α) k0 z` |
 //! | [`Duhem`] | `duhem` | `dy/dx = α sgn(ẋ) (a x − y) + b` |
 //! | [`JilesAtherton`] | `jiles_atherton` | `M = c M_an + (1 − c) M_irr, M_an = Ms L((H + α M)/a), L(u) = coth u − 1/u, dM_irr/dH_e = δ_M (M_an − M_irr)/(δ k), δ = sgn Ḣ, δ_M = 1 where δ (M_an − M_irr) > 0 else 0` |
+//! | [`Envelope`] | `envelope` | `y = tanh(b x) / (b (1 + s tanh(b x))), y = x for b = 0` |
+//! | [`EnvelopeInverse`] | `envelope_inverse` | `x = φ⁻¹(y) = atanh(b y / (1 − b s y)) / b, x = y for b = 0 (the envelope's inverse)` |
+//! | [`RateDependentPi`] | `rate_dependent_pi` | `y = a0 x + Σ_j w_j play_{r_j + λ\|ẋ\|}[x], ẋ = (x_k − x_{k−1})/dt` |
+//! | [`KrasnoselskiiPokrovskii`] | `krasnoselskii_pokrovskii` | `y = Σ_{j≤i} μ_ij k_ij[x], k_ij = max(R_up(x − t_i), min(R_down(x − t_j), k_ij⁻)), R_up(u) = clamp(2u/a − 1, −1, 1), R_down(u) = clamp(2u/a + 1, −1, 1), from k = −1` |
 //! <!-- END generated: operators -->
 //!
 //! Combinators live in `hysteron-composition`.
@@ -138,4 +142,8 @@ leaves! { $;
     bwbn => Bwbn,
     duhem => Duhem,
     jiles_atherton => JilesAtherton,
+    envelope => Envelope,
+    envelope_inverse => EnvelopeInverse,
+    rate_dependent_pi => RateDependentPi,
+    krasnoselskii_pokrovskii => KrasnoselskiiPokrovskii,
 }

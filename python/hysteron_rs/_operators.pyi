@@ -30,6 +30,10 @@ __all__ = [
     "bwbn",
     "duhem",
     "jiles_atherton",
+    "envelope",
+    "envelope_inverse",
+    "rate_dependent_pi",
+    "krasnoselskii_pokrovskii",
     "pi_bank",
     "pi_inverse",
 ]
@@ -331,6 +335,51 @@ def jiles_atherton(ms: float, a: float, k: float, c: float, alpha: float) -> Mod
         alpha (≥ 0): Inter-domain coupling `α ≥ 0` (output to input units), with `α c Ms / (3 a) < 1`.
 
     Example: ``jiles_atherton(**{"ms":1.0,"a":0.3,"k":0.5,"c":0.2,"alpha":0.1})``.
+    """
+
+def envelope(b: float, s: float) -> Model:
+    """The ``envelope`` operator: y = tanh(b x) / (b (1 + s tanh(b x))), y = x for b = 0.
+
+    Parameters:
+        b (≥ 0): Saturation rate `b ≥ 0` (per input unit): `φ` saturates at `1/(b (1 + s))` above and `−1/(b (1 − s))` below; `b = 0` is the identity.
+        s (real): Asymmetry `s`, `|s| < 1`: `s > 0` saturates sooner above, `s < 0` below; `s = 0` is symmetric.
+
+    Example: ``envelope(**{"b":0.1,"s":0.2})``.
+    """
+
+def envelope_inverse(b: float, s: float) -> Model:
+    """The ``envelope_inverse`` operator: x = φ⁻¹(y) = atanh(b y / (1 − b s y)) / b, x = y for b = 0 (the envelope's inverse).
+
+    Parameters:
+        b (≥ 0): The envelope's saturation rate `b ≥ 0`.
+        s (real): The envelope's asymmetry `s`, `|s| < 1`.
+
+    Example: ``envelope_inverse(**{"b":0.1,"s":0.2})``.
+    """
+
+def rate_dependent_pi(a0: float, r: Sequence[float], w: Sequence[float], lam: float, y0: Optional[Sequence[float]] = None, dt: Optional[float] = None) -> Model:
+    """The ``rate_dependent_pi`` operator: y = a0 x + Σ_j w_j play_{r_j + λ|ẋ|}[x], ẋ = (x_k − x_{k−1})/dt.
+
+    Parameters:
+        a0 (real): Weight of the linear term `a0 · x`.
+        r (each ≥ 0): Thresholds at rest `r_j ≥ 0`.
+        w (each real): Weights `w_j` (finite, any sign).
+        lam (≥ 0): Rate sensitivity `λ ≥ 0` (seconds): every threshold widens by `λ |ẋ|`.
+        y0 (each real; default none): Initial play outputs at `x = 0` (default empty: all 0).
+        dt (a setting; from the data if left out): Sample period `dt > 0` (s) until the structure above sets one (`SamplePeriod::set_sample_period`). Not a fitted parameter.
+
+    Example: ``rate_dependent_pi(**{"a0":0.5,"r":[0.0,0.3,1.0],"w":[1.0,0.5,0.25],"lam":0.002,"y0":[0.0,0.1,-0.2],"dt":0.001})``.
+    """
+
+def krasnoselskii_pokrovskii(t: Sequence[float], mu: Sequence[float], a: float) -> Model:
+    """The ``krasnoselskii_pokrovskii`` operator: y = Σ_{j≤i} μ_ij k_ij[x], k_ij = max(R_up(x − t_i), min(R_down(x − t_j), k_ij⁻)), R_up(u) = clamp(2u/a − 1, −1, 1), R_down(u) = clamp(2u/a + 1, −1, 1), from k = −1.
+
+    Parameters:
+        t (each real): Threshold grid `t_0 < t_1 < … < t_{m−1}` (at least one node).
+        mu (each real): Kernel weights `μ_ij` (any sign), one per pair `j ≤ i` of nodes, row by row: `mu[i (i + 1)/2 + j]` weighs the kernel that switches up at `t_i` and down at `t_j` (`m (m + 1)/2` entries).
+        a (> 0): Ridge width `a > 0`: a kernel rises from −1 to +1 over `[t_i, t_i + a]` and falls over `[t_j − a, t_j]`.
+
+    Example: ``krasnoselskii_pokrovskii(**{"t":[-1.0,-0.3,0.4,1.0],"mu":[0.1,0.2,0.1,0.05,0.2,0.1,0.05,0.1,0.2,0.3],"a":0.25})``.
     """
 
 def pi_bank(a0: float, r: Sequence[float], w: Sequence[float], y0: Optional[Sequence[float]] = None) -> Model:
