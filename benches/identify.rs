@@ -50,7 +50,7 @@ use hysteron::identify::benchmark::{start_from_data, FREE as BENCHMARK_FREE};
 use hysteron::identify::paper::{identify_paper, PaperIdentification, PaperOptions};
 use hysteron::identify::{fit, free_by_names, FitOptions};
 use hysteron::models::benchmark::boucwen_system;
-use hysteron::models::experiments::{chirp, sine, DRIVE};
+use hysteron::models::experiments::{chirp, sine, through_corners, DRIVE};
 use hysteron::models::sensitivity::derivatives_at;
 use hysteron::models::signal::fft_upsample;
 use hysteron::models::TransmissionParams;
@@ -196,18 +196,6 @@ fn bouc_wen_fit(c: &mut Criterion) {
     g.finish();
 }
 
-/// Field corners of the Jiles-Atherton record: two major cycles, then a
-/// minor loop, on straight segments 0.01 apart.
-fn jiles_atherton_field() -> Vec<f64> {
-    let corners: [f64; 8] = [0.0, 3.0, -3.0, 3.0, -3.0, 1.2, -0.5, 1.2];
-    let mut h = Vec::new();
-    for w in corners.windows(2) {
-        let n = ((w[1] - w[0]).abs() / 0.01).round() as usize;
-        h.extend((1..=n).map(|i| w[0] + (w[1] - w[0]) * i as f64 / n as f64));
-    }
-    h
-}
-
 fn jiles_atherton_fit(c: &mut Criterion) {
     let truth = JilesAthertonParams {
         ms: 1.2,
@@ -216,7 +204,7 @@ fn jiles_atherton_fit(c: &mut Criterion) {
         c: 0.3,
         alpha: 0.15,
     };
-    let h = jiles_atherton_field();
+    let h = through_corners(&[0.0, 3.0, -3.0, 3.0, -3.0, 1.2, -0.5, 1.2], 0.01).expect("field");
     let clean = JilesAtherton::from_params(truth)
         .expect("truth")
         .run(&h)

@@ -5,6 +5,7 @@
 #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
 
 use hysteron_identify::{fit, FitOptions, FitReport};
+use hysteron_models::experiments::through_corners;
 use hysteron_operators::{JilesAtherton, JilesAthertonParams, Operator, Parameters};
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};
@@ -22,13 +23,22 @@ fn truth() -> JilesAthertonParams<f64> {
 /// Two major cycles of amplitude 3, then a minor loop between −0.5 and
 /// 1.2 (straight segments, 0.01 apart).
 fn field() -> Vec<f64> {
-    let corners: [f64; 8] = [0.0, 3.0, -3.0, 3.0, -3.0, 1.2, -0.5, 1.2];
-    let mut h = Vec::new();
-    for w in corners.windows(2) {
-        let n = ((w[1] - w[0]).abs() / 0.01).round() as usize;
-        h.extend((1..=n).map(|i| w[0] + (w[1] - w[0]) * i as f64 / n as f64));
-    }
-    h
+    through_corners(&[0.0, 3.0, -3.0, 3.0, -3.0, 1.2, -0.5, 1.2], 0.01).unwrap()
+}
+
+/// The truth's response to [`field`], with Gaussian noise of `noise`
+/// times its peak (seed 11).
+fn record(noise: f64) -> (Vec<f64>, Vec<f64>) {
+    let h = field();
+    let clean = JilesAtherton::from_params(truth())
+        .unwrap()
+        .run(&h)
+        .unwrap();
+    let peak = clean.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+    let normal = Normal::new(0.0, noise * peak).unwrap();
+    let mut rng = StdRng::seed_from_u64(11);
+    let m = clean.iter().map(|v| v + normal.sample(&mut rng)).collect();
+    (h, m)
 }
 
 /// Fits all five parameters from the truth scaled by 1.3, 0.7, 1.25, 0.8
@@ -59,11 +69,7 @@ fn true_values() -> Vec<f64> {
 
 #[test]
 fn noise_free_loops_recover_the_five_parameters() {
-    let h = field();
-    let m = JilesAtherton::from_params(truth())
-        .unwrap()
-        .run(&h)
-        .unwrap();
+    let (h, m) = record(0.0);
     let r = fit_from_perturbed_start(&h, &m);
     let want = true_values();
     for p in &r.params {
@@ -80,15 +86,7 @@ fn noise_free_loops_recover_the_five_parameters() {
 
 #[test]
 fn noisy_loops_recover_the_parameters_within_three_standard_errors() {
-    let h = field();
-    let clean = JilesAtherton::from_params(truth())
-        .unwrap()
-        .run(&h)
-        .unwrap();
-    let peak = clean.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
-    let noise = Normal::new(0.0, 0.01 * peak).unwrap();
-    let mut rng = StdRng::seed_from_u64(11);
-    let m: Vec<f64> = clean.iter().map(|v| v + noise.sample(&mut rng)).collect();
+    let (h, m) = record(0.01);
     let r = fit_from_perturbed_start(&h, &m);
     let want = true_values();
     for p in &r.params {

@@ -90,6 +90,36 @@ pub fn sine(freq: f64, amplitude: f64, cycles: f64, fs: f64) -> Result<Signal> {
     Ok(Signal { t, x })
 }
 
+/// A rate-independent input history: straight segments through `corners`
+/// (the turning points of major and minor loops), from the first corner,
+/// each cut into equal steps at most `step` apart, ending exactly on its
+/// corner (the first corner itself is not a sample).
+///
+/// ```
+/// use hysteron_models::experiments::through_corners;
+/// let x = through_corners(&[0.0, 1.0, 0.5], 0.25).unwrap();
+/// assert_eq!(x, vec![0.25, 0.5, 0.75, 1.0, 0.75, 0.5]);
+/// ```
+pub fn through_corners(corners: &[f64], step: f64) -> Result<Vec<f64>> {
+    check_positive("step", step)?;
+    for (i, &c) in corners.iter().enumerate() {
+        hysteron_operators::check::finite(&format!("corners[{i}]"), c)?;
+    }
+    let mut x = Vec::new();
+    for (i, w) in corners.windows(2).enumerate() {
+        if let [from, to] = *w {
+            let n = sample_count(
+                &format!("corners[{}]", i + 1),
+                (to - from).abs() / step,
+                1.0,
+            )?;
+            let n = n.max(1);
+            x.extend((1..=n).map(|k| from + (to - from) * k as f64 / n as f64));
+        }
+    }
+    Ok(x)
+}
+
 /// Linear chirp from `f0` to `f1` over `duration` seconds with an amplitude
 /// that depends on the instantaneous frequency: `x(t) = A(f(t)) sin φ(t)`,
 /// `f(t) = f0 + (f1 − f0) t / T`, `φ(t) = 2π (f0 t + (f1 − f0) t² / (2T))`.
