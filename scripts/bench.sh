@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Regenerates the table of docs/benchmarks.md: times the kernels of
 # `hysteron bench` and, with --reference DIR, the same kernels in C (DIR
-# holds the C reference's run_limits.sh, kept outside this repository),
-# the two interleaved: reference, hysteron, reference, hysteron, ...
+# holds the C reference's run_limits.sh, kept outside this repository; the
+# bwbn and jiles_atherton kernels' C reference is this repository's
+# bench/families.c, run by bench/run_families.sh), the two interleaved:
+# reference, hysteron, reference, hysteron, ...
 # Prints one markdown table: each kernel's ns/sample (the median of --runs
 # timed runs per invocation, as a range over the invocations), the C
 # reference's (the faster of its two builds, -O3 and -O3 -ffast-math), and
@@ -72,6 +74,7 @@ if [ -z "$from" ]; then
             echo "round $i/$rounds: C reference (load $(cut -d' ' -f1-3 /proc/loadavg))" >&2
             cut -d' ' -f1 /proc/loadavg >>"$out/load.txt"
             bash "$reference/run_limits.sh" "$samples" "$runs" >"$out/c-$i.txt"
+            bash bench/run_families.sh "$samples" "$runs" >>"$out/c-$i.txt"
         fi
         echo "round $i/$rounds: hysteron bench (load $(cut -d' ' -f1-3 /proc/loadavg))" >&2
         cut -d' ' -f1 /proc/loadavg >>"$out/load.txt"
@@ -103,7 +106,7 @@ def c_rows(text):
     """(kernel, build) -> ns/sample of one run of the C reference."""
     rows, build = {}, None
     for line in text.splitlines():
-        if line.startswith("limits.c"):
+        if line.startswith(("limits.c", "families.c")):
             build = "-ffast-math" if "-ffast-math" in line else "-O3"
             continue
         m = C_ROW.match(line)
@@ -111,7 +114,8 @@ def c_rows(text):
             rows[(m.group(1).strip(), build)] = float(m.group(3))
     return rows
 
-# hysteron's kernel, its C counterparts (the fastest of these, over both builds)
+# hysteron's kernel, its C counterparts (the fastest of these, over both
+# builds unless the builds are named)
 PAIRS = [
     ("play", "play, r = 0.5", ["play r=0.5"]),
     ("pi_bank 64", "PI bank, 64 plays", ["PI-64 naive loop", "PI-64 8-lane (vectorised)"]),
@@ -119,6 +123,10 @@ PAIRS = [
     ("bouc_wen n=1.5", "Bouc-Wen n = 1.5", ["Bouc-Wen n=1.5 Euler (sqrt)"]),
     ("bouc_wen n=1.5", "the same, against C's general `pow`", ["Bouc-Wen n=1.5 Euler (pow)"]),
     ("mms", "MMS, F_c = 1, K = 5", ["MMS 1 element (exp)"]),
+    # -ffast-math drops the checks for non-finite values that the adaptive
+    # integrator rejects a sub-step by: only the -O3 build is the same step
+    ("bwbn", "BWBN (adaptive Dormand–Prince)", ["BWBN (DP5)"], ["-O3"]),
+    ("jiles_atherton", "Jiles-Atherton (adaptive Dormand–Prince)", ["Jiles-Atherton (DP5)"], ["-O3"]),
 ]
 ONLY_H = [
     ("paper model", "paper model (bedstop + spring)"),
@@ -138,8 +146,8 @@ def rng(values, digits):
 def spread(values):
     return f"{100 * (max(values) / min(values) - 1):.1f} %" if len(values) > 1 else "—"
 
-def fastest_c(c, names):
-    best = min(((v, k) for k, v in c.items() if k[0] in names), default=None)
+def fastest_c(c, names, builds=("-O3", "-ffast-math")):
+    best = min(((v, k) for k, v in c.items() if k[0] in names and k[1] in builds), default=None)
     return best
 
 print(f"hysteron: `{shown} bench --runs {runs} --samples {samples}`, {rounds} invocation(s)"
@@ -151,12 +159,12 @@ if with_ref:
 else:
     print("| kernel | hysteron ns/sample | spread |")
     print("|---|---:|---:|")
-for key, label, names in PAIRS:
+for key, label, names, *only in PAIRS:
     h = [r[key] for r in H]
     if not with_ref:
         print(f"| {label} | {rng(h, 2)} | {spread(h)} |")
         continue
-    best = [fastest_c(c, names) for c in C]
+    best = [fastest_c(c, names, *only) for c in C]
     cns = [b[0] for b in best]
     builds = {}
     for b in best:

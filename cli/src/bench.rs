@@ -22,13 +22,20 @@
 //!   static, and the same model boxed from its JSON spec;
 //! * `paper model batch`: the input cut into [`BATCH`] records, run through
 //!   the boxed paper model with rayon (each record from the initial state,
-//!   into preallocated outputs), on 1 and on 2 threads.
+//!   into preallocated outputs), on 1 and on 2 threads;
+//! * `bwbn`, `jiles_atherton`: the two leaves integrated by adaptive
+//!   Dormand–Prince, at their example parameters ([`bwbn`],
+//!   [`jiles_atherton`]); the command prints each output's sum, the
+//!   checksum that `bench/families.c`, their C reference, prints too.
 
 use crate::args;
 use crate::composition::PiBank;
 use crate::identify::batch::process_records;
 use crate::models::{Spec, TransmissionParams};
-use crate::operators::{BoucWen, Error, Mms, Operator, Play, Result, StateSolver};
+use crate::operators::{
+    BoucWen, Bwbn, BwbnParams, Error, JilesAtherton, JilesAthertonParams, Mms, Operator, ParamSet,
+    Play, Result, StateSolver,
+};
 use std::f64::consts::TAU;
 use std::fmt;
 use std::time::Instant;
@@ -71,6 +78,19 @@ pub fn bouc_wen(n: f64) -> Result<BoucWen<f64>> {
 /// The MMS kernel: `F_c = 1`, `K = 5`.
 pub fn mms() -> Result<Mms<f64>> {
     Mms::new(1.0, 5.0)
+}
+
+/// The BWBN kernel: `α = 0.1`, `k0 = 10`, `n = 1`, `γ = β = 0.5`,
+/// `a0 = 1`, `q = 0.25`, `ζ_s = 0.9`, `p = 1`, `ψ0 = 0.2`, `δ_ψ = 0.005`,
+/// `λ = 0.5` (the operator's example).
+pub fn bwbn() -> Result<Bwbn<f64>> {
+    Bwbn::from_params(BwbnParams::example())
+}
+
+/// The Jiles-Atherton kernel: `Ms = 1`, `a = 0.3`, `k = 0.5`, `c = 0.2`,
+/// `α = 0.1` (the operator's example).
+pub fn jiles_atherton() -> Result<JilesAtherton<f64>> {
+    JilesAtherton::from_params(JilesAthertonParams::example())
 }
 
 /// The paper's model with its default parameters, built statically.
@@ -270,6 +290,21 @@ pub fn run(opts: &BenchOptions) -> std::result::Result<BenchReport, String> {
     }
     if wanted("mms") {
         timings.push(time_op("mms", &mut mms().map_err(lib)?, &x, &mut y, runs)?);
+    }
+    for (kernel, mut op) in [
+        (
+            "bwbn",
+            Box::new(bwbn().map_err(lib)?) as Box<dyn Operator<f64>>,
+        ),
+        ("jiles_atherton", Box::new(jiles_atherton().map_err(lib)?)),
+    ] {
+        if wanted(kernel) {
+            timings.push(time_op(kernel, op.as_mut(), &x, &mut y, runs)?);
+            notes.push(format!(
+                "{kernel}: checksum (sum of outputs) {:.10e}",
+                y.iter().sum::<f64>()
+            ));
+        }
     }
     if wanted("paper model") {
         let mut stat = paper_model().map_err(lib)?;

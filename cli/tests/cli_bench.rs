@@ -41,7 +41,7 @@ fn bench(args: &[&str]) -> std::process::Output {
 }
 
 #[test]
-fn prints_one_row_per_kernel_in_the_issue_format() {
+fn prints_one_row_per_kernel_in_the_table_format() {
     let out = bench(&["--samples", "3000", "--runs", "3"]);
     assert!(
         out.status.success(),
@@ -59,6 +59,8 @@ fn prints_one_row_per_kernel_in_the_issue_format() {
             "bouc_wen n=1",
             "bouc_wen n=1.5",
             "mms",
+            "bwbn",
+            "jiles_atherton",
             "paper model",
             "paper model, boxed from JSON",
             "paper model batch x64, 1 thread(s)",

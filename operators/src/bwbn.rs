@@ -83,7 +83,13 @@ impl<T: Float> EnergyFlow<T> for BwbnParams<T> {
         };
         let zeta1 = self.zeta_s * (T::one() - (-self.p * e).exp());
         let zeta2 = (self.psi0 + self.delta_psi * e) * (self.lam + zeta1);
-        let z_u = (T::one() / (self.beta + self.gamma)).powf(T::one() / self.n);
+        // the pinching's centre, without a power for the usual n = 1
+        let bound = T::one() / (self.beta + self.gamma);
+        let z_u = if self.n == T::one() {
+            bound
+        } else {
+            bound.powf(T::one() / self.n)
+        };
         let off = z * dir - self.q * z_u;
         let h = T::one() - zeta1 * (-(off * off) / (zeta2 * zeta2)).exp();
         h * (self.a0 - power_on_side(positive, z, self.n) * psi)

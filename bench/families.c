@@ -1,0 +1,315 @@
+/* The C -O3 reference of two of hysteron's ODE-integrated leaves, written
+ * for this project: the same step as operators/src/bwbn.rs (with
+ * energy_flow.rs) and operators/src/jiles_atherton.rs, on the same adaptive
+ * Dormand-Prince 5(4) as operators/src/ode.rs (the same tableau, error
+ * norm, step controller, side-by-side switching and tolerances), on the
+ * input and parameters of the `bwbn` and `jiles_atherton` kernels of
+ * `hysteron bench`. Prints one row per kernel in the format of the shared
+ * C reference (kernel, Msamples/s, ns/sample median, checksum, run times).
+ *
+ * Build and run: bash bench/run_families.sh [N] [REPS]
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <float.h>
+
+#define MAX_SUBSTEPS 100000
+#define EPS DBL_EPSILON
+
+typedef struct Law Law;
+struct Law {
+    int n;                                                 /* state size */
+    void (*flow)(const Law *, const double *, int, double *);
+    int (*side)(const Law *, const double *);
+    double (*sw)(const Law *, const double *);
+    void (*scale)(const Law *, const double *, double *);
+    double snap, dir;
+    const void *p;
+};
+
+/* out = y + h (sum_j c_j k_j) */
+static inline void lin(int n, const double *y, int m, const double *c, double *const *k, double h, double *out) {
+    for (int i = 0; i < n; i++) {
+        double sum = 0.0;
+        for (int j = 0; j < m; j++) sum = sum + c[j] * k[j][i];
+        out[i] = y[i] + h * sum;
+    }
+}
+
+/* integrates the law over the travel s from y (in place); 0 on success */
+static int dopri5(const Law *L, double *y, double s, double rtol) {
+    const int n = L->n;
+    double travel = s;
+    if (travel <= 0.0) return 0;
+    double t = 0.0, h = travel;
+    int on = L->side(L, y);
+    double k1[4], k2[4], k3[4], k4[4], k5[4], k6[4], k7[4], tmp[4], y5[4], err[4], w[4], zero[4] = {0};
+    L->flow(L, y, on, k1);
+    for (int it = 0; it < MAX_SUBSTEPS; it++) {
+        double remaining = travel - t;
+        if (remaining <= travel * 4.0 * EPS) return 0;
+        int last = h >= remaining;
+        if (last) h = remaining;
+        { double c[] = {1.0 / 5.0}; double *k[] = {k1}; lin(n, y, 1, c, k, h, tmp); L->flow(L, tmp, on, k2); }
+        { double c[] = {3.0 / 40.0, 9.0 / 40.0}; double *k[] = {k1, k2}; lin(n, y, 2, c, k, h, tmp); L->flow(L, tmp, on, k3); }
+        { double c[] = {44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0}; double *k[] = {k1, k2, k3}; lin(n, y, 3, c, k, h, tmp); L->flow(L, tmp, on, k4); }
+        { double c[] = {19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0}; double *k[] = {k1, k2, k3, k4};
+          lin(n, y, 4, c, k, h, tmp); L->flow(L, tmp, on, k5); }
+        { double c[] = {9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0}; double *k[] = {k1, k2, k3, k4, k5};
+          lin(n, y, 5, c, k, h, tmp); L->flow(L, tmp, on, k6); }
+        { double c[] = {35.0 / 384.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0}; double *k[] = {k1, k3, k4, k5, k6};
+          lin(n, y, 5, c, k, h, y5); }
+        L->flow(L, y5, on, k7);
+        { double c[] = {71.0 / 57600.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 / 339200.0, 22.0 / 525.0, -1.0 / 40.0};
+          double *k[] = {k1, k3, k4, k5, k6, k7}; lin(n, zero, 6, c, k, h, err); }
+        int finite = 1;
+        for (int i = 0; i < n; i++) finite &= isfinite(y5[i]) && isfinite(err[i]);
+        if (!finite && h <= travel * 4.0 * EPS) return 1;
+        L->scale(L, y, w);
+        double norm = 0.0;
+        if (finite) {
+            for (int i = 0; i < n; i++) { double e = fabs(err[i]) / fmax(w[i], DBL_MIN); if (e > norm) norm = e; }
+        } else {
+            norm = INFINITY;
+        }
+        double before = L->sw(L, y), after = L->sw(L, y5);
+        if (norm <= rtol && fabs(before) > L->snap && (before < 0.0) != (after < 0.0) && after != 0.0) {
+            double shorter = h * (before / (before - after)) * (1.0 - 1e-9);
+            if (shorter > travel * 4.0 * EPS) { h = shorter; continue; }
+        }
+        if (norm <= rtol || (finite && h <= travel * 4.0 * EPS)) {
+            memcpy(y, y5, sizeof(double) * n);
+            t = last ? travel : t + h;
+            if (last) return 0;
+            int next = L->side(L, y);
+            if (next == on) memcpy(k1, k7, sizeof k1); else L->flow(L, y, next, k1);
+            on = next;
+        }
+        double factor = norm == 0.0 ? 5.0 : fmin(fmax(0.9 * pow(rtol / norm, 0.2), 0.2), 5.0);
+        h *= factor;
+    }
+    return 2;
+}
+
+/* ---- BWBN on (z, e): energy_flow.rs and bwbn.rs ---- */
+typedef struct { double alpha, k0, n, gamma, beta, a0, q, zeta_s, p, psi0, delta_psi, lam; } Bwbn;
+
+static inline double power_on_side(int positive, double z, double n) {
+    double size = positive ? z : -z;
+    if (n == 1.0) return size;
+    return size > 0.0 ? pow(size, n) : 0.0;
+}
+
+static inline double bwbn_rate(const Bwbn *b, double dir, int positive, double z, double e) {
+    double psi = ((dir > 0.0) == positive) ? b->gamma + b->beta : b->gamma - b->beta;
+    double zeta1 = b->zeta_s * (1.0 - exp(-b->p * e));
+    double zeta2 = (b->psi0 + b->delta_psi * e) * (b->lam + zeta1);
+    double bound = 1.0 / (b->beta + b->gamma);
+    double z_u = b->n == 1.0 ? bound : pow(bound, 1.0 / b->n);
+    double off = z * dir - b->q * z_u;
+    double h = 1.0 - zeta1 * exp(-(off * off) / (zeta2 * zeta2));
+    return h * (b->a0 - power_on_side(positive, z, b->n) * psi);
+}
+
+static inline int bwbn_side_at(const Bwbn *b, double dir, double z, double e, double snap) {
+    if (fabs(z) > snap) return z > 0.0;
+    return dir * bwbn_rate(b, dir, 1, z, e) > 0.0;
+}
+
+static double bwbn_zs;
+
+static void bwbn_flow(const Law *L, const double *y, int positive, double *out) {
+    const Bwbn *b = L->p;
+    double hysteretic = (1.0 - b->alpha) * b->k0;
+    out[0] = L->dir * bwbn_rate(b, L->dir, positive, y[0], y[1]);
+    out[1] = L->dir * hysteretic * y[0];
+}
+static int bwbn_side(const Law *L, const double *y) { return bwbn_side_at(L->p, L->dir, y[0], y[1], L->snap); }
+static double bwbn_switch(const Law *L, const double *y) { (void)L; return y[0]; }
+static void bwbn_scale(const Law *L, const double *y, double *w) {
+    const Bwbn *b = L->p;
+    double energy_scale = fabs((1.0 - b->alpha) * b->k0);
+    double z = fmax(fabs(y[0]), bwbn_zs);
+    w[0] = z;
+    w[1] = fmax(fabs(y[1]), energy_scale * z * bwbn_zs);
+}
+
+/* one sample: state (x, z, e) -> output and tangent */
+static int bwbn_step(const Bwbn *b, double *x0, double *z, double *e, double x, double *out, double *tangent) {
+    double hysteretic = (1.0 - b->alpha) * b->k0;
+    double travel = x - *x0;
+    double dir = travel < 0.0 ? -1.0 : 1.0;
+    double zs = bwbn_zs, snap = 1e-8 * zs;
+    if (travel != 0.0) {
+        Law L = {2, bwbn_flow, bwbn_side, bwbn_switch, bwbn_scale, snap, dir, b};
+        double y[2] = {*z, *e};
+        if (dopri5(&L, y, fabs(travel), 1e-11)) return 1;
+        *z = y[0]; *e = y[1];
+    }
+    double dz = bwbn_rate(b, dir, bwbn_side_at(b, dir, *z, *e, 0.0), *z, *e);
+    *x0 = x;
+    *out = b->alpha * b->k0 * x + hysteretic * *z;
+    *tangent = b->alpha * b->k0 + hysteretic * dz;
+    return 0;
+}
+
+/* ---- Jiles-Atherton on (H, M, M_irr): jiles_atherton.rs ---- */
+typedef struct { double ms, a, k, c, alpha; } Ja;
+
+static inline void langevin(double u, double *l, double *dl) {
+    if (fabs(u) < 0.1) {
+        double u2 = u * u;
+        *l = u * (1.0 / 3.0 + u2 * (-1.0 / 45.0 + u2 * (2.0 / 945.0 + u2 * (-1.0 / 4725.0 + u2 * (2.0 / 93555.0)))));
+        *dl = 1.0 / 3.0 + u2 * (-1.0 / 15.0 + u2 * (2.0 / 189.0 + u2 * (-1.0 / 675.0 + u2 * (2.0 / 10395.0))));
+    } else {
+        double s = sinh(u);
+        *l = 1.0 / tanh(u) - 1.0 / u;
+        *dl = 1.0 / (u * u) - 1.0 / (s * s);
+    }
+}
+
+static inline void ja_anhysteretic(const Ja *p, double he, double *m_an, double *chi) {
+    double l, dl;
+    langevin(he / p->a, &l, &dl);
+    *m_an = p->ms * l;
+    *chi = p->ms / p->a * dl;
+}
+
+static inline double ja_lag(const Ja *p, double dir, const double *y) {
+    double m_an, chi;
+    ja_anhysteretic(p, y[0] + p->alpha * y[1], &m_an, &chi);
+    return dir * (m_an - y[2]);
+}
+
+/* dM/dH and dM_irr/dH; 0 where 1 - alpha dM/dH_e <= 0 */
+static inline int ja_slopes(const Ja *p, double dir, int moving, const double *y, double *dm, double *dm_irr) {
+    double m_an, chi;
+    ja_anhysteretic(p, y[0] + p->alpha * y[1], &m_an, &chi);
+    double irr = moving ? dir * (m_an - y[2]) / p->k : 0.0;
+    double dme = p->c * chi + (1.0 - p->c) * irr;
+    double den = 1.0 - p->alpha * dme;
+    if (!(den > 0.0)) return 0;
+    *dm = dme / den;
+    *dm_irr = irr / den;
+    return 1;
+}
+
+static inline int ja_moving(const Ja *p, double dir, const double *y, double snap) {
+    double lag = ja_lag(p, dir, y);
+    return lag > 0.0 || fabs(lag) <= snap;
+}
+
+static double ja_h_scale;
+
+static void ja_flow(const Law *L, const double *y, int moving, double *out) {
+    double dm, dm_irr;
+    if (ja_slopes(L->p, L->dir, moving, y, &dm, &dm_irr)) {
+        out[0] = L->dir; out[1] = L->dir * dm; out[2] = L->dir * dm_irr;
+    } else {
+        out[0] = out[1] = out[2] = NAN;
+    }
+}
+static int ja_side(const Law *L, const double *y) { return ja_moving(L->p, L->dir, y, L->snap); }
+static double ja_switch(const Law *L, const double *y) { return ja_lag(L->p, L->dir, y); }
+static void ja_scale(const Law *L, const double *y, double *w) {
+    const Ja *p = L->p;
+    (void)y;
+    w[0] = ja_h_scale; w[1] = p->ms; w[2] = p->ms;
+}
+
+static int ja_step(const Ja *p, double *s, double x, double *out, double *tangent) {
+    double travel = x - s[0];
+    double dir = travel < 0.0 ? -1.0 : 1.0;
+    double rtol = fmax(1e-11, 64.0 * EPS), snap = fmax(1e-9, 16.0 * EPS) * p->ms;
+    if (travel != 0.0) {
+        ja_h_scale = fmax(p->a, fabs(x));
+        Law L = {3, ja_flow, ja_side, ja_switch, ja_scale, snap, dir, p};
+        if (dopri5(&L, s, fabs(travel), rtol)) return 1;
+    }
+    double end[3] = {x, s[1], s[2]}, dm, dm_irr;
+    if (!ja_slopes(p, dir, ja_moving(p, dir, end, 0.0), end, &dm, &dm_irr)) return 1;
+    s[0] = x;
+    *out = s[1];
+    *tangent = dm;
+    return 0;
+}
+
+/* ---- timing ---- */
+static double now(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+static int cmp(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The parameters, read at run time (as hysteron reads them), so that the
+ * compiler cannot fold them into the code. */
+static volatile double BWBN_VALUES[12] = {0.1, 10.0, 1.0, 0.5, 0.5, 1.0, 0.25, 0.9, 1.0, 0.2, 0.005, 0.5};
+static volatile double JA_VALUES[5] = {1.0, 0.3, 0.5, 0.2, 0.1};
+static Bwbn BWBN;
+static Ja JA;
+
+static double run_bwbn(const double *x, double *y, size_t n) {
+    double x0 = 0.0, z = 0.0, e = 0.0, t;
+    for (size_t i = 0; i < n; i++)
+        if (bwbn_step(&BWBN, &x0, &z, &e, x[i], &y[i], &t)) { fprintf(stderr, "bwbn failed at %zu\n", i); exit(1); }
+    double cs = 0.0;
+    for (size_t i = 0; i < n; i++) cs += y[i];
+    return cs;
+}
+
+static double run_ja(const double *x, double *y, size_t n) {
+    double s[3] = {0.0, 0.0, 0.0}, t;
+    for (size_t i = 0; i < n; i++)
+        if (ja_step(&JA, s, x[i], &y[i], &t)) { fprintf(stderr, "jiles_atherton failed at %zu\n", i); exit(1); }
+    double cs = 0.0;
+    for (size_t i = 0; i < n; i++) cs += y[i];
+    return cs;
+}
+
+int main(int argc, char **argv) {
+    size_t n = argc > 1 ? strtoull(argv[1], NULL, 10) : 10000000;
+    int reps = argc > 2 ? atoi(argv[2]) : 5;
+    if (n == 0 || reps < 1 || reps > 1000) { fprintf(stderr, "usage: families [N] [REPS]\n"); return 2; }
+    double *x = malloc(n * sizeof *x), *y = malloc(n * sizeof *y), ts[1000];
+    if (!x || !y) return 1;
+    for (size_t i = 0; i < n; i++) x[i] = 2.5 * sin(2 * M_PI * i / 2000.0) + 0.3 * sin(2 * M_PI * i / 97.3);
+    BWBN = (Bwbn){BWBN_VALUES[0], BWBN_VALUES[1], BWBN_VALUES[2], BWBN_VALUES[3], BWBN_VALUES[4], BWBN_VALUES[5],
+                  BWBN_VALUES[6], BWBN_VALUES[7], BWBN_VALUES[8], BWBN_VALUES[9], BWBN_VALUES[10], BWBN_VALUES[11]};
+    JA = (Ja){JA_VALUES[0], JA_VALUES[1], JA_VALUES[2], JA_VALUES[3], JA_VALUES[4]};
+    bwbn_zs = pow(BWBN.a0 / (BWBN.beta + BWBN.gamma), 1.0 / BWBN.n);
+#ifdef __FAST_MATH__
+    const char *mode = "-O3 -ffast-math";
+#else
+    const char *mode = "-O3";
+#endif
+    printf("families.c  gcc %s  [%s]  N=%zu  reps=%d\n", __VERSION__, mode, n, reps);
+    printf("%-30s %11s %10s %22s  runs (s)\n", "kernel", "Msamples/s", "ns/sample", "checksum");
+    struct { const char *label; double (*run)(const double *, double *, size_t); } k[] = {
+        {"BWBN (DP5)", run_bwbn}, {"Jiles-Atherton (DP5)", run_ja}};
+    for (int j = 0; j < 2; j++) {
+        double cs = k[j].run(x, y, n); /* untimed */
+        for (int rep = 0; rep < reps; rep++) {
+            double t0 = now();
+            cs = k[j].run(x, y, n);
+            ts[rep] = now() - t0;
+        }
+        double sorted[1000];
+        memcpy(sorted, ts, reps * sizeof(double));
+        qsort(sorted, reps, sizeof(double), cmp);
+        double med = reps % 2 ? sorted[reps / 2] : 0.5 * (sorted[reps / 2 - 1] + sorted[reps / 2]);
+        printf("%-30s %11.1f %10.3f %22.10e  ", k[j].label, n / med / 1e6, med / n * 1e9, cs);
+        for (int rep = 0; rep < reps; rep++) printf("%.4f ", ts[rep]);
+        printf("\n");
+    }
+    free(x);
+    free(y);
+    return 0;
+}
