@@ -10,7 +10,7 @@
 //! ([`dopri5`](crate::ode)), side by side of `z = 0`.
 
 use crate::ode::dopri5;
-use crate::{Float, Result, Trial};
+use crate::{Domain, FieldInfo, Float, ParamSet, Result, Trial};
 
 /// The state between samples: the input `x` reached, the hysteretic
 /// displacement `z`, and the energy `e = ∫ (1 − α) k0 z dx`.
@@ -118,6 +118,87 @@ pub(crate) trait EnergyFlow<T: Float> {
     }
 }
 
+/// A Bouc-Wen law on `(z, e)` with its hysteretic energy `e` as the
+/// output instead of the force: the same parameters (and the same JSON
+/// form), the same step; the tangent is `de/dx = (1 − α) k0 z`.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(transparent)]
+pub struct Energy<P>(pub P);
+
+impl<T: Float, P: ParamSet<T>> ParamSet<T> for Energy<P> {
+    const FIELDS: &'static [FieldInfo] = P::FIELDS;
+    fn count(&self) -> usize {
+        self.0.count()
+    }
+    fn names_into(&self, prefix: &str, out: &mut Vec<String>) {
+        self.0.names_into(prefix, out)
+    }
+    fn domains_into(&self, out: &mut Vec<Domain>) {
+        self.0.domains_into(out)
+    }
+    fn write(&self, out: &mut Vec<T>) {
+        self.0.write(out)
+    }
+    fn read(&self, p: &mut &[T]) -> Result<Self> {
+        self.0.read(p).map(Energy)
+    }
+    fn validate(&self) -> Result<()> {
+        self.0.validate()
+    }
+    fn example() -> Self {
+        Energy(P::example())
+    }
+}
+
+/// The step of `law`, observed through its energy.
+pub(crate) fn observe_energy<T: Float, P: EnergyFlow<T>>(
+    law: &P,
+    s: &EnergyState<T>,
+    x: T,
+) -> Result<(EnergyState<T>, Trial<T>)> {
+    let (next, _) = law.energy_step(s, x)?;
+    let hysteretic = (T::one() - law.alpha()) * law.k0();
+    let trial = Trial {
+        output: next.e,
+        tangent: hysteretic * next.z,
+    };
+    Ok((next, trial))
+}
+
+/// Declares the energy output of a law on `(z, e)`: its kind, equation,
+/// cast and step.
+macro_rules! energy_output {
+    ($params:ident, $kind:literal, $equation:literal) => {
+        impl<T: $crate::Float> $crate::Declared<T> for $crate::energy_flow::Energy<$params<T>> {
+            const KIND: &'static str = $kind;
+            const EQUATION: &'static str = $equation;
+            type With<U: $crate::Float> = $crate::energy_flow::Energy<$params<U>>;
+
+            fn cast_law<U: $crate::Float>(&self) -> Self::With<U> {
+                $crate::energy_flow::Energy($crate::CastScalar::<U>::cast_scalar(&self.0))
+            }
+        }
+
+        impl<T: $crate::Float> $crate::StepLaw<T> for $crate::energy_flow::Energy<$params<T>> {
+            type State = $crate::EnergyState<T>;
+            const RESTS_WHEN_HELD: bool = true;
+
+            fn initial(&self) -> $crate::EnergyState<T> {
+                $crate::EnergyState::at_rest()
+            }
+
+            fn step(
+                &self,
+                s: &$crate::EnergyState<T>,
+                x: T,
+            ) -> $crate::Result<($crate::EnergyState<T>, $crate::Trial<T>)> {
+                $crate::energy_flow::observe_energy(&self.0, s, x)
+            }
+        }
+    };
+}
+pub(crate) use energy_output;
+
 /// `|z|^n` on the side `positive` of `z = 0`: `z` or `−z` (so a rounding
 /// error across 0 keeps the side's derivative) for `n = 1`, else that
 /// size to the `n`, 0 where it is not positive.
@@ -136,7 +217,11 @@ pub(crate) fn power_on_side<T: Float>(positive: bool, z: T, n: T) -> T {
 #[cfg(test)]
 mod tests {
     #![allow(clippy::unwrap_used)]
-    use crate::{BoucWenDegrading, BoucWenDegradingParams, Bwbn, BwbnParams, Operator, ParamSet};
+    use super::Energy;
+    use crate::{
+        BoucWenDegrading, BoucWenDegradingEnergy, BoucWenDegradingParams, Bwbn, BwbnEnergy,
+        BwbnParams, Operator, ParamSet, StepLaw,
+    };
 
     /// A random walk from 0 (xorshift, steps of up to 0.15), with a jump
     /// every 200 samples.
@@ -209,6 +294,54 @@ mod tests {
                 let (i, j) = (200 * k - 1, 200 * (k + 1) - 1);
                 assert!(e[j] > e[i] && f[j] > f[i], "n = {n}, cycle {k}");
             }
+        }
+    }
+
+    /// The energy outputs are the force models' energy, bit for bit, and
+    /// their tangent is the derivative of the energy in the input.
+    #[test]
+    fn the_energy_outputs_are_the_models_energy() {
+        let x = walk(9, 2000);
+        let bwbn = BwbnParams::example();
+        let degrading = BoucWenDegradingParams::default();
+        let e = energies(Bwbn::from_params(bwbn).unwrap(), &x, |op| op.state().e);
+        let f = energies(
+            BoucWenDegrading::from_params(degrading).unwrap(),
+            &x,
+            |op| op.state().e,
+        );
+        let ys = BwbnEnergy::from_params(Energy(bwbn))
+            .unwrap()
+            .run(&x)
+            .unwrap();
+        let zs = BoucWenDegradingEnergy::from_params(Energy(degrading))
+            .unwrap()
+            .run(&x)
+            .unwrap();
+        for i in 0..x.len() {
+            assert_eq!(
+                (ys[i].to_bits(), zs[i].to_bits()),
+                (e[i].to_bits(), f[i].to_bits()),
+                "sample {i}"
+            );
+        }
+        let law = Energy(bwbn);
+        let mut op = BwbnEnergy::from_params(law).unwrap();
+        for (i, &v) in x.iter().enumerate().take(400) {
+            let s = *op.state();
+            let t = op.trial(v).unwrap();
+            if (v - s.x).abs() > 1e-3 {
+                let d = 1e-6 * (v - s.x).signum();
+                let up = law.step(&s, v + d).unwrap().1.output;
+                let down = law.step(&s, v - d).unwrap().1.output;
+                let fd = (up - down) / (2.0 * d);
+                assert!(
+                    (t.tangent - fd).abs() < 1e-5 * fd.abs().max(1.0),
+                    "sample {i}: {} vs {fd}",
+                    t.tangent
+                );
+            }
+            op.commit();
         }
     }
 }

@@ -28,7 +28,9 @@
 //! | [`BacklashContact`] | `backlash_contact` | `u = x − c, d = max(\|u\| − b/2, 0), F = sgn(u)·(k1 d + k2 d² + k3 d³)` |
 //! | [`Relay`] | `relay` | `y = a s, s = +1 once x ≥ h/2, −1 once x ≤ −h/2, held in between (from s0)` |
 //! | [`BoucWenDegrading`] | `bouc_wen_degrading` | `F = α k0 x + (1 − α) k0 z, dz/dx = (A − \|z\|^n ν (γ + β sgn(ẋ z)))/η, de/dx = (1 − α) k0 z, A = a0 − δ_A e, ν = 1 + δ_ν e, η = 1 + δ_η e` |
+//! | [`Energy`] | `bouc_wen_degrading_energy` | `e = ∫ (1 − α) k0 z dx of the bouc_wen_degrading model (its parameters and step; output e instead of F)` |
 //! | [`Bwbn`] | `bwbn` | `F = α k0 x + (1 − α) k0 z, dz/dx = h (a0 − \|z\|^n (γ + β sgn(ẋ z))), h = 1 − ζ1 exp(−(z sgn ẋ − q z_u)²/ζ2²), ζ1 = ζ_s (1 − e^{−p e}), ζ2 = (ψ0 + δ_ψ e)(λ + ζ1), z_u = (1/(β + γ))^{1/n}, de/dx = (1 − α) k0 z` |
+//! | [`Energy`] | `bwbn_energy` | `e = ∫ (1 − α) k0 z dx of the bwbn model (its parameters and step; output e instead of F)` |
 //! | [`Duhem`] | `duhem` | `dy/dx = α sgn(ẋ) (a x − y) + b` |
 //! | [`JilesAtherton`] | `jiles_atherton` | `M = c M_an + (1 − c) M_irr, M_an = Ms L((H + α M)/a), L(u) = coth u − 1/u, dM_irr/dH_e = δ_M (M_an − M_irr)/(δ k), δ = sgn Ḣ, δ_M = 1 where δ (M_an − M_irr) > 0 else 0` |
 //! | [`Envelope`] | `envelope` | `y = tanh(b x) / (b (1 + s tanh(b x))), y = x for b = 0` |
@@ -79,7 +81,7 @@ mod stiffness;
 pub use bouc_wen::StateSolver;
 pub use domain::Domain;
 pub use dual::{Differentiable, Dual, DualN, DUAL_WIDTH};
-pub use energy_flow::EnergyState;
+pub use energy_flow::{Energy, EnergyState};
 pub use error::{Error, Result};
 pub use float::Float;
 pub use hints::{
@@ -139,7 +141,9 @@ leaves! { $;
     backlash_contact => BacklashContact,
     relay => Relay,
     bouc_wen_degrading => BoucWenDegrading,
+    bouc_wen_degrading_energy => BoucWenDegradingEnergy,
     bwbn => Bwbn,
+    bwbn_energy => BwbnEnergy,
     duhem => Duhem,
     jiles_atherton => JilesAtherton,
     envelope => Envelope,

@@ -27,7 +27,9 @@ __all__ = [
     "backlash_contact",
     "relay",
     "bouc_wen_degrading",
+    "bouc_wen_degrading_energy",
     "bwbn",
+    "bwbn_energy",
     "duhem",
     "jiles_atherton",
     "envelope",
@@ -292,6 +294,23 @@ def bouc_wen_degrading(alpha: float, k0: float, n: float, gamma: float, beta: fl
     Example: ``bouc_wen_degrading(**{"alpha":0.1,"k0":10.0,"n":1.0,"gamma":0.5,"beta":0.5,"a0":1.0,"delta_a":0.01,"delta_nu":0.01,"delta_eta":0.01})``.
     """
 
+def bouc_wen_degrading_energy(alpha: float, k0: float, n: float, gamma: float, beta: float, a0: float, delta_a: float, delta_nu: float, delta_eta: float) -> Model:
+    """The ``bouc_wen_degrading_energy`` operator: e = ∫ (1 − α) k0 z dx of the bouc_wen_degrading model (its parameters and step; output e instead of F).
+
+    Parameters:
+        alpha (real): Ratio `α` of the post-yield to the initial stiffness (finite).
+        k0 (> 0): Initial stiffness `k0 > 0`.
+        n (≥ 1): Sharpness of the transition `n ≥ 1`.
+        gamma (real): `γ` (finite): the loop's shape, with `β`.
+        beta (real): `β` (finite): the loop's shape, with `γ`; `β + γ > 0` bounds the hysteretic displacement.
+        a0 (> 0): Initial `A = a0 > 0`: the hysteretic stiffness `(1 − α) k0 A`.
+        delta_a (≥ 0): Strength degradation `δ_A ≥ 0`: `A = a0 − δ_A e`.
+        delta_nu (≥ 0): Strength degradation `δ_ν ≥ 0`: `ν = 1 + δ_ν e`.
+        delta_eta (≥ 0): Stiffness degradation `δ_η ≥ 0`: `η = 1 + δ_η e`.
+
+    Example: ``bouc_wen_degrading_energy(**{"alpha":0.1,"k0":10.0,"n":1.0,"gamma":0.5,"beta":0.5,"a0":1.0,"delta_a":0.01,"delta_nu":0.01,"delta_eta":0.01})``.
+    """
+
 def bwbn(alpha: float, k0: float, n: float, gamma: float, beta: float, a0: float, q: float, zeta_s: float, p: float, psi0: float, delta_psi: float, lam: float) -> Model:
     """The ``bwbn`` operator: F = α k0 x + (1 − α) k0 z, dz/dx = h (a0 − |z|^n (γ + β sgn(ẋ z))), h = 1 − ζ1 exp(−(z sgn ẋ − q z_u)²/ζ2²), ζ1 = ζ_s (1 − e^{−p e}), ζ2 = (ψ0 + δ_ψ e)(λ + ζ1), z_u = (1/(β + γ))^{1/n}, de/dx = (1 − α) k0 z.
 
@@ -310,6 +329,26 @@ def bwbn(alpha: float, k0: float, n: float, gamma: float, beta: float, a0: float
         lam (> 0): `λ > 0` (OpenSees' `lamda`; `lam`, as `lambda` is a keyword in Python): the spread's floor, `ζ2 = (ψ0 + δ_ψ e)(λ + ζ1)`.
 
     Example: ``bwbn(**{"alpha":0.1,"k0":10.0,"n":1.0,"gamma":0.5,"beta":0.5,"a0":1.0,"q":0.25,"zeta_s":0.9,"p":1.0,"psi0":0.2,"delta_psi":0.005,"lam":0.5})``.
+    """
+
+def bwbn_energy(alpha: float, k0: float, n: float, gamma: float, beta: float, a0: float, q: float, zeta_s: float, p: float, psi0: float, delta_psi: float, lam: float) -> Model:
+    """The ``bwbn_energy`` operator: e = ∫ (1 − α) k0 z dx of the bwbn model (its parameters and step; output e instead of F).
+
+    Parameters:
+        alpha (real): Ratio `α` of the post-yield to the initial stiffness (finite).
+        k0 (> 0): Initial stiffness `k0 > 0`.
+        n (≥ 1): Sharpness of the transition `n ≥ 1`.
+        gamma (real): `γ` (finite), with `β`: the loop's shape; `β + γ > 0`.
+        beta (real): `β` (finite), with `γ`: the loop's shape; `β + γ > 0`.
+        a0 (> 0): `A = a0 > 0`: the hysteretic stiffness `(1 − α) k0 a0`.
+        q (≥ 0): Where the pinching is centred, `q ≥ 0`: at `z = q z_u` in the direction of travel.
+        zeta_s (∈ [0, 1]): The pinching's final severity `ζ_s ∈ [0, 1]`.
+        p (≥ 0): How fast the severity grows with the energy, `p ≥ 0`.
+        psi0 (> 0): The pinching's initial spread `ψ0 > 0`.
+        delta_psi (≥ 0): The spread's growth with the energy, `δ_ψ ≥ 0`.
+        lam (> 0): `λ > 0` (OpenSees' `lamda`; `lam`, as `lambda` is a keyword in Python): the spread's floor, `ζ2 = (ψ0 + δ_ψ e)(λ + ζ1)`.
+
+    Example: ``bwbn_energy(**{"alpha":0.1,"k0":10.0,"n":1.0,"gamma":0.5,"beta":0.5,"a0":1.0,"q":0.25,"zeta_s":0.9,"p":1.0,"psi0":0.2,"delta_psi":0.005,"lam":0.5})``.
     """
 
 def duhem(alpha: float, a: float, b: float, y0: Optional[float] = None) -> Model:
