@@ -30,7 +30,7 @@ declare_params! {
 ///
 /// ```
 /// use hysteron_operators::{Envelope, EnvelopeInverse, EnvelopeInverseParams, EnvelopeParams, Operator};
-/// let (b, s) = (1.0, 0.5);
+/// let (b, s) = (1.0_f64, 0.5);
 /// let mut forward = Envelope::from_params(EnvelopeParams { b, s }).unwrap();
 /// let mut inverse = EnvelopeInverse::from_params(EnvelopeInverseParams { b, s }).unwrap();
 /// let x = [0.3, -1.2, 2.0];
