@@ -145,7 +145,7 @@ impl<T: Float> StepLaw<T> for BoucWenDegradingParams<T> {
 mod tests {
     #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
     use super::*;
-    use crate::sampling_check::refinement_difference;
+    use crate::test_support::{ramped_sine, refinement_difference, step_difference};
     use crate::Operator;
 
     fn params(delta: f64) -> BoucWenDegradingParams<f64> {
@@ -175,12 +175,7 @@ mod tests {
     /// outputs at the shared samples, to the tolerance.
     #[test]
     fn refining_the_sampling_changes_the_output_by_the_tolerance_only() {
-        let coarse: Vec<f64> = (0..300)
-            .map(|i| {
-                let t = i as f64 / 300.0;
-                (1.0 + 4.0 * t) * (std::f64::consts::TAU * 4.0 * t).sin()
-            })
-            .collect();
+        let coarse = ramped_sine(300, 1.0, 4.0, 4.0);
         let op = BoucWenDegrading::from_params(params(0.02)).unwrap();
         let peak = op.clone().run(&coarse).unwrap().iter().fold(0.0_f64, |m, v| m.max(v.abs()));
         let (i, d) = refinement_difference(&op, &coarse, 8);
@@ -221,10 +216,7 @@ mod tests {
         };
         for x in [0.9, 1.5, 0.1, -0.7] {
             let (_, t) = p.step(&s, x).unwrap();
-            let h = 1e-6;
-            let up = p.step(&s, x + h).unwrap().1.output;
-            let down = p.step(&s, x - h).unwrap().1.output;
-            let fd = (up - down) / (2.0 * h);
+            let fd = step_difference(&p, &s, x, 1e-6);
             assert!((t.tangent - fd).abs() < 1e-5 * (1.0 + fd.abs()), "x = {x}: {} vs {fd}", t.tangent);
         }
     }

@@ -147,7 +147,7 @@ impl<T: Float> StepLaw<T> for BwbnParams<T> {
 mod tests {
     #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
     use super::*;
-    use crate::sampling_check::refinement_difference;
+    use crate::test_support::{ramped_sine, refinement_difference};
     use crate::{BoucWenDegrading, BoucWenDegradingParams, Operator};
 
     fn params(zeta_s: f64) -> BwbnParams<f64> {
@@ -168,12 +168,7 @@ mod tests {
     }
 
     fn cycles() -> Vec<f64> {
-        (0..2000)
-            .map(|i| {
-                let t = i as f64 / 2000.0;
-                (1.0 + 2.0 * t) * (std::f64::consts::TAU * 5.0 * t).sin()
-            })
-            .collect()
+        ramped_sine(2000, 1.0, 2.0, 5.0)
     }
 
     /// Without pinching (`ζ_s = 0`) it is the Bouc-Wen model without

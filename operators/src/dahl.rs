@@ -224,6 +224,7 @@ impl<T: Float> StepLaw<T> for DahlParams<T> {
 #[cfg(test)]
 mod tests {
      use crate::Parameters;
+    use crate::test_support::trial_difference;
     use super::*;
     use crate::Operator;
 
@@ -275,9 +276,7 @@ mod tests {
                     f.trial(x_r).unwrap();
                     f.commit();
                     let t: f64 = f.trial(x).unwrap().tangent;
-                    let h = 1e-7 * (x - x_r).abs();
-                    let fd = (f.trial(x + h).unwrap().output - f.trial(x - h).unwrap().output)
-                        / (2.0 * h);
+                    let fd = trial_difference(&mut f, x, 1e-7 * (x - x_r).abs());
                     assert!(
                         (t - fd).abs() < 1e-6 * t.abs().max(1.0),
                         "α={alpha} f0={f0} {x_r}→{x}: {t} vs {fd}"

@@ -106,7 +106,7 @@ impl<T: Float> StepLaw<T> for DuhemParams<T> {
 mod tests {
     #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
     use super::*;
-    use crate::sampling_check::refinement_difference;
+    use crate::test_support::{refinement_difference, step_difference};
     use crate::Operator;
 
     /// On an increasing ramp from rest the closed form
@@ -142,8 +142,7 @@ mod tests {
         let s = DuhemState { x: 0.4, y: -0.2 };
         for x in [0.9, 2.0, 0.1, -1.0] {
             let (_, t) = p.step(&s, x).unwrap();
-            let h = 1e-6;
-            let fd = (p.step(&s, x + h).unwrap().1.output - p.step(&s, x - h).unwrap().1.output) / (2.0 * h);
+            let fd = step_difference(&p, &s, x, 1e-6);
             assert!((t.tangent - fd).abs() < 1e-7, "x = {x}: {} vs {fd}", t.tangent);
         }
     }

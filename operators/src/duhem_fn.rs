@@ -182,15 +182,11 @@ impl<T: Float, F, G> Hints<T> for DuhemFn<T, F, G> {}
 mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
+    use crate::test_support::ramped_sine;
     use crate::{Duhem, Error};
 
     fn cycles() -> Vec<f64> {
-        (0..600)
-            .map(|i| {
-                let t = i as f64 / 600.0;
-                (0.5 + 2.0 * t) * (std::f64::consts::TAU * 3.0 * t).sin()
-            })
-            .collect()
+        ramped_sine(600, 0.5, 2.0, 3.0)
     }
 
     /// With the semilinear Coleman-Hodgdon functions it is the closed-form

@@ -218,9 +218,10 @@ pub(crate) fn power_on_side<T: Float>(positive: bool, z: T, n: T) -> T {
 mod tests {
     #![allow(clippy::unwrap_used)]
     use super::Energy;
+    use crate::test_support::step_difference;
     use crate::{
         BoucWenDegrading, BoucWenDegradingEnergy, BoucWenDegradingParams, Bwbn, BwbnEnergy,
-        BwbnParams, Operator, ParamSet, StepLaw,
+        BwbnParams, Operator, ParamSet,
     };
 
     /// A random walk from 0 (xorshift, steps of up to 0.15), with a jump
@@ -331,10 +332,7 @@ mod tests {
             let s = *op.state();
             let t = op.trial(v).unwrap();
             if (v - s.x).abs() > 1e-3 {
-                let d = 1e-6 * (v - s.x).signum();
-                let up = law.step(&s, v + d).unwrap().1.output;
-                let down = law.step(&s, v - d).unwrap().1.output;
-                let fd = (up - down) / (2.0 * d);
+                let fd = step_difference(&law, &s, v, 1e-6 * (v - s.x).signum());
                 assert!(
                     (t.tangent - fd).abs() < 1e-5 * fd.abs().max(1.0),
                     "sample {i}: {} vs {fd}",

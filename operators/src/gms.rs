@@ -294,6 +294,7 @@ crate::impl_leaf!(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_support::trial_difference;
     use crate::Error;
 
     fn params() -> GmsParams<f64> {
@@ -339,9 +340,7 @@ mod tests {
                 }
                 let x = history[history.len() - 1] + dx;
                 let t = g.trial(x).unwrap();
-                let h = 1e-6 * dx.abs();
-                let fd =
-                    (g.trial(x + h).unwrap().output - g.trial(x - h).unwrap().output) / (2.0 * h);
+                let fd = trial_difference(&mut g, x, 1e-6 * dx.abs());
                 let scale = t.tangent.abs().max(fd.abs()).max(1.0);
                 assert!(
                     (t.tangent - fd).abs() < 1e-6 * scale,

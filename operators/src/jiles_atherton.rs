@@ -253,7 +253,7 @@ impl<T: Float> StepLaw<T> for JilesAthertonParams<T> {
 mod tests {
     #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
     use super::*;
-    use crate::sampling_check::refinement_difference;
+    use crate::test_support::{refinement_difference, rejected_field, step_difference};
     use crate::Operator;
 
     fn params() -> JilesAthertonParams<f64> {
@@ -388,10 +388,7 @@ mod tests {
             let t = ja.trial(x).unwrap();
             let s = *ja.state();
             if (x - s.h).abs() > 1e-3 {
-                let d = 1e-6 * (x - s.h).signum();
-                let up = p.step(&s, x + d).unwrap().1.output;
-                let down = p.step(&s, x - d).unwrap().1.output;
-                let fd = (up - down) / (2.0 * d);
+                let fd = step_difference(&p, &s, x, 1e-6 * (x - s.h).signum());
                 assert!(
                     (t.tangent - fd).abs() < 1e-5 * fd.abs().max(1e-2),
                     "sample {i}: {} vs {fd}",
@@ -406,10 +403,7 @@ mod tests {
     /// `dM/dH` infinite is an error at build or at the sample.
     #[test]
     fn invalid_parameters_are_typed_errors() {
-        let named = |p: JilesAthertonParams<f64>| match JilesAtherton::from_params(p) {
-            Err(Error::InvalidParameter { name, .. }) => name,
-            other => panic!("{other:?}"),
-        };
+        let named = |p: JilesAthertonParams<f64>| rejected_field(JilesAtherton::from_params(p));
         assert_eq!(named(JilesAthertonParams { k: 0.0, ..params() }), "k");
         assert_eq!(named(JilesAthertonParams { c: 1.5, ..params() }), "c");
         assert_eq!(named(JilesAthertonParams { ms: f64::NAN, ..params() }), "ms");

@@ -135,7 +135,7 @@ impl<T: Float> StepLaw<T> for KrasnoselskiiPokrovskiiParams<T> {
 mod tests {
     #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
     use super::*;
-    use crate::sampling_check::refinement_difference;
+    use crate::test_support::{refinement_difference, rejected_field};
     use crate::Operator;
 
     fn params() -> KrasnoselskiiPokrovskiiParams<f64> {
@@ -212,10 +212,7 @@ mod tests {
 
     #[test]
     fn malformed_grids_are_typed_errors() {
-        let named = |p: KrasnoselskiiPokrovskiiParams<f64>| match KrasnoselskiiPokrovskii::from_params(p) {
-            Err(Error::InvalidParameter { name, .. }) => name,
-            other => panic!("{other:?}"),
-        };
+        let named = |p: KrasnoselskiiPokrovskiiParams<f64>| rejected_field(KrasnoselskiiPokrovskii::from_params(p));
         assert_eq!(named(KrasnoselskiiPokrovskiiParams { t: vec![0.0, 0.0], mu: vec![1.0; 3], a: 1.0 }), "t[1]");
         assert_eq!(named(KrasnoselskiiPokrovskiiParams { t: vec![0.0, 1.0], mu: vec![1.0; 2], a: 1.0 }), "mu");
         assert_eq!(named(KrasnoselskiiPokrovskiiParams { t: vec![], mu: vec![], a: 1.0 }), "t");

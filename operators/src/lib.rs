@@ -69,10 +69,10 @@ mod operator;
 mod parameters;
 pub mod params;
 mod reversal;
-#[cfg(test)]
-mod sampling_check;
 pub mod simd;
 mod staged;
+#[cfg(test)]
+mod test_support;
 
 mod flow_sensitivity;
 mod flow_table;

@@ -210,6 +210,7 @@ impl<T: Float> StepLaw<T> for LuGreParams<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_support::trial_difference;
     use crate::{Error, Operator};
 
     fn params() -> LuGreParams<f64> {
@@ -244,9 +245,7 @@ mod tests {
                     f.commit();
                     let x = dx;
                     let t = f.trial(x).unwrap();
-                    let h = 1e-7 * dx.abs();
-                    let fd = (f.trial(x + h).unwrap().output - f.trial(x - h).unwrap().output)
-                        / (2.0 * h);
+                    let fd = trial_difference(&mut f, x, 1e-7 * dx.abs());
                     let scale = t.tangent.abs().max(fd.abs()).max(1.0);
                     assert!(
                         (t.tangent - fd).abs() < 1e-5 * scale,

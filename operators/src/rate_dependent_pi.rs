@@ -138,6 +138,7 @@ impl<T: Float> StepLaw<T> for RateDependentPiParams<T> {
 mod tests {
     #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
     use super::*;
+    use crate::test_support::{ramped_sine, rejected_field, step_difference};
     use crate::Operator;
 
     fn params(lam: f64) -> RateDependentPiParams<f64> {
@@ -152,9 +153,7 @@ mod tests {
     }
 
     fn sine(periods: f64, n: usize) -> Vec<f64> {
-        (0..n)
-            .map(|i| 2.0 * (std::f64::consts::TAU * periods * i as f64 / n as f64).sin())
-            .collect()
+        ramped_sine(n, 2.0, 0.0, periods)
     }
 
     /// With `λ = 0` it is the PI bank `a0 x + Σ w_j play_{r_j}[x]`.
@@ -203,10 +202,7 @@ mod tests {
         for (i, &x) in sine(7.0, 500).iter().enumerate() {
             let s = op.state().clone();
             let t = op.trial(x).unwrap();
-            let h = 1e-7;
-            let up = p.step(&s, x + h).unwrap().1.output;
-            let down = p.step(&s, x - h).unwrap().1.output;
-            let fd = (up - down) / (2.0 * h);
+            let fd = step_difference(&p, &s, x, 1e-7);
             // a play's branch can change within ±h: skip those samples
             let kink = p.r.iter().zip(&s.z).any(|(&r, &z)| {
                 let r = r + p.lam * ((x - s.x) / p.dt).abs();
@@ -221,10 +217,7 @@ mod tests {
 
     #[test]
     fn mismatched_lengths_and_bad_rates_are_typed_errors() {
-        let named = |p: RateDependentPiParams<f64>| match RateDependentPi::from_params(p) {
-            Err(Error::InvalidParameter { name, .. }) => name,
-            other => panic!("{other:?}"),
-        };
+        let named = |p: RateDependentPiParams<f64>| rejected_field(RateDependentPi::from_params(p));
         assert_eq!(named(RateDependentPiParams { w: vec![1.0], ..params(0.1) }), "w");
         assert_eq!(named(RateDependentPiParams { r: vec![], w: vec![], y0: vec![], ..params(0.1) }), "r");
         assert_eq!(named(RateDependentPiParams { lam: -1.0, ..params(0.1) }), "lam");

@@ -257,7 +257,7 @@ impl<T: Float> StepLaw<T> for TransientFrictionParams<T> {
 mod tests {
     #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
     use super::*;
-    use crate::sampling_check::refinement_difference;
+    use crate::test_support::{refinement_difference, step_difference};
     use crate::{AsymmetricFriction, Operator};
 
     fn element(a_pos: f64, a_neg: f64, lam: f64) -> TransientFriction<f64> {
@@ -369,10 +369,7 @@ mod tests {
         };
         for x in [0.2, 0.4, 0.6, -0.1, -0.3] {
             let (_, t) = p.step(&s, x).unwrap();
-            let h = 1e-7;
-            let up = p.step(&s, x + h).unwrap().1.output;
-            let down = p.step(&s, x - h).unwrap().1.output;
-            let fd = (up - down) / (2.0 * h);
+            let fd = step_difference(&p, &s, x, 1e-7);
             assert!((t.tangent - fd).abs() <= 1e-6 * (1.0 + fd.abs()), "x = {x}: {} vs {fd}", t.tangent);
         }
     }
