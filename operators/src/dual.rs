@@ -144,35 +144,26 @@ impl<const N: usize> Neg for DualN<N> {
     }
 }
 
-impl<const N: usize> Add for DualN<N> {
-    type Output = Self;
-    #[inline(always)]
-    fn add(self, o: Self) -> Self {
-        let mut eps = self.eps;
-        for (e, x) in eps.iter_mut().zip(o.eps) {
-            *e += x;
+/// Addition and subtraction act on the value and each derivative alike.
+macro_rules! componentwise_ops {
+    ($($tr:ident $f:ident $op:tt),*) => {$(
+        impl<const N: usize> $tr for DualN<N> {
+            type Output = Self;
+            #[inline(always)]
+            fn $f(self, o: Self) -> Self {
+                let mut eps = self.eps;
+                for (e, x) in eps.iter_mut().zip(o.eps) {
+                    *e = *e $op x;
+                }
+                Self {
+                    re: self.re $op o.re,
+                    eps,
+                }
+            }
         }
-        Self {
-            re: self.re + o.re,
-            eps,
-        }
-    }
+    )*};
 }
-
-impl<const N: usize> Sub for DualN<N> {
-    type Output = Self;
-    #[inline(always)]
-    fn sub(self, o: Self) -> Self {
-        let mut eps = self.eps;
-        for (e, x) in eps.iter_mut().zip(o.eps) {
-            *e -= x;
-        }
-        Self {
-            re: self.re - o.re,
-            eps,
-        }
-    }
-}
+componentwise_ops!(Add add +, Sub sub -);
 
 impl<const N: usize> Mul for DualN<N> {
     type Output = Self;

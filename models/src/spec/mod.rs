@@ -56,6 +56,10 @@ pub const COMBINATORS: &[&str] = &[
     "transmission",
 ];
 
+/// The `solver` field of the implicit combinators (`feedback`, `series`,
+/// `inverse`), documented once.
+const SOLVER_FIELD_DOC: (&str, &str) = ("solver", "optional: the implicit solve's options, an object of `rel_tol` (relative tolerance on the root, default `16 ε`), `abs_tol` (absolute tolerance, default the smallest positive normal number), `max_iter` (iterations once bracketed, default 200) and `max_expansions` (widenings of the bracket search, default 64); each may be left out");
+
 /// What each of [`COMBINATORS`] does, for the generated reference: its
 /// spec `type`, how Rust builds it, its law and whether it is solved per
 /// sample.
@@ -93,7 +97,7 @@ pub const COMBINATOR_LAWS: &[Combinator] = &[
         law: "y = A[x − B[y]]",
         fields: "forward, back, solver",
         implicit: true,
-        field_docs: &[("forward", "the forward path `A`"), ("back", "the return path `B`, driven by the output"), ("solver", "optional: the implicit solve's options, an object of `rel_tol` (relative tolerance on the root, default `16 ε`), `abs_tol` (absolute tolerance, default the smallest positive normal number), `max_iter` (iterations once bracketed, default 200) and `max_expansions` (widenings of the bracket search, default 64); each may be left out")],
+        field_docs: &[("forward", "the forward path `A`"), ("back", "the return path `B`, driven by the output"), SOLVER_FIELD_DOC],
         example: r#"{"type": "feedback", "forward": {"type": "mms", "f_c": 1.0, "k": 40.0}, "back": {"type": "gain", "k": 0.05}}"#,
     },
     Combinator {
@@ -102,7 +106,7 @@ pub const COMBINATOR_LAWS: &[Combinator] = &[
         law: "F = L[x_L] = R[x_R], x = x_L + x_R, optional travel limits on L",
         fields: "left, right, limits (none, range lo hi, gap b r0), solver",
         implicit: true,
-        field_docs: &[("left", "the element the travel limits apply to (the slider, in the paper's model)"), ("right", "the other element; both carry the same force and their travels add"), ("limits", "optional, default `{\"type\": \"none\"}`: `{\"type\": \"range\", \"lo\", \"hi\"}` holds the left element's travel in `[lo, hi]`, `{\"type\": \"gap\", \"b\", \"r0\"}` in a gap of width `b ≥ 0` centred at `r0`; `b` and `r0` (or `lo`, `hi`) are fitted parameters (`limits.b`)"), ("solver", "optional: the implicit solve's options, an object of `rel_tol` (relative tolerance on the root, default `16 ε`), `abs_tol` (absolute tolerance, default the smallest positive normal number), `max_iter` (iterations once bracketed, default 200) and `max_expansions` (widenings of the bracket search, default 64); each may be left out")],
+        field_docs: &[("left", "the element the travel limits apply to (the slider, in the paper's model)"), ("right", "the other element; both carry the same force and their travels add"), ("limits", "optional, default `{\"type\": \"none\"}`: `{\"type\": \"range\", \"lo\", \"hi\"}` holds the left element's travel in `[lo, hi]`, `{\"type\": \"gap\", \"b\", \"r0\"}` in a gap of width `b ≥ 0` centred at `r0`; `b` and `r0` (or `lo`, `hi`) are fitted parameters (`limits.b`)"), SOLVER_FIELD_DOC],
         example: r#"{"type": "series", "left": {"type": "mms", "f_c": 1.5, "k": 30.0}, "right": {"type": "bouc_wen", "w": 0.6, "alpha": 1.0, "beta": 2.5, "gamma": 1.5, "n": 1.0, "stiffness": 10.0}, "limits": {"type": "gap", "b": 0.3, "r0": 0.0}}"#,
     },
     Combinator {
@@ -111,7 +115,7 @@ pub const COMBINATOR_LAWS: &[Combinator] = &[
         law: "u = A⁻¹[x] for a non-decreasing A",
         fields: "inner, solver",
         implicit: true,
-        field_docs: &[("inner", "the operator inverted; it must be non-decreasing in its input (an error names the sample where it is not)"), ("solver", "optional: the implicit solve's options, an object of `rel_tol` (relative tolerance on the root, default `16 ε`), `abs_tol` (absolute tolerance, default the smallest positive normal number), `max_iter` (iterations once bracketed, default 200) and `max_expansions` (widenings of the bracket search, default 64); each may be left out")],
+        field_docs: &[("inner", "the operator inverted; it must be non-decreasing in its input (an error names the sample where it is not)"), SOLVER_FIELD_DOC],
         example: r#"{"type": "inverse", "inner": {"type": "parallel", "left": {"type": "gain", "k": 1.0}, "right": {"type": "play", "r": 0.3}}}"#,
     },
     Combinator {
