@@ -146,14 +146,14 @@ impl<const N: usize> Neg for DualN<N> {
 
 /// Addition and subtraction act on the value and each derivative alike.
 macro_rules! componentwise_ops {
-    ($($tr:ident $f:ident $op:tt),*) => {$(
+    ($($tr:ident $f:ident $op:tt $assign:tt),*) => {$(
         impl<const N: usize> $tr for DualN<N> {
             type Output = Self;
             #[inline(always)]
             fn $f(self, o: Self) -> Self {
                 let mut eps = self.eps;
                 for (e, x) in eps.iter_mut().zip(o.eps) {
-                    *e = *e $op x;
+                    *e $assign x;
                 }
                 Self {
                     re: self.re $op o.re,
@@ -163,7 +163,7 @@ macro_rules! componentwise_ops {
         }
     )*};
 }
-componentwise_ops!(Add add +, Sub sub -);
+componentwise_ops!(Add add + +=, Sub sub - -=);
 
 impl<const N: usize> Mul for DualN<N> {
     type Output = Self;

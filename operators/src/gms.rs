@@ -294,7 +294,7 @@ crate::impl_leaf!(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::test_support::trial_difference;
+    use crate::test_support::assert_trial_tangent;
     use crate::Error;
 
     fn params() -> GmsParams<f64> {
@@ -339,14 +339,8 @@ mod tests {
                     assert!(g.slipping().iter().all(|&s| s));
                 }
                 let x = history[history.len() - 1] + dx;
-                let t = g.trial(x).unwrap();
-                let fd = trial_difference(&mut g, x, 1e-6 * dx.abs());
-                let scale = t.tangent.abs().max(fd.abs()).max(1.0);
-                assert!(
-                    (t.tangent - fd).abs() < 1e-6 * scale,
-                    "δ={delta} {history:?} + {dx}: {} vs {fd}",
-                    t.tangent
-                );
+                let case = format!("δ={delta} {history:?} + {dx}");
+                assert_trial_tangent(&mut g, x, 1e-6 * dx.abs(), 1e-6, &case);
             }
         }
     }

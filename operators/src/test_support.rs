@@ -36,6 +36,28 @@ pub(crate) fn trial_difference<O: Operator<f64> + ?Sized>(op: &mut O, x: f64, h:
     (output(x + h) - output(x - h)) / (2.0 * h)
 }
 
+/// Asserts that the tangent of `op`'s trial at `x` is the central
+/// difference of its trials over `±h`, to `rel · max(|tangent|,
+/// |difference|, 1)`; `context` names the case in the failure.
+pub(crate) fn assert_trial_tangent<O: Operator<f64> + ?Sized>(
+    op: &mut O,
+    x: f64,
+    h: f64,
+    rel: f64,
+    context: &dyn std::fmt::Display,
+) {
+    let tangent = match op.trial(x) {
+        Ok(t) => t.tangent,
+        Err(e) => panic!("{context}: the trial at {x} failed: {e}"),
+    };
+    let fd = trial_difference(op, x, h);
+    let scale = tangent.abs().max(fd.abs()).max(1.0);
+    assert!(
+        (tangent - fd).abs() < rel * scale,
+        "{context}: {tangent} vs {fd}"
+    );
+}
+
 /// The field named by the [`Error::InvalidParameter`] that building refused
 /// with; panics on anything else.
 pub(crate) fn rejected_field<O: Debug>(built: Result<O>) -> String {
