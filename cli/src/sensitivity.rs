@@ -1,5 +1,6 @@
-//! The `sensitivity` job: runs a model spec (JSON, see [`Spec`]) over one
-//! column of a CSV file, like `simulate`, and writes with the output the
+//! The `sensitivity` job: runs a model spec (JSON, see
+//! [`Spec`](crate::models::Spec)) over one column of a CSV file, like
+//! `simulate`, and writes with the output the
 //! derivatives of the output with respect to chosen parameters,
 //! `∂y_k/∂p_i`, computed by forward-mode automatic differentiation
 //! ([`sensitivity`]).
@@ -26,9 +27,12 @@ use crate::csvio::{self, CsvIoError};
 use crate::identify::free_by_names;
 use crate::model_file::ModelFileError;
 use crate::models::sensitivity::{sensitivity, Sensitivity, SensitivityError};
-use crate::models::Spec;
 use crate::output::OutputError;
-use crate::period::{self, Period, PeriodError, SamplePeriodArgs};
+use crate::period::SamplePeriodArgs;
+use crate::simulate::{
+    model_for_record, open_input, refuse_overwrite, write_csv, write_error, write_period_and_files,
+    InputColumn, RecordModel, SimulateError, SimulateReport,
+};
 use crate::Operator;
 use std::fmt;
 use std::path::PathBuf;
@@ -75,35 +79,16 @@ pub struct SensitivityOptions {
 /// column where relevant).
 #[derive(Debug, thiserror::Error)]
 pub enum SensitivityCmdError {
-    /// An output path names an input file.
+    /// What `simulate` can fail on too: an output path naming an input
+    /// file, the model spec, the input, the sample period, an output
+    /// column the input already has, the model at a sample, writing the
+    /// output.
     #[error(transparent)]
-    SameFile(#[from] csvio::SameFile),
-    /// The model spec could not be read, parsed or built.
-    #[error(transparent)]
-    Model(#[from] ModelFileError),
-    /// The input could not be read or is invalid (no data rows, a cell
-    /// that is not a finite number, ...).
-    #[error("input {0}")]
-    Input(CsvIoError),
-    /// No sample period could be chosen (the spec's and the data's
-    /// disagree).
-    #[error(transparent)]
-    Period(PeriodError),
+    Run(#[from] SimulateError),
     /// A `--params` name is unknown, ambiguous or repeated, or none is
     /// given; the message lists the model's parameters where it helps.
     #[error("--params: model `{}`: {}", .0.display(), .1)]
     Params(PathBuf, String),
-    /// The input already has a column named like an output column.
-    #[error(
-        "input `{}` already has a column `{}`: name the output column otherwise \
-         with --output-column",
-        .0.display(),
-        .1
-    )]
-    OutputColumnExists(PathBuf, String),
-    /// The model failed at a sample.
-    #[error("model `{}` failed{}", .0.model.display(), .0.location())]
-    Operator(Box<csvio::SampleFailure>),
     /// A derivative is not finite (an infinite slope).
     #[error(
         "model `{}`: {} at sample {}: input `{}`, row {} (line {}), column `{}` = {}",
@@ -117,9 +102,6 @@ pub enum SensitivityCmdError {
         csvio::fmt_f64(.0.value)
     )]
     NonFiniteDerivative(Box<NonFinite>),
-    /// Writing the output failed.
-    #[error(transparent)]
-    Output(#[from] OutputError),
 }
 
 /// Where a derivative is not finite.
@@ -146,17 +128,11 @@ pub struct NonFinite {
 /// What the sensitivity job did.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SensitivityReport {
-    /// Samples run (data rows).
-    pub samples: usize,
+    /// The run, as `simulate` reports one: samples (data rows), the
+    /// model's operator name, its sample period, the files written.
+    pub run: SimulateReport,
     /// The parameters' full paths, in the order of the columns.
     pub params: Vec<String>,
-    /// The model's operator name.
-    pub model: &'static str,
-    /// The sample period the model ran at (`None` for a rate-independent
-    /// model).
-    pub period: Option<Period>,
-    /// Files written.
-    pub files: Vec<PathBuf>,
 }
 
 impl fmt::Display for SensitivityReport {
@@ -167,13 +143,10 @@ impl fmt::Display for SensitivityReport {
              model",
             self.params.len(),
             self.params.join(", "),
-            self.samples,
-            self.model,
+            self.run.samples,
+            self.run.model,
         )?;
-        if let Some(p) = &self.period {
-            write!(f, " at a sample period of {p}")?;
-        }
-        write!(f, "; wrote {}", csvio::join_paths(&self.files))
+        write_period_and_files(f, self.run.period.as_ref(), &self.run.files)
     }
 }
 
@@ -183,82 +156,56 @@ pub fn derivative_column(output: &str, param: &str) -> String {
     format!("d{output}/d{param}")
 }
 
-impl SensitivityCmdError {
-    /// A period error: one reading the data is an input error.
-    fn period(e: PeriodError) -> Self {
-        match e {
-            PeriodError::Data(e) => SensitivityCmdError::Input(e),
-            e => SensitivityCmdError::Period(e),
-        }
-    }
-}
-
 /// Runs the job; see the module docs.
 pub fn run(opts: &SensitivityOptions) -> Result<SensitivityReport, SensitivityCmdError> {
-    let inputs = [
-        ("input", opts.input.as_path()),
-        ("model", opts.model.as_path()),
-    ];
-    csvio::refuse_same("output", &opts.output, &inputs)?;
-
-    let model_err = |e| ModelFileError::new(&opts.model, e);
-    let spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
-    // The spec's own errors first (a period it leaves out is a stand-in here).
-    spec.or_dt(Spec::STAND_IN_DT).build().map_err(model_err)?;
-    let (spec, period) = period::for_record(&spec, &opts.period.source(), &opts.input)
-        .map_err(SensitivityCmdError::period)?;
-    let model = spec.build().map_err(model_err)?;
+    refuse_overwrite(&opts.model, &opts.input, &opts.output, None)?;
+    let RecordModel {
+        spec,
+        period,
+        model,
+    } = model_for_record(&opts.model, &opts.period, &opts.input)?;
     let params = full_names(opts, model.as_ref())?;
 
-    let mut reader = csvio::CsvReader::open(&opts.input).map_err(SensitivityCmdError::Input)?;
-    let index = reader
-        .column(&opts.column)
-        .map_err(SensitivityCmdError::Input)?;
-    let name = reader.headers()[index].trim().to_string();
     let out_name = opts.output_column.trim();
     let mut new_columns = vec![out_name.to_string()];
     new_columns.extend(params.iter().map(|p| derivative_column(out_name, p)));
-    if let Some(taken) = new_columns
-        .iter()
-        .find(|c| reader.headers().iter().any(|h| h.trim() == c.as_str()))
-    {
-        return Err(SensitivityCmdError::OutputColumnExists(
-            opts.input.clone(),
-            taken.clone(),
-        ));
-    }
+    let InputColumn {
+        mut reader,
+        index,
+        name,
+    } = open_input(&opts.input, &opts.column, &new_columns)?;
 
     let mut rows = Vec::new();
     let mut xs = Vec::new();
     let mut row = csvio::Row::default();
-    while reader
-        .read_row(&mut row)
-        .map_err(SensitivityCmdError::Input)?
-    {
+    while reader.read_row(&mut row).map_err(SimulateError::Input)? {
         xs.push(
             reader
                 .number(&row, index, &name)
-                .map_err(SensitivityCmdError::Input)?,
+                .map_err(SimulateError::Input)?,
         );
         rows.push(std::mem::take(&mut row));
     }
     if xs.is_empty() {
-        return Err(SensitivityCmdError::Input(CsvIoError::NoRows {
+        return Err(SimulateError::Input(CsvIoError::NoRows {
             path: opts.input.clone(),
-        }));
+        })
+        .into());
     }
-    csvio::target_dir(&opts.output).map_err(OutputError::Write)?;
+    csvio::target_dir(&opts.output).map_err(|e| SimulateError::from(OutputError::Write(e)))?;
 
     let refs: Vec<&str> = params.iter().map(String::as_str).collect();
     let result = sensitivity(&spec, &xs, &refs).map_err(|e| locate(opts, &rows, &xs, e))?;
 
     write(opts, &reader, &rows, &new_columns, &result)?;
     Ok(SensitivityReport {
-        samples: xs.len(),
+        run: SimulateReport {
+            samples: xs.len(),
+            model: model.name(),
+            period,
+            files: vec![opts.output.clone()],
+        },
         params,
-        model: model.name(),
-        period,
-        files: vec![opts.output.clone()],
     })
 }
 
@@ -310,15 +257,18 @@ fn locate(
 ) -> SensitivityCmdError {
     let params_err = |message: String| SensitivityCmdError::Params(opts.model.clone(), message);
     match e {
-        SensitivityError::Spec(e) => ModelFileError::new(&opts.model, e).into(),
-        SensitivityError::EmptyInput => SensitivityCmdError::Input(CsvIoError::NoRows {
+        SensitivityError::Spec(e) => {
+            SimulateError::from(ModelFileError::new(&opts.model, e)).into()
+        }
+        SensitivityError::EmptyInput => SimulateError::Input(CsvIoError::NoRows {
             path: opts.input.clone(),
-        }),
+        })
+        .into(),
         e @ (SensitivityError::NoParameters { .. }
         | SensitivityError::UnknownParameter { .. }
         | SensitivityError::Repeated { .. }) => params_err(e.to_string()),
         SensitivityError::Model(e) => {
-            SensitivityCmdError::Operator(Box::new(csvio::SampleFailure::locate_in(
+            SimulateError::Operator(Box::new(csvio::SampleFailure::locate_in(
                 &opts.model,
                 &opts.input,
                 "input",
@@ -329,6 +279,7 @@ fn locate(
                     (i, row, line, xs.get(i).copied())
                 },
             )))
+            .into()
         }
         SensitivityError::NonFiniteDerivative { sample, param } => {
             let (row, line) = rows
@@ -356,16 +307,9 @@ fn write(
     rows: &[csvio::Row],
     new_columns: &[String],
     result: &Sensitivity,
-) -> Result<(), SensitivityCmdError> {
-    let write_err = |e: csv::Error| {
-        SensitivityCmdError::from(OutputError::Write(CsvIoError::Io {
-            path: opts.output.clone(),
-            source: std::io::Error::other(e),
-        }))
-    };
-    let output_err = |e| SensitivityCmdError::from(OutputError::Write(e));
-    csvio::write_atomic_with(&opts.output, output_err, |w| {
-        let mut out = csv::Writer::from_writer(w);
+) -> Result<(), SimulateError> {
+    let write_err = |e| write_error(&opts.output, e);
+    write_csv(&opts.output, |out| {
         out.write_record(
             reader
                 .headers()
@@ -385,11 +329,6 @@ fn write(
             out.write_record(row.fields().chain(cells.iter().map(String::as_str)))
                 .map_err(write_err)?;
         }
-        out.flush().map_err(|source| {
-            output_err(CsvIoError::Io {
-                path: opts.output.clone(),
-                source,
-            })
-        })
+        Ok(())
     })
 }

@@ -26,6 +26,8 @@ use crate::period::{self, Period, PeriodError, SamplePeriodArgs};
 use crate::plot;
 use crate::Operator;
 use std::fmt;
+use std::fs::File;
+use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
 /// The default name of the output column.
@@ -62,7 +64,7 @@ pub struct SimulateOptions {
 }
 
 /// An error of the simulate job (one-line message naming file, row and
-/// column where relevant).
+/// column where relevant); `sensitivity` fails in these ways too.
 #[derive(Debug, thiserror::Error)]
 pub enum SimulateError {
     /// An output path names an input file.
@@ -71,14 +73,15 @@ pub enum SimulateError {
     /// The model spec could not be read, parsed or built.
     #[error(transparent)]
     Model(#[from] ModelFileError),
-    /// The input could not be read or is invalid.
+    /// The input could not be read or is invalid (no data rows, a cell
+    /// that is not a finite number, ...).
     #[error("input {0}")]
     Input(CsvIoError),
     /// No sample period could be chosen (the spec's and the data's
     /// disagree).
     #[error(transparent)]
     Period(PeriodError),
-    /// The input already has a column named like the output column.
+    /// The input already has a column named like an output column.
     #[error(
         "input `{}` already has a column `{}`: name the output column otherwise \
          with --output-column",
@@ -115,11 +118,21 @@ impl fmt::Display for SimulateReport {
             "simulated {} samples with a `{}` model",
             self.samples, self.model
         )?;
-        if let Some(p) = &self.period {
-            write!(f, " at a sample period of {p}")?;
-        }
-        write!(f, "; wrote {}", crate::csvio::join_paths(&self.files))
+        write_period_and_files(f, self.period.as_ref(), &self.files)
     }
+}
+
+/// How the reports of `simulate` and `sensitivity` end: ` at a sample
+/// period of P` (for a rate-dependent model), then `; wrote FILES`.
+pub(crate) fn write_period_and_files(
+    f: &mut fmt::Formatter<'_>,
+    period: Option<&Period>,
+    files: &[PathBuf],
+) -> fmt::Result {
+    if let Some(p) = period {
+        write!(f, " at a sample period of {p}")?;
+    }
+    write!(f, "; wrote {}", csvio::join_paths(files))
 }
 
 /// Rows read, run and written at a time.
@@ -135,37 +148,117 @@ impl SimulateError {
     }
 }
 
-/// Runs the model over the input; see the module docs.
-pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
-    let inputs = [
-        ("input", opts.input.as_path()),
-        ("model", opts.model.as_path()),
-    ];
-    csvio::refuse_same("output", &opts.output, &inputs).map_err(SimulateError::SameFile)?;
-    if let Some(p) = &opts.plot {
-        csvio::refuse_same("plot", p, &inputs).map_err(SimulateError::SameFile)?;
-        csvio::refuse_same("plot", p, &[("output", opts.output.as_path())])
-            .map_err(SimulateError::SameFile)?;
+/// Refuses an output, and a figure if any, that names the input or the
+/// model file, and a figure that names the output.
+pub(crate) fn refuse_overwrite(
+    model: &Path,
+    input: &Path,
+    output: &Path,
+    plot: Option<&Path>,
+) -> Result<(), SimulateError> {
+    let inputs = [("input", input), ("model", model)];
+    csvio::refuse_same("output", output, &inputs)?;
+    if let Some(p) = plot {
+        csvio::refuse_same("plot", p, &inputs)?;
+        csvio::refuse_same("plot", p, &[("output", output)])?;
     }
+    Ok(())
+}
 
-    let model_err = |e| ModelFileError::new(&opts.model, e);
-    let spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
-    // The spec's own errors first (a period it leaves out is a stand-in here).
+/// A model spec file made ready to run over one record.
+pub(crate) struct RecordModel {
+    /// The spec at the record's sample period.
+    pub spec: Spec,
+    /// That period (`None` for a rate-independent model).
+    pub period: Option<Period>,
+    /// The model built from `spec`, in its initial state.
+    pub model: Box<dyn Operator<f64>>,
+}
+
+/// Reads the spec file `model` and builds it at the sample period of the
+/// record `input` that `period` chooses; the spec's own errors come first
+/// (a period it leaves out is a stand-in for that check).
+pub(crate) fn model_for_record(
+    model: &Path,
+    period: &SamplePeriodArgs,
+    input: &Path,
+) -> Result<RecordModel, SimulateError> {
+    let model_err = |e| ModelFileError::new(model, e);
+    let spec = Spec::from_json_file(model).map_err(model_err)?;
     spec.or_dt(Spec::STAND_IN_DT).build().map_err(model_err)?;
-    let (spec, period) = period::for_record(&spec, &opts.period.source(), &opts.input)
-        .map_err(SimulateError::period)?;
-    let mut model = spec.build().map_err(model_err)?;
+    let (spec, period) =
+        period::for_record(&spec, &period.source(), input).map_err(SimulateError::period)?;
+    let model = spec.build().map_err(model_err)?;
+    Ok(RecordModel {
+        spec,
+        period,
+        model,
+    })
+}
 
-    let mut reader = csvio::CsvReader::open(&opts.input).map_err(SimulateError::Input)?;
-    let index = reader.column(&opts.column).map_err(SimulateError::Input)?;
+/// The input column of a record being extended by new columns.
+pub(crate) struct InputColumn {
+    /// The record's reader, at its first data row.
+    pub reader: csvio::CsvReader,
+    /// The column's index.
+    pub index: usize,
+    /// Its header, trimmed.
+    pub name: String,
+}
+
+/// Opens the record `input` and finds its column `column`, refusing a
+/// record that already has a column named like one of `new_columns`.
+pub(crate) fn open_input(
+    input: &Path,
+    column: &str,
+    new_columns: &[String],
+) -> Result<InputColumn, SimulateError> {
+    let reader = csvio::CsvReader::open(input).map_err(SimulateError::Input)?;
+    let index = reader.column(column).map_err(SimulateError::Input)?;
     let name = reader.headers()[index].trim().to_string();
-    let out_name = opts.output_column.trim();
-    if reader.headers().iter().any(|h| h.trim() == out_name) {
+    let taken = new_columns
+        .iter()
+        .find(|c| reader.headers().iter().any(|h| h.trim() == c.as_str()));
+    if let Some(taken) = taken {
         return Err(SimulateError::OutputColumnExists(
-            opts.input.clone(),
-            out_name.to_string(),
+            input.to_path_buf(),
+            taken.clone(),
         ));
     }
+    Ok(InputColumn {
+        reader,
+        index,
+        name,
+    })
+}
+
+/// Writes the CSV file `path` atomically: `write` writes its records to
+/// the CSV writer (see [`write_error`]); errors of the file system, of the
+/// final flush and of `write` leave no file behind.
+pub(crate) fn write_csv(
+    path: &Path,
+    write: impl FnOnce(&mut csv::Writer<&mut BufWriter<&mut File>>) -> Result<(), SimulateError>,
+) -> Result<(), SimulateError> {
+    csvio::write_csv_atomic_with(path, |e| OutputError::Write(e).into(), write)
+}
+
+/// A CSV writer's error while writing `path`, as the job's error.
+pub(crate) fn write_error(path: &Path, e: csv::Error) -> SimulateError {
+    OutputError::Write(csvio::csv_write_error(path, e)).into()
+}
+
+/// Runs the model over the input; see the module docs.
+pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
+    refuse_overwrite(&opts.model, &opts.input, &opts.output, opts.plot.as_deref())?;
+    let RecordModel {
+        period, mut model, ..
+    } = model_for_record(&opts.model, &opts.period, &opts.input)?;
+    let out_name = opts.output_column.trim();
+    let InputColumn {
+        mut reader,
+        index,
+        name,
+    } = open_input(&opts.input, &opts.column, &[out_name.to_string()])?;
 
     // Both destinations must be writable before either is written.
     csvio::target_dir(&opts.output).map_err(OutputError::Write)?;
@@ -176,15 +269,8 @@ pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
     let mut points = opts.plot.as_ref().map(|_| plot::PointStore::default());
     let mut samples = 0;
     let mut svg = None;
-    let write_err = |e: csv::Error| {
-        SimulateError::from(OutputError::Write(CsvIoError::Io {
-            path: opts.output.clone(),
-            source: csv_to_io(e),
-        }))
-    };
-    let output_err = |e| SimulateError::from(OutputError::Write(e));
-    csvio::write_atomic_with(&opts.output, output_err, |w| {
-        let mut out = csv::Writer::from_writer(w);
+    let write_err = |e| write_error(&opts.output, e);
+    write_csv(&opts.output, |out| {
         out.write_record(reader.headers().iter().chain([out_name]))
             .map_err(write_err)?;
         let mut rows = vec![csvio::Row::default(); CHUNK];
@@ -248,12 +334,7 @@ pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
                     .map_err(|e| OutputError::Plot(p.clone(), e))?,
             );
         }
-        out.flush().map_err(|source| {
-            output_err(CsvIoError::Io {
-                path: opts.output.clone(),
-                source,
-            })
-        })
+        Ok(())
     })?;
     let mut files = vec![opts.output.clone()];
     if let (Some(p), Some(svg)) = (&opts.plot, svg) {
@@ -266,13 +347,6 @@ pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
         period,
         files,
     })
-}
-
-fn csv_to_io(e: csv::Error) -> std::io::Error {
-    match e.into_kind() {
-        csv::ErrorKind::Io(io) => io,
-        other => std::io::Error::other(format!("{other:?}")),
-    }
 }
 
 fn file_name(p: &Path) -> String {
