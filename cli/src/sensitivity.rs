@@ -30,8 +30,8 @@ use crate::models::sensitivity::{sensitivity, Sensitivity, SensitivityError};
 use crate::output::OutputError;
 use crate::period::SamplePeriodArgs;
 use crate::simulate::{
-    model_for_record, open_input, refuse_overwrite, write_csv, write_error, write_period_and_files,
-    InputColumn, RecordModel, SimulateError, SimulateReport,
+    write_csv, write_error, write_period_and_files, InputColumn, RecordInput, RecordModel,
+    SimulateError, SimulateReport,
 };
 use crate::Operator;
 use std::fmt;
@@ -44,18 +44,9 @@ pub const OUTPUT_COLUMN: &str = crate::simulate::OUTPUT_COLUMN;
 /// comments are their help.
 #[derive(Debug, Clone, PartialEq, clap::Args)]
 pub struct SensitivityOptions {
-    /// The model spec (JSON, see hysteron::models::Spec); the model
-    /// runs from its initial state.
-    #[arg(long, value_name = "SPEC.json")]
-    pub model: PathBuf,
-    /// The input CSV file, with a header row of distinct column names
-    /// (blank lines only at the end of the file; every value of the
-    /// input column a finite number).
-    #[arg(long, value_name = "IN.csv")]
-    pub input: PathBuf,
-    /// The input column.
-    #[arg(long, value_name = "NAME", default_value = "x")]
-    pub column: String,
+    /// The model, the input file and its column.
+    #[command(flatten)]
+    pub record: RecordInput,
     /// The parameters, comma-separated: full names as the model lists
     /// them (left.mms.f_c) or unique suffixes (f_c), each at most once;
     /// the columns are named by the full names.
@@ -158,12 +149,13 @@ pub fn derivative_column(output: &str, param: &str) -> String {
 
 /// Runs the job; see the module docs.
 pub fn run(opts: &SensitivityOptions) -> Result<SensitivityReport, SensitivityCmdError> {
-    refuse_overwrite(&opts.model, &opts.input, &opts.output, None)?;
+    let record = &opts.record;
+    record.refuse_overwrite(&opts.output, None)?;
     let RecordModel {
         spec,
         period,
         model,
-    } = model_for_record(&opts.model, &opts.period, &opts.input)?;
+    } = record.load_model(&opts.period)?;
     let params = full_names(opts, model.as_ref())?;
 
     let out_name = opts.output_column.trim();
@@ -173,7 +165,7 @@ pub fn run(opts: &SensitivityOptions) -> Result<SensitivityReport, SensitivityCm
         mut reader,
         index,
         name,
-    } = open_input(&opts.input, &opts.column, &new_columns)?;
+    } = record.open(&new_columns)?;
 
     let mut rows = Vec::new();
     let mut xs = Vec::new();
@@ -188,7 +180,7 @@ pub fn run(opts: &SensitivityOptions) -> Result<SensitivityReport, SensitivityCm
     }
     if xs.is_empty() {
         return Err(SimulateError::Input(CsvIoError::NoRows {
-            path: opts.input.clone(),
+            path: opts.record.input.clone(),
         })
         .into());
     }
@@ -215,7 +207,8 @@ fn full_names(
     opts: &SensitivityOptions,
     model: &(dyn Operator<f64> + 'static),
 ) -> Result<Vec<String>, SensitivityCmdError> {
-    let params_err = |message: String| SensitivityCmdError::Params(opts.model.clone(), message);
+    let params_err =
+        |message: String| SensitivityCmdError::Params(opts.record.model.clone(), message);
     let names: Vec<&str> = opts
         .params
         .iter()
@@ -255,44 +248,32 @@ fn locate(
     xs: &[f64],
     e: SensitivityError,
 ) -> SensitivityCmdError {
-    let params_err = |message: String| SensitivityCmdError::Params(opts.model.clone(), message);
+    let params_err =
+        |message: String| SensitivityCmdError::Params(opts.record.model.clone(), message);
     match e {
         SensitivityError::Spec(e) => {
-            SimulateError::from(ModelFileError::new(&opts.model, e)).into()
+            SimulateError::from(ModelFileError::new(&opts.record.model, e)).into()
         }
         SensitivityError::EmptyInput => SimulateError::Input(CsvIoError::NoRows {
-            path: opts.input.clone(),
+            path: opts.record.input.clone(),
         })
         .into(),
         e @ (SensitivityError::NoParameters { .. }
         | SensitivityError::UnknownParameter { .. }
         | SensitivityError::Repeated { .. }) => params_err(e.to_string()),
-        SensitivityError::Model(e) => {
-            SimulateError::Operator(Box::new(csvio::SampleFailure::locate_in(
-                &opts.model,
-                &opts.input,
-                "input",
-                &opts.column,
-                e,
-                |i| {
-                    let (row, line) = rows.get(i).map_or((i + 1, 0), |r| (r.row(), r.line()));
-                    (i, row, line, xs.get(i).copied())
-                },
-            )))
-            .into()
-        }
+        SensitivityError::Model(e) => opts.record.operator_failure(e, (rows, xs, 0)).into(),
         SensitivityError::NonFiniteDerivative { sample, param } => {
             let (row, line) = rows
                 .get(sample)
                 .map_or((sample + 1, 0), |r| (r.row(), r.line()));
             SensitivityCmdError::NonFiniteDerivative(Box::new(NonFinite {
-                model: opts.model.clone(),
+                model: opts.record.model.clone(),
                 message: format!("∂y/∂{param} is not finite"),
                 sample,
-                file: opts.input.clone(),
+                file: opts.record.input.clone(),
                 row,
                 line,
-                column: opts.column.clone(),
+                column: opts.record.column.clone(),
                 value: xs.get(sample).copied().unwrap_or(f64::NAN),
             }))
         }

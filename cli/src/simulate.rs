@@ -37,16 +37,9 @@ pub const OUTPUT_COLUMN: &str = "y";
 /// comments are their help.
 #[derive(Debug, Clone, PartialEq, clap::Args)]
 pub struct SimulateOptions {
-    /// The model spec (JSON, see hysteron::models::Spec).
-    #[arg(long, value_name = "SPEC.json")]
-    pub model: PathBuf,
-    /// The input CSV file, with a header row of distinct column names
-    /// (blank lines only at the end of the file).
-    #[arg(long, value_name = "IN.csv")]
-    pub input: PathBuf,
-    /// The input column.
-    #[arg(long, value_name = "NAME", default_value = "x")]
-    pub column: String,
+    /// The model, the input file and its column.
+    #[command(flatten)]
+    pub record: RecordInput,
     /// The output CSV file (written atomically; may not be the input).
     #[arg(long, value_name = "OUT.csv")]
     pub output: PathBuf,
@@ -61,6 +54,24 @@ pub struct SimulateOptions {
     /// comes from (see [`period`]).
     #[command(flatten)]
     pub period: SamplePeriodArgs,
+}
+
+/// The model and the record it runs over, as `simulate` and
+/// `sensitivity` take them: their first command-line flags.
+#[derive(Debug, Clone, PartialEq, clap::Args)]
+pub struct RecordInput {
+    /// The model spec (JSON, see hysteron::models::Spec); the model
+    /// runs from its initial state.
+    #[arg(long, value_name = "SPEC.json")]
+    pub model: PathBuf,
+    /// The input CSV file, with a header row of distinct column names
+    /// (blank lines only at the end of the file; every value of the
+    /// input column a finite number).
+    #[arg(long, value_name = "IN.csv")]
+    pub input: PathBuf,
+    /// The input column.
+    #[arg(long, value_name = "NAME", default_value = "x")]
+    pub column: String,
 }
 
 /// An error of the simulate job (one-line message naming file, row and
@@ -148,24 +159,90 @@ impl SimulateError {
     }
 }
 
-/// Refuses an output, and a figure if any, that names the input or the
-/// model file, and a figure that names the output.
-pub(crate) fn refuse_overwrite(
-    model: &Path,
-    input: &Path,
-    output: &Path,
-    plot: Option<&Path>,
-) -> Result<(), SimulateError> {
-    let inputs = [("input", input), ("model", model)];
-    csvio::refuse_same("output", output, &inputs)?;
-    if let Some(p) = plot {
-        csvio::refuse_same("plot", p, &inputs)?;
-        csvio::refuse_same("plot", p, &[("output", output)])?;
+impl RecordInput {
+    /// Refuses an output, and a figure if any, that names the input or
+    /// the model file, and a figure that names the output.
+    pub(crate) fn refuse_overwrite(
+        &self,
+        output: &Path,
+        plot: Option<&Path>,
+    ) -> Result<(), SimulateError> {
+        let inputs = [
+            ("input", self.input.as_path()),
+            ("model", self.model.as_path()),
+        ];
+        csvio::refuse_same("output", output, &inputs)?;
+        if let Some(p) = plot {
+            csvio::refuse_same("plot", p, &inputs)?;
+            csvio::refuse_same("plot", p, &[("output", output)])?;
+        }
+        Ok(())
     }
-    Ok(())
+
+    /// Reads the model spec and builds it at the sample period of the
+    /// input that `period` chooses; the spec's own errors come first (a
+    /// period it leaves out is a stand-in for that check).
+    pub(crate) fn load_model(
+        &self,
+        period: &SamplePeriodArgs,
+    ) -> Result<RecordModel, SimulateError> {
+        let model_err = |e| ModelFileError::new(&self.model, e);
+        let spec = Spec::from_json_file(&self.model).map_err(model_err)?;
+        spec.or_dt(Spec::STAND_IN_DT).build().map_err(model_err)?;
+        let (spec, period) = period::for_record(&spec, &period.source(), &self.input)
+            .map_err(SimulateError::period)?;
+        let model = spec.build().map_err(model_err)?;
+        Ok(RecordModel {
+            spec,
+            period,
+            model,
+        })
+    }
+
+    /// Opens the input and finds its column, refusing an input that
+    /// already has a column named like one of `new_columns`.
+    pub(crate) fn open(&self, new_columns: &[String]) -> Result<InputColumn, SimulateError> {
+        let reader = csvio::CsvReader::open(&self.input).map_err(SimulateError::Input)?;
+        let index = reader.column(&self.column).map_err(SimulateError::Input)?;
+        let name = reader.headers()[index].trim().to_string();
+        let taken = new_columns
+            .iter()
+            .find(|c| reader.headers().iter().any(|h| h.trim() == c.as_str()));
+        if let Some(taken) = taken {
+            return Err(SimulateError::OutputColumnExists(
+                self.input.clone(),
+                taken.clone(),
+            ));
+        }
+        Ok(InputColumn {
+            reader,
+            index,
+            name,
+        })
+    }
+
+    /// The model's failure at a sample, located in the input column:
+    /// `run` holds the data rows and input values run and the number of
+    /// the first of them.
+    pub(crate) fn operator_failure(
+        &self,
+        e: crate::Error,
+        (rows, xs, first): (&[csvio::Row], &[f64], usize),
+    ) -> SimulateError {
+        let at = |i: usize| {
+            let (row, line) = rows
+                .get(i)
+                .map_or((first + i + 1, 0), |r| (r.row(), r.line()));
+            (first + i, row, line, xs.get(i).copied())
+        };
+        let failure =
+            csvio::SampleFailure::locate_in(&self.model, &self.input, "input", &self.column, e, at);
+        SimulateError::Operator(Box::new(failure))
+    }
 }
 
-/// A model spec file made ready to run over one record.
+/// A model spec file made ready to run over one record
+/// ([`RecordInput::load_model`]).
 pub(crate) struct RecordModel {
     /// The spec at the record's sample period.
     pub spec: Spec,
@@ -175,28 +252,8 @@ pub(crate) struct RecordModel {
     pub model: Box<dyn Operator<f64>>,
 }
 
-/// Reads the spec file `model` and builds it at the sample period of the
-/// record `input` that `period` chooses; the spec's own errors come first
-/// (a period it leaves out is a stand-in for that check).
-pub(crate) fn model_for_record(
-    model: &Path,
-    period: &SamplePeriodArgs,
-    input: &Path,
-) -> Result<RecordModel, SimulateError> {
-    let model_err = |e| ModelFileError::new(model, e);
-    let spec = Spec::from_json_file(model).map_err(model_err)?;
-    spec.or_dt(Spec::STAND_IN_DT).build().map_err(model_err)?;
-    let (spec, period) =
-        period::for_record(&spec, &period.source(), input).map_err(SimulateError::period)?;
-    let model = spec.build().map_err(model_err)?;
-    Ok(RecordModel {
-        spec,
-        period,
-        model,
-    })
-}
-
-/// The input column of a record being extended by new columns.
+/// The input column of a record being extended by new columns
+/// ([`RecordInput::open`]).
 pub(crate) struct InputColumn {
     /// The record's reader, at its first data row.
     pub reader: csvio::CsvReader,
@@ -204,32 +261,6 @@ pub(crate) struct InputColumn {
     pub index: usize,
     /// Its header, trimmed.
     pub name: String,
-}
-
-/// Opens the record `input` and finds its column `column`, refusing a
-/// record that already has a column named like one of `new_columns`.
-pub(crate) fn open_input(
-    input: &Path,
-    column: &str,
-    new_columns: &[String],
-) -> Result<InputColumn, SimulateError> {
-    let reader = csvio::CsvReader::open(input).map_err(SimulateError::Input)?;
-    let index = reader.column(column).map_err(SimulateError::Input)?;
-    let name = reader.headers()[index].trim().to_string();
-    let taken = new_columns
-        .iter()
-        .find(|c| reader.headers().iter().any(|h| h.trim() == c.as_str()));
-    if let Some(taken) = taken {
-        return Err(SimulateError::OutputColumnExists(
-            input.to_path_buf(),
-            taken.clone(),
-        ));
-    }
-    Ok(InputColumn {
-        reader,
-        index,
-        name,
-    })
 }
 
 /// Writes the CSV file `path` atomically: `write` writes its records to
@@ -249,16 +280,17 @@ pub(crate) fn write_error(path: &Path, e: csv::Error) -> SimulateError {
 
 /// Runs the model over the input; see the module docs.
 pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
-    refuse_overwrite(&opts.model, &opts.input, &opts.output, opts.plot.as_deref())?;
+    let record = &opts.record;
+    record.refuse_overwrite(&opts.output, opts.plot.as_deref())?;
     let RecordModel {
         period, mut model, ..
-    } = model_for_record(&opts.model, &opts.period, &opts.input)?;
+    } = record.load_model(&opts.period)?;
     let out_name = opts.output_column.trim();
     let InputColumn {
         mut reader,
         index,
         name,
-    } = open_input(&opts.input, &opts.column, &[out_name.to_string()])?;
+    } = record.open(&[out_name.to_string()])?;
 
     // Both destinations must be writable before either is written.
     csvio::target_dir(&opts.output).map_err(OutputError::Write)?;
@@ -292,17 +324,8 @@ pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
                 break;
             }
             model.process(&xs[..n], &mut ys[..n]).map_err(|e| {
-                SimulateError::Operator(Box::new(csvio::SampleFailure::locate_in(
-                    &opts.model,
-                    &opts.input,
-                    "input",
-                    &opts.column,
-                    e,
-                    |i| {
-                        let r = rows.get(i).map_or((0, 0), |r| (r.row(), r.line()));
-                        (samples + i, r.0, r.1, xs.get(i).copied())
-                    },
-                )))
+                let run = (&rows[..n], &xs[..n], samples);
+                record.operator_failure(e, run)
             })?;
             for (row, &y) in rows[..n].iter().zip(&ys[..n]) {
                 y_text.clear();
@@ -320,14 +343,18 @@ pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
         }
         if samples == 0 {
             return Err(SimulateError::Input(CsvIoError::NoRows {
-                path: opts.input.clone(),
+                path: record.input.clone(),
             }));
         }
         // The figure is drawn before the output is in place, so that a
         // figure that cannot be drawn leaves no output either.
         if let (Some(p), Some(points)) = (&opts.plot, points.take()) {
-            let title = format!("{} over {}", file_name(&opts.model), file_name(&opts.input));
-            let panel = plot::loop_panel_from_store(&title, &opts.column, out_name, &points);
+            let title = format!(
+                "{} over {}",
+                file_name(&record.model),
+                file_name(&record.input)
+            );
+            let panel = plot::loop_panel_from_store(&title, &record.column, out_name, &points);
             drop(points);
             svg = Some(
                 plot::render(&[panel], 1, 1, (760, 560))
