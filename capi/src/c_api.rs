@@ -14,6 +14,7 @@
 
 use crate::model::Model;
 use crate::status::{fail, guard, operator_failure, spec_failure, HysteronStatus};
+use hysteron::Trial;
 use std::ffi::{c_char, CStr};
 
 /// A model: a spec and the operator built from it, with its running state.
@@ -88,6 +89,16 @@ unsafe fn store(
     })
 }
 
+/// The trial of `m` at input `x` from its committed state (pending until
+/// a commit), or the status to return: a spec that cannot run yet, or an
+/// operator error.
+fn trial(m: &mut Model, x: f64) -> Result<Trial<f64>, HysteronStatus> {
+    m.running()
+        .map_err(spec_failure)?
+        .trial(x)
+        .map_err(operator_failure)
+}
+
 /// Runs `body` under the panic guard, mapping `Err(status)` to `status`.
 fn call(body: impl FnOnce() -> Result<(), HysteronStatus>) -> HysteronStatus {
     guard(|| match body() {
@@ -152,12 +163,7 @@ pub unsafe extern "C" fn hysteron_step(
 ) -> HysteronStatus {
     call(|| {
         let m = unsafe { model_mut(model) }?;
-        let out = m
-            .running()
-            .map_err(spec_failure)?
-            .trial(x)
-            .map_err(operator_failure)?
-            .output;
+        let out = trial(m, x)?.output;
         m.operator_mut().commit();
         unsafe { put(y, out) };
         Ok(())
@@ -178,12 +184,7 @@ pub unsafe extern "C" fn hysteron_trial(
     tangent: *mut f64,
 ) -> HysteronStatus {
     call(|| {
-        let m = unsafe { model_mut(model) }?;
-        let t = m
-            .running()
-            .map_err(spec_failure)?
-            .trial(x)
-            .map_err(operator_failure)?;
+        let t = trial(unsafe { model_mut(model) }?, x)?;
         unsafe {
             put(y, t.output);
             put(tangent, t.tangent);

@@ -772,6 +772,34 @@ pub fn write_columns(path: &Path, columns: &[(&str, &[f64])]) -> Result<(), CsvI
     })
 }
 
+/// [`write_atomic_with`] for a CSV file: `write` writes its records to a
+/// CSV writer over the temporary file, which is then flushed (a flush that
+/// fails is a file system error, through `wrap`).
+pub fn write_csv_atomic_with<E, W, F>(path: &Path, wrap: W, write: F) -> Result<(), E>
+where
+    W: Fn(CsvIoError) -> E,
+    F: FnOnce(&mut csv::Writer<&mut BufWriter<&mut fs::File>>) -> Result<(), E>,
+{
+    write_atomic_with(path, &wrap, |w| {
+        let mut out = csv::Writer::from_writer(w);
+        write(&mut out)?;
+        out.flush().map_err(|source| {
+            wrap(CsvIoError::Io {
+                path: path.to_path_buf(),
+                source,
+            })
+        })
+    })
+}
+
+/// A CSV writer's error while writing `path`, as an I/O error of that file.
+pub fn csv_write_error(path: &Path, e: csv::Error) -> CsvIoError {
+    CsvIoError::Io {
+        path: path.to_path_buf(),
+        source: csv_to_io(e),
+    }
+}
+
 fn csv_to_io(e: csv::Error) -> io::Error {
     match e.into_kind() {
         csv::ErrorKind::Io(io) => io,

@@ -1,5 +1,6 @@
-//! The `sensitivity` job: runs a model spec (JSON, see [`Spec`]) over one
-//! column of a CSV file, like `simulate`, and writes with the output the
+//! The `sensitivity` job: runs a model spec (JSON, see
+//! [`Spec`](crate::models::Spec)) over one column of a CSV file, like
+//! `simulate`, and writes with the output the
 //! derivatives of the output with respect to chosen parameters,
 //! `∂y_k/∂p_i`, computed by forward-mode automatic differentiation
 //! ([`sensitivity`]).
@@ -26,9 +27,12 @@ use crate::csvio::{self, CsvIoError};
 use crate::identify::free_by_names;
 use crate::model_file::ModelFileError;
 use crate::models::sensitivity::{sensitivity, Sensitivity, SensitivityError};
-use crate::models::Spec;
 use crate::output::OutputError;
-use crate::period::{self, Period, PeriodError, SamplePeriodArgs};
+use crate::period::SamplePeriodArgs;
+use crate::simulate::{
+    write_csv, write_error, write_period_and_files, InputColumn, RecordInput, RecordModel,
+    SimulateError, SimulateReport,
+};
 use crate::Operator;
 use std::fmt;
 use std::path::PathBuf;
@@ -40,18 +44,9 @@ pub const OUTPUT_COLUMN: &str = crate::simulate::OUTPUT_COLUMN;
 /// comments are their help.
 #[derive(Debug, Clone, PartialEq, clap::Args)]
 pub struct SensitivityOptions {
-    /// The model spec (JSON, see hysteron::models::Spec); the model
-    /// runs from its initial state.
-    #[arg(long, value_name = "SPEC.json")]
-    pub model: PathBuf,
-    /// The input CSV file, with a header row of distinct column names
-    /// (blank lines only at the end of the file; every value of the
-    /// input column a finite number).
-    #[arg(long, value_name = "IN.csv")]
-    pub input: PathBuf,
-    /// The input column.
-    #[arg(long, value_name = "NAME", default_value = "x")]
-    pub column: String,
+    /// The model, the input file and its column.
+    #[command(flatten)]
+    pub record: RecordInput,
     /// The parameters, comma-separated: full names as the model lists
     /// them (left.mms.f_c) or unique suffixes (f_c), each at most once;
     /// the columns are named by the full names.
@@ -75,35 +70,16 @@ pub struct SensitivityOptions {
 /// column where relevant).
 #[derive(Debug, thiserror::Error)]
 pub enum SensitivityCmdError {
-    /// An output path names an input file.
+    /// What `simulate` can fail on too: an output path naming an input
+    /// file, the model spec, the input, the sample period, an output
+    /// column the input already has, the model at a sample, writing the
+    /// output.
     #[error(transparent)]
-    SameFile(#[from] csvio::SameFile),
-    /// The model spec could not be read, parsed or built.
-    #[error(transparent)]
-    Model(#[from] ModelFileError),
-    /// The input could not be read or is invalid (no data rows, a cell
-    /// that is not a finite number, ...).
-    #[error("input {0}")]
-    Input(CsvIoError),
-    /// No sample period could be chosen (the spec's and the data's
-    /// disagree).
-    #[error(transparent)]
-    Period(PeriodError),
+    Run(#[from] SimulateError),
     /// A `--params` name is unknown, ambiguous or repeated, or none is
     /// given; the message lists the model's parameters where it helps.
     #[error("--params: model `{}`: {}", .0.display(), .1)]
     Params(PathBuf, String),
-    /// The input already has a column named like an output column.
-    #[error(
-        "input `{}` already has a column `{}`: name the output column otherwise \
-         with --output-column",
-        .0.display(),
-        .1
-    )]
-    OutputColumnExists(PathBuf, String),
-    /// The model failed at a sample.
-    #[error("model `{}` failed{}", .0.model.display(), .0.location())]
-    Operator(Box<csvio::SampleFailure>),
     /// A derivative is not finite (an infinite slope).
     #[error(
         "model `{}`: {} at sample {}: input `{}`, row {} (line {}), column `{}` = {}",
@@ -117,9 +93,6 @@ pub enum SensitivityCmdError {
         csvio::fmt_f64(.0.value)
     )]
     NonFiniteDerivative(Box<NonFinite>),
-    /// Writing the output failed.
-    #[error(transparent)]
-    Output(#[from] OutputError),
 }
 
 /// Where a derivative is not finite.
@@ -146,17 +119,11 @@ pub struct NonFinite {
 /// What the sensitivity job did.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SensitivityReport {
-    /// Samples run (data rows).
-    pub samples: usize,
+    /// The run, as `simulate` reports one: samples (data rows), the
+    /// model's operator name, its sample period, the files written.
+    pub run: SimulateReport,
     /// The parameters' full paths, in the order of the columns.
     pub params: Vec<String>,
-    /// The model's operator name.
-    pub model: &'static str,
-    /// The sample period the model ran at (`None` for a rate-independent
-    /// model).
-    pub period: Option<Period>,
-    /// Files written.
-    pub files: Vec<PathBuf>,
 }
 
 impl fmt::Display for SensitivityReport {
@@ -167,13 +134,10 @@ impl fmt::Display for SensitivityReport {
              model",
             self.params.len(),
             self.params.join(", "),
-            self.samples,
-            self.model,
+            self.run.samples,
+            self.run.model,
         )?;
-        if let Some(p) = &self.period {
-            write!(f, " at a sample period of {p}")?;
-        }
-        write!(f, "; wrote {}", csvio::join_paths(&self.files))
+        write_period_and_files(f, self.run.period.as_ref(), &self.run.files)
     }
 }
 
@@ -183,82 +147,57 @@ pub fn derivative_column(output: &str, param: &str) -> String {
     format!("d{output}/d{param}")
 }
 
-impl SensitivityCmdError {
-    /// A period error: one reading the data is an input error.
-    fn period(e: PeriodError) -> Self {
-        match e {
-            PeriodError::Data(e) => SensitivityCmdError::Input(e),
-            e => SensitivityCmdError::Period(e),
-        }
-    }
-}
-
 /// Runs the job; see the module docs.
 pub fn run(opts: &SensitivityOptions) -> Result<SensitivityReport, SensitivityCmdError> {
-    let inputs = [
-        ("input", opts.input.as_path()),
-        ("model", opts.model.as_path()),
-    ];
-    csvio::refuse_same("output", &opts.output, &inputs)?;
-
-    let model_err = |e| ModelFileError::new(&opts.model, e);
-    let spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
-    // The spec's own errors first (a period it leaves out is a stand-in here).
-    spec.or_dt(Spec::STAND_IN_DT).build().map_err(model_err)?;
-    let (spec, period) = period::for_record(&spec, &opts.period.source(), &opts.input)
-        .map_err(SensitivityCmdError::period)?;
-    let model = spec.build().map_err(model_err)?;
+    let record = &opts.record;
+    record.refuse_overwrite(&opts.output, None)?;
+    let RecordModel {
+        spec,
+        period,
+        model,
+    } = record.load_model(&opts.period)?;
     let params = full_names(opts, model.as_ref())?;
 
-    let mut reader = csvio::CsvReader::open(&opts.input).map_err(SensitivityCmdError::Input)?;
-    let index = reader
-        .column(&opts.column)
-        .map_err(SensitivityCmdError::Input)?;
-    let name = reader.headers()[index].trim().to_string();
     let out_name = opts.output_column.trim();
     let mut new_columns = vec![out_name.to_string()];
     new_columns.extend(params.iter().map(|p| derivative_column(out_name, p)));
-    if let Some(taken) = new_columns
-        .iter()
-        .find(|c| reader.headers().iter().any(|h| h.trim() == c.as_str()))
-    {
-        return Err(SensitivityCmdError::OutputColumnExists(
-            opts.input.clone(),
-            taken.clone(),
-        ));
-    }
+    let InputColumn {
+        mut reader,
+        index,
+        name,
+    } = record.open(&new_columns)?;
 
     let mut rows = Vec::new();
     let mut xs = Vec::new();
     let mut row = csvio::Row::default();
-    while reader
-        .read_row(&mut row)
-        .map_err(SensitivityCmdError::Input)?
-    {
+    while reader.read_row(&mut row).map_err(SimulateError::Input)? {
         xs.push(
             reader
                 .number(&row, index, &name)
-                .map_err(SensitivityCmdError::Input)?,
+                .map_err(SimulateError::Input)?,
         );
         rows.push(std::mem::take(&mut row));
     }
     if xs.is_empty() {
-        return Err(SensitivityCmdError::Input(CsvIoError::NoRows {
-            path: opts.input.clone(),
-        }));
+        return Err(SimulateError::Input(CsvIoError::NoRows {
+            path: opts.record.input.clone(),
+        })
+        .into());
     }
-    csvio::target_dir(&opts.output).map_err(OutputError::Write)?;
+    csvio::target_dir(&opts.output).map_err(|e| SimulateError::from(OutputError::Write(e)))?;
 
     let refs: Vec<&str> = params.iter().map(String::as_str).collect();
     let result = sensitivity(&spec, &xs, &refs).map_err(|e| locate(opts, &rows, &xs, e))?;
 
     write(opts, &reader, &rows, &new_columns, &result)?;
     Ok(SensitivityReport {
-        samples: xs.len(),
+        run: SimulateReport {
+            samples: xs.len(),
+            model: model.name(),
+            period,
+            files: vec![opts.output.clone()],
+        },
         params,
-        model: model.name(),
-        period,
-        files: vec![opts.output.clone()],
     })
 }
 
@@ -268,7 +207,8 @@ fn full_names(
     opts: &SensitivityOptions,
     model: &(dyn Operator<f64> + 'static),
 ) -> Result<Vec<String>, SensitivityCmdError> {
-    let params_err = |message: String| SensitivityCmdError::Params(opts.model.clone(), message);
+    let params_err =
+        |message: String| SensitivityCmdError::Params(opts.record.model.clone(), message);
     let names: Vec<&str> = opts
         .params
         .iter()
@@ -308,40 +248,32 @@ fn locate(
     xs: &[f64],
     e: SensitivityError,
 ) -> SensitivityCmdError {
-    let params_err = |message: String| SensitivityCmdError::Params(opts.model.clone(), message);
+    let params_err =
+        |message: String| SensitivityCmdError::Params(opts.record.model.clone(), message);
     match e {
-        SensitivityError::Spec(e) => ModelFileError::new(&opts.model, e).into(),
-        SensitivityError::EmptyInput => SensitivityCmdError::Input(CsvIoError::NoRows {
-            path: opts.input.clone(),
-        }),
+        SensitivityError::Spec(e) => {
+            SimulateError::from(ModelFileError::new(&opts.record.model, e)).into()
+        }
+        SensitivityError::EmptyInput => SimulateError::Input(CsvIoError::NoRows {
+            path: opts.record.input.clone(),
+        })
+        .into(),
         e @ (SensitivityError::NoParameters { .. }
         | SensitivityError::UnknownParameter { .. }
         | SensitivityError::Repeated { .. }) => params_err(e.to_string()),
-        SensitivityError::Model(e) => {
-            SensitivityCmdError::Operator(Box::new(csvio::SampleFailure::locate_in(
-                &opts.model,
-                &opts.input,
-                "input",
-                &opts.column,
-                e,
-                |i| {
-                    let (row, line) = rows.get(i).map_or((i + 1, 0), |r| (r.row(), r.line()));
-                    (i, row, line, xs.get(i).copied())
-                },
-            )))
-        }
+        SensitivityError::Model(e) => opts.record.operator_failure(e, (rows, xs, 0)).into(),
         SensitivityError::NonFiniteDerivative { sample, param } => {
             let (row, line) = rows
                 .get(sample)
                 .map_or((sample + 1, 0), |r| (r.row(), r.line()));
             SensitivityCmdError::NonFiniteDerivative(Box::new(NonFinite {
-                model: opts.model.clone(),
+                model: opts.record.model.clone(),
                 message: format!("∂y/∂{param} is not finite"),
                 sample,
-                file: opts.input.clone(),
+                file: opts.record.input.clone(),
                 row,
                 line,
-                column: opts.column.clone(),
+                column: opts.record.column.clone(),
                 value: xs.get(sample).copied().unwrap_or(f64::NAN),
             }))
         }
@@ -356,16 +288,9 @@ fn write(
     rows: &[csvio::Row],
     new_columns: &[String],
     result: &Sensitivity,
-) -> Result<(), SensitivityCmdError> {
-    let write_err = |e: csv::Error| {
-        SensitivityCmdError::from(OutputError::Write(CsvIoError::Io {
-            path: opts.output.clone(),
-            source: std::io::Error::other(e),
-        }))
-    };
-    let output_err = |e| SensitivityCmdError::from(OutputError::Write(e));
-    csvio::write_atomic_with(&opts.output, output_err, |w| {
-        let mut out = csv::Writer::from_writer(w);
+) -> Result<(), SimulateError> {
+    let write_err = |e| write_error(&opts.output, e);
+    write_csv(&opts.output, |out| {
         out.write_record(
             reader
                 .headers()
@@ -385,11 +310,6 @@ fn write(
             out.write_record(row.fields().chain(cells.iter().map(String::as_str)))
                 .map_err(write_err)?;
         }
-        out.flush().map_err(|source| {
-            output_err(CsvIoError::Io {
-                path: opts.output.clone(),
-                source,
-            })
-        })
+        Ok(())
     })
 }

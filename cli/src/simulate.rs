@@ -26,6 +26,8 @@ use crate::period::{self, Period, PeriodError, SamplePeriodArgs};
 use crate::plot;
 use crate::Operator;
 use std::fmt;
+use std::fs::File;
+use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
 /// The default name of the output column.
@@ -35,16 +37,9 @@ pub const OUTPUT_COLUMN: &str = "y";
 /// comments are their help.
 #[derive(Debug, Clone, PartialEq, clap::Args)]
 pub struct SimulateOptions {
-    /// The model spec (JSON, see hysteron::models::Spec).
-    #[arg(long, value_name = "SPEC.json")]
-    pub model: PathBuf,
-    /// The input CSV file, with a header row of distinct column names
-    /// (blank lines only at the end of the file).
-    #[arg(long, value_name = "IN.csv")]
-    pub input: PathBuf,
-    /// The input column.
-    #[arg(long, value_name = "NAME", default_value = "x")]
-    pub column: String,
+    /// The model, the input file and its column.
+    #[command(flatten)]
+    pub record: RecordInput,
     /// The output CSV file (written atomically; may not be the input).
     #[arg(long, value_name = "OUT.csv")]
     pub output: PathBuf,
@@ -61,8 +56,26 @@ pub struct SimulateOptions {
     pub period: SamplePeriodArgs,
 }
 
+/// The model and the record it runs over, as `simulate` and
+/// `sensitivity` take them: their first command-line flags.
+#[derive(Debug, Clone, PartialEq, clap::Args)]
+pub struct RecordInput {
+    /// The model spec (JSON, see hysteron::models::Spec); the model
+    /// runs from its initial state.
+    #[arg(long, value_name = "SPEC.json")]
+    pub model: PathBuf,
+    /// The input CSV file, with a header row of distinct column names
+    /// (blank lines only at the end of the file; every value of the
+    /// input column a finite number).
+    #[arg(long, value_name = "IN.csv")]
+    pub input: PathBuf,
+    /// The input column.
+    #[arg(long, value_name = "NAME", default_value = "x")]
+    pub column: String,
+}
+
 /// An error of the simulate job (one-line message naming file, row and
-/// column where relevant).
+/// column where relevant); `sensitivity` fails in these ways too.
 #[derive(Debug, thiserror::Error)]
 pub enum SimulateError {
     /// An output path names an input file.
@@ -71,14 +84,15 @@ pub enum SimulateError {
     /// The model spec could not be read, parsed or built.
     #[error(transparent)]
     Model(#[from] ModelFileError),
-    /// The input could not be read or is invalid.
+    /// The input could not be read or is invalid (no data rows, a cell
+    /// that is not a finite number, ...).
     #[error("input {0}")]
     Input(CsvIoError),
     /// No sample period could be chosen (the spec's and the data's
     /// disagree).
     #[error(transparent)]
     Period(PeriodError),
-    /// The input already has a column named like the output column.
+    /// The input already has a column named like an output column.
     #[error(
         "input `{}` already has a column `{}`: name the output column otherwise \
          with --output-column",
@@ -115,11 +129,21 @@ impl fmt::Display for SimulateReport {
             "simulated {} samples with a `{}` model",
             self.samples, self.model
         )?;
-        if let Some(p) = &self.period {
-            write!(f, " at a sample period of {p}")?;
-        }
-        write!(f, "; wrote {}", crate::csvio::join_paths(&self.files))
+        write_period_and_files(f, self.period.as_ref(), &self.files)
     }
+}
+
+/// How the reports of `simulate` and `sensitivity` end: ` at a sample
+/// period of P` (for a rate-dependent model), then `; wrote FILES`.
+pub(crate) fn write_period_and_files(
+    f: &mut fmt::Formatter<'_>,
+    period: Option<&Period>,
+    files: &[PathBuf],
+) -> fmt::Result {
+    if let Some(p) = period {
+        write!(f, " at a sample period of {p}")?;
+    }
+    write!(f, "; wrote {}", csvio::join_paths(files))
 }
 
 /// Rows read, run and written at a time.
@@ -135,37 +159,138 @@ impl SimulateError {
     }
 }
 
+impl RecordInput {
+    /// Refuses an output, and a figure if any, that names the input or
+    /// the model file, and a figure that names the output.
+    pub(crate) fn refuse_overwrite(
+        &self,
+        output: &Path,
+        plot: Option<&Path>,
+    ) -> Result<(), SimulateError> {
+        let inputs = [
+            ("input", self.input.as_path()),
+            ("model", self.model.as_path()),
+        ];
+        csvio::refuse_same("output", output, &inputs)?;
+        if let Some(p) = plot {
+            csvio::refuse_same("plot", p, &inputs)?;
+            csvio::refuse_same("plot", p, &[("output", output)])?;
+        }
+        Ok(())
+    }
+
+    /// Reads the model spec and builds it at the sample period of the
+    /// input that `period` chooses; the spec's own errors come first (a
+    /// period it leaves out is a stand-in for that check).
+    pub(crate) fn load_model(
+        &self,
+        period: &SamplePeriodArgs,
+    ) -> Result<RecordModel, SimulateError> {
+        let model_err = |e| ModelFileError::new(&self.model, e);
+        let spec = Spec::from_json_file(&self.model).map_err(model_err)?;
+        spec.or_dt(Spec::STAND_IN_DT).build().map_err(model_err)?;
+        let (spec, period) = period::for_record(&spec, &period.source(), &self.input)
+            .map_err(SimulateError::period)?;
+        let model = spec.build().map_err(model_err)?;
+        Ok(RecordModel {
+            spec,
+            period,
+            model,
+        })
+    }
+
+    /// Opens the input and finds its column, refusing an input that
+    /// already has a column named like one of `new_columns`.
+    pub(crate) fn open(&self, new_columns: &[String]) -> Result<InputColumn, SimulateError> {
+        let reader = csvio::CsvReader::open(&self.input).map_err(SimulateError::Input)?;
+        let index = reader.column(&self.column).map_err(SimulateError::Input)?;
+        let name = reader.headers()[index].trim().to_string();
+        let taken = new_columns
+            .iter()
+            .find(|c| reader.headers().iter().any(|h| h.trim() == c.as_str()));
+        if let Some(taken) = taken {
+            return Err(SimulateError::OutputColumnExists(
+                self.input.clone(),
+                taken.clone(),
+            ));
+        }
+        Ok(InputColumn {
+            reader,
+            index,
+            name,
+        })
+    }
+
+    /// The model's failure at a sample, located in the input column:
+    /// `run` holds the data rows and input values run and the number of
+    /// the first of them.
+    pub(crate) fn operator_failure(
+        &self,
+        e: crate::Error,
+        (rows, xs, first): (&[csvio::Row], &[f64], usize),
+    ) -> SimulateError {
+        let at = |i: usize| {
+            let (row, line) = rows
+                .get(i)
+                .map_or((first + i + 1, 0), |r| (r.row(), r.line()));
+            (first + i, row, line, xs.get(i).copied())
+        };
+        let failure =
+            csvio::SampleFailure::locate_in(&self.model, &self.input, "input", &self.column, e, at);
+        SimulateError::Operator(Box::new(failure))
+    }
+}
+
+/// A model spec file made ready to run over one record
+/// ([`RecordInput::load_model`]).
+pub(crate) struct RecordModel {
+    /// The spec at the record's sample period.
+    pub spec: Spec,
+    /// That period (`None` for a rate-independent model).
+    pub period: Option<Period>,
+    /// The model built from `spec`, in its initial state.
+    pub model: Box<dyn Operator<f64>>,
+}
+
+/// The input column of a record being extended by new columns
+/// ([`RecordInput::open`]).
+pub(crate) struct InputColumn {
+    /// The record's reader, at its first data row.
+    pub reader: csvio::CsvReader,
+    /// The column's index.
+    pub index: usize,
+    /// Its header, trimmed.
+    pub name: String,
+}
+
+/// Writes the CSV file `path` atomically: `write` writes its records to
+/// the CSV writer (see [`write_error`]); errors of the file system, of the
+/// final flush and of `write` leave no file behind.
+pub(crate) fn write_csv(
+    path: &Path,
+    write: impl FnOnce(&mut csv::Writer<&mut BufWriter<&mut File>>) -> Result<(), SimulateError>,
+) -> Result<(), SimulateError> {
+    csvio::write_csv_atomic_with(path, |e| OutputError::Write(e).into(), write)
+}
+
+/// A CSV writer's error while writing `path`, as the job's error.
+pub(crate) fn write_error(path: &Path, e: csv::Error) -> SimulateError {
+    OutputError::Write(csvio::csv_write_error(path, e)).into()
+}
+
 /// Runs the model over the input; see the module docs.
 pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
-    let inputs = [
-        ("input", opts.input.as_path()),
-        ("model", opts.model.as_path()),
-    ];
-    csvio::refuse_same("output", &opts.output, &inputs).map_err(SimulateError::SameFile)?;
-    if let Some(p) = &opts.plot {
-        csvio::refuse_same("plot", p, &inputs).map_err(SimulateError::SameFile)?;
-        csvio::refuse_same("plot", p, &[("output", opts.output.as_path())])
-            .map_err(SimulateError::SameFile)?;
-    }
-
-    let model_err = |e| ModelFileError::new(&opts.model, e);
-    let spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
-    // The spec's own errors first (a period it leaves out is a stand-in here).
-    spec.or_dt(Spec::STAND_IN_DT).build().map_err(model_err)?;
-    let (spec, period) = period::for_record(&spec, &opts.period.source(), &opts.input)
-        .map_err(SimulateError::period)?;
-    let mut model = spec.build().map_err(model_err)?;
-
-    let mut reader = csvio::CsvReader::open(&opts.input).map_err(SimulateError::Input)?;
-    let index = reader.column(&opts.column).map_err(SimulateError::Input)?;
-    let name = reader.headers()[index].trim().to_string();
+    let record = &opts.record;
+    record.refuse_overwrite(&opts.output, opts.plot.as_deref())?;
+    let RecordModel {
+        period, mut model, ..
+    } = record.load_model(&opts.period)?;
     let out_name = opts.output_column.trim();
-    if reader.headers().iter().any(|h| h.trim() == out_name) {
-        return Err(SimulateError::OutputColumnExists(
-            opts.input.clone(),
-            out_name.to_string(),
-        ));
-    }
+    let InputColumn {
+        mut reader,
+        index,
+        name,
+    } = record.open(&[out_name.to_string()])?;
 
     // Both destinations must be writable before either is written.
     csvio::target_dir(&opts.output).map_err(OutputError::Write)?;
@@ -176,15 +301,8 @@ pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
     let mut points = opts.plot.as_ref().map(|_| plot::PointStore::default());
     let mut samples = 0;
     let mut svg = None;
-    let write_err = |e: csv::Error| {
-        SimulateError::from(OutputError::Write(CsvIoError::Io {
-            path: opts.output.clone(),
-            source: csv_to_io(e),
-        }))
-    };
-    let output_err = |e| SimulateError::from(OutputError::Write(e));
-    csvio::write_atomic_with(&opts.output, output_err, |w| {
-        let mut out = csv::Writer::from_writer(w);
+    let write_err = |e| write_error(&opts.output, e);
+    write_csv(&opts.output, |out| {
         out.write_record(reader.headers().iter().chain([out_name]))
             .map_err(write_err)?;
         let mut rows = vec![csvio::Row::default(); CHUNK];
@@ -206,17 +324,8 @@ pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
                 break;
             }
             model.process(&xs[..n], &mut ys[..n]).map_err(|e| {
-                SimulateError::Operator(Box::new(csvio::SampleFailure::locate_in(
-                    &opts.model,
-                    &opts.input,
-                    "input",
-                    &opts.column,
-                    e,
-                    |i| {
-                        let r = rows.get(i).map_or((0, 0), |r| (r.row(), r.line()));
-                        (samples + i, r.0, r.1, xs.get(i).copied())
-                    },
-                )))
+                let run = (&rows[..n], &xs[..n], samples);
+                record.operator_failure(e, run)
             })?;
             for (row, &y) in rows[..n].iter().zip(&ys[..n]) {
                 y_text.clear();
@@ -234,26 +343,25 @@ pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
         }
         if samples == 0 {
             return Err(SimulateError::Input(CsvIoError::NoRows {
-                path: opts.input.clone(),
+                path: record.input.clone(),
             }));
         }
         // The figure is drawn before the output is in place, so that a
         // figure that cannot be drawn leaves no output either.
         if let (Some(p), Some(points)) = (&opts.plot, points.take()) {
-            let title = format!("{} over {}", file_name(&opts.model), file_name(&opts.input));
-            let panel = plot::loop_panel_from_store(&title, &opts.column, out_name, &points);
+            let title = format!(
+                "{} over {}",
+                file_name(&record.model),
+                file_name(&record.input)
+            );
+            let panel = plot::loop_panel_from_store(&title, &record.column, out_name, &points);
             drop(points);
             svg = Some(
                 plot::render(&[panel], 1, 1, (760, 560))
                     .map_err(|e| OutputError::Plot(p.clone(), e))?,
             );
         }
-        out.flush().map_err(|source| {
-            output_err(CsvIoError::Io {
-                path: opts.output.clone(),
-                source,
-            })
-        })
+        Ok(())
     })?;
     let mut files = vec![opts.output.clone()];
     if let (Some(p), Some(svg)) = (&opts.plot, svg) {
@@ -266,13 +374,6 @@ pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
         period,
         files,
     })
-}
-
-fn csv_to_io(e: csv::Error) -> std::io::Error {
-    match e.into_kind() {
-        csv::ErrorKind::Io(io) => io,
-        other => std::io::Error::other(format!("{other:?}")),
-    }
 }
 
 fn file_name(p: &Path) -> String {
