@@ -1309,31 +1309,6 @@ mod tests {
     use super::*;
 
     #[test]
-    fn reversals_ignore_jitter_and_find_the_last_branch() {
-        // up to 1, down to -1, up to 1 (with jitter), down to 0
-        let mut x: Vec<f64> = Vec::new();
-        let seg = |a: f64, b: f64, n: usize| -> Vec<f64> {
-            (0..n).map(|i| a + (b - a) * i as f64 / n as f64).collect()
-        };
-        x.extend(seg(0.0, 1.0, 50));
-        x.extend(seg(1.0, -1.0, 100));
-        x.extend(seg(-1.0, 1.0, 100));
-        x.extend(seg(1.0, 0.0, 50));
-        x[210] -= 0.005; // below the reversal threshold (0.02)
-        let b = last_increasing_branch(&x).unwrap();
-        assert_eq!((b.start, b.end), (150, 250));
-        // a rise that ends with the record is not complete
-        assert!(matches!(
-            last_increasing_branch(&x[..240]),
-            Err(PaperError::NoIncreasingBranch { .. })
-        ));
-        assert!(matches!(
-            last_increasing_branch(&[1.0; 5]),
-            Err(PaperError::NoIncreasingBranch { .. })
-        ));
-    }
-
-    #[test]
     fn picked_points_are_even_in_x_on_the_loaded_part() {
         let x: Vec<f64> = (0..=4000)
             .map(|i| (std::f64::consts::TAU * i as f64 / 2000.0).sin())
