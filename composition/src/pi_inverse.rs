@@ -2,7 +2,7 @@
 //! 2001), itself a play-type Prandtl-Ishlinskii operator.
 
 use crate::{PiBank, PiBankParams};
-use hysteron_operators::{Error, Float, Operator, Result, Trial};
+use hysteron_operators::{Error, Float, Operator, Result};
 
 /// The analytic inverse `x = P⁻¹[y]` of a play-type Prandtl-Ishlinskii
 /// operator `y = P[x] = a0 · x + Σ_j w_j play_{r_j}[x]` ([`PiBank`]),
@@ -235,24 +235,10 @@ fn inverse_params<T: Float>(p: &PiBankParams<T>) -> Result<PiBankParams<T>> {
     })
 }
 
+/// Steps as the inner inverse: its input is the bank's output `y`, its
+/// output the bank's input `x`.
 impl<T: Float> Operator<T> for PiInverse<T> {
-    #[inline]
-    fn trial(&mut self, y: T) -> Result<Trial<T>> {
-        self.inverse.trial(y)
-    }
-
-    #[inline]
-    fn commit(&mut self) {
-        self.inverse.commit()
-    }
-
-    fn reset(&mut self) {
-        self.inverse.reset()
-    }
-
-    fn process(&mut self, ys: &[T], xs: &mut [T]) -> Result<()> {
-        self.inverse.process(ys, xs)
-    }
+    crate::delegate_stepping!(T, inverse);
 
     fn name(&self) -> &'static str {
         <Self as hysteron_operators::Leaf<T>>::KIND

@@ -757,21 +757,7 @@ impl Operator<f64> for SpringFromPoints {
         "spring-from-points"
     }
 
-    fn trial(&mut self, x: f64) -> hysteron_operators::Result<Trial<f64>> {
-        self.spring.trial(x)
-    }
-
-    fn commit(&mut self) {
-        self.spring.commit()
-    }
-
-    fn reset(&mut self) {
-        self.spring.reset()
-    }
-
-    fn process(&mut self, xs: &[f64], ys: &mut [f64]) -> hysteron_operators::Result<()> {
-        self.spring.process(xs, ys)
-    }
+    hysteron_composition::delegate_stepping!(f64, spring);
 }
 
 impl hysteron_operators::Hints<f64> for SpringFromPoints {}
