@@ -245,16 +245,8 @@ impl<T: Float> Operator<T> for PiInverse<T> {
     }
 }
 
-hysteron_operators::leaf_traits!(PiInverse);
-
-/// No fast paths beyond the batch loop of `process`.
-impl<T: Float> hysteron_operators::Hints<T> for PiInverse<T> {}
-
-/// Rate-independent: the period is only checked.
-impl<T: Float> hysteron_operators::SamplePeriod<T> for PiInverse<T> {}
-
 // Its parameters are the forward bank's (`y0` written out in full).
-hysteron_operators::impl_leaf!(
+crate::pi_bank::rate_independent_leaf!(
     PiInverse,
     PiBankParams,
     "pi_inverse",
