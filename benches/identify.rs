@@ -50,11 +50,10 @@ use hysteron::identify::benchmark::{start_from_data, FREE as BENCHMARK_FREE};
 use hysteron::identify::paper::{identify_paper, PaperIdentification, PaperOptions};
 use hysteron::identify::{fit, free_by_names, FitOptions};
 use hysteron::models::benchmark::boucwen_system;
-use hysteron::models::experiments::{chirp, sine, through_corners, DRIVE};
+use hysteron::models::experiments::{chirp, sine, DRIVE};
 use hysteron::models::sensitivity::derivatives_at;
 use hysteron::models::signal::fft_upsample;
 use hysteron::models::TransmissionParams;
-use hysteron::operators::JilesAthertonParams;
 use hysteron::prelude::*;
 use rand::rngs::StdRng;
 use rand::SeedableRng;
@@ -62,6 +61,11 @@ use rand_distr::{Distribution, Normal};
 use std::f64::consts::TAU;
 use std::hint::black_box;
 use std::time::Duration;
+
+// The Jiles-Atherton case of the identification crate's fit test, so the
+// benchmark times the very fit that test checks.
+#[path = "../identify/tests/common/jiles_atherton.rs"]
+mod jiles_atherton_case;
 
 /// Samples of every record.
 const N: usize = 20_000;
@@ -197,30 +201,9 @@ fn bouc_wen_fit(c: &mut Criterion) {
 }
 
 fn jiles_atherton_fit(c: &mut Criterion) {
-    let truth = JilesAthertonParams {
-        ms: 1.2,
-        a: 0.4,
-        k: 0.3,
-        c: 0.3,
-        alpha: 0.15,
-    };
-    let h = through_corners(&[0.0, 3.0, -3.0, 3.0, -3.0, 1.2, -0.5, 1.2], 0.01).expect("field");
-    let clean = JilesAtherton::from_params(truth)
-        .expect("truth")
-        .run(&h)
-        .expect("true response");
-    let peak = clean.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
-    let noise = Normal::new(0.0, 0.01 * peak).expect("noise");
-    let mut rng = StdRng::seed_from_u64(11);
-    let m: Vec<f64> = clean.iter().map(|v| v + noise.sample(&mut rng)).collect();
-    let start = JilesAthertonParams {
-        ms: truth.ms * 1.3,
-        a: truth.a * 0.7,
-        k: truth.k * 1.25,
-        c: truth.c * 0.8,
-        alpha: truth.alpha * 1.2,
-    };
-    let model = JilesAtherton::from_params(start).expect("start");
+    let truth = jiles_atherton_case::truth();
+    let (h, m) = jiles_atherton_case::record(0.01);
+    let model = jiles_atherton_case::perturbed_start();
     let free: Vec<usize> = (0..model.n_params()).collect();
     let opts = FitOptions::default();
     let f = fit(&model, &h, &m, &free, &opts).expect("fit runs");

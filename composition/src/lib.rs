@@ -27,6 +27,7 @@
 
 mod cascade;
 mod child;
+mod delegate;
 mod ext;
 mod feedback;
 mod inverse;
@@ -52,3 +53,7 @@ pub use pi_inverse::PiInverse;
 pub use scaled::Scaled;
 pub use series::{MechanicalSeries, TravelLimits};
 pub use solve::SolverOptions;
+
+/// The operator crate, for the paths in this crate's exported macros.
+#[doc(hidden)]
+pub use hysteron_operators as __operators;

@@ -272,15 +272,28 @@ impl<T: Float> Operator<T> for PiBank<T> {
     }
 }
 
-hysteron_operators::leaf_traits!(PiBank);
+/// The traits of a rate-independent leaf `$op<T>` with no fast paths (the
+/// PI bank and its inverse): [`Leaf`](hysteron_operators::Leaf) by
+/// `impl_leaf!($op, …)` with the arguments given, the parameters and the
+/// dual twin by `leaf_traits!`, the default
+/// [`Hints`](hysteron_operators::Hints) (no fast paths beyond the batch
+/// loop of `process`) and the default
+/// [`SamplePeriod`](hysteron_operators::SamplePeriod) (rate-independent: the
+/// period is only checked).
+macro_rules! rate_independent_leaf {
+    ($op:ident, $($leaf:tt)*) => {
+        hysteron_operators::leaf_traits!($op);
 
-/// No fast paths beyond the batch loop of `process`.
-impl<T: Float> hysteron_operators::Hints<T> for PiBank<T> {}
+        impl<T: Float> hysteron_operators::Hints<T> for $op<T> {}
 
-/// Rate-independent: the period is only checked.
-impl<T: Float> hysteron_operators::SamplePeriod<T> for PiBank<T> {}
+        impl<T: Float> hysteron_operators::SamplePeriod<T> for $op<T> {}
 
-hysteron_operators::impl_leaf!(
+        hysteron_operators::impl_leaf!($op, $($leaf)*);
+    };
+}
+pub(crate) use rate_independent_leaf;
+
+rate_independent_leaf!(
     PiBank,
     PiBankParams,
     "pi_bank",

@@ -2,7 +2,7 @@
 //! 2001), itself a play-type Prandtl-Ishlinskii operator.
 
 use crate::{PiBank, PiBankParams};
-use hysteron_operators::{Error, Float, Operator, Result, Trial};
+use hysteron_operators::{Error, Float, Operator, Result};
 
 /// The analytic inverse `x = P⁻¹[y]` of a play-type Prandtl-Ishlinskii
 /// operator `y = P[x] = a0 · x + Σ_j w_j play_{r_j}[x]` ([`PiBank`]),
@@ -235,40 +235,18 @@ fn inverse_params<T: Float>(p: &PiBankParams<T>) -> Result<PiBankParams<T>> {
     })
 }
 
+/// Steps as the inner inverse: its input is the bank's output `y`, its
+/// output the bank's input `x`.
 impl<T: Float> Operator<T> for PiInverse<T> {
-    #[inline]
-    fn trial(&mut self, y: T) -> Result<Trial<T>> {
-        self.inverse.trial(y)
-    }
-
-    #[inline]
-    fn commit(&mut self) {
-        self.inverse.commit()
-    }
-
-    fn reset(&mut self) {
-        self.inverse.reset()
-    }
-
-    fn process(&mut self, ys: &[T], xs: &mut [T]) -> Result<()> {
-        self.inverse.process(ys, xs)
-    }
+    crate::delegate_stepping!(T, inverse);
 
     fn name(&self) -> &'static str {
         <Self as hysteron_operators::Leaf<T>>::KIND
     }
 }
 
-hysteron_operators::leaf_traits!(PiInverse);
-
-/// No fast paths beyond the batch loop of `process`.
-impl<T: Float> hysteron_operators::Hints<T> for PiInverse<T> {}
-
-/// Rate-independent: the period is only checked.
-impl<T: Float> hysteron_operators::SamplePeriod<T> for PiInverse<T> {}
-
 // Its parameters are the forward bank's (`y0` written out in full).
-hysteron_operators::impl_leaf!(
+crate::pi_bank::rate_independent_leaf!(
     PiInverse,
     PiBankParams,
     "pi_inverse",

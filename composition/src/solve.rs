@@ -859,6 +859,11 @@ mod tests {
         }
     }
 
+    /// `solve` with the default options.
+    fn solve_t(f: impl FnMut(f64) -> Result<Eval<f64>>, start: Start<f64>) -> Result<Root<f64>> {
+        solve("t", f, start, &opts())
+    }
+
     /// `solve` with the default options, and where it evaluated, in order.
     fn solve_recording(
         f: impl Fn(f64) -> Result<Eval<f64>>,
@@ -869,7 +874,7 @@ mod tests {
             evals.push(x);
             f(x)
         };
-        let root = solve("t", recording, start, &opts()).unwrap();
+        let root = solve_t(recording, start).unwrap();
         (root, evals)
     }
 
@@ -913,11 +918,9 @@ mod tests {
 
     #[test]
     fn finds_smooth_root() {
-        let root = solve(
-            "t",
+        let root = solve_t(
             |x: f64| Ok((x * x * x - 2.0, 3.0 * x * x)),
             st(0.0, 1.0, None, None),
-            &opts(),
         )
         .unwrap();
         assert!((root.value() - 2f64.cbrt()).abs() < 1e-14);
@@ -937,14 +940,12 @@ mod tests {
         };
         let root_at = 0.2 + 0.1 / 30.0;
         let mut evals = 0;
-        let root = solve(
-            "t",
+        let root = solve_t(
             |x: f64| {
                 evals += 1;
                 Ok((kinked(x), f64::NAN))
             },
             st(-1.0, 2.0, None, None),
-            &opts(),
         )
         .unwrap();
         assert!((root.value() - root_at).abs() < 1e-14, "{root:?}");
@@ -954,20 +955,12 @@ mod tests {
     #[test]
     fn survives_useless_tangents() {
         // Piecewise-constant tangent of zero: pure bisection must still converge.
-        let root = solve(
-            "t",
-            |x: f64| Ok((x - 0.3, 0.0)),
-            st(5.0, 1.0, None, None),
-            &opts(),
-        )
-        .unwrap();
+        let root = solve_t(|x: f64| Ok((x - 0.3, 0.0)), st(5.0, 1.0, None, None)).unwrap();
         assert!((root.value() - 0.3).abs() < 1e-14);
         // NaN tangent.
-        let root = solve(
-            "t",
+        let root = solve_t(
             |x: f64| Ok((x.powi(3) + x, f64::NAN)),
             st(2.0, 1.0, None, None),
-            &opts(),
         )
         .unwrap();
         assert!(root.value().abs() < 1e-14);
@@ -975,64 +968,36 @@ mod tests {
 
     #[test]
     fn decreasing_residual_is_bracketed_too() {
-        let root = solve(
-            "t",
-            |x: f64| Ok((4.0 - x, -1.0)),
-            st(0.0, 0.1, None, None),
-            &opts(),
-        )
-        .unwrap();
+        let root = solve_t(|x: f64| Ok((4.0 - x, -1.0)), st(0.0, 0.1, None, None)).unwrap();
         assert!((root.value() - 4.0).abs() < 1e-13);
     }
 
     #[test]
     fn bounds_clamp_the_root() {
         let b = Some((-1.0, 1.0));
-        let r = solve(
-            "t",
-            |x: f64| Ok((x - 3.0, 1.0)),
-            st(0.0, 0.1, None, b),
-            &opts(),
-        )
-        .unwrap();
-        assert_eq!(r, Root::AtBound(1.0));
-        let r = solve(
-            "t",
-            |x: f64| Ok((x + 3.0, 1.0)),
-            st(0.0, 0.1, None, b),
-            &opts(),
-        )
-        .unwrap();
-        assert_eq!(r, Root::AtBound(-1.0));
-        let r = solve(
-            "t",
-            |x: f64| Ok((x - 0.5, 1.0)),
-            st(0.0, 0.1, None, b),
-            &opts(),
-        )
-        .unwrap();
-        assert_eq!(r, Root::Inside(0.5));
+        // residual x − a: a root beyond each bound, and one inside
+        for (a, want) in [
+            (3.0, Root::AtBound(1.0)),
+            (-3.0, Root::AtBound(-1.0)),
+            (0.5, Root::Inside(0.5)),
+        ] {
+            let r = solve_t(|x: f64| Ok((x - a, 1.0)), st(0.0, 0.1, None, b)).unwrap();
+            assert_eq!(r, want);
+        }
     }
 
     #[test]
     fn a_residual_that_only_rounds_to_zero_is_not_a_root() {
         // y − (1 + y): −1 everywhere, but 0 in floating point once y ≥ 2^53.
-        let e = solve(
-            "t",
-            |y: f64| Ok((y - (1.0 + y), 0.0)),
-            st(0.0, 1.0, None, None),
-            &opts(),
-        );
+        let e = solve_t(|y: f64| Ok((y - (1.0 + y), 0.0)), st(0.0, 1.0, None, None));
         assert!(matches!(e, Err(Error::NoBracket { .. })), "{e:?}");
     }
 
     #[test]
     fn no_root_is_an_error() {
-        let e = solve(
-            "t",
+        let e = solve_t(
             |x: f64| Ok((x * x + 1.0, 2.0 * x)),
             st(0.0, 1.0, None, None),
-            &opts(),
         );
         assert!(matches!(e, Err(Error::NoBracket { .. })));
     }
@@ -1044,14 +1009,12 @@ mod tests {
     #[test]
     fn newton_from_a_close_start_needs_no_bracket() {
         let mut evals = 0;
-        let root = solve(
-            "t",
+        let root = solve_t(
             |x: f64| {
                 evals += 1;
                 Ok((x * x * x - 2.0, 3.0 * x * x))
             },
             st(1.3, 0.1, Some(1.4), None),
-            &opts(),
         )
         .unwrap();
         assert!((root.value() - 2f64.cbrt()).abs() <= 4.0 * f64::EPSILON);
@@ -1123,8 +1086,7 @@ mod tests {
     fn a_newton_step_across_a_bound_stops_at_it() {
         let b = Some((-1.0, 1.0));
         let mut evals = 0;
-        let r = solve(
-            "t",
+        let r = solve_t(
             |x: f64| {
                 evals += 1;
                 Ok((x - 3.0, 1.0))
@@ -1134,7 +1096,6 @@ mod tests {
                 evaluated: None,
                 ..st(0.0, 0.1, None, b)
             },
-            &opts(),
         )
         .unwrap();
         assert_eq!(r, Root::AtBound(1.0));
@@ -1144,14 +1105,12 @@ mod tests {
     #[test]
     fn last_evaluation_is_at_the_root() {
         let mut last = f64::NAN;
-        let root = solve(
-            "t",
+        let root = solve_t(
             |x: f64| {
                 last = x;
                 Ok(((x - 0.7).tanh(), 1.0))
             },
             st(0.0, 0.1, Some(2.0), None),
-            &opts(),
         )
         .unwrap();
         assert_eq!(last, root.value());

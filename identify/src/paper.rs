@@ -54,11 +54,10 @@
 use crate::error::FitError;
 use crate::fit::{fit, fit_records, free_by_names};
 use crate::options::FitOptions;
-use crate::outcome::FitReport;
+use crate::outcome::{Fit, FitReport};
 use crate::record::Record;
 use hysteron_composition::TravelLimits;
 use hysteron_models::{PaperModel, TransmissionParams};
-use hysteron_operators::Parameters;
 use hysteron_operators::{
     check, BoucWen, BoucWenParams, Domain, Error, Leaf, Operator, StiffnessMap, Trial,
 };
@@ -700,7 +699,7 @@ pub fn knots_from_points(
 
 /// The spring whose stiffness knots follow from picked branch points: an
 /// [`Operator`] whose parameters are the shape `(w, β, γ, n, h0)` only
-/// (`α` fixed). [`set_params`](Parameters::set_params) recomputes the knots
+/// (`α` fixed). [`set_params`](hysteron_operators::Parameters::set_params) recomputes the knots
 /// with the rule of [`knots_from_points`] and rebuilds the [`BoucWen`], so
 /// the generic [`fit`] fits the shape with the spring passing through the
 /// points for every candidate (stage 1 of the paper). A shape for which the
@@ -758,21 +757,7 @@ impl Operator<f64> for SpringFromPoints {
         "spring-from-points"
     }
 
-    fn trial(&mut self, x: f64) -> hysteron_operators::Result<Trial<f64>> {
-        self.spring.trial(x)
-    }
-
-    fn commit(&mut self) {
-        self.spring.commit()
-    }
-
-    fn reset(&mut self) {
-        self.spring.reset()
-    }
-
-    fn process(&mut self, xs: &[f64], ys: &mut [f64]) -> hysteron_operators::Result<()> {
-        self.spring.process(xs, ys)
-    }
+    hysteron_composition::delegate_stepping!(f64, spring);
 }
 
 impl hysteron_operators::Hints<f64> for SpringFromPoints {}
@@ -861,18 +846,32 @@ pub fn fit_spring(
 ) -> Result<SpringStage, PaperError> {
     check_record("record", x, f)?;
     let model = SpringFromPoints::new(x, points, start)?;
-    let stage = |source| PaperError::Fit { stage: 1, source };
-    let idx = free_by_names(&model, free).map_err(stage)?;
-    let fitted = fit(&model, x, f, &idx, opts).map_err(stage)?;
-    let mut spring = model.clone();
-    spring
-        .set_params(&fitted.report.all_params)
-        .map_err(PaperError::Model)?;
+    let (spring, fitted) = fit_named(&model, free, 1, |m, idx| fit(m, x, f, idx, opts))?;
     Ok(SpringStage {
         points: spring.points().to_vec(),
         spring: spring.spring().parameters().clone(),
         report: fitted.report,
     })
+}
+
+/// Fits the parameters of `model` named in `free` with `run` (given the
+/// model and the indices of those parameters), as stage `stage` of the
+/// identification; returns a copy of `model` with the fitted parameters set,
+/// and the fit.
+fn fit_named<M: Operator<f64> + Clone + 'static>(
+    model: &M,
+    free: &[&str],
+    stage: u8,
+    run: impl FnOnce(&M, &[usize]) -> Result<Fit, FitError>,
+) -> Result<(M, Fit), PaperError> {
+    let stage = |source| PaperError::Fit { stage, source };
+    let idx = free_by_names(model, free).map_err(stage)?;
+    let fitted = run(model, &idx).map_err(stage)?;
+    let mut fitted_model = model.clone();
+    fitted_model
+        .set_params(&fitted.report.all_params)
+        .map_err(PaperError::Model)?;
+    Ok((fitted_model, fitted))
 }
 
 /// The outcome of stage 2 ([`fit_bedstop`]) or stage 3 ([`fit_joint`]):
@@ -905,6 +904,23 @@ fn transmission_params(model: &PaperModel, template: &TransmissionParams) -> Tra
     }
 }
 
+/// Builds the full model of `params`, fits its parameters named in `free`
+/// with `run` as stage `stage` ([`fit_named`]) and reads the fitted model
+/// back as [`TransmissionParams`] (the spring's `z0` from `params`).
+fn fit_full(
+    params: &TransmissionParams,
+    free: &[&str],
+    stage: u8,
+    run: impl FnOnce(&PaperModel, &[usize]) -> Result<Fit, FitError>,
+) -> Result<BedstopStage, PaperError> {
+    let model = params.build().map_err(PaperError::Model)?;
+    let (fitted_model, fitted) = fit_named(&model, free, stage, run)?;
+    Ok(BedstopStage {
+        params: transmission_params(&fitted_model, params),
+        report: fitted.report,
+    })
+}
+
 /// Stage 2: fits the parameters named in `free` (names or suffixes of the
 /// [`PaperModel`]'s `param_names`, e.g. `"limits.b"`, `"f_c"`, `"k"`) of
 /// the full model built from `params` to the record `(x, f)`; the others
@@ -917,17 +933,7 @@ pub fn fit_bedstop(
     opts: &FitOptions,
 ) -> Result<BedstopStage, PaperError> {
     check_record("record", x, f)?;
-    let model = params.build().map_err(PaperError::Model)?;
-    let stage = |source| PaperError::Fit { stage: 2, source };
-    let idx = free_by_names(&model, free).map_err(stage)?;
-    let fitted = fit(&model, x, f, &idx, opts).map_err(stage)?;
-    let mut m = model.clone();
-    m.set_params(&fitted.report.all_params)
-        .map_err(PaperError::Model)?;
-    Ok(BedstopStage {
-        params: transmission_params(&m, params),
-        report: fitted.report,
-    })
+    fit_full(params, free, 2, |m, idx| fit(m, x, f, idx, opts))
 }
 
 /// Settings of [`identify_paper`].
@@ -1129,17 +1135,9 @@ pub fn fit_joint(
 ) -> Result<BedstopStage, PaperError> {
     check_record("loop", loop_x, loop_f)?;
     check_record("chirp", chirp_x, chirp_f)?;
-    let model = params.build().map_err(PaperError::Model)?;
-    let stage = |source| PaperError::Fit { stage: 3, source };
-    let idx = free_by_names(&model, free).map_err(stage)?;
     let records = [Record::new(loop_x, loop_f), Record::new(chirp_x, chirp_f)];
-    let fitted = fit_records(&model, &records, &idx, &[], opts, &|_| {}).map_err(stage)?;
-    let mut m = model.clone();
-    m.set_params(&fitted.report.all_params)
-        .map_err(PaperError::Model)?;
-    Ok(BedstopStage {
-        params: transmission_params(&m, params),
-        report: fitted.report,
+    fit_full(params, free, 3, |m, idx| {
+        fit_records(m, &records, idx, &[], opts, &|_| {})
     })
 }
 
@@ -1295,31 +1293,6 @@ pub fn identify_paper(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn reversals_ignore_jitter_and_find_the_last_branch() {
-        // up to 1, down to -1, up to 1 (with jitter), down to 0
-        let mut x: Vec<f64> = Vec::new();
-        let seg = |a: f64, b: f64, n: usize| -> Vec<f64> {
-            (0..n).map(|i| a + (b - a) * i as f64 / n as f64).collect()
-        };
-        x.extend(seg(0.0, 1.0, 50));
-        x.extend(seg(1.0, -1.0, 100));
-        x.extend(seg(-1.0, 1.0, 100));
-        x.extend(seg(1.0, 0.0, 50));
-        x[210] -= 0.005; // below the reversal threshold (0.02)
-        let b = last_increasing_branch(&x).unwrap();
-        assert_eq!((b.start, b.end), (150, 250));
-        // a rise that ends with the record is not complete
-        assert!(matches!(
-            last_increasing_branch(&x[..240]),
-            Err(PaperError::NoIncreasingBranch { .. })
-        ));
-        assert!(matches!(
-            last_increasing_branch(&[1.0; 5]),
-            Err(PaperError::NoIncreasingBranch { .. })
-        ));
-    }
 
     #[test]
     fn picked_points_are_even_in_x_on_the_loaded_part() {

@@ -648,20 +648,48 @@ fn stage3_noisy_truth_within_three_standard_errors() {
     }
 }
 
+/// The triangle record 0 → 1 → −1 → 1 → 0 with `quarter` samples on each
+/// leg of height 1 and `2 quarter` on each of height 2; each leg's samples
+/// start on its first corner and stop a step short of its last.
+fn triangle_loop(quarter: usize) -> Vec<f64> {
+    let legs: [(f64, f64, usize); 4] = [
+        (0.0, 1.0, quarter),
+        (1.0, -1.0, 2 * quarter),
+        (-1.0, 1.0, 2 * quarter),
+        (1.0, 0.0, quarter),
+    ];
+    legs.into_iter()
+        .flat_map(|(a, b, n)| (0..n).map(move |i| a + (b - a) * i as f64 / n as f64))
+        .collect()
+}
+
+/// Reversals smaller than the threshold are not reversals, and the branch
+/// found is the last complete rise.
+#[test]
+fn reversals_ignore_jitter_and_find_the_last_branch() {
+    // up to 1, down to -1, up to 1 (with jitter), down to 0
+    let mut x = triangle_loop(50);
+    x[210] -= 0.005; // below the reversal threshold (0.02)
+    let b = last_increasing_branch(&x).unwrap();
+    assert_eq!((b.start, b.end), (150, 250));
+    // a rise that ends with the record is not complete
+    assert!(matches!(
+        last_increasing_branch(&x[..240]),
+        Err(PaperError::NoIncreasingBranch { .. })
+    ));
+    assert!(matches!(
+        last_increasing_branch(&[1.0; 5]),
+        Err(PaperError::NoIncreasingBranch { .. })
+    ));
+}
+
 /// The plateau of a synthetic branch: a steep rise, a flat stretch of known
 /// width at a known level, a steep rise.
 #[test]
 fn plateau_of_a_synthetic_loop() {
     // x: 0 → 1 → −1 → 1 → 0; the increasing branch's force: 10 (x + 0.7)
     // up to x = −0.7 (reaches 0), then 0.5 flat (width 0.4), then steep
-    let mut x: Vec<f64> = Vec::new();
-    let seg = |a: f64, b: f64, n: usize| -> Vec<f64> {
-        (0..n).map(|i| a + (b - a) * i as f64 / n as f64).collect()
-    };
-    x.extend(seg(0.0, 1.0, 500));
-    x.extend(seg(1.0, -1.0, 1000));
-    x.extend(seg(-1.0, 1.0, 1000));
-    x.extend(seg(1.0, 0.0, 500));
+    let x = triangle_loop(500);
     let rising = |v: f64| {
         if v < -0.35 {
             0.5 + 20.0 * (v + 0.35)

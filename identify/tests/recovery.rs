@@ -2,6 +2,9 @@
 // The no-panic lints of the workspace Cargo.toml are for the library code.
 #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
 
+mod common;
+
+use common::assert_recovered_within;
 use hysteron_identify::{fit, free_by_names, FitOptions, FitReport};
 use hysteron_operators::Parameters;
 use hysteron_operators::{BoucWen, Gain, Operator};
@@ -52,16 +55,7 @@ fn noise_free_bouc_wen_recovers_its_parameters() {
     let t = truth(1.5);
     let y = t.clone().run(&x).unwrap();
     let (r, want) = fit_from_perturbed_start(&t, &x, &y);
-    for p in &r.params {
-        let rel = (p.value - want[p.index]).abs() / want[p.index].abs();
-        assert!(
-            rel < 1e-6,
-            "{}: {} vs {} (rel {rel:e})",
-            p.name,
-            p.value,
-            want[p.index]
-        );
-    }
+    assert_recovered_within(&r, &want, 1e-6);
     println!(
         "noise-free: {} iterations, {} evaluations, {:?}, rms {:e}",
         r.iterations, r.evaluations, r.wall_time, r.rms

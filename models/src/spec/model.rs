@@ -33,20 +33,7 @@ impl Operator<f64> for SpecModel {
     fn name(&self) -> &'static str {
         self.op.name()
     }
-    #[inline]
-    fn trial(&mut self, x: f64) -> Result<Trial<f64>> {
-        self.op.trial(x)
-    }
-    #[inline]
-    fn commit(&mut self) {
-        self.op.commit()
-    }
-    fn reset(&mut self) {
-        self.op.reset()
-    }
-    fn process(&mut self, xs: &[f64], ys: &mut [f64]) -> Result<()> {
-        self.op.process(xs, ys)
-    }
+    crate::composition::delegate_stepping!(f64, op);
     fn run(&mut self, xs: &[f64]) -> Result<Vec<f64>> {
         self.op.run(xs)
     }
