@@ -61,6 +61,7 @@ mod error;
 mod exp_m1;
 mod float;
 mod hints;
+pub mod lanes;
 mod leaf;
 #[doc(hidden)]
 pub mod memoryless;

@@ -1,5 +1,6 @@
 //! Modified Maxwell-slip (MMS) pre-sliding friction.
 
+use crate::lanes::{lanes_of, LaneLaw, WIDTH};
 use crate::{reversal, CastScalar, check_lengths, declare_params, Error, Float, Result, StepLaw, Stepped, Trial};
 use core::any::TypeId;
 
@@ -116,6 +117,56 @@ impl<T: Float> MmsParams<T> {
             },
             tangent,
         )
+    }
+}
+
+/// Eight MMS elements with one input: the parameters, outputs and
+/// reversal outputs lane by lane; the input, its direction and its last
+/// reversal are the same in every lane.
+pub struct MmsLanes {
+    f_c: [f64; WIDTH],
+    k: [f64; WIDTH],
+    y: [f64; WIDTH],
+    y_r: [f64; WIDTH],
+    x: f64,
+    x_r: f64,
+    dir: i8,
+}
+
+/// [`MmsParams::advance`]'s output in every lane: the same reversal test,
+/// exponential ([`crate::exp_m1`], vectorised) and clamp.
+impl LaneLaw for MmsParams<f64> {
+    type Block = MmsLanes;
+
+    fn block(laws: &[Self]) -> MmsLanes {
+        let y0 = lanes_of(laws, |p| p.y0);
+        MmsLanes {
+            f_c: lanes_of(laws, |p| p.f_c),
+            k: lanes_of(laws, |p| p.k),
+            y: y0,
+            y_r: y0,
+            x: 0.0,
+            x_r: 0.0,
+            dir: 0,
+        }
+    }
+
+    #[inline(always)]
+    fn step_lanes(b: &mut MmsLanes, x: f64, y: &mut [f64; WIDTH]) {
+        let dir = reversal::travel(b.x, x, b.dir);
+        if x != b.x {
+            if dir != b.dir {
+                (b.x_r, b.y_r) = (b.x, b.y);
+            }
+            let sign = if dir < 0 { -1.0 } else { 1.0 };
+            let d = (x - b.x_r).abs();
+            for (((state, &y_r), &k), &f_c) in b.y.iter_mut().zip(&b.y_r).zip(&b.k).zip(&b.f_c) {
+                let rise = -crate::exp_m1::exp_m1_nonpositive(-k * d);
+                *state = on_branch(rise, sign * f_c, y_r);
+            }
+            (b.x, b.dir) = (x, dir);
+        }
+        *y = b.y;
     }
 }
 

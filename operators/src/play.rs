@@ -1,5 +1,6 @@
 //! The play operator (backlash).
 
+use crate::lanes::{lanes_of, LaneLaw, WIDTH};
 use crate::{declare_params, Error, Float, Result, StepLaw, Stepped, Trial};
 
 declare_params! {
@@ -42,6 +43,32 @@ pub fn play_step<T: Float>(r: T, y_prev: T, x: T) -> T {
         clipped
     } else {
         lo
+    }
+}
+
+/// Eight plays with one input: the thresholds and outputs lane by lane.
+pub struct PlayLanes {
+    r: [f64; WIDTH],
+    y: [f64; WIDTH],
+}
+
+/// [`play_step`] in every lane.
+impl LaneLaw for PlayParams<f64> {
+    type Block = PlayLanes;
+
+    fn block(laws: &[Self]) -> PlayLanes {
+        PlayLanes {
+            r: lanes_of(laws, |p| p.r),
+            y: lanes_of(laws, |p| p.y0),
+        }
+    }
+
+    #[inline(always)]
+    fn step_lanes(b: &mut PlayLanes, x: f64, y: &mut [f64; WIDTH]) {
+        for ((out, state), &r) in y.iter_mut().zip(b.y.iter_mut()).zip(&b.r) {
+            *state = play_step(r, *state, x);
+            *out = *state;
+        }
     }
 }
 

@@ -1,0 +1,231 @@
+//! Many instances of one leaf, with different parameters, stepped together
+//! over one input: eight instances per block, each state variable held
+//! lane by lane, so that a block's step is one vector instruction per
+//! operation where the CPU has AVX-512 (two with AVX2).
+//!
+//! A kernel does the same operations in the same order as the leaf's own
+//! step, with no fused multiply-add, so every instance's outputs are the
+//! bits it gives alone; the contract test checks it for every kernel on
+//! every instruction set ([`Isa::detect`]).
+
+use crate::simd::Isa;
+use crate::{Error, Result, StepLaw};
+
+/// Instances per block: the `f64` lanes of an AVX-512 register.
+pub const WIDTH: usize = 8;
+
+/// A step law with a kernel that steps [`WIDTH`] instances together over
+/// one input.
+///
+/// # Requirements
+/// * [`step_lanes`](LaneLaw::step_lanes) gives lane `j` the output that
+///   [`StepLaw::step`] gives instance `j` from its own state, bit for bit,
+///   for every finite input;
+/// * a block made of fewer than [`WIDTH`] instances repeats the last one in
+///   the unused lanes (their outputs are not read).
+pub trait LaneLaw: StepLaw<f64> + Sized {
+    /// The parameters and states of one block of instances, lane by lane.
+    type Block;
+
+    /// The block of `laws` (at most [`WIDTH`], at least one) in their
+    /// initial states.
+    fn block(laws: &[Self]) -> Self::Block;
+
+    /// Advances every lane to the input `x`, writing lane `j`'s output to
+    /// `y[j]`.
+    fn step_lanes(block: &mut Self::Block, x: f64, y: &mut [f64; WIDTH]);
+}
+
+/// The lanes of a block, from `laws` (one to [`WIDTH`] of them) with the
+/// last repeated: `lane(laws, j)` is instance `min(j, len − 1)`.
+///
+/// ```
+/// use hysteron_operators::lanes::lanes_of;
+/// assert_eq!(lanes_of(&[1.0, 2.0, 3.0], |v| *v), [1.0, 2.0, 3.0, 3.0, 3.0, 3.0, 3.0, 3.0]);
+/// ```
+pub fn lanes_of<L>(laws: &[L], field: impl Fn(&L) -> f64) -> [f64; WIDTH] {
+    let mut lanes = [0.0; WIDTH];
+    let mut last = 0.0;
+    for (j, lane) in lanes.iter_mut().enumerate() {
+        if let Some(law) = laws.get(j) {
+            last = field(law);
+        }
+        *lane = last;
+    }
+    lanes
+}
+
+/// Runs every instance of `laws` from its initial state over `xs`, writing
+/// instance `i`'s outputs to `out[i · xs.len() ..][.. xs.len()]` (one row
+/// per instance).
+///
+/// # Errors
+/// * [`Error::NonFiniteInput`] ([`Error::AtSample`]) at the first sample of `xs` that is not
+///   finite (every instance would refuse it);
+/// * [`Error::LengthMismatch`] when `out` does not hold `laws.len() ·
+///   xs.len()` values.
+///
+/// ```
+/// use hysteron_operators::{lanes::run_lanes, Operator, Play, PlayParams};
+/// let laws: Vec<PlayParams<f64>> =
+///     [0.1, 0.5, 1.0].iter().map(|&r| PlayParams { r, y0: 0.0 }).collect();
+/// let x = [1.0, 2.0, 0.0];
+/// let mut out = vec![0.0; 9];
+/// run_lanes(&laws, &x, &mut out)?;
+/// let alone = Play::new(0.5)?.run(&x)?;
+/// assert_eq!(&out[3..6], &alone[..]);
+/// # Ok::<(), hysteron_operators::Error>(())
+/// ```
+pub fn run_lanes<L: LaneLaw>(laws: &[L], xs: &[f64], out: &mut [f64]) -> Result<()> {
+    if out.len() != laws.len() * xs.len() {
+        return Err(Error::LengthMismatch {
+            input: laws.len() * xs.len(),
+            output: out.len(),
+        });
+    }
+    if let Some(i) = xs.iter().position(|x| !x.is_finite()) {
+        let value = xs.get(i).copied().unwrap_or(f64::NAN);
+        return Err(Error::NonFiniteInput { value }.at_sample(i));
+    }
+    if xs.is_empty() {
+        return Ok(());
+    }
+    for (block, rows) in laws.chunks(WIDTH).zip(out.chunks_mut(WIDTH * xs.len())) {
+        run_block(block, xs, rows);
+    }
+    Ok(())
+}
+
+/// One block over `xs` into its rows, on the widest instruction set found.
+fn run_block<L: LaneLaw>(laws: &[L], xs: &[f64], rows: &mut [f64]) {
+    #[cfg(target_arch = "x86_64")]
+    match Isa::detect() {
+        // SAFETY: the instruction set was detected on this CPU.
+        Some(Isa::Avx512) => return unsafe { run_block_avx512(laws, xs, rows) },
+        // SAFETY: as above.
+        Some(Isa::Avx2) => return unsafe { run_block_avx2(laws, xs, rows) },
+        None => {}
+    }
+    run_block_portable(laws, xs, rows)
+}
+
+/// Samples per tile: a block's outputs for [`TILE`] samples are kept lane
+/// by lane and then written row by row, [`TILE`] contiguous values per
+/// instance.
+const TILE: usize = 8;
+
+/// [`run_block`] on whatever instruction set it is compiled for.
+// `rows` holds `laws.len()` rows of `xs.len()` values (from `run_lanes`).
+#[allow(clippy::indexing_slicing)]
+#[inline(always)]
+fn run_block_portable<L: LaneLaw>(laws: &[L], xs: &[f64], rows: &mut [f64]) {
+    let t = xs.len();
+    let mut block = L::block(laws);
+    let mut tile = [[0.0; WIDTH]; TILE];
+    for (c, chunk) in xs.chunks(TILE).enumerate() {
+        for (&x, y) in chunk.iter().zip(tile.iter_mut()) {
+            L::step_lanes(&mut block, x, y);
+        }
+        let start = c * TILE;
+        for (j, row) in rows.chunks_mut(t).enumerate().take(laws.len()) {
+            for (k, out) in row[start..start + chunk.len()].iter_mut().enumerate() {
+                *out = tile[k][j];
+            }
+        }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn run_block_avx2<L: LaneLaw>(laws: &[L], xs: &[f64], rows: &mut [f64]) {
+    run_block_portable(laws, xs, rows)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+unsafe fn run_block_avx512<L: LaneLaw>(laws: &[L], xs: &[f64], rows: &mut [f64]) {
+    run_block_portable(laws, xs, rows)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Leaf, MmsParams, Operator, PlayParams, Stepped};
+
+    /// A walk with reversals, holds (repeated samples) and large and tiny
+    /// steps, the same on every run.
+    fn walk(n: usize) -> Vec<f64> {
+        let mut x = 0.0;
+        let mut seed = 12_345_u64;
+        (0..n)
+            .map(|i| {
+                seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+                let u = (seed >> 11) as f64 / (1u64 << 53) as f64;
+                if i % 17 != 3 {
+                    x += (u - 0.5) * if i % 5 == 0 { 2.0 } else { 1e-3 };
+                }
+                x
+            })
+            .collect()
+    }
+
+    /// Every instance of `laws` run in lanes gives the bits of its own run.
+    fn lanes_are_each_alone<L>(laws: &[L])
+    where
+        L: LaneLaw + Clone,
+        Stepped<L, f64>: Leaf<f64, Params = L> + Operator<f64>,
+    {
+        let x = walk(1000);
+        let mut out = vec![0.0; laws.len() * x.len()];
+        run_lanes(laws, &x, &mut out).unwrap();
+        for (i, (law, row)) in laws.iter().zip(out.chunks(x.len())).enumerate() {
+            let alone = Stepped::<L, f64>::from_params(law.clone()).unwrap().run(&x).unwrap();
+            for (k, (a, b)) in alone.iter().zip(row).enumerate() {
+                assert_eq!(a.to_bits(), b.to_bits(), "instance {i}, sample {k}: {a} vs {b}");
+            }
+        }
+    }
+
+    /// Thirteen plays (a full block and a part), thresholds 0 to 0.6.
+    #[test]
+    fn play_lanes_are_each_play_alone() {
+        let laws: Vec<_> = (0..13)
+            .map(|i| PlayParams {
+                r: 0.05 * i as f64,
+                y0: 0.01 * i as f64 - 0.05,
+            })
+            .collect();
+        lanes_are_each_alone(&laws);
+    }
+
+    /// Thirteen MMS elements with different levels, rates and preloads.
+    #[test]
+    fn mms_lanes_are_each_mms_alone() {
+        let laws: Vec<_> = (0..13)
+            .map(|i| MmsParams {
+                f_c: 0.5 + 0.1 * i as f64,
+                k: 2.0 + 7.0 * i as f64,
+                y0: 0.3 - 0.04 * i as f64,
+            })
+            .collect();
+        lanes_are_each_alone(&laws);
+    }
+
+    /// A non-finite input names its sample; a wrong buffer its lengths.
+    #[test]
+    fn bad_input_and_buffer_are_typed_errors() {
+        let laws = [PlayParams { r: 0.1, y0: 0.0 }];
+        let mut out = vec![0.0; 3];
+        match run_lanes(&laws, &[0.0, f64::NAN, 1.0], &mut out) {
+            Err(Error::AtSample { index: 1, source }) => {
+                assert!(matches!(*source, Error::NonFiniteInput { .. }))
+            }
+            other => panic!("{other:?}"),
+        }
+        assert!(matches!(
+            run_lanes(&laws, &[0.0, 1.0], &mut out),
+            Err(Error::LengthMismatch { input: 2, output: 3 })
+        ));
+        assert!(run_lanes(&laws, &[], &mut []).is_ok());
+    }
+}
