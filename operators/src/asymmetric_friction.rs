@@ -132,5 +132,4 @@ impl<T: Float> StepLaw<T> for AsymmetricFrictionParams<T> {
             },
         ))
     }
-
 }

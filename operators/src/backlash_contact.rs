@@ -1,7 +1,7 @@
 //! A memoryless backlash (a gap with zero force) whose contact stiffens
 //! with penetration.
 
-use crate::{declare_params, Float, Result, Memoryless, Stepped, Trial};
+use crate::{declare_params, Float, Memoryless, Result, Stepped, Trial};
 
 declare_params! {
     /// Parameters of the [`BacklashContact`].
@@ -79,5 +79,4 @@ impl<T: Float> Memoryless<T> for BacklashContactParams<T> {
         };
         Trial { output, tangent }
     }
-
 }

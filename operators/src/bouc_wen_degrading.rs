@@ -177,7 +177,12 @@ mod tests {
     fn refining_the_sampling_changes_the_output_by_the_tolerance_only() {
         let coarse = ramped_sine(300, 1.0, 4.0, 4.0);
         let op = BoucWenDegrading::from_params(params(0.02)).unwrap();
-        let peak = op.clone().run(&coarse).unwrap().iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        let peak = op
+            .clone()
+            .run(&coarse)
+            .unwrap()
+            .iter()
+            .fold(0.0_f64, |m, v| m.max(v.abs()));
         let (i, d) = refinement_difference(&op, &coarse, 8);
         assert!(d < 1e-8 * peak, "sample {i}: {d:e}");
     }
@@ -217,7 +222,11 @@ mod tests {
         for x in [0.9, 1.5, 0.1, -0.7] {
             let (_, t) = p.step(&s, x).unwrap();
             let fd = step_difference(&p, &s, x, 1e-6);
-            assert!((t.tangent - fd).abs() < 1e-5 * (1.0 + fd.abs()), "x = {x}: {} vs {fd}", t.tangent);
+            assert!(
+                (t.tangent - fd).abs() < 1e-5 * (1.0 + fd.abs()),
+                "x = {x}: {} vs {fd}",
+                t.tangent
+            );
         }
     }
 }

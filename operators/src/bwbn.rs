@@ -70,7 +70,9 @@ impl<T: Float> EnergyFlow<T> for BwbnParams<T> {
 
     /// The ultimate `z`, `(a0 / (β + γ))^{1/n}`.
     fn z_scale(&self) -> f64 {
-        (self.a0 / (self.beta + self.gamma)).as_f64().powf(1.0 / self.n.as_f64())
+        (self.a0 / (self.beta + self.gamma))
+            .as_f64()
+            .powf(1.0 / self.n.as_f64())
     }
 
     /// `h (a0 − |z|^n (γ ± β))`, `γ + β` while loading (`ẋ z > 0`).
@@ -184,7 +186,10 @@ mod tests {
             delta_eta: 0.0,
             ..Default::default()
         };
-        let want = BoucWenDegrading::from_params(plain).unwrap().run(&x).unwrap();
+        let want = BoucWenDegrading::from_params(plain)
+            .unwrap()
+            .run(&x)
+            .unwrap();
         for (i, (a, b)) in y.iter().zip(&want).enumerate() {
             assert!((a - b).abs() < 1e-12 * 30.0, "sample {i}: {a} vs {b}");
         }
@@ -200,7 +205,12 @@ mod tests {
         let mut plain = Bwbn::from_params(params(0.0)).unwrap();
         pinched.run(&x).unwrap();
         plain.run(&x).unwrap();
-        assert!(pinched.state().e < plain.state().e, "{} vs {}", pinched.state().e, plain.state().e);
+        assert!(
+            pinched.state().e < plain.state().e,
+            "{} vs {}",
+            pinched.state().e,
+            plain.state().e
+        );
     }
 
     /// Rate-independent: refining the sampling changes the output by the
@@ -209,7 +219,12 @@ mod tests {
     fn refining_the_sampling_changes_the_output_by_the_tolerance_only() {
         let coarse: Vec<f64> = cycles().into_iter().step_by(5).collect();
         let op = Bwbn::from_params(params(0.9)).unwrap();
-        let peak = op.clone().run(&coarse).unwrap().iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        let peak = op
+            .clone()
+            .run(&coarse)
+            .unwrap()
+            .iter()
+            .fold(0.0_f64, |m, v| m.max(v.abs()));
         let (i, d) = refinement_difference(&op, &coarse, 8);
         assert!(d < 1e-8 * peak, "sample {i}: {d:e}");
     }

@@ -1,6 +1,6 @@
 //! The Dahl friction model, in closed form per branch.
 
-use crate::{reversal, declare_params, Error, Float, Result, StepLaw, Stepped, Trial};
+use crate::{declare_params, reversal, Error, Float, Result, StepLaw, Stepped, Trial};
 
 declare_params! {
     /// Parameters of the [`Dahl`] friction operator.
@@ -218,15 +218,14 @@ impl<T: Float> StepLaw<T> for DahlParams<T> {
         let output = s.f;
         Ok((s, Trial { output, tangent }))
     }
-
 }
 
 #[cfg(test)]
 mod tests {
-     use crate::Parameters;
-    use crate::test_support::trial_difference;
     use super::*;
+    use crate::test_support::trial_difference;
     use crate::Operator;
+    use crate::Parameters;
 
     #[test]
     fn decay_closed_forms() {

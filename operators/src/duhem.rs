@@ -83,7 +83,11 @@ impl<T: Float> StepLaw<T> for DuhemParams<T> {
 
     fn step(&self, s: &DuhemState<T>, x: T) -> Result<(DuhemState<T>, Trial<T>)> {
         let travel = x - s.x;
-        let dir = if travel < T::zero() { -T::one() } else { T::one() };
+        let dir = if travel < T::zero() {
+            -T::one()
+        } else {
+            T::one()
+        };
         let y = if travel == T::zero() {
             s.y
         } else {
@@ -143,7 +147,11 @@ mod tests {
         for x in [0.9, 2.0, 0.1, -1.0] {
             let (_, t) = p.step(&s, x).unwrap();
             let fd = step_difference(&p, &s, x, 1e-6);
-            assert!((t.tangent - fd).abs() < 1e-7, "x = {x}: {} vs {fd}", t.tangent);
+            assert!(
+                (t.tangent - fd).abs() < 1e-7,
+                "x = {x}: {} vs {fd}",
+                t.tangent
+            );
         }
     }
 }

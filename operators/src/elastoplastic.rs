@@ -76,5 +76,4 @@ impl<T: Float> StepLaw<T> for ElastoPlasticParams<T> {
             },
         ))
     }
-
 }

@@ -115,7 +115,10 @@ mod tests {
                 let (y, dy) = p.forward(x);
                 let (back, dx) = p.inverse(y);
                 if dy > 1e-3 {
-                    assert!((back - x).abs() < 1e-11 * x.abs().max(1.0), "b={b} s={s} x={x}: {back}");
+                    assert!(
+                        (back - x).abs() < 1e-11 * x.abs().max(1.0),
+                        "b={b} s={s} x={x}: {back}"
+                    );
                     assert!((dx * dy - 1.0).abs() < 1e-9, "b={b} s={s} x={x}: {dx} {dy}");
                 }
                 let (f, _) = p.forward(p.inverse(y).0);
@@ -139,7 +142,10 @@ mod tests {
     fn asymmetry_must_be_inside_minus_one_one() {
         for s in [1.0, -1.0, f64::NAN] {
             let err = Envelope::from_params(EnvelopeParams { b: 1.0, s }).unwrap_err();
-            assert!(matches!(err, Error::InvalidParameter { ref name, .. } if name == "s"), "{err}");
+            assert!(
+                matches!(err, Error::InvalidParameter { ref name, .. } if name == "s"),
+                "{err}"
+            );
         }
     }
 }

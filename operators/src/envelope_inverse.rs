@@ -45,7 +45,11 @@ crate::memoryless_step_law!(EnvelopeInverseParams);
 impl<T: Float> Memoryless<T> for EnvelopeInverseParams<T> {
     #[inline(always)]
     fn eval(&self, y: T) -> Trial<T> {
-        let (output, tangent) = crate::EnvelopeParams { b: self.b, s: self.s }.inverse(y);
+        let (output, tangent) = crate::EnvelopeParams {
+            b: self.b,
+            s: self.s,
+        }
+        .inverse(y);
         Trial { output, tangent }
     }
 }

@@ -1,7 +1,6 @@
 //! The linear gain (a linear spring in force-displacement terms).
 
-
-use crate::{declare_params, Float, Result, Memoryless, Stepped, Trial};
+use crate::{declare_params, Float, Memoryless, Result, Stepped, Trial};
 
 declare_params! {
     /// Parameters of the [`Gain`].

@@ -2,8 +2,7 @@
 //! solved exactly per sample.
 
 use crate::{
-    check, check_input, check_lengths, check_output, declare_params, Float, Operator,
-    Result, Trial,
+    check, check_input, check_lengths, check_output, declare_params, Float, Operator, Result, Trial,
 };
 
 declare_params! {

@@ -199,11 +199,7 @@ impl<T: Float> StepLaw<T> for JilesAthertonParams<T> {
         }
     }
 
-    fn step(
-        &self,
-        s: &JilesAthertonState<T>,
-        x: T,
-    ) -> Result<(JilesAthertonState<T>, Trial<T>)> {
+    fn step(&self, s: &JilesAthertonState<T>, x: T) -> Result<(JilesAthertonState<T>, Trial<T>)> {
         let travel = x - s.h;
         let dir = if travel < T::zero() {
             -T::one()
@@ -234,7 +230,15 @@ impl<T: Float> StepLaw<T> for JilesAthertonParams<T> {
             );
             let h_scale = self.a.as_f64().max(x.as_f64().abs());
             let scale = |_: &[T; 3]| [h_scale, ms, ms];
-            match dopri5(flow, sides, start, travel.abs(), scale, rtol, "jiles_atherton") {
+            match dopri5(
+                flow,
+                sides,
+                start,
+                travel.abs(),
+                scale,
+                rtol,
+                "jiles_atherton",
+            ) {
                 Ok(y) => y,
                 Err(_) if singular.get() => return Err(self.singular()),
                 Err(e) => return Err(e),
@@ -286,7 +290,10 @@ mod tests {
             let closed = 1.0 / f64::tanh(u) - 1.0 / u;
             let closed_slope = 1.0 / (u * u) - 1.0 / f64::sinh(u).powi(2);
             assert!((l - closed).abs() < 1e-14, "{u}: {l} vs {closed}");
-            assert!((dl - closed_slope).abs() < 1e-12, "{u}: {dl} vs {closed_slope}");
+            assert!(
+                (dl - closed_slope).abs() < 1e-12,
+                "{u}: {dl} vs {closed_slope}"
+            );
         }
         assert_eq!(langevin(0.0_f64), (0.0, 1.0 / 3.0));
         assert!((langevin(800.0_f64).0 - (1.0 - 1.0 / 800.0)).abs() < 1e-15);
@@ -330,7 +337,10 @@ mod tests {
         for (&hi, &mi) in h.iter().zip(&m) {
             let want = chi * (hi - p.k * (1.0 - (-hi / p.k).exp()));
             // the cubic term of L at H/a ≤ 0.01 is below 4e-5 of it
-            assert!((mi - want).abs() < 5e-5 * want.abs() + 1e-13, "H = {hi}: {mi} vs {want}");
+            assert!(
+                (mi - want).abs() < 5e-5 * want.abs() + 1e-13,
+                "H = {hi}: {mi} vs {want}"
+            );
         }
     }
 
@@ -406,14 +416,32 @@ mod tests {
         let named = |p: JilesAthertonParams<f64>| rejected_field(JilesAtherton::from_params(p));
         assert_eq!(named(JilesAthertonParams { k: 0.0, ..params() }), "k");
         assert_eq!(named(JilesAthertonParams { c: 1.5, ..params() }), "c");
-        assert_eq!(named(JilesAthertonParams { ms: f64::NAN, ..params() }), "ms");
-        assert_eq!(named(JilesAthertonParams { alpha: 20.0, ..params() }), "alpha");
+        assert_eq!(
+            named(JilesAthertonParams {
+                ms: f64::NAN,
+                ..params()
+            }),
+            "ms"
+        );
+        assert_eq!(
+            named(JilesAthertonParams {
+                alpha: 20.0,
+                ..params()
+            }),
+            "alpha"
+        );
         // allowed at build (α c Ms/(3a) = 0.2), singular once M_irr lags
-        let strong = JilesAthertonParams { alpha: 1.5, ..params() };
+        let strong = JilesAthertonParams {
+            alpha: 1.5,
+            ..params()
+        };
         let mut ja = JilesAtherton::from_params(strong).unwrap();
         match ja.run(&cycles(400)) {
             Err(Error::AtSample { source, .. }) => {
-                assert!(matches!(*source, Error::InvalidParameter { ref name, .. } if name == "alpha"), "{source:?}")
+                assert!(
+                    matches!(*source, Error::InvalidParameter { ref name, .. } if name == "alpha"),
+                    "{source:?}"
+                )
             }
             other => panic!("{other:?}"),
         }

@@ -160,7 +160,10 @@ mod tests {
     fn wiping_out() {
         let run = |corners: &[f64]| {
             let x = ramps(corners, 0.01);
-            let y = KrasnoselskiiPokrovskii::from_params(params()).unwrap().run(&x).unwrap();
+            let y = KrasnoselskiiPokrovskii::from_params(params())
+                .unwrap()
+                .run(&x)
+                .unwrap();
             (x, y)
         };
         let tail = [1.2, -0.1, 0.7, -1.3, 0.2];
@@ -184,7 +187,10 @@ mod tests {
             let y = op.trial(x).unwrap().output;
             for dx in [1e-3, -1e-3, 0.05, -0.05, 0.4] {
                 let z = op.trial(x + dx).unwrap().output;
-                assert!((z - y).abs() <= lip * dx.abs() * (1.0 + 1e-12), "x = {x}, dx = {dx}");
+                assert!(
+                    (z - y).abs() <= lip * dx.abs() * (1.0 + 1e-12),
+                    "x = {x}, dx = {dx}"
+                );
             }
             op.trial(x).unwrap();
             op.commit();
@@ -195,8 +201,15 @@ mod tests {
     /// width apart its loop is the relay's widened by `a`.
     #[test]
     fn one_kernel_is_a_continuous_relay() {
-        let p = KrasnoselskiiPokrovskiiParams { t: vec![-0.5, 0.5], mu: vec![0.0, 1.0, 0.0], a: 1e-9 };
-        let y = KrasnoselskiiPokrovskii::from_params(p).unwrap().run(&[0.4, 0.6, -0.4, -0.6]).unwrap();
+        let p = KrasnoselskiiPokrovskiiParams {
+            t: vec![-0.5, 0.5],
+            mu: vec![0.0, 1.0, 0.0],
+            a: 1e-9,
+        };
+        let y = KrasnoselskiiPokrovskii::from_params(p)
+            .unwrap()
+            .run(&[0.4, 0.6, -0.4, -0.6])
+            .unwrap();
         assert_eq!(y, vec![-1.0, 1.0, 1.0, -1.0]);
     }
 
@@ -212,11 +225,18 @@ mod tests {
 
     #[test]
     fn malformed_grids_are_typed_errors() {
-        let named = |p: KrasnoselskiiPokrovskiiParams<f64>| rejected_field(KrasnoselskiiPokrovskii::from_params(p));
-        assert_eq!(named(KrasnoselskiiPokrovskiiParams { t: vec![0.0, 0.0], mu: vec![1.0; 3], a: 1.0 }), "t[1]");
-        assert_eq!(named(KrasnoselskiiPokrovskiiParams { t: vec![0.0, 1.0], mu: vec![1.0; 2], a: 1.0 }), "mu");
-        assert_eq!(named(KrasnoselskiiPokrovskiiParams { t: vec![], mu: vec![], a: 1.0 }), "t");
-        assert_eq!(named(KrasnoselskiiPokrovskiiParams { a: 0.0, ..params() }), "a");
-        assert_eq!(named(KrasnoselskiiPokrovskiiParams { t: vec![f64::NAN], mu: vec![1.0], a: 1.0 }), "t[0]");
+        let grid = |t: Vec<f64>, mu: Vec<f64>| KrasnoselskiiPokrovskiiParams { t, mu, a: 1.0 };
+        for (p, field) in [
+            (grid(vec![0.0, 0.0], vec![1.0; 3]), "t[1]"),
+            (grid(vec![0.0, 1.0], vec![1.0; 2]), "mu"),
+            (grid(vec![], vec![]), "t"),
+            (KrasnoselskiiPokrovskiiParams { a: 0.0, ..params() }, "a"),
+            (grid(vec![f64::NAN], vec![1.0]), "t[0]"),
+        ] {
+            assert_eq!(
+                rejected_field(KrasnoselskiiPokrovskii::from_params(p)),
+                field
+            );
+        }
     }
 }

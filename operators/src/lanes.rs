@@ -179,9 +179,16 @@ mod tests {
         let mut out = vec![0.0; laws.len() * x.len()];
         run_lanes(laws, &x, &mut out).unwrap();
         for (i, (law, row)) in laws.iter().zip(out.chunks(x.len())).enumerate() {
-            let alone = Stepped::<L, f64>::from_params(law.clone()).unwrap().run(&x).unwrap();
+            let alone = Stepped::<L, f64>::from_params(law.clone())
+                .unwrap()
+                .run(&x)
+                .unwrap();
             for (k, (a, b)) in alone.iter().zip(row).enumerate() {
-                assert_eq!(a.to_bits(), b.to_bits(), "instance {i}, sample {k}: {a} vs {b}");
+                assert_eq!(
+                    a.to_bits(),
+                    b.to_bits(),
+                    "instance {i}, sample {k}: {a} vs {b}"
+                );
             }
         }
     }
@@ -224,7 +231,10 @@ mod tests {
         }
         assert!(matches!(
             run_lanes(&laws, &[0.0, 1.0], &mut out),
-            Err(Error::LengthMismatch { input: 2, output: 3 })
+            Err(Error::LengthMismatch {
+                input: 2,
+                output: 3
+            })
         ));
         assert!(run_lanes(&laws, &[], &mut []).is_ok());
     }

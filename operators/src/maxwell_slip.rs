@@ -2,8 +2,8 @@
 //! elastoplastic elements.
 
 use crate::{
-    check, check_input, check_lengths, check_output, declare_params, stop_step, Error, Float, Operator,
-    Result, Trial,
+    check, check_input, check_lengths, check_output, declare_params, stop_step, Error, Float,
+    Operator, Result, Trial,
 };
 
 declare_params! {

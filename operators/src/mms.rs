@@ -1,7 +1,10 @@
 //! Modified Maxwell-slip (MMS) pre-sliding friction.
 
 use crate::lanes::{lanes_of, LaneLaw, WIDTH};
-use crate::{reversal, CastScalar, check_lengths, declare_params, Error, Float, Result, StepLaw, Stepped, Trial};
+use crate::{
+    check_lengths, declare_params, reversal, CastScalar, Error, Float, Result, StepLaw, Stepped,
+    Trial,
+};
 use core::any::TypeId;
 
 declare_params! {
@@ -392,7 +395,6 @@ impl<T: Float> StepLaw<T> for MmsParams<T> {
         *state = s;
         Ok(())
     }
-
 }
 
 #[cfg(test)]
@@ -457,7 +459,10 @@ mod tests {
             let a = a as f32;
             let (got, want) = (exp_m1_of_negative(-a), (-a).exp_m1());
             let ulp = want.abs() * f32::EPSILON;
-            assert!((got - want).abs() <= 2.0 * ulp, "a = {a:e}: {got:e} against {want:e}");
+            assert!(
+                (got - want).abs() <= 2.0 * ulp,
+                "a = {a:e}: {got:e} against {want:e}"
+            );
         }
     }
 }

@@ -1,6 +1,6 @@
 //! The offset `y = x + c` (memoryless).
 
-use crate::{declare_params, Float, Result, Memoryless, Stepped, Trial};
+use crate::{declare_params, Float, Memoryless, Result, Stepped, Trial};
 
 declare_params! {
     /// Parameters of the [`Offset`].

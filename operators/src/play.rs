@@ -221,7 +221,6 @@ impl<T: Float> StepLaw<T> for PlayParams<T> {
         *state = y;
         Ok(())
     }
-
 }
 
 #[cfg(test)]

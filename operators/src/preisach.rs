@@ -2,8 +2,8 @@
 //! an Everett function (tabulated or in closed form).
 
 use crate::{
-    CastScalar, check, check_input, check_output, Domain, Error, FieldInfo, FieldKind, Float, Operator,
-    ParamSet, Result, Trial,
+    check, check_input, check_output, CastScalar, Domain, Error, FieldInfo, FieldKind, Float,
+    Operator, ParamSet, Result, Trial,
 };
 use serde::{Deserialize, Serialize};
 

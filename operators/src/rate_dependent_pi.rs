@@ -32,14 +32,22 @@ impl<T: Float> RateDependentPiParams<T> {
     /// positive `dt`.
     fn shape(&self) -> Result<()> {
         let invalid = |name: &str, len: usize, reason| {
-            Err(Error::InvalidParameter { name: name.into(), value: len as f64, reason })
+            Err(Error::InvalidParameter {
+                name: name.into(),
+                value: len as f64,
+                reason,
+            })
         };
         if self.r.is_empty() {
             return invalid("r", 0, "needs at least one play");
         }
         let n = self.r.len();
         if self.w.len() != n || !(self.y0.is_empty() || self.y0.len() == n) {
-            return invalid("w", self.w.len(), "r, w (and y0 if given) must have the same length");
+            return invalid(
+                "w",
+                self.w.len(),
+                "r, w (and y0 if given) must have the same length",
+            );
         }
         check::positive("dt", self.dt)
     }
@@ -161,7 +169,10 @@ mod tests {
     fn without_rate_sensitivity_it_is_the_pi_bank() {
         let p = params(0.0);
         let x = sine(3.0, 900);
-        let y = RateDependentPi::from_params(p.clone()).unwrap().run(&x).unwrap();
+        let y = RateDependentPi::from_params(p.clone())
+            .unwrap()
+            .run(&x)
+            .unwrap();
         let mut z = p.y0.clone();
         for (&xi, &yi) in x.iter().zip(&y) {
             let mut want = p.a0 * xi;
@@ -179,7 +190,10 @@ mod tests {
     fn faster_inputs_give_wider_loops() {
         let area = |periods: f64| {
             let x = sine(periods, 4000);
-            let y = RateDependentPi::from_params(params(0.002)).unwrap().run(&x).unwrap();
+            let y = RateDependentPi::from_params(params(0.002))
+                .unwrap()
+                .run(&x)
+                .unwrap();
             // the last cycle's |∮ y dx|, trapezoid rule
             let per = (4000.0 / periods) as usize;
             let (xs, ys) = (&x[4000 - per..], &y[4000 - per..]);
@@ -209,7 +223,11 @@ mod tests {
                 (x - r - z).abs() < 1e-5 || (x + r - z).abs() < 1e-5
             });
             if !kink && (x - s.x).abs() > 1e-5 {
-                assert!((t.tangent - fd).abs() < 1e-5, "sample {i}: {} vs {fd}", t.tangent);
+                assert!(
+                    (t.tangent - fd).abs() < 1e-5,
+                    "sample {i}: {} vs {fd}",
+                    t.tangent
+                );
             }
             op.commit();
         }
@@ -218,9 +236,35 @@ mod tests {
     #[test]
     fn mismatched_lengths_and_bad_rates_are_typed_errors() {
         let named = |p: RateDependentPiParams<f64>| rejected_field(RateDependentPi::from_params(p));
-        assert_eq!(named(RateDependentPiParams { w: vec![1.0], ..params(0.1) }), "w");
-        assert_eq!(named(RateDependentPiParams { r: vec![], w: vec![], y0: vec![], ..params(0.1) }), "r");
-        assert_eq!(named(RateDependentPiParams { lam: -1.0, ..params(0.1) }), "lam");
-        assert_eq!(named(RateDependentPiParams { dt: 0.0, ..params(0.1) }), "dt");
+        assert_eq!(
+            named(RateDependentPiParams {
+                w: vec![1.0],
+                ..params(0.1)
+            }),
+            "w"
+        );
+        assert_eq!(
+            named(RateDependentPiParams {
+                r: vec![],
+                w: vec![],
+                y0: vec![],
+                ..params(0.1)
+            }),
+            "r"
+        );
+        assert_eq!(
+            named(RateDependentPiParams {
+                lam: -1.0,
+                ..params(0.1)
+            }),
+            "lam"
+        );
+        assert_eq!(
+            named(RateDependentPiParams {
+                dt: 0.0,
+                ..params(0.1)
+            }),
+            "dt"
+        );
     }
 }

@@ -1,7 +1,6 @@
 //! The saturation operator.
 
-
-use crate::{check, declare_params, Float, Result, Memoryless, Stepped, Trial};
+use crate::{check, declare_params, Float, Memoryless, Result, Stepped, Trial};
 
 declare_params! {
     /// Parameters of the [`Saturation`] operator.

@@ -72,5 +72,4 @@ impl<T: Float> StepLaw<T> for StopParams<T> {
         let (s, q, tangent) = stop_step(self.r, *q, x);
         Ok((q, Trial { output: s, tangent }))
     }
-
 }

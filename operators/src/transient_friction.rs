@@ -113,7 +113,10 @@ impl<T: Float> TransientFrictionParams<T> {
         let (u0v, lv) = (u0.as_f64(), lam.as_f64());
         let gv = |d: f64| {
             let decay = (-(u0v + d) / lv).exp();
-            (kv * (ev - d) - fv * (1.0 + av * decay), -fv * av * decay / lv)
+            (
+                kv * (ev - d) - fv * (1.0 + av * decay),
+                -fv * av * decay / lv,
+            )
         };
         let (mut lo, mut hi) = (0.0_f64, (ev - fv * (1.0 + av.min(0.0)) / kv).max(0.0));
         let mut d = (ev - fv * (1.0 + av * (-u0v / lv).exp()) / kv).clamp(lo, hi);
@@ -224,7 +227,11 @@ impl<T: Float> StepLaw<T> for TransientFrictionParams<T> {
         }
     }
 
-    fn step(&self, s: &TransientFrictionState<T>, x: T) -> Result<(TransientFrictionState<T>, Trial<T>)> {
+    fn step(
+        &self,
+        s: &TransientFrictionState<T>,
+        x: T,
+    ) -> Result<(TransientFrictionState<T>, Trial<T>)> {
         let k = self.k;
         let e = x - s.x_p;
         // The direction the spring pulls, and the slip since that direction's onset.
@@ -244,7 +251,11 @@ impl<T: Float> StepLaw<T> for TransientFrictionParams<T> {
         let sign = if dir > 0 { T::one() } else { -T::one() };
         let x_p = s.x_p + sign * d;
         Ok((
-            TransientFrictionState { x_p, u: u0 + d, dir },
+            TransientFrictionState {
+                x_p,
+                u: u0 + d,
+                dir,
+            },
             Trial {
                 output: k * (x - x_p),
                 tangent: k * slope / (k + slope),
@@ -287,7 +298,10 @@ mod tests {
     fn without_a_transient_it_is_the_asymmetric_element() {
         let x = cycles(3_000);
         let y = element(0.0, 0.0, 0.3).run(&x).unwrap();
-        let want = AsymmetricFriction::new(10.0, 1.5, 1.0).unwrap().run(&x).unwrap();
+        let want = AsymmetricFriction::new(10.0, 1.5, 1.0)
+            .unwrap()
+            .run(&x)
+            .unwrap();
         for (i, (a, b)) in y.iter().zip(&want).enumerate() {
             assert!((a - b).abs() <= 1e-14, "sample {i}: {a} vs {b}");
         }
@@ -370,7 +384,11 @@ mod tests {
         for x in [0.2, 0.4, 0.6, -0.1, -0.3] {
             let (_, t) = p.step(&s, x).unwrap();
             let fd = step_difference(&p, &s, x, 1e-7);
-            assert!((t.tangent - fd).abs() <= 1e-6 * (1.0 + fd.abs()), "x = {x}: {} vs {fd}", t.tangent);
+            assert!(
+                (t.tangent - fd).abs() <= 1e-6 * (1.0 + fd.abs()),
+                "x = {x}: {} vs {fd}",
+                t.tangent
+            );
         }
     }
 }
