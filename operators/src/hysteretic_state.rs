@@ -773,6 +773,25 @@ mod tests {
         StateEquation::new(alpha, beta, gamma, n, 1e-10)
     }
 
+    /// `e.advance(g0, s)` is `want(g0, s)` to `1e-8 max(|want|, 1e-3)` at
+    /// every start `g0` and travel `s` of the grids.
+    fn assert_advance_matches(
+        e: &StateEquation<f64>,
+        g0s: &[f64],
+        ss: &[f64],
+        want: impl Fn(f64, f64) -> f64,
+    ) {
+        for &g0 in g0s {
+            for &s in ss {
+                let (got, want) = (e.advance(g0, s).unwrap(), want(g0, s));
+                assert!(
+                    (got - want).abs() <= 1e-8 * want.abs().max(1e-3),
+                    "g0={g0} s={s}: {got} vs {want}"
+                );
+            }
+        }
+    }
+
     #[test]
     fn power_special_cases_match_powf() {
         for n in [1.0, 2.0, 3.0, 1.5, 2.5, 1.37] {
@@ -800,16 +819,12 @@ mod tests {
         // The series around zero too (n = 1 through the general path).
         general.near_zero = NearZero::new(&general);
         assert!(general.near_zero.is_some());
-        for g0 in [-1.2, -0.5, 0.0, 0.4, 0.99, 1.3] {
-            for s in [1e-6, 0.01, 0.3, 1.0, 5.0] {
-                let a = closed.advance(g0, s).unwrap();
-                let b = general.advance(g0, s).unwrap();
-                assert!(
-                    (a - b).abs() <= 1e-8 * a.abs().max(1e-3),
-                    "g0={g0} s={s}: {a} vs {b}"
-                );
-            }
-        }
+        assert_advance_matches(
+            &general,
+            &[-1.2, -0.5, 0.0, 0.4, 0.99, 1.3],
+            &[1e-6, 0.01, 0.3, 1.0, 5.0],
+            |g0, s| closed.advance(g0, s).unwrap(),
+        );
     }
 
     /// n = 2 on the positive side has the closed form
@@ -819,16 +834,12 @@ mod tests {
         let (alpha, c) = (1.5, 0.8);
         let e = eq(2.0, alpha, 0.5, 0.3);
         let a = (alpha / c).sqrt();
-        for g0 in [0.0, 0.2, 1.0, 1.3] {
-            for s in [1e-4, 0.05, 0.5, 3.0] {
-                let want = a * ((alpha * c).sqrt() * s + (g0 / a).atanh()).tanh();
-                let got = e.advance(g0, s).unwrap();
-                assert!(
-                    (got - want).abs() <= 1e-8 * want.abs().max(1e-3),
-                    "g0={g0} s={s}"
-                );
-            }
-        }
+        assert_advance_matches(
+            &e,
+            &[0.0, 0.2, 1.0, 1.3],
+            &[1e-4, 0.05, 0.5, 3.0],
+            |g0, s| a * ((alpha * c).sqrt() * s + (g0 / a).atanh()).tanh(),
+        );
     }
 
     /// Regression (CI, proptest `bouc_wen_tabulated_flow_matches_adaptive_
