@@ -120,6 +120,15 @@ static bool continues(HysteronModel *m, const double *xs, const double *ref, siz
     return same_bits(ys + from, ref + from, N - from);
 }
 
+/* The paper model (f_c = 1.5) after the first K samples of `xs`. */
+static HysteronModel *paper_after_k(const double *xs)
+{
+    static double ys[K];
+    HysteronModel *m = paper(1.5);
+    run(m, xs, ys, K);
+    return m;
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2) {
@@ -161,8 +170,7 @@ int main(int argc, char **argv)
     report(same_bits(ys, ref, N), "process then step continue the same trajectory");
     hysteron_model_free(m);
 
-    m = paper(1.5);
-    run(m, xs, ys, K);
+    m = paper_after_k(xs);
     double y_trial = NAN, tangent = NAN, y_trial2 = NAN;
     must(hysteron_trial(m, xs[K], &y_trial, &tangent), "trial");
     must(hysteron_trial(m, xs[K], &y_trial2, NULL), "trial");
@@ -171,8 +179,7 @@ int main(int argc, char **argv)
            "trial gives the step's output (repeatably) and a finite tangent");
     hysteron_model_free(m);
 
-    m = paper(1.5);
-    run(m, xs, ys, K);
+    m = paper_after_k(xs);
     must(hysteron_trial(m, 2.4, NULL, NULL), "trial");
     must(hysteron_trial(m, -1.9, NULL, NULL), "trial");
     report(continues(m, xs, ref, K), "trials that are not committed leave no trace");
@@ -180,10 +187,8 @@ int main(int argc, char **argv)
 
     /* Two trials at different inputs, then commit: the state is that of
      * the last one (a step there), not of the first. */
-    m = paper(1.5);
-    HysteronModel *r = paper(1.5);
-    run(m, xs, ys, K);
-    run(r, xs, ys, K);
+    m = paper_after_k(xs);
+    HysteronModel *r = paper_after_k(xs);
     must(hysteron_trial(m, 2.4, NULL, NULL), "trial");
     must(hysteron_trial(m, xs[K], NULL, NULL), "trial");
     must(hysteron_commit(m), "commit");
@@ -202,8 +207,7 @@ int main(int argc, char **argv)
     report(continues(m, xs, ref, K), "commit without a pending trial does nothing");
     hysteron_model_free(m);
 
-    m = paper(1.5);
-    run(m, xs, ys, K);
+    m = paper_after_k(xs);
     must(hysteron_trial(m, 2.4, NULL, NULL), "trial");
     expect_error(hysteron_trial(m, NAN, NULL, NULL), HYSTERON_STATUS_INPUT, "NaN",
                  "trial(NaN) is HYSTERON_STATUS_INPUT");
@@ -212,8 +216,7 @@ int main(int argc, char **argv)
     hysteron_model_free(m);
 
     /* --- reset and clone -------------------------------------------- */
-    m = paper(1.5);
-    run(m, xs, ys, K);
+    m = paper_after_k(xs);
     must(hysteron_trial(m, 2.4, NULL, NULL), "trial");
     must(hysteron_reset(m), "reset");
     must(hysteron_commit(m), "commit");
@@ -222,8 +225,7 @@ int main(int argc, char **argv)
     report(continues(m, xs, ref, 0), "reset again: the same outputs");
     hysteron_model_free(m);
 
-    m = paper(1.5);
-    run(m, xs, ys, K);
+    m = paper_after_k(xs);
     HysteronModel *c = NULL;
     must(hysteron_model_clone(m, &c), "clone");
     hysteron_model_free(m);
@@ -231,8 +233,7 @@ int main(int argc, char **argv)
            "a clone starts in the original's state and outlives it");
     hysteron_model_free(c);
 
-    m = paper(1.5);
-    run(m, xs, ys, K);
+    m = paper_after_k(xs);
     must(hysteron_model_clone(m, &c), "clone");
     for (int i = 0; i < K; i++) {
         must(hysteron_step(c, -xs[i], NULL), "step");
@@ -301,8 +302,7 @@ int main(int argc, char **argv)
                  HYSTERON_STATUS_INVALID_UTF8, "UTF-8", "JSON that is not UTF-8 is INVALID_UTF8");
 
     /* --- error paths: running --------------------------------------- */
-    m = paper(1.5);
-    run(m, xs, ys, K);
+    m = paper_after_k(xs);
     expect_error(hysteron_step(m, NAN, NULL), HYSTERON_STATUS_INPUT, "input sample NaN",
                  "step(NaN) is INPUT naming the sample");
     expect_error(hysteron_step(m, -INFINITY, NULL), HYSTERON_STATUS_INPUT, "input sample -inf",
