@@ -136,8 +136,8 @@ pub struct MmsLanes {
     dir: i8,
 }
 
-/// [`MmsParams::advance`]'s output in every lane: the same reversal test,
-/// exponential ([`crate::exp_m1`], vectorised) and clamp.
+/// The output of [`StepLaw::step`] in every lane: the same reversal test,
+/// exponential (the branch-free `exp_m1` kernel, vectorised) and clamp.
 impl LaneLaw for MmsParams<f64> {
     type Block = MmsLanes;
 
