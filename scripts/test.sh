@@ -39,6 +39,7 @@ echo "== the vector kernels' contract on AVX2 and without vector kernels (HYSTER
 for isa in avx2 portable; do
     HYSTERON_ISA=$isa cargo test -q -p hysteron --test contract
     HYSTERON_ISA=$isa cargo test -q -p hysteron-operators --lib -- exp_m1 lanes
+    HYSTERON_ISA=$isa cargo test -q -p hysteron-identify --test ensemble
 done
 
 echo "== the derivative property test at 10x its default cases"

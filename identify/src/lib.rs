@@ -29,6 +29,7 @@ pub mod batch;
 pub mod benchmark;
 mod compressed;
 pub mod diagnostics;
+pub mod ensemble;
 mod error;
 mod fit;
 pub mod metrics;

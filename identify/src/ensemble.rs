@@ -1,0 +1,316 @@
+//! Many instances of one model structure, each with its own parameter
+//! vector, run over one input: the leaves with a lane kernel
+//! ([`hysteron_operators::lanes`]: play, MMS) eight instances per vector
+//! instruction, every other model one instance at a time; in parallel
+//! (rayon) over blocks of instances either way.
+//!
+//! Every instance's outputs are the bits it gives alone (`set_params` and
+//! `run` on the model from its initial state). An instance whose
+//! parameters are out of their domain, or whose run fails, reports its own
+//! typed error with its index; the others finish.
+
+use hysteron_models::Spec;
+use hysteron_operators::lanes::{run_lanes, LaneLaw, WIDTH};
+use hysteron_operators::{Error, Leaf, Mms, Operator, Play};
+use nalgebra::DMatrix;
+use rayon::prelude::*;
+use std::fmt;
+
+/// Why an ensemble could not be built or run at all (one instance's
+/// failure is an [`InstanceFailure`] instead).
+#[derive(Debug, thiserror::Error)]
+pub enum EnsembleError {
+    /// The spec does not build (with its own parameters).
+    #[error("model: {0}")]
+    Model(String),
+    /// The parameter matrix has no rows.
+    #[error("the parameter matrix has no rows: give one row per instance")]
+    NoInstances,
+    /// A row's length is not the model's parameter count.
+    #[error(
+        "the parameter matrix has {got} columns, but the model has {expected} parameters ({names})"
+    )]
+    Columns {
+        /// The model's parameter count.
+        expected: usize,
+        /// The matrix's column count.
+        got: usize,
+        /// The model's parameter names, in column order.
+        names: String,
+    },
+    /// The input has no samples.
+    #[error("input: no samples")]
+    EmptyInput,
+    /// An input sample is not finite (every instance refuses it).
+    #[error("input: {0}")]
+    Input(Error),
+}
+
+/// One instance's failure: its index (the parameter matrix's row) and the
+/// error it gives alone.
+#[derive(Debug, Clone, PartialEq)]
+pub struct InstanceFailure {
+    /// The instance (row of the parameter matrix).
+    pub instance: usize,
+    /// What its parameters or its run gave.
+    pub error: Error,
+}
+
+impl fmt::Display for InstanceFailure {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "instance {}: {}", self.instance, self.error)
+    }
+}
+
+/// How an ensemble steps its instances.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kernel {
+    /// [`WIDTH`] instances per vector instruction: the lane kernel of the
+    /// leaf named.
+    Lanes(&'static str),
+    /// One instance at a time (any model).
+    Instances,
+}
+
+/// The outputs of an ensemble run: one row of `samples` values per
+/// instance, rows one after the other (NaN in the row of a failed
+/// instance).
+#[derive(Debug, Clone, PartialEq)]
+pub struct EnsembleRun {
+    /// `instances × samples` outputs, row by row.
+    pub outputs: Vec<f64>,
+    /// Samples per row (the input's length).
+    pub samples: usize,
+    /// The instances that failed, by index.
+    pub failures: Vec<InstanceFailure>,
+}
+
+impl EnsembleRun {
+    /// Instance `i`'s outputs (NaN if it failed), `None` past the last.
+    pub fn row(&self, i: usize) -> Option<&[f64]> {
+        self.outputs.chunks(self.samples.max(1)).nth(i)
+    }
+}
+
+/// The lane kernels an ensemble can use, by leaf, with every instance's
+/// law (an instance whose parameters are refused runs the spec's own, and
+/// its row is then cleared).
+#[derive(Debug, Clone)]
+enum Lanes {
+    Play(Vec<<Play<f64> as Leaf<f64>>::Params>),
+    Mms(Vec<<Mms<f64> as Leaf<f64>>::Params>),
+}
+
+/// `N` instances of the model of one spec, instance `i` with the
+/// parameters of row `i` of a matrix (columns in the order of the model's
+/// [`param_names`](Operator::param_names)).
+///
+/// ```
+/// use hysteron_identify::ensemble::{Ensemble, Kernel};
+/// use hysteron_models::Spec;
+/// use nalgebra::DMatrix;
+///
+/// let spec = Spec::from_json(r#"{"type": "play", "r": 0.5}"#)?;
+/// // columns r, y0: three thresholds, and one out of its domain
+/// let params = DMatrix::from_row_slice(4, 2, &[0.1, 0.0, 0.5, 0.0, 1.0, 0.0, -1.0, 0.0]);
+/// let ensemble = Ensemble::new(&spec, &params)?;
+/// assert_eq!(ensemble.kernel(), Kernel::Lanes("play"));
+/// let run = ensemble.run(&[1.0, 2.0, 0.0])?;
+/// assert_eq!(run.row(1), Some(&[0.5, 1.5, 0.5][..]));
+/// assert_eq!(run.failures[0].instance, 3);
+/// assert!(run.failures[0].to_string().starts_with("instance 3: "));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug)]
+pub struct Ensemble {
+    model: Box<dyn Operator<f64>>,
+    /// Each instance's parameters, or why they are refused.
+    sets: Vec<Result<Vec<f64>, Error>>,
+    lanes: Option<Lanes>,
+}
+
+impl Ensemble {
+    /// The ensemble of `spec` with one instance per row of `params`.
+    ///
+    /// # Errors
+    /// [`EnsembleError::Model`] if the spec does not build,
+    /// [`EnsembleError::NoInstances`] for a matrix without rows, and
+    /// [`EnsembleError::Columns`] if its column count is not the model's
+    /// parameter count. A row out of the parameters' domains is not an
+    /// error here: that instance reports it when run.
+    pub fn new(spec: &Spec, params: &DMatrix<f64>) -> Result<Ensemble, EnsembleError> {
+        let model = spec
+            .build()
+            .map_err(|e| EnsembleError::Model(e.to_string()))?;
+        let names = model.param_names();
+        if params.nrows() == 0 {
+            return Err(EnsembleError::NoInstances);
+        }
+        if params.ncols() != names.len() {
+            return Err(EnsembleError::Columns {
+                expected: names.len(),
+                got: params.ncols(),
+                names: names.join(", "),
+            });
+        }
+        let sets: Vec<Result<Vec<f64>, Error>> = (0..params.nrows())
+            .into_par_iter()
+            .map(|i| {
+                let row: Vec<f64> = params.row(i).iter().copied().collect();
+                dyn_clone::clone_box(&*model).set_params(&row).map(|()| row)
+            })
+            .collect();
+        let lanes = lanes_for(spec, &sets);
+        Ok(Ensemble { model, sets, lanes })
+    }
+
+    /// The number of instances.
+    pub fn len(&self) -> usize {
+        self.sets.len()
+    }
+
+    /// Whether there are no instances (never, once built).
+    pub fn is_empty(&self) -> bool {
+        self.sets.is_empty()
+    }
+
+    /// The model's parameter names: the columns of the parameter matrix.
+    pub fn param_names(&self) -> Vec<String> {
+        self.model.param_names()
+    }
+
+    /// How the instances are stepped.
+    pub fn kernel(&self) -> Kernel {
+        match &self.lanes {
+            Some(Lanes::Play(_)) => Kernel::Lanes("play"),
+            Some(Lanes::Mms(_)) => Kernel::Lanes("mms"),
+            None => Kernel::Instances,
+        }
+    }
+
+    /// Runs every instance from its initial state over `x`.
+    ///
+    /// # Errors
+    /// [`EnsembleError::EmptyInput`] for an input without samples, and
+    /// [`EnsembleError::Input`] for one with a sample that is not finite
+    /// (naming the sample). Each instance's own failure
+    /// is in [`EnsembleRun::failures`].
+    pub fn run(&self, x: &[f64]) -> Result<EnsembleRun, EnsembleError> {
+        if x.is_empty() {
+            return Err(EnsembleError::EmptyInput);
+        }
+        if let Some(i) = x.iter().position(|v| !v.is_finite()) {
+            let value = x.get(i).copied().unwrap_or(f64::NAN);
+            return Err(EnsembleError::Input(
+                Error::NonFiniteInput { value }.at_sample(i),
+            ));
+        }
+        let t = x.len();
+        let mut outputs = vec![f64::NAN; self.len() * t];
+        match &self.lanes {
+            Some(Lanes::Play(set)) => run_lane_set(set, x, &mut outputs),
+            Some(Lanes::Mms(set)) => run_lane_set(set, x, &mut outputs),
+            None => self.run_instances(x, &mut outputs),
+        }
+        let failures = self.failures(x, &mut outputs);
+        Ok(EnsembleRun {
+            outputs,
+            samples: t,
+            failures,
+        })
+    }
+
+    /// Each instance alone into its row (a failed one's row left NaN).
+    fn run_instances(&self, x: &[f64], outputs: &mut [f64]) {
+        outputs
+            .par_chunks_mut(x.len())
+            .zip(self.sets.par_iter())
+            .for_each(|(row, set)| {
+                if let Ok(p) = set {
+                    let mut m = dyn_clone::clone_box(&*self.model);
+                    if m.set_params(p).and_then(|()| m.process(x, row)).is_err() {
+                        row.fill(f64::NAN);
+                    }
+                }
+            });
+    }
+
+    /// The failed instances, each with the error it gives alone: refused
+    /// parameters, and any row holding a value that is not finite (run
+    /// again alone for its error, and left NaN).
+    fn failures(&self, x: &[f64], outputs: &mut [f64]) -> Vec<InstanceFailure> {
+        let mut failures: Vec<InstanceFailure> = outputs
+            .par_chunks_mut(x.len())
+            .zip(self.sets.par_iter())
+            .enumerate()
+            .filter_map(|(instance, (row, set))| {
+                let error = match set {
+                    Err(e) => {
+                        row.fill(f64::NAN);
+                        e.clone()
+                    }
+                    Ok(_) if row.iter().all(|v| v.is_finite()) => return None,
+                    Ok(p) => {
+                        row.fill(f64::NAN);
+                        let mut m = dyn_clone::clone_box(&*self.model);
+                        match m.set_params(p).and_then(|()| m.run(x)) {
+                            Err(e) => e,
+                            // (a lane kernel gives the instance's bits,
+                            // so this would be a broken kernel)
+                            Ok(_) => Error::NonFiniteOutput {
+                                operator: "ensemble",
+                                input: f64::NAN,
+                            },
+                        }
+                    }
+                };
+                Some(InstanceFailure { instance, error })
+            })
+            .collect();
+        failures.sort_by_key(|f| f.instance);
+        failures
+    }
+}
+
+/// The lane kernel for `spec` if it is a leaf that has one, with the laws
+/// of the instances whose parameters are accepted.
+fn lanes_for(spec: &Spec, sets: &[Result<Vec<f64>, Error>]) -> Option<Lanes> {
+    match spec.kind() {
+        "play" => lane_set::<Play<f64>>(spec, sets).map(Lanes::Play),
+        "mms" => lane_set::<Mms<f64>>(spec, sets).map(Lanes::Mms),
+        _ => None,
+    }
+}
+
+/// The law of leaf `L` of every instance of `spec` (the spec's own where
+/// the instance's parameters are refused).
+fn lane_set<L>(spec: &Spec, sets: &[Result<Vec<f64>, Error>]) -> Option<Vec<L::Params>>
+where
+    L: Leaf<f64>,
+    L::Params: serde::de::DeserializeOwned,
+{
+    let own = spec.leaf_params::<L>()?;
+    sets.iter()
+        .map(|p| match p {
+            Ok(p) => spec.with_params(p).ok()?.leaf_params::<L>(),
+            Err(_) => Some(own.clone()),
+        })
+        .collect()
+}
+
+/// The lane kernel over `x` for every instance, each block of [`WIDTH`]
+/// into its rows of `outputs`.
+fn run_lane_set<L>(laws: &[L], x: &[f64], outputs: &mut [f64])
+where
+    L: LaneLaw + Sync,
+{
+    outputs
+        .par_chunks_mut(WIDTH * x.len())
+        .zip(laws.par_chunks(WIDTH))
+        .for_each(|(rows, laws)| {
+            // (the input was checked, and the rows fit: no error)
+            if run_lanes(laws, x, rows).is_err() {
+                rows.fill(f64::NAN);
+            }
+        });
+}

@@ -1,0 +1,133 @@
+//! The ensemble's contract: every instance of every registered leaf, and
+//! of composed models, gives the bits (or the error) it gives alone, on
+//! whichever kernel the ensemble picks; the lane kernels are picked where
+//! they exist; bad input is a typed error.
+
+use hysteron_identify::ensemble::{Ensemble, EnsembleError, Kernel};
+use hysteron_models::spec::registry::LEAVES;
+use hysteron_models::Spec;
+use hysteron_operators::Operator;
+use nalgebra::DMatrix;
+
+/// Reversals of growing amplitude, holds and small steps.
+fn input(n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|i| {
+            let t = i as f64 / n as f64;
+            let hold = if i % 23 == 5 { 0.0 } else { 1.0 };
+            (0.2 + 2.0 * t) * (std::f64::consts::TAU * 4.0 * t).sin() * hold
+                + 0.05 * (i as f64 * 0.37).sin()
+        })
+        .collect()
+}
+
+/// `n` parameter rows around the model's own: entry `j` of row `i` scaled
+/// by `1 + 0.03 ((i + j) mod 7 − 3)`, and row 2 with its first entry made
+/// negative (out of domain for most leaves).
+fn rows_around(model: &dyn Operator<f64>, n: usize) -> DMatrix<f64> {
+    let p = model.params();
+    DMatrix::from_fn(n, p.len(), |i, j| {
+        let v = p[j] * (1.0 + 0.03 * (((i + j) % 7) as f64 - 3.0));
+        if i == 2 && j == 0 {
+            -1.0 - v.abs()
+        } else {
+            v
+        }
+    })
+}
+
+/// Runs `spec` as an ensemble of `n` instances and checks each against
+/// its own model run alone; returns the kernel used.
+fn check_against_alone(spec: &Spec, n: usize) -> Kernel {
+    let model = spec.build().unwrap();
+    let params = rows_around(&*model, n);
+    let x = input(600);
+    let ensemble = Ensemble::new(spec, &params).unwrap();
+    let run = ensemble.run(&x).unwrap();
+    for i in 0..n {
+        let row: Vec<f64> = params.row(i).iter().copied().collect();
+        let mut alone = dyn_clone::clone_box(&*model);
+        let expected = alone.set_params(&row).and_then(|()| alone.run(&x));
+        let failure = run.failures.iter().find(|f| f.instance == i);
+        match (expected, failure) {
+            (Ok(y), None) => {
+                let got = run.row(i).unwrap();
+                for (k, (a, b)) in y.iter().zip(got).enumerate() {
+                    assert_eq!(
+                        a.to_bits(),
+                        b.to_bits(),
+                        "{}: instance {i}, sample {k}: {a} alone, {b} in the ensemble",
+                        spec.kind()
+                    );
+                }
+            }
+            (Err(e), Some(f)) => {
+                assert_eq!(e, f.error, "{}: instance {i}", spec.kind());
+                assert!(run.row(i).unwrap().iter().all(|v| v.is_nan()));
+            }
+            (expected, failure) => panic!(
+                "{}: instance {i}: alone {:?}, in the ensemble {failure:?}",
+                spec.kind(),
+                expected.map(|_| "ok")
+            ),
+        }
+    }
+    ensemble.kernel()
+}
+
+/// Every registered leaf at its example (a rate-dependent one at 1 ms):
+/// 19 instances, two full blocks of lanes and a part.
+#[test]
+fn every_leaf_in_an_ensemble_is_each_instance_alone() {
+    for leaf in LEAVES {
+        let spec = leaf.example_spec().or_dt(1e-3);
+        let kernel = check_against_alone(&spec, 19);
+        let want = match leaf.kind() {
+            "play" => Kernel::Lanes("play"),
+            "mms" => Kernel::Lanes("mms"),
+            _ => Kernel::Instances,
+        };
+        assert_eq!(kernel, want, "{}", leaf.kind());
+    }
+}
+
+/// Composed models (the paper's, a PI cascade) run one instance at a time
+/// with the same results.
+#[test]
+fn composed_models_in_an_ensemble_are_each_instance_alone() {
+    let paper = Spec::from_json(include_str!("../../examples/specs/paper.json")).unwrap();
+    assert_eq!(check_against_alone(&paper, 5), Kernel::Instances);
+    let cascade = Spec::from_json(
+        r#"{"type": "cascade", "first": {"type": "play", "r": 0.3},
+            "second": {"type": "mms", "f_c": 1.0, "k": 20.0}}"#,
+    )
+    .unwrap();
+    assert_eq!(check_against_alone(&cascade, 9), Kernel::Instances);
+}
+
+/// Bad shapes and inputs are typed errors naming what is wrong.
+#[test]
+fn bad_matrices_and_inputs_are_typed_errors() {
+    let spec = Spec::from_json(r#"{"type": "mms", "f_c": 1.0, "k": 20.0}"#).unwrap();
+    match Ensemble::new(&spec, &DMatrix::zeros(2, 2)) {
+        Err(EnsembleError::Columns {
+            expected: 3,
+            got: 2,
+            names,
+        }) => {
+            assert_eq!(names, "f_c, k, y0")
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(matches!(
+        Ensemble::new(&spec, &DMatrix::zeros(0, 3)),
+        Err(EnsembleError::NoInstances)
+    ));
+    let ensemble = Ensemble::new(&spec, &DMatrix::from_element(3, 3, 1.0)).unwrap();
+    let err = ensemble.run(&[0.0, f64::INFINITY]).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "input: at sample 1: input sample inf is not finite"
+    );
+    assert!(matches!(ensemble.run(&[]), Err(EnsembleError::EmptyInput)));
+}
