@@ -3,6 +3,8 @@
 //! whichever kernel the ensemble picks; the lane kernels are picked where
 //! they exist; bad input is a typed error.
 
+#![allow(clippy::unwrap_used, clippy::indexing_slicing, clippy::panic)]
+
 use hysteron_identify::ensemble::{Ensemble, EnsembleError, Kernel};
 use hysteron_models::spec::registry::LEAVES;
 use hysteron_models::Spec;
