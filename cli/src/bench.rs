@@ -31,11 +31,13 @@
 use crate::args;
 use crate::composition::PiBank;
 use crate::identify::batch::process_records;
+use crate::identify::ensemble::Ensemble;
 use crate::models::{Spec, TransmissionParams};
 use crate::operators::{
     BoucWen, Bwbn, BwbnParams, Error, JilesAtherton, JilesAthertonParams, Mms, Operator, ParamSet,
     Play, Result, StateSolver,
 };
+use nalgebra::DMatrix;
 use std::f64::consts::TAU;
 use std::fmt;
 use std::time::Instant;
@@ -45,6 +47,9 @@ pub const BW15_RTOL: f64 = 1e-10;
 
 /// Signals in the batch kernels.
 pub const BATCH: usize = 64;
+
+/// Instances in the ensemble kernels.
+pub const ENSEMBLE: usize = 64;
 
 /// The kernel input `x_i = 2.5 sin(2π i/2000) + 0.3 sin(2π i/97.3)`.
 pub fn kernel_input(n: usize) -> Vec<f64> {
@@ -227,6 +232,49 @@ fn time_with(
     })
 }
 
+/// Times an ensemble of [`ENSEMBLE`] instances of `spec` (its first
+/// parameter spread over `0.5..1.5` times its value, the others as given)
+/// over the first `x.len() / ENSEMBLE` samples of `x`, on one thread, into
+/// one output buffer: the same instance-samples as one kernel run, timed
+/// per instance-sample.
+fn time_ensemble(
+    kernel: &str,
+    spec: &str,
+    x: &[f64],
+    runs: usize,
+) -> std::result::Result<Timing, String> {
+    let spec = Spec::from_json(spec).map_err(|e| e.to_string())?;
+    let own = spec.build().map_err(|e| e.to_string())?.params();
+    let params = DMatrix::from_fn(ENSEMBLE, own.len(), |i, j| {
+        let spread = if j == 0 {
+            0.5 + i as f64 / ENSEMBLE as f64
+        } else {
+            1.0
+        };
+        own.get(j).copied().unwrap_or(0.0) * spread
+    });
+    let ensemble = Ensemble::new(&spec, &params).map_err(|e| e.to_string())?;
+    let x = &x[..(x.len() / ENSEMBLE).max(1).min(x.len())];
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .map_err(|e| e.to_string())?;
+    // (checked once untimed: every instance runs; then into the same
+    // buffer, as the single kernels write theirs)
+    let mut out = vec![0.0; ENSEMBLE * x.len()];
+    let check = pool
+        .install(|| ensemble.run_into(x, &mut out))
+        .map_err(|e| format!("kernel {kernel}: {e}"))?;
+    if let Some(f) = check.first() {
+        return Err(format!("kernel {kernel}: {f}"));
+    }
+    time_with(kernel, ENSEMBLE * x.len(), runs, || {
+        let run = pool.install(|| ensemble.run_into(x, &mut out));
+        std::hint::black_box(run.map(|f| f.len()).ok());
+        Ok(())
+    })
+}
+
 /// Runs the kernel table.
 pub fn run(opts: &BenchOptions) -> std::result::Result<BenchReport, String> {
     if opts.samples == 0 || opts.runs == 0 {
@@ -350,6 +398,25 @@ pub fn run(opts: &BenchOptions) -> std::result::Result<BenchReport, String> {
             "paper model batch: 2 threads are {:.2}x 1 thread",
             medians[0] / medians[1]
         ));
+    }
+    for (kernel, alone, spec) in [
+        ("ensemble play", "play", r#"{"type": "play", "r": 0.5}"#),
+        (
+            "ensemble mms",
+            "mms",
+            r#"{"type": "mms", "f_c": 1.0, "k": 5.0}"#,
+        ),
+    ] {
+        if wanted(kernel) {
+            let t = time_ensemble(kernel, spec, &x, runs)?;
+            if let Some(one) = timings.iter().find(|t| t.kernel == alone) {
+                notes.push(format!(
+                    "{kernel}: {:.2}x the instances per second of one {alone} at a time (1 thread)",
+                    one.median() / t.median()
+                ));
+            }
+            timings.push(t);
+        }
     }
     if timings.is_empty() {
         return Err(format!(

@@ -44,6 +44,14 @@ pub enum EnsembleError {
     /// An input sample is not finite (every instance refuses it).
     #[error("input: {0}")]
     Input(Error),
+    /// The output buffer's length is not instances × samples.
+    #[error("the output buffer holds {got} values, but the ensemble writes {expected} (instances × samples)")]
+    OutputLength {
+        /// Instances × samples.
+        expected: usize,
+        /// The buffer's length.
+        got: usize,
+    },
 }
 
 /// One instance's failure: its index (the parameter matrix's row) and the
@@ -191,11 +199,31 @@ impl Ensemble {
     /// Runs every instance from its initial state over `x`.
     ///
     /// # Errors
-    /// [`EnsembleError::EmptyInput`] for an input without samples, and
-    /// [`EnsembleError::Input`] for one with a sample that is not finite
-    /// (naming the sample). Each instance's own failure
-    /// is in [`EnsembleRun::failures`].
+    /// As [`run_into`](Self::run_into).
     pub fn run(&self, x: &[f64]) -> Result<EnsembleRun, EnsembleError> {
+        let mut outputs = vec![0.0; self.len() * x.len()];
+        let failures = self.run_into(x, &mut outputs)?;
+        Ok(EnsembleRun {
+            outputs,
+            samples: x.len(),
+            failures,
+        })
+    }
+
+    /// Runs every instance from its initial state over `x` into `out`, one
+    /// row of `x.len()` values per instance (NaN in a failed instance's
+    /// row); returns the failed instances, by index.
+    ///
+    /// # Errors
+    /// [`EnsembleError::EmptyInput`] for an input without samples,
+    /// [`EnsembleError::Input`] for one with a sample that is not finite
+    /// (naming the sample), and [`EnsembleError::OutputLength`] if `out`
+    /// does not hold `len() · x.len()` values.
+    pub fn run_into(
+        &self,
+        x: &[f64],
+        out: &mut [f64],
+    ) -> Result<Vec<InstanceFailure>, EnsembleError> {
         if x.is_empty() {
             return Err(EnsembleError::EmptyInput);
         }
@@ -205,70 +233,105 @@ impl Ensemble {
                 Error::NonFiniteInput { value }.at_sample(i),
             ));
         }
-        let t = x.len();
-        let mut outputs = vec![f64::NAN; self.len() * t];
-        match &self.lanes {
-            Some(Lanes::Play(set)) => run_lane_set(set, x, &mut outputs),
-            Some(Lanes::Mms(set)) => run_lane_set(set, x, &mut outputs),
-            None => self.run_instances(x, &mut outputs),
-        }
-        let failures = self.failures(x, &mut outputs);
-        Ok(EnsembleRun {
-            outputs,
-            samples: t,
-            failures,
-        })
-    }
-
-    /// Each instance alone into its row (a failed one's row left NaN).
-    fn run_instances(&self, x: &[f64], outputs: &mut [f64]) {
-        outputs
-            .par_chunks_mut(x.len())
-            .zip(self.sets.par_iter())
-            .for_each(|(row, set)| {
-                if let Ok(p) = set {
-                    let mut m = dyn_clone::clone_box(&*self.model);
-                    if m.set_params(p).and_then(|()| m.process(x, row)).is_err() {
-                        row.fill(f64::NAN);
-                    }
-                }
+        let expected = self.len() * x.len();
+        if out.len() != expected {
+            return Err(EnsembleError::OutputLength {
+                expected,
+                got: out.len(),
             });
+        }
+        let mut failures = match &self.lanes {
+            Some(Lanes::Play(laws)) => self.run_lanes(laws, x, out),
+            Some(Lanes::Mms(laws)) => self.run_lanes(laws, x, out),
+            None => self.run_instances(x, out),
+        };
+        failures.sort_by_key(|f| f.instance);
+        Ok(failures)
     }
 
-    /// The failed instances, each with the error it gives alone: refused
-    /// parameters, and any row holding a value that is not finite (run
-    /// again alone for its error, and left NaN).
-    fn failures(&self, x: &[f64], outputs: &mut [f64]) -> Vec<InstanceFailure> {
-        let mut failures: Vec<InstanceFailure> = outputs
-            .par_chunks_mut(x.len())
+    /// Each instance alone into its row; the failures.
+    fn run_instances(&self, x: &[f64], out: &mut [f64]) -> Vec<InstanceFailure> {
+        out.par_chunks_mut(x.len())
             .zip(self.sets.par_iter())
             .enumerate()
             .filter_map(|(instance, (row, set))| {
-                let error = match set {
-                    Err(e) => {
-                        row.fill(f64::NAN);
-                        e.clone()
-                    }
-                    Ok(_) if row.iter().all(|v| v.is_finite()) => return None,
-                    Ok(p) => {
-                        row.fill(f64::NAN);
-                        let mut m = dyn_clone::clone_box(&*self.model);
-                        match m.set_params(p).and_then(|()| m.run(x)) {
-                            Err(e) => e,
-                            // (a lane kernel gives the instance's bits,
-                            // so this would be a broken kernel)
-                            Ok(_) => Error::NonFiniteOutput {
-                                operator: "ensemble",
-                                input: f64::NAN,
-                            },
-                        }
-                    }
-                };
-                Some(InstanceFailure { instance, error })
+                let run = set.clone().and_then(|p| {
+                    let mut m = dyn_clone::clone_box(&*self.model);
+                    m.set_params(&p).and_then(|()| m.process(x, row))
+                });
+                run.err().map(|error| {
+                    row.fill(f64::NAN);
+                    InstanceFailure { instance, error }
+                })
+            })
+            .collect()
+    }
+
+    /// The lane kernel over `x` for every instance, each block of
+    /// [`WIDTH`] into its rows; the failures: the refused parameter sets,
+    /// and the lanes with an output that is not finite, with the error
+    /// each gives alone.
+    fn run_lanes<L: LaneLaw + Sync>(
+        &self,
+        laws: &[L],
+        x: &[f64],
+        out: &mut [f64],
+    ) -> Vec<InstanceFailure> {
+        let t = x.len();
+        let flagged: Vec<usize> = out
+            .par_chunks_mut(WIDTH * t)
+            .zip(laws.par_chunks(WIDTH))
+            .enumerate()
+            .flat_map_iter(|(b, (rows, laws))| {
+                // (the input was checked and the rows fit: no error)
+                let lanes = run_lanes(laws, x, rows).unwrap_or_default();
+                lanes.into_iter().map(move |j| b * WIDTH + j)
             })
             .collect();
-        failures.sort_by_key(|f| f.instance);
+        let refused = self
+            .sets
+            .iter()
+            .enumerate()
+            .filter(|(_, s)| s.is_err())
+            .map(|(i, _)| i);
+        let mut failed: Vec<usize> = refused.chain(flagged).collect();
+        failed.sort_unstable();
+        failed.dedup();
+        let failures: Vec<InstanceFailure> = failed
+            .into_par_iter()
+            .map(|instance| InstanceFailure {
+                instance,
+                error: self.error_alone(instance, x),
+            })
+            .collect();
+        for f in &failures {
+            if let Some(row) = out.get_mut(f.instance * t..(f.instance + 1) * t) {
+                row.fill(f64::NAN);
+            }
+        }
         failures
+    }
+
+    /// The error instance `i` gives alone over `x` (its refused parameters,
+    /// or its run's).
+    fn error_alone(&self, i: usize, x: &[f64]) -> Error {
+        let run = match self.sets.get(i) {
+            Some(Ok(p)) => {
+                let mut m = dyn_clone::clone_box(&*self.model);
+                m.set_params(p).and_then(|()| m.run(x))
+            }
+            Some(Err(e)) => Err(e.clone()),
+            None => Err(Error::ParamCount {
+                expected: self.len(),
+                got: i,
+            }),
+        };
+        // (a lane flagged by its kernel fails alone too: the kernel gives
+        // the instance's bits)
+        run.err().unwrap_or(Error::NonFiniteOutput {
+            operator: "ensemble",
+            input: f64::NAN,
+        })
     }
 }
 
@@ -296,21 +359,4 @@ where
             Err(_) => Some(own.clone()),
         })
         .collect()
-}
-
-/// The lane kernel over `x` for every instance, each block of [`WIDTH`]
-/// into its rows of `outputs`.
-fn run_lane_set<L>(laws: &[L], x: &[f64], outputs: &mut [f64])
-where
-    L: LaneLaw + Sync,
-{
-    outputs
-        .par_chunks_mut(WIDTH * x.len())
-        .zip(laws.par_chunks(WIDTH))
-        .for_each(|(rows, laws)| {
-            // (the input was checked, and the rows fit: no error)
-            if run_lanes(laws, x, rows).is_err() {
-                rows.fill(f64::NAN);
-            }
-        });
 }

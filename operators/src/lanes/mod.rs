@@ -8,8 +8,11 @@
 //! bits it gives alone; the contract test checks it for every kernel on
 //! every instruction set ([`Isa::detect`]).
 
+mod transpose;
+
 use crate::simd::Isa;
 use crate::{Error, Result, StepLaw};
+use transpose::{Columns, Tile};
 
 /// Instances per block: the `f64` lanes of an AVX-512 register.
 pub const WIDTH: usize = 8;
@@ -57,7 +60,8 @@ pub fn lanes_of<L>(laws: &[L], field: impl Fn(&L) -> f64) -> [f64; WIDTH] {
 
 /// Runs every instance of `laws` from its initial state over `xs`, writing
 /// instance `i`'s outputs to `out[i · xs.len() ..][.. xs.len()]` (one row
-/// per instance).
+/// per instance); returns the instances whose outputs are not all finite
+/// (those the leaf's own run refuses at a sample).
 ///
 /// # Errors
 /// * [`Error::NonFiniteInput`] ([`Error::AtSample`]) at the first sample of `xs` that is not
@@ -76,7 +80,7 @@ pub fn lanes_of<L>(laws: &[L], field: impl Fn(&L) -> f64) -> [f64; WIDTH] {
 /// assert_eq!(&out[3..6], &alone[..]);
 /// # Ok::<(), hysteron_operators::Error>(())
 /// ```
-pub fn run_lanes<L: LaneLaw>(laws: &[L], xs: &[f64], out: &mut [f64]) -> Result<()> {
+pub fn run_lanes<L: LaneLaw>(laws: &[L], xs: &[f64], out: &mut [f64]) -> Result<Vec<usize>> {
     if out.len() != laws.len() * xs.len() {
         return Err(Error::LengthMismatch {
             input: laws.len() * xs.len(),
@@ -87,17 +91,25 @@ pub fn run_lanes<L: LaneLaw>(laws: &[L], xs: &[f64], out: &mut [f64]) -> Result<
         let value = xs.get(i).copied().unwrap_or(f64::NAN);
         return Err(Error::NonFiniteInput { value }.at_sample(i));
     }
+    let mut failed = Vec::new();
     if xs.is_empty() {
-        return Ok(());
+        return Ok(failed);
     }
-    for (block, rows) in laws.chunks(WIDTH).zip(out.chunks_mut(WIDTH * xs.len())) {
-        run_block(block, xs, rows);
+    for (b, (block, rows)) in laws
+        .chunks(WIDTH)
+        .zip(out.chunks_mut(WIDTH * xs.len()))
+        .enumerate()
+    {
+        let finite = run_block(block, xs, rows);
+        let lanes = finite.iter().take(block.len()).enumerate();
+        failed.extend(lanes.filter(|(_, ok)| !**ok).map(|(j, _)| b * WIDTH + j));
     }
-    Ok(())
+    Ok(failed)
 }
 
-/// One block over `xs` into its rows, on the widest instruction set found.
-fn run_block<L: LaneLaw>(laws: &[L], xs: &[f64], rows: &mut [f64]) {
+/// One block over `xs` into its rows, on the widest instruction set found;
+/// whether each lane's outputs are all finite.
+fn run_block<L: LaneLaw>(laws: &[L], xs: &[f64], rows: &mut [f64]) -> [bool; WIDTH] {
     #[cfg(target_arch = "x86_64")]
     match Isa::detect() {
         // SAFETY: the instruction set was detected on this CPU.
@@ -106,45 +118,75 @@ fn run_block<L: LaneLaw>(laws: &[L], xs: &[f64], rows: &mut [f64]) {
         Some(Isa::Avx2) => return unsafe { run_block_avx2(laws, xs, rows) },
         None => {}
     }
-    run_block_portable(laws, xs, rows)
+    run_block_portable(laws, xs, rows, transpose::portable)
 }
 
 /// Samples per tile: a block's outputs for [`TILE`] samples are kept lane
-/// by lane and then written row by row, [`TILE`] contiguous values per
-/// instance.
+/// by lane, transposed, and written row by row, [`TILE`] contiguous values
+/// per instance.
 const TILE: usize = 8;
 
-/// [`run_block`] on whatever instruction set it is compiled for.
-// `rows` holds `laws.len()` rows of `xs.len()` values (from `run_lanes`).
+/// Whether every value is finite (`v − v` is 0 exactly for finite `v`,
+/// NaN otherwise; no early exit, so it vectorises).
+#[inline(always)]
+#[allow(clippy::eq_op)]
+fn all_finite(v: &[f64]) -> bool {
+    v.iter().fold(true, |ok, &v| ok & (v - v == 0.0))
+}
+
+/// [`run_block`] on whatever instruction set it is compiled for: full
+/// tiles with constant trip counts (so that the tile stays in registers
+/// and its transpose is a few shuffles), then the remainder.
+// `rows` holds `laws.len()` rows of `xs.len()` values (from `run_lanes`);
+// each tile's range `start..start + n` lies within a row.
 #[allow(clippy::indexing_slicing)]
 #[inline(always)]
-fn run_block_portable<L: LaneLaw>(laws: &[L], xs: &[f64], rows: &mut [f64]) {
+fn run_block_portable<L: LaneLaw>(
+    laws: &[L],
+    xs: &[f64],
+    rows: &mut [f64],
+    transpose: impl Fn(&Tile) -> Columns,
+) -> [bool; WIDTH] {
     let t = xs.len();
     let mut block = L::block(laws);
-    let mut tile = [[0.0; WIDTH]; TILE];
-    for (c, chunk) in xs.chunks(TILE).enumerate() {
-        for (&x, y) in chunk.iter().zip(tile.iter_mut()) {
+    let mut finite = [true; WIDTH];
+    let mut store = |start: usize, n: usize, tile: &Tile| {
+        let cols = transpose(tile);
+        for ((row, col), ok) in rows.chunks_exact_mut(t).zip(&cols).zip(&mut finite) {
+            let col = &col[..n];
+            *ok &= all_finite(col);
+            row[start..start + n].copy_from_slice(col);
+        }
+    };
+    let mut tiles = xs.chunks_exact(TILE);
+    for (c, chunk) in (&mut tiles).enumerate() {
+        let mut tile = [[0.0; WIDTH]; TILE];
+        for (y, &x) in tile.iter_mut().zip(chunk) {
             L::step_lanes(&mut block, x, y);
         }
-        let start = c * TILE;
-        for (j, row) in rows.chunks_mut(t).enumerate().take(laws.len()) {
-            for (k, out) in row[start..start + chunk.len()].iter_mut().enumerate() {
-                *out = tile[k][j];
-            }
-        }
+        store(c * TILE, TILE, &tile);
     }
+    let rest = tiles.remainder();
+    if !rest.is_empty() {
+        let mut tile = [[0.0; WIDTH]; TILE];
+        for (y, &x) in tile.iter_mut().zip(rest) {
+            L::step_lanes(&mut block, x, y);
+        }
+        store(t - rest.len(), rest.len(), &tile);
+    }
+    finite
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn run_block_avx2<L: LaneLaw>(laws: &[L], xs: &[f64], rows: &mut [f64]) {
-    run_block_portable(laws, xs, rows)
+unsafe fn run_block_avx2<L: LaneLaw>(laws: &[L], xs: &[f64], rows: &mut [f64]) -> [bool; WIDTH] {
+    run_block_portable(laws, xs, rows, |t| transpose::avx2(t))
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]
-unsafe fn run_block_avx512<L: LaneLaw>(laws: &[L], xs: &[f64], rows: &mut [f64]) {
-    run_block_portable(laws, xs, rows)
+unsafe fn run_block_avx512<L: LaneLaw>(laws: &[L], xs: &[f64], rows: &mut [f64]) -> [bool; WIDTH] {
+    run_block_portable(laws, xs, rows, |t| transpose::avx512(t))
 }
 
 #[cfg(test)]
