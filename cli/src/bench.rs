@@ -26,7 +26,13 @@
 //! * `bwbn`, `jiles_atherton`: the two leaves integrated by adaptive
 //!   Dormand–Prince, at their example parameters ([`bwbn`],
 //!   [`jiles_atherton`]); the command prints each output's sum, the
-//!   checksum that `bench/families.c`, their C reference, prints too.
+//!   checksum that `bench/families.c`, their C reference, prints too;
+//! * `ensemble play`, `ensemble mms`: an [`Ensemble`] of [`ENSEMBLE`]
+//!   instances of the play and MMS kernels (the threshold or `F_c` spread
+//!   over `0.5..1.5` times the kernel's) over the first `1/ENSEMBLE` of
+//!   the input, on one thread, into one output buffer: timed per
+//!   instance-sample, and compared in a note with the single-instance
+//!   kernel of the same run.
 
 use crate::args;
 use crate::composition::PiBank;

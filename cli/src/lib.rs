@@ -27,4 +27,5 @@ pub mod plot;
 pub mod reference_figures;
 pub mod sensitivity;
 pub mod simulate;
+pub mod sweep;
 pub mod validate;

@@ -62,7 +62,7 @@
 use clap::{Parser, Subcommand};
 use hysteron_cli::{
     analyze, bench, compare, csvio, export_fmu, fit_cmd, fitting, identify_paper, paper,
-    sensitivity, simulate, validate,
+    sensitivity, simulate, sweep, validate,
 };
 use std::fmt;
 use std::path::PathBuf;
@@ -98,6 +98,13 @@ enum Command {
     /// holds all input columns, `y`, then one column `dy/d<path>` per
     /// parameter (e.g. dy/dleft.mms.f_c), in the order given.
     Sensitivity(sensitivity::SensitivityOptions),
+    /// Run a model spec (JSON) once per parameter set (rows of a CSV file
+    /// whose header names parameters) over one column of a CSV file, all
+    /// sets together (play and MMS leaves eight per vector instruction);
+    /// writes the input column and one output column per set, set_1,
+    /// set_2, … (NaN for a set that failed, which the report names with
+    /// its error).
+    Sweep(sweep::SweepOptions),
     /// Fit parameters of a model spec (JSON) to one record or several
     /// (input and measured output columns of CSV files) with
     /// Levenberg-Marquardt, starting from the spec's values; prints a
@@ -196,6 +203,7 @@ fn main() -> ExitCode {
         Command::Paper(opts) => reported(paper::run(&opts), |_| true),
         Command::Simulate(opts) => reported(simulate::run(&opts), |_| true),
         Command::Sensitivity(opts) => reported(sensitivity::run(&opts), |_| true),
+        Command::Sweep(opts) => reported(sweep::run(&opts), |_| true),
         Command::Fit(opts) => reported(fit_cmd::run(&opts), fit_cmd::FitCmdReport::converged),
         Command::Validate(opts) => reported(validate::run(&opts), |_| true),
         Command::Analyze(opts) => reported(analyze::run(&opts), |_| true),

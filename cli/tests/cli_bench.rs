@@ -65,6 +65,8 @@ fn prints_one_row_per_kernel_in_the_table_format() {
             "paper model, boxed from JSON",
             "paper model batch x64, 1 thread(s)",
             "paper model batch x64, 2 thread(s)",
+            "ensemble play",
+            "ensemble mms",
         ],
         "{stdout}"
     );
@@ -99,7 +101,13 @@ fn kernel_filter_selects_rows() {
     assert!(out.status.success());
     let stdout = String::from_utf8(out.stdout).unwrap();
     let kernels: Vec<String> = stdout.lines().filter_map(row).map(|r| r.0).collect();
-    assert_eq!(kernels, ["mms"]);
+    assert_eq!(kernels, ["mms", "ensemble mms"]);
+    // with its single-instance kernel in the run, the ensemble's ratio to it
+    assert!(
+        stdout.contains("ensemble mms: ")
+            && stdout.contains("x the instances per second of one mms"),
+        "{stdout}"
+    );
 }
 
 #[test]

@@ -1,0 +1,181 @@
+//! End-to-end tests of `hysteron sweep`: every set's column is what
+//! `simulate` writes for a spec holding that set (on the lane kernel and
+//! one instance at a time), a set out of its domain is reported and the
+//! others run, and bad input is one `error:` line with nothing written.
+
+use hysteron::models::Spec;
+use std::fs;
+use tempfile::TempDir;
+
+mod common;
+use common::*;
+
+struct Setup {
+    tmp: TempDir,
+}
+
+in_temp_dir!(Setup);
+
+impl Setup {
+    /// A temp dir with `in.csv` (two sine cycles, column `x`).
+    fn new() -> Self {
+        let s = Setup {
+            tmp: TempDir::new().unwrap(),
+        };
+        s.write("in.csv", &two_sine_cycles(300).0);
+        s
+    }
+
+    /// `sweep` of `model.json` (written from `spec`) over the sets of
+    /// `sets.csv` (written from `sets`): the report and the output CSV.
+    fn sweep(&self, spec: &str, sets: &str) -> (String, Vec<String>, Vec<Vec<String>>) {
+        self.write("model.json", spec);
+        self.write("sets.csv", sets);
+        let report = succeeds_saying(
+            hysteron(self.dir()).args([
+                "sweep",
+                "--model",
+                "model.json",
+                "--params",
+                "sets.csv",
+                "--input",
+                "in.csv",
+                "--output",
+                "out.csv",
+            ]),
+            &["parameter sets", "wrote out.csv"],
+        );
+        let (headers, rows) = read_csv(&self.path("out.csv"));
+        (report, headers, rows)
+    }
+
+    /// The output column `simulate` writes for `spec`, as text.
+    fn simulated(&self, spec: &Spec) -> Vec<String> {
+        self.write("one.json", &spec.to_json_pretty().unwrap());
+        let (headers, rows) = succeeds_writing_csv(
+            hysteron(self.dir()).args([
+                "simulate", "--model", "one.json", "--input", "in.csv", "--output", "one.csv",
+            ]),
+            &self.path("one.csv"),
+        );
+        let j = headers.iter().position(|h| h == "y").unwrap();
+        rows.iter().map(|r| r[j].clone()).collect()
+    }
+}
+
+/// Each set's column, as written, against `simulate` of the spec with the
+/// set's values (by `names`, full paths).
+fn check_columns(s: &Setup, spec: &Spec, names: &[&str], sets: &[Vec<f64>]) {
+    let (_, headers, rows) = s.sweep(
+        &spec.to_json_pretty().unwrap(),
+        &std::iter::once(names.join(","))
+            .chain(sets.iter().map(|v| {
+                v.iter()
+                    .map(|x| format!("{x:?}"))
+                    .collect::<Vec<_>>()
+                    .join(",")
+            }))
+            .collect::<Vec<_>>()
+            .join("\n"),
+    );
+    let model = spec.build().unwrap();
+    let all = model.param_names();
+    for (i, set) in sets.iter().enumerate() {
+        let mut p = model.params();
+        for (name, v) in names.iter().zip(set) {
+            p[all.iter().position(|n| n == name).unwrap()] = *v;
+        }
+        let want = s.simulated(&spec.with_params(&p).unwrap());
+        let j = headers
+            .iter()
+            .position(|h| *h == format!("set_{}", i + 1))
+            .unwrap();
+        let got: Vec<String> = rows.iter().map(|r| r[j].clone()).collect();
+        assert_eq!(got, want, "set {}", i + 1);
+    }
+}
+
+#[test]
+fn mms_sets_on_the_lane_kernel_are_each_simulate() {
+    let s = Setup::new();
+    let spec = Spec::from_json(r#"{"type": "mms", "f_c": 1.0, "k": 20.0}"#).unwrap();
+    let sets: Vec<Vec<f64>> = (0..11)
+        .map(|i| vec![0.5 + 0.1 * i as f64, 5.0 + 9.0 * i as f64])
+        .collect();
+    check_columns(&s, &spec, &["f_c", "k"], &sets);
+}
+
+#[test]
+fn paper_model_sets_one_at_a_time_are_each_simulate() {
+    let s = Setup::new();
+    let spec = Spec::from_json(include_str!("../../examples/specs/paper.json")).unwrap();
+    let names = spec.build().unwrap().param_names();
+    let f_c = names.iter().find(|n| n.ends_with("f_c")).unwrap().clone();
+    let sets: Vec<Vec<f64>> = [0.5, 1.0, 1.5].iter().map(|&v| vec![v]).collect();
+    check_columns(&s, &spec, &[f_c.as_str()], &sets);
+}
+
+/// A set out of its domain gets NaN and a line naming it; the others run.
+#[test]
+fn a_failing_set_is_reported_and_the_others_run() {
+    let s = Setup::new();
+    let (report, headers, rows) = s.sweep(r#"{"type": "play", "r": 0.5}"#, "r\n0.1\n-0.2\n0.3\n");
+    assert!(
+        report.contains("ran 3 parameter sets (1 failed)"),
+        "{report}"
+    );
+    assert!(
+        report.contains("set_2 (params row 2) failed: invalid parameter `r`"),
+        "{report}"
+    );
+    assert_eq!(headers, ["x", "set_1", "set_2", "set_3"]);
+    assert!(rows
+        .iter()
+        .all(|r| r[2] == "NaN" && r[1] != "NaN" && r[3] != "NaN"));
+}
+
+/// Unknown names, bad numbers and an output over an input are refused
+/// with one error line, writing nothing.
+#[test]
+fn bad_parameter_files_are_errors_that_write_nothing() {
+    let s = Setup::new();
+    s.write("model.json", r#"{"type": "play", "r": 0.5}"#);
+    let args = |sets: &str, out: &str| {
+        let mut cmd = hysteron(s.dir());
+        cmd.args([
+            "sweep",
+            "--model",
+            "model.json",
+            "--params",
+            sets,
+            "--input",
+            "in.csv",
+            "--output",
+            out,
+        ]);
+        cmd
+    };
+    s.write("unknown.csv", "q\n1\n");
+    fails_leaving_dir_unchanged(
+        s.dir(),
+        &mut args("unknown.csv", "out.csv"),
+        &["params `unknown.csv`: unknown parameter `q`"],
+    );
+    s.write("nan.csv", "r\n0.1\nnan\n");
+    fails_leaving_dir_unchanged(
+        s.dir(),
+        &mut args("nan.csv", "out.csv"),
+        &["params `nan.csv`, row 2", "column `r`", "not finite"],
+    );
+    s.write("empty.csv", "r\n");
+    fails_leaving_dir_unchanged(s.dir(), &mut args("empty.csv", "out.csv"), &["params"]);
+    fails_leaving_dir_unchanged(
+        s.dir(),
+        &mut args("nan.csv", "nan.csv"),
+        &["refusing to overwrite"],
+    );
+    assert!(!s.path("out.csv").exists());
+    assert!(fs::read_to_string(s.path("nan.csv"))
+        .unwrap()
+        .contains("nan"));
+}
