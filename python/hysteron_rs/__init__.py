@@ -25,6 +25,7 @@ from __future__ import annotations
 from ._native import (
     AnalysisError,
     DescribingFunction,
+    Ensemble,
     FitError,
     FitResult,
     HysteronError,
@@ -86,6 +87,7 @@ from ._operators import (
 __all__ = [
     "AnalysisError",
     "DescribingFunction",
+    "Ensemble",
     "FitError",
     "FitResult",
     "HysteronError",

@@ -10,6 +10,7 @@ __version__: str
 __all__ = [
     "AnalysisError",
     "DescribingFunction",
+    "Ensemble",
     "FitError",
     "FitResult",
     "HysteronError",
@@ -334,6 +335,39 @@ class LoopEnergy:
     def area(self) -> float:
         """The loop area `|W|`, the energy dissipated per cycle whatever the
         loop's orientation.
+        """
+
+@final
+class Ensemble:
+    """`N` instances of a model's structure, instance `i` with the parameter
+    vector `params[i]` (columns in the order of `model.param_names`): play and MMS
+    leaves step eight instances per vector instruction, any other model
+    one instance at a time, in parallel. Every instance gives the bits the
+    model gives alone with its parameters.
+    """
+
+    def __new__(cls, model: Model, params: _ArrayLike) -> Ensemble:
+        """`model` with one instance per row of `params` (a 2-D float array of
+        `len(model.param_names)` columns). A row out of the parameters' domains
+        is that instance's error when run, not an error here.
+        """
+    def __len__(self) -> int:
+        """The number of instances."""
+    @property
+    def names(self) -> List[str]:
+        """The parameter names: the columns of `params`."""
+    @property
+    def kernel(self) -> str:
+        """How the instances are stepped: the leaf of the lane kernel
+        (`"play"`, `"mms"`), or `"instances"` (one at a time).
+        """
+    def run(self, x: _ArrayLike, *, errors: str = "raise") -> npt.NDArray[np.float64]:
+        """Runs every instance from its initial state over `x` (1-D) and
+        returns the outputs, shape `(len(self), len(x))`. With
+        `errors="raise"` the first failing instance raises its typed error
+        (its `index` the instance); with `errors="nan"` a failing
+        instance's row is NaN and the others are returned. The GIL is
+        released while it runs.
         """
 
 def leaf_kinds() -> List[Dict[str, Any]]:

@@ -20,6 +20,39 @@ pub fn samples(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<f64>> {
 /// `obj` as a 1-D, non-empty float64 array, checked as for [`samples`],
 /// borrowed read-only (no copy when it already is one).
 pub fn readonly<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<PyReadonlyArray1<'py, f64>> {
+    let array = float64_array(obj, what, 1)?;
+    let array = array.cast::<PyArray1<f64>>().map_err(|_| {
+        InputError::new_err(format!("{what}: numpy did not return a 1-D float64 array"))
+    })?;
+    array
+        .try_readonly()
+        .map_err(|e| InputError::new_err(format!("{what}: cannot be read ({e})")))
+}
+
+/// The rows of `obj`, a 2-D float64 array (as `np.asarray` makes it) with
+/// at least one row: `(rows, columns, values row by row)`.
+pub fn matrix(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<(usize, usize, Vec<f64>)> {
+    let array = float64_array(obj, what, 2)?;
+    let shape = array.shape().to_vec();
+    let read = array
+        .try_readonly()
+        .map_err(|e| InputError::new_err(format!("{what}: cannot be read ({e})")))?;
+    // (in row order whatever the memory layout)
+    let values: Vec<f64> = read.as_array().iter().copied().collect();
+    match shape[..] {
+        [rows, columns] => Ok((rows, columns, values)),
+        _ => Err(InputError::new_err(format!("{what}: must be 2-D"))),
+    }
+}
+
+/// `np.asarray(obj)` as a non-empty float64 array of `ndim` dimensions:
+/// real numbers only (numpy would cast complex values to their real part,
+/// and strings to numbers, without a word).
+fn float64_array<'py>(
+    obj: &Bound<'py, PyAny>,
+    what: &str,
+    ndim: usize,
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
     let py = obj.py();
     let np = py.import("numpy")?;
     let unreadable = |e: PyErr| {
@@ -29,8 +62,6 @@ pub fn readonly<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<PyReadonly
         ))
     };
     let raw = np.call_method1("asarray", (obj,)).map_err(unreadable)?;
-    // Only real numbers: numpy would cast complex values to their real part
-    // (and strings to numbers) without a word.
     let dtype = raw.getattr("dtype")?;
     let kind: String = dtype.getattr("kind")?.extract()?;
     if !matches!(kind.as_str(), "i" | "u" | "f") {
@@ -47,20 +78,15 @@ pub fn readonly<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<PyReadonly
     let array = converted.cast::<PyArrayDyn<f64>>().map_err(|_| {
         InputError::new_err(format!("{what}: numpy did not return a float64 array"))
     })?;
-    if array.ndim() != 1 {
+    if array.ndim() != ndim {
         let dims: Vec<String> = array.shape().iter().map(usize::to_string).collect();
         return Err(InputError::new_err(format!(
-            "{what}: must be 1-D, got shape ({})",
+            "{what}: must be {ndim}-D, got shape ({})",
             dims.join(", ")
         )));
     }
     if array.len() == 0 {
         return Err(InputError::new_err(format!("{what}: is empty")));
     }
-    let array = array.cast::<PyArray1<f64>>().map_err(|_| {
-        InputError::new_err(format!("{what}: numpy did not return a 1-D float64 array"))
-    })?;
-    array
-        .try_readonly()
-        .map_err(|e| InputError::new_err(format!("{what}: cannot be read ({e})")))
+    Ok(array.clone())
 }

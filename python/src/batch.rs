@@ -35,18 +35,22 @@ fn arrays<'py>(
         .enumerate()
         .map(|(i, r)| match r {
             Ok(y) => Ok(PyArray1::from_vec(py, y)),
-            Err(e) => {
-                let err = operator_error(py, e);
-                let message = format!("{what} {i}: {}", err.value(py));
-                let typed = PyErr::from_type(err.get_type(py), message);
-                if let Ok(sample) = err.value(py).getattr("sample") {
-                    let _ = typed.value(py).setattr("sample", sample);
-                }
-                let _ = typed.value(py).setattr("index", i);
-                Err(typed)
-            }
+            Err(e) => Err(indexed_error(py, what, i, e)),
         })
         .collect()
+}
+
+/// The typed error of entry `i` (`what i: message`), with its `index`
+/// and, where the error has one, its `sample`.
+pub fn indexed_error(py: Python<'_>, what: &str, i: usize, e: hysteron::Error) -> PyErr {
+    let err = operator_error(py, e);
+    let message = format!("{what} {i}: {}", err.value(py));
+    let typed = PyErr::from_type(err.get_type(py), message);
+    if let Ok(sample) = err.value(py).getattr("sample") {
+        let _ = typed.value(py).setattr("sample", sample);
+    }
+    let _ = typed.value(py).setattr("index", i);
+    typed
 }
 
 /// Runs `model` from its initial state over each record (a list of 1-D

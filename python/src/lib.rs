@@ -8,6 +8,7 @@
 mod analysis;
 mod array;
 mod batch;
+mod ensemble;
 mod errors;
 mod fitting;
 mod leaves;
@@ -25,6 +26,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<fitting::FitResult>()?;
     m.add_class::<analysis::DescribingFunction>()?;
     m.add_class::<analysis::LoopEnergy>()?;
+    m.add_class::<ensemble::Ensemble>()?;
     m.add_function(wrap_pyfunction!(leaves::leaf_kinds, m)?)?;
     m.add_function(wrap_pyfunction!(leaves::leaf, m)?)?;
     m.add_function(wrap_pyfunction!(leaves::paper_model, m)?)?;
