@@ -111,7 +111,7 @@ enum Lanes {
 
 /// `N` instances of the model of one spec, instance `i` with the
 /// parameters of row `i` of a matrix (columns in the order of the model's
-/// [`param_names`](Operator::param_names)).
+/// [`param_names`](hysteron_operators::Parameters::param_names)).
 ///
 /// ```
 /// use hysteron_identify::ensemble::{Ensemble, Kernel};

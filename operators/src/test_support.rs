@@ -16,6 +16,22 @@ pub(crate) fn ramped_sine(n: usize, a0: f64, slope: f64, periods: f64) -> Vec<f6
         .collect()
 }
 
+/// Asserts that refining `coarse` `m`-fold changes `op`'s outputs at the
+/// shared samples by less than `rel` times its largest output `|y|`.
+pub(crate) fn assert_refines_within<O: Operator<f64> + Clone>(
+    op: &O,
+    coarse: &[f64],
+    m: usize,
+    rel: f64,
+) {
+    let peak = match op.clone().run(coarse) {
+        Ok(y) => y.iter().fold(0.0_f64, |p, v| p.max(v.abs())),
+        Err(e) => panic!("the coarse run failed: {e}"),
+    };
+    let (i, d) = refinement_difference(op, coarse, m);
+    assert!(d < rel * peak, "sample {i}: {d:e} (peak {peak:e})");
+}
+
 /// The central difference `(y(x + h) − y(x − h)) / 2h` of one step of
 /// `law` from the state `s`.
 pub(crate) fn step_difference<L: StepLaw<f64>>(law: &L, s: &L::State, x: f64, h: f64) -> f64 {
