@@ -10,63 +10,54 @@ use tempfile::TempDir;
 mod common;
 use common::*;
 
-struct Setup {
-    tmp: TempDir,
+/// A temp dir with `in.csv` (two sine cycles, column `x`).
+fn setup() -> TempDir {
+    let s = TempDir::new().unwrap();
+    s.write("in.csv", &two_sine_cycles(300).0);
+    s
 }
 
-in_temp_dir!(Setup);
+/// `sweep` of `model.json` (written from `spec`) over the sets of
+/// `sets.csv` (written from `sets`): the report and the output CSV.
+fn sweep(s: &TempDir, spec: &str, sets: &str) -> (String, Vec<String>, Vec<Vec<String>>) {
+    s.write("model.json", spec);
+    s.write("sets.csv", sets);
+    let report = succeeds_saying(
+        hysteron(s.dir()).args([
+            "sweep",
+            "--model",
+            "model.json",
+            "--params",
+            "sets.csv",
+            "--input",
+            "in.csv",
+            "--output",
+            "out.csv",
+        ]),
+        &["parameter sets", "wrote out.csv"],
+    );
+    let (headers, rows) = read_csv(&s.path().join("out.csv"));
+    (report, headers, rows)
+}
 
-impl Setup {
-    /// A temp dir with `in.csv` (two sine cycles, column `x`).
-    fn new() -> Self {
-        let s = Setup {
-            tmp: TempDir::new().unwrap(),
-        };
-        s.write("in.csv", &two_sine_cycles(300).0);
-        s
-    }
-
-    /// `sweep` of `model.json` (written from `spec`) over the sets of
-    /// `sets.csv` (written from `sets`): the report and the output CSV.
-    fn sweep(&self, spec: &str, sets: &str) -> (String, Vec<String>, Vec<Vec<String>>) {
-        self.write("model.json", spec);
-        self.write("sets.csv", sets);
-        let report = succeeds_saying(
-            hysteron(self.dir()).args([
-                "sweep",
-                "--model",
-                "model.json",
-                "--params",
-                "sets.csv",
-                "--input",
-                "in.csv",
-                "--output",
-                "out.csv",
-            ]),
-            &["parameter sets", "wrote out.csv"],
-        );
-        let (headers, rows) = read_csv(&self.path("out.csv"));
-        (report, headers, rows)
-    }
-
-    /// The output column `simulate` writes for `spec`, as text.
-    fn simulated(&self, spec: &Spec) -> Vec<String> {
-        self.write("one.json", &spec.to_json_pretty().unwrap());
-        let (headers, rows) = succeeds_writing_csv(
-            hysteron(self.dir()).args([
-                "simulate", "--model", "one.json", "--input", "in.csv", "--output", "one.csv",
-            ]),
-            &self.path("one.csv"),
-        );
-        let j = headers.iter().position(|h| h == "y").unwrap();
-        rows.iter().map(|r| r[j].clone()).collect()
-    }
+/// The output column `simulate` writes for `spec`, as text.
+fn simulated(s: &TempDir, spec: &Spec) -> Vec<String> {
+    s.write("one.json", &spec.to_json_pretty().unwrap());
+    let (headers, rows) = succeeds_writing_csv(
+        hysteron(s.dir()).args([
+            "simulate", "--model", "one.json", "--input", "in.csv", "--output", "one.csv",
+        ]),
+        &s.path().join("one.csv"),
+    );
+    let j = headers.iter().position(|h| h == "y").unwrap();
+    rows.iter().map(|r| r[j].clone()).collect()
 }
 
 /// Each set's column, as written, against `simulate` of the spec with the
 /// set's values (by `names`, full paths).
-fn check_columns(s: &Setup, spec: &Spec, names: &[&str], sets: &[Vec<f64>]) {
-    let (_, headers, rows) = s.sweep(
+fn check_columns(s: &TempDir, spec: &Spec, names: &[&str], sets: &[Vec<f64>]) {
+    let (_, headers, rows) = sweep(
+        s,
         &spec.to_json_pretty().unwrap(),
         &std::iter::once(names.join(","))
             .chain(sets.iter().map(|v| {
@@ -85,7 +76,7 @@ fn check_columns(s: &Setup, spec: &Spec, names: &[&str], sets: &[Vec<f64>]) {
         for (name, v) in names.iter().zip(set) {
             p[all.iter().position(|n| n == name).unwrap()] = *v;
         }
-        let want = s.simulated(&spec.with_params(&p).unwrap());
+        let want = simulated(s, &spec.with_params(&p).unwrap());
         let j = headers
             .iter()
             .position(|h| *h == format!("set_{}", i + 1))
@@ -97,7 +88,7 @@ fn check_columns(s: &Setup, spec: &Spec, names: &[&str], sets: &[Vec<f64>]) {
 
 #[test]
 fn mms_sets_on_the_lane_kernel_are_each_simulate() {
-    let s = Setup::new();
+    let s = setup();
     let spec = Spec::from_json(r#"{"type": "mms", "f_c": 1.0, "k": 20.0}"#).unwrap();
     let sets: Vec<Vec<f64>> = (0..11)
         .map(|i| vec![0.5 + 0.1 * i as f64, 5.0 + 9.0 * i as f64])
@@ -107,7 +98,7 @@ fn mms_sets_on_the_lane_kernel_are_each_simulate() {
 
 #[test]
 fn paper_model_sets_one_at_a_time_are_each_simulate() {
-    let s = Setup::new();
+    let s = setup();
     let spec = Spec::from_json(include_str!("../../examples/specs/paper.json")).unwrap();
     let names = spec.build().unwrap().param_names();
     let f_c = names.iter().find(|n| n.ends_with("f_c")).unwrap().clone();
@@ -118,8 +109,8 @@ fn paper_model_sets_one_at_a_time_are_each_simulate() {
 /// A set out of its domain gets NaN and a line naming it; the others run.
 #[test]
 fn a_failing_set_is_reported_and_the_others_run() {
-    let s = Setup::new();
-    let (report, headers, rows) = s.sweep(r#"{"type": "play", "r": 0.5}"#, "r\n0.1\n-0.2\n0.3\n");
+    let s = setup();
+    let (report, headers, rows) = sweep(&s, r#"{"type": "play", "r": 0.5}"#, "r\n0.1\n-0.2\n0.3\n");
     assert!(
         report.contains("ran 3 parameter sets (1 failed)"),
         "{report}"
@@ -138,7 +129,7 @@ fn a_failing_set_is_reported_and_the_others_run() {
 /// with one error line, writing nothing.
 #[test]
 fn bad_parameter_files_are_errors_that_write_nothing() {
-    let s = Setup::new();
+    let s = setup();
     s.write("model.json", r#"{"type": "play", "r": 0.5}"#);
     let args = |sets: &str, out: &str| {
         let mut cmd = hysteron(s.dir());
@@ -174,8 +165,8 @@ fn bad_parameter_files_are_errors_that_write_nothing() {
         &mut args("nan.csv", "nan.csv"),
         &["refusing to overwrite"],
     );
-    assert!(!s.path("out.csv").exists());
-    assert!(fs::read_to_string(s.path("nan.csv"))
+    assert!(!s.path().join("out.csv").exists());
+    assert!(fs::read_to_string(s.path().join("nan.csv"))
         .unwrap()
         .contains("nan"));
 }

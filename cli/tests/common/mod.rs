@@ -240,3 +240,10 @@ pub trait InTempDir {
         fs::write(self.path(name), contents).unwrap();
     }
 }
+
+/// A bare temporary directory is a setup of its own.
+impl InTempDir for TempDir {
+    fn tmp(&self) -> &TempDir {
+        self
+    }
+}
