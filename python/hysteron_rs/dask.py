@@ -1,4 +1,5 @@
-"""Running a batch of records over a Dask cluster.
+"""Running a batch of records, or an ensemble of parameter sets, over a
+Dask cluster.
 
 ``map_records(client, model, records)`` sends the model (pickled through
 its spec) to every worker once, cuts the records into chunks, runs each
@@ -24,6 +25,10 @@ a summary is wanted::
                       reduce=lambda y: float(np.sqrt(np.mean(y * y))))
 
 Each record runs from the model's initial state, as in ``run_batch``.
+
+``sweep(client, model, params, x)`` runs one instance of ``model`` per row
+of ``params`` over ``x``, as ``Ensemble(model, params).run(x)`` does, with
+the rows cut into chunks that are ensembles of their own on the workers.
 """
 
 from __future__ import annotations
@@ -33,9 +38,9 @@ from typing import Any, Callable, List, Optional, Sequence
 import numpy as np
 import numpy.typing as npt
 
-from ._native import HysteronError, Model, run_batch
+from ._native import Ensemble, HysteronError, Model, run_batch
 
-__all__ = ["map_records"]
+__all__ = ["map_records", "sweep"]
 
 
 def _run_chunk(
@@ -54,16 +59,16 @@ def _run_chunk(
     return [reduce(y) for y in outputs] if reduce is not None else outputs
 
 
-def _renumbered(e: HysteronError, offset: int) -> HysteronError:
-    """``e`` (about record ``i`` of a chunk) about record ``offset + i``."""
+def _renumbered(e: HysteronError, offset: int, what: str = "record") -> HysteronError:
+    """``e`` (about entry ``i`` of a chunk) about entry ``offset + i``."""
     local = getattr(e, "index", None)
     if local is None:
         return e
-    prefix = f"record {local}: "
+    prefix = f"{what} {local}: "
     message = str(e)
     if message.startswith(prefix):
         message = message[len(prefix) :]
-    out = type(e)(f"record {offset + local}: {message}")
+    out = type(e)(f"{what} {offset + local}: {message}")
     out.index = offset + local  # type: ignore[attr-defined]
     if hasattr(e, "sample"):
         out.sample = e.sample  # type: ignore[attr-defined]
@@ -116,3 +121,58 @@ def map_records(
     for part in client.gather(futures):
         out.extend(part)
     return out
+
+
+def _run_ensemble(
+    model: Model,
+    offset: int,
+    rows: npt.NDArray[np.float64],
+    x: npt.NDArray[np.float64],
+    errors: str,
+) -> npt.NDArray[np.float64]:
+    try:
+        return Ensemble(model, rows).run(x, errors=errors)
+    except HysteronError as e:
+        raise _renumbered(e, offset, "instance") from None
+
+
+def sweep(
+    client: Any,
+    model: Model,
+    params: npt.ArrayLike,
+    x: npt.ArrayLike,
+    *,
+    errors: str = "raise",
+    chunk_size: Optional[int] = None,
+) -> npt.NDArray[np.float64]:
+    """``Ensemble(model, params).run(x, errors=errors)`` on the cluster of
+    ``client``: the outputs, shape ``(len(params), len(x))``, each row the
+    bits the model gives alone with that row's parameters.
+
+    The rows are cut into chunks of ``chunk_size`` (default: about four
+    chunks per worker thread, in multiples of eight, the lanes of one
+    vector block), each an ensemble run as one task. An error is raised as
+    ``Ensemble.run`` raises it, with ``index`` the row's position in
+    ``params``.
+    """
+    rows = np.ascontiguousarray(params, dtype=np.float64)
+    samples = np.ascontiguousarray(x, dtype=np.float64)
+    if rows.ndim != 2 or rows.shape[0] == 0:
+        # the ensemble's own message for a bad matrix
+        Ensemble(model, rows)
+    if chunk_size is None:
+        threads = sum(client.nthreads().values()) or 1
+        per_task = -(-rows.shape[0] // (4 * threads))
+        chunk_size = 8 * max(1, -(-per_task // 8))
+    if chunk_size < 1:
+        raise ValueError("chunk_size: must be at least 1")
+    offsets = list(range(0, rows.shape[0], chunk_size))
+    shared = client.scatter(model, broadcast=True, hash=False)
+    shared_x = client.scatter(samples, broadcast=True, hash=False)
+    data = client.scatter([rows[i : i + chunk_size] for i in offsets], hash=False)
+    n = len(offsets)
+    futures = client.map(
+        _run_ensemble, [shared] * n, offsets, data, [shared_x] * n, [errors] * n, pure=False
+    )
+    parts: List[npt.NDArray[np.float64]] = client.gather(futures)
+    return np.vstack(parts)

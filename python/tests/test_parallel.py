@@ -112,3 +112,30 @@ def test_parameter_set_errors_name_the_set() -> None:
         hy.run_parameter_sets(model, [{"f_c": "abc"}], x)
     with pytest.raises(hy.ParameterError, match=r"^parameter `f_c`: abc is not a number"):
         model.with_params(f_c="abc")
+
+
+def test_dask_sweep_is_the_local_ensemble() -> None:
+    distributed = pytest.importorskip("dask.distributed")
+    from hysteron_rs.dask import sweep
+
+    model = hy.mms(1.0, 20.0)
+    rows = np.column_stack(
+        [np.linspace(0.5, 1.5, 50), np.linspace(5.0, 60.0, 50), np.zeros(50)]
+    )
+    x = _records(1, 1500)[0]
+    bad = rows.copy()
+    bad[37, 0] = -1.0
+    with distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+    ) as cluster:
+        with distributed.Client(cluster) as client:
+            got = sweep(client, model, rows, x)
+            small = sweep(client, model, rows, x, chunk_size=7)
+            with pytest.raises(hy.ParameterError) as err:
+                sweep(client, model, bad, x, chunk_size=8)
+            nan = sweep(client, model, bad, x, errors="nan")
+    want = hy.Ensemble(model, rows).run(x)
+    assert np.array_equal(got, want) and np.array_equal(small, want)
+    # row 37 is row 5 of the fifth chunk of eight: named by its place in params
+    assert err.value.index == 37 and str(err.value).startswith("instance 37: ")
+    assert np.isnan(nan[37]).all() and np.array_equal(np.delete(nan, 37, 0), np.delete(want, 37, 0))
