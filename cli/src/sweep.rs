@@ -66,6 +66,15 @@ pub enum SweepError {
     /// The parameter file could not be read or is invalid.
     #[error("params {0}")]
     Params(CsvIoError),
+    /// A parameter named twice in the header (as two spellings of one
+    /// path).
+    #[error("params `{}`: parameter `{name}` is named by two columns", path.display())]
+    NamedTwice {
+        /// The parameter file.
+        path: PathBuf,
+        /// The parameter's full path.
+        name: String,
+    },
     /// A parameter name of the header is unknown or ambiguous.
     #[error("params `{}`: {error}", path.display())]
     ParamName {
@@ -174,6 +183,15 @@ fn parameter_sets(
         path: opts.params.clone(),
         error,
     })?;
+    let all = model.param_names();
+    for (k, j) in indices.iter().enumerate() {
+        if indices[..k].contains(j) {
+            return Err(SweepError::NamedTwice {
+                path: opts.params.clone(),
+                name: all.get(*j).cloned().unwrap_or_default(),
+            });
+        }
+    }
     let columns = csvio::read_columns(&opts.params, &names).map_err(SweepError::Params)?;
     let own = model.params();
     let rows = columns.lines.len();

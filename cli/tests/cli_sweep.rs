@@ -131,21 +131,15 @@ fn a_failing_set_is_reported_and_the_others_run() {
 fn bad_parameter_files_are_errors_that_write_nothing() {
     let s = setup();
     s.write("model.json", r#"{"type": "play", "r": 0.5}"#);
-    let args = |sets: &str, out: &str| {
+    let args_of = |model: &str, sets: &str, out: &str| {
         let mut cmd = hysteron(s.dir());
-        cmd.args([
-            "sweep",
-            "--model",
-            "model.json",
-            "--params",
-            sets,
-            "--input",
-            "in.csv",
-            "--output",
-            out,
-        ]);
+        let flags = [
+            "--model", model, "--params", sets, "--input", "in.csv", "--output", out,
+        ];
+        cmd.arg("sweep").args(flags);
         cmd
     };
+    let args = |sets: &str, out: &str| args_of("model.json", sets, out);
     s.write("unknown.csv", "q\n1\n");
     fails_leaving_dir_unchanged(
         s.dir(),
@@ -157,6 +151,16 @@ fn bad_parameter_files_are_errors_that_write_nothing() {
         s.dir(),
         &mut args("nan.csv", "out.csv"),
         &["params `nan.csv`, row 2", "column `r`", "not finite"],
+    );
+    s.write(
+        "scaled.json",
+        r#"{"type": "scaled", "w": 2, "inner": {"type": "play", "r": 0.5}}"#,
+    );
+    s.write("twice.csv", "r,inner.play.r\n0.1,0.2\n");
+    fails_leaving_dir_unchanged(
+        s.dir(),
+        &mut args_of("scaled.json", "twice.csv", "out.csv"),
+        &["params `twice.csv`: parameter `inner.play.r` is named by two columns"],
     );
     s.write("empty.csv", "r\n");
     fails_leaving_dir_unchanged(s.dir(), &mut args("empty.csv", "out.csv"), &["params"]);
