@@ -150,6 +150,25 @@ impl Ensemble {
         let model = spec
             .build()
             .map_err(|e| EnsembleError::Model(e.to_string()))?;
+        let mut ensemble = Ensemble::of_model(model.as_ref(), params)?;
+        ensemble.lanes = lanes_for(spec, &ensemble.sets);
+        Ok(ensemble)
+    }
+
+    /// The ensemble of a built model (any [`Operator`], such as a fitted
+    /// model or one of the caller's own) with one instance per row of
+    /// `params`, each started from the model's initial state. It steps
+    /// one instance at a time ([`Kernel::Instances`]): the lane kernels
+    /// are chosen from a spec ([`new`](Self::new)).
+    ///
+    /// # Errors
+    /// As [`new`](Self::new), without [`EnsembleError::Model`].
+    pub fn of_model(
+        model: &(dyn Operator<f64> + 'static),
+        params: &DMatrix<f64>,
+    ) -> Result<Ensemble, EnsembleError> {
+        let mut model: Box<dyn Operator<f64>> = dyn_clone::clone_box(model);
+        model.reset();
         let names = model.param_names();
         if params.nrows() == 0 {
             return Err(EnsembleError::NoInstances);
@@ -168,8 +187,11 @@ impl Ensemble {
                 dyn_clone::clone_box(&*model).set_params(&row).map(|()| row)
             })
             .collect();
-        let lanes = lanes_for(spec, &sets);
-        Ok(Ensemble { model, sets, lanes })
+        Ok(Ensemble {
+            model,
+            sets,
+            lanes: None,
+        })
     }
 
     /// The number of instances.

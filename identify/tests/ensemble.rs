@@ -107,6 +107,28 @@ fn composed_models_in_an_ensemble_are_each_instance_alone() {
     assert_eq!(check_against_alone(&cascade, 9), Kernel::Instances);
 }
 
+/// An ensemble of a built model (here one already stepped away from its
+/// initial state) gives every instance the bits that the spec's ensemble
+/// gives it, one instance at a time.
+#[test]
+fn an_ensemble_of_a_built_model_starts_each_instance_afresh() {
+    let spec = Spec::from_json(r#"{"type": "mms", "f_c": 1.0, "k": 20.0}"#).unwrap();
+    let mut model = spec.build().unwrap();
+    model.run(&[0.3, 0.7]).unwrap();
+    let params = rows_around(&*model, 11);
+    let x = input(300);
+    let of_model = Ensemble::of_model(&*model, &params).unwrap();
+    assert_eq!(of_model.kernel(), Kernel::Instances);
+    let from_spec = Ensemble::new(&spec, &params).unwrap();
+    assert_eq!(from_spec.kernel(), Kernel::Lanes("mms"));
+    let (a, b) = (of_model.run(&x).unwrap(), from_spec.run(&x).unwrap());
+    assert_eq!(a.failures, b.failures);
+    assert!(!a.failures.is_empty());
+    for (k, (u, v)) in a.outputs.iter().zip(&b.outputs).enumerate() {
+        assert!(u.to_bits() == v.to_bits(), "value {k}: {u} vs {v}");
+    }
+}
+
 /// Bad shapes and inputs are typed errors naming what is wrong.
 #[test]
 fn bad_matrices_and_inputs_are_typed_errors() {
