@@ -22,6 +22,7 @@ pub mod identify_paper;
 pub mod model_file;
 pub mod output;
 pub mod paper;
+pub mod parquet_file;
 pub mod period;
 pub mod plot;
 pub mod reference_figures;

@@ -12,7 +12,10 @@
 //!   numbers); parameters it does not name keep the spec's values.
 //! * The output holds the input column, then one column per set,
 //!   `set_<row>` with the set's data row in the parameter file (`set_1`
-//!   for the first), values written by [`csvio::fmt_f64`]. A set that
+//!   for the first). A file whose name ends in `.parquet` is written as
+//!   Parquet ([`parquet_file`]: one `DOUBLE` column per name, the bits
+//!   unchanged), any other as CSV (values written by [`csvio::fmt_f64`],
+//!   which reads back to the same bits). A set that
 //!   fails (a value out of its parameter's domain, or a run the model
 //!   refuses at a sample) has `NaN` in its column, and the report names it
 //!   with its error; the other sets run.
@@ -27,6 +30,7 @@ use crate::csvio::{self, CsvIoError};
 use crate::identify::ensemble::{Ensemble, EnsembleError, InstanceFailure, Kernel};
 use crate::identify::{free_by_names, FitError};
 use crate::output::OutputError;
+use crate::parquet_file;
 use crate::period::{Period, SamplePeriodArgs};
 use crate::simulate::{write_period_and_files, RecordInput, SimulateError};
 use nalgebra::DMatrix;
@@ -45,9 +49,10 @@ pub struct SweepOptions {
     /// the sets; the others keep the spec's values.
     #[arg(long, value_name = "SETS.csv")]
     pub params: PathBuf,
-    /// The output CSV file: the input column, then one column per set,
-    /// set_1, set_2, … (NaN for a set that failed).
-    #[arg(long, value_name = "OUT.csv")]
+    /// The output file: the input column, then one column per set, set_1,
+    /// set_2, … (NaN for a set that failed); Parquet if its name ends in
+    /// .parquet, CSV otherwise.
+    #[arg(long, value_name = "OUT.csv|OUT.parquet")]
     pub output: PathBuf,
     /// The sample period of a rate-dependent model.
     #[command(flatten)]
@@ -154,8 +159,12 @@ pub fn run(opts: &SweepOptions) -> Result<SweepReport, SweepError> {
             .map(String::as_str)
             .zip(run.outputs.chunks(x.len())),
     );
-    csvio::write_columns(&opts.output, &out)
-        .map_err(|e| SimulateError::Output(OutputError::Write(e)))?;
+    let written = if parquet_file::is_parquet(&opts.output) {
+        parquet_file::write_columns(&opts.output, &out)
+    } else {
+        csvio::write_columns(&opts.output, &out)
+    };
+    written.map_err(|e| SimulateError::Output(OutputError::Write(e)))?;
     Ok(SweepReport {
         sets: ensemble.len(),
         samples: x.len(),

@@ -174,3 +174,60 @@ fn bad_parameter_files_are_errors_that_write_nothing() {
         .unwrap()
         .contains("nan"));
 }
+
+/// An output named `.parquet` is a Parquet table with the CSV's column
+/// names and the very bits the CSV's text reads back to (NaN for the set
+/// that failed).
+#[test]
+fn a_parquet_output_holds_the_csv_columns_bit_for_bit() {
+    use parquet::file::reader::{FileReader, SerializedFileReader};
+    use parquet::record::Field;
+    let s = setup();
+    let (_, headers, rows) = sweep(
+        &s,
+        r#"{"type": "mms", "f_c": 1.0, "k": 20.0}"#,
+        "f_c\n0.5\n-1\n1.5\n",
+    );
+    succeeds_saying(
+        hysteron(s.dir()).args([
+            "sweep",
+            "--model",
+            "model.json",
+            "--params",
+            "sets.csv",
+            "--input",
+            "in.csv",
+            "--output",
+            "out.parquet",
+        ]),
+        &["1 failed", "wrote out.parquet"],
+    );
+    let file = fs::File::open(s.path().join("out.parquet")).unwrap();
+    let reader = SerializedFileReader::new(file).unwrap();
+    let names: Vec<String> = reader
+        .metadata()
+        .file_metadata()
+        .schema_descr()
+        .columns()
+        .iter()
+        .map(|c| c.name().to_string())
+        .collect();
+    assert_eq!(names, headers);
+    let mut n = 0;
+    for (i, row) in reader.get_row_iter(None).unwrap().enumerate() {
+        let row = row.unwrap();
+        for (j, (_, field)) in row.get_column_iter().enumerate() {
+            let Field::Double(v) = field else {
+                panic!("row {i}, column {j}: {field:?} is not a double")
+            };
+            let want: f64 = rows[i][j].parse().unwrap();
+            assert!(
+                v.to_bits() == want.to_bits() || (v.is_nan() && want.is_nan()),
+                "row {i}, column {j}: {v} in Parquet, {want} in the CSV"
+            );
+        }
+        n += 1;
+    }
+    assert_eq!(n, rows.len());
+    assert!(rows.iter().all(|r| r[2] == "NaN"));
+}
