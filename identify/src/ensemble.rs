@@ -96,7 +96,8 @@ pub struct EnsembleRun {
 impl EnsembleRun {
     /// Instance `i`'s outputs (NaN if it failed), `None` past the last.
     pub fn row(&self, i: usize) -> Option<&[f64]> {
-        self.outputs.chunks(self.samples.max(1)).nth(i)
+        let start = i.checked_mul(self.samples)?;
+        self.outputs.get(start..start.checked_add(self.samples)?)
     }
 }
 
