@@ -22,7 +22,15 @@ fn setup() -> TempDir {
 fn sweep(s: &TempDir, spec: &str, sets: &str) -> (String, Vec<String>, Vec<Vec<String>>) {
     s.write("model.json", spec);
     s.write("sets.csv", sets);
-    let report = succeeds_saying(
+    let report = sweep_into(s, "out.csv");
+    let (headers, rows) = read_csv(&s.path().join("out.csv"));
+    (report, headers, rows)
+}
+
+/// `sweep` of the `model.json` and `sets.csv` in `s` into `output`: the
+/// report.
+fn sweep_into(s: &TempDir, output: &str) -> String {
+    succeeds_saying(
         hysteron(s.dir()).args([
             "sweep",
             "--model",
@@ -32,12 +40,10 @@ fn sweep(s: &TempDir, spec: &str, sets: &str) -> (String, Vec<String>, Vec<Vec<S
             "--input",
             "in.csv",
             "--output",
-            "out.csv",
+            output,
         ]),
-        &["parameter sets", "wrote out.csv"],
-    );
-    let (headers, rows) = read_csv(&s.path().join("out.csv"));
-    (report, headers, rows)
+        &["parameter sets", &format!("wrote {output}")],
+    )
 }
 
 /// The output column `simulate` writes for `spec`, as text.
