@@ -18,7 +18,14 @@ Prints, on the same machine in the same run:
 * ``dask``: 64 records through ``hysteron_rs.dask.map_records`` on a
   LocalCluster of 2 worker processes against 1 (one thread each), sent
   from the client, and loaded by the workers from ``.npy`` files with only
-  a summary sent back.
+  a summary sent back;
+* ``sweep``: 10^4 parameter sets (``--sets``) of the paper model (six of its gap,
+  friction and spring parameters spread by up to ±20 %) over 2000 samples of the kernel
+  input through ``hysteron_rs.dask.sweep`` on a LocalCluster of 2 worker
+  processes against 1 (one thread each), the outputs gathered to the
+  client.
+
+``--only`` runs some of them (``--only sweep,dask``).
 """
 
 from __future__ import annotations
@@ -72,12 +79,60 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--samples", type=int, default=10_000_000)
     ap.add_argument("--runs", type=int, default=5)
+    ap.add_argument("--only", default="run,step,threads,dask,sweep")
+    ap.add_argument("--sets", type=int, default=10_000, help="parameter sets of the sweep")
     args = ap.parse_args()
     n, runs = args.samples, args.runs
+    only = set(args.only.split(","))
     x = kernel_input(n)
+    sections(x, n, runs, only)
+    if "sweep" in only:
+        sweep_section(x, args.sets, runs)
 
-    rust = rust_paper_ns(n, runs)
+
+# The paper model's parameters that the sweep spreads (the others keep
+# their values: the stiffness grid must stay increasing, n at least 1).
+SPREAD = ["limits.b", "left.mms.f_c", "left.mms.k", "right.bouc_wen.w", "right.bouc_wen.beta", "right.bouc_wen.gamma"]
+
+
+def sweep_section(x: np.ndarray, sets: int, runs: int) -> None:
+    from dask.distributed import Client, LocalCluster
+
+    from hysteron_rs.dask import sweep
+
     model = hy.paper_model()
+    names = list(model.params)
+    length = 2000
+    rows = np.tile(np.array(list(model.params.values())), (sets, 1))
+    spread = np.random.default_rng(7).uniform(0.8, 1.2, (sets, len(SPREAD)))
+    for j, name in enumerate(SPREAD):
+        rows[:, names.index(name)] *= spread[:, j]
+    xs = x[:length]
+    want = hy.Ensemble(model, rows).run(xs, errors="nan")
+    took: dict = {}
+    for workers in (1, 2):
+        with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, Client(cluster) as client:
+            got = sweep(client, model, rows[:64], xs, errors="nan")  # warm the workers
+            got = sweep(client, model, rows, xs, errors="nan")
+            assert np.array_equal(got, want, equal_nan=True), "the sweep differs from the local ensemble"
+            took[workers] = median_time(lambda: sweep(client, model, rows, xs, errors="nan"), runs)
+    print(f"sweep   {sets} parameter sets x {length} samples (paper model): 1 worker {took[1]:.3f} s, 2 workers {took[2]:.3f} s, speed-up {took[1] / took[2]:.2f}x")
+
+
+def sections(x: np.ndarray, n: int, runs: int, only: set) -> None:
+    model = hy.paper_model()
+    if "run" in only:
+        run_section(model, x, n, runs)
+    if "step" in only:
+        step_section(runs)
+    if "threads" in only:
+        threads_section(x, n, runs)
+    if "dask" in only:
+        dask_section(model, x, n, runs)
+
+
+def run_section(model: "hy.Model", x: np.ndarray, n: int, runs: int) -> None:
+    rust = rust_paper_ns(n, runs)
 
     def run_once() -> None:
         model.reset()
@@ -86,6 +141,8 @@ def main() -> None:
     py = median_time(run_once, runs) / n * 1e9
     print(f"run     paper model, {n} samples: Python {py:.2f} ns/sample, hysteron bench {rust:.2f} ns/sample, ratio {py / rust:.3f}")
 
+
+def step_section(runs: int) -> None:
     gain = hy.gain(1.0)
     calls = 1_000_000
     step = gain.step
@@ -98,6 +155,8 @@ def main() -> None:
     per_call = median_time(steps, runs) / calls * 1e6
     print(f"step    {per_call:.3f} µs per call (gain, {calls} calls)")
 
+
+def threads_section(x: np.ndarray, n: int, runs: int) -> None:
     xs = x[: n // 2]
     models = [hy.paper_model(), hy.paper_model()]
 
@@ -119,6 +178,8 @@ def main() -> None:
     t_parallel = median_time(parallel, runs)
     print(f"threads two models, {xs.size} samples each: serial {t_serial:.3f} s, two threads {t_parallel:.3f} s, speed-up {t_serial / t_parallel:.2f}x")
 
+
+def dask_section(model: "hy.Model", x: np.ndarray, n: int, runs: int) -> None:
     from dask.distributed import Client, LocalCluster
 
     from hysteron_rs.dask import map_records
