@@ -5,6 +5,7 @@
 #![allow(non_snake_case)]
 
 use super::instance::{Instance, Mode, Snapshot};
+use super::serial::{deserialize, serialize};
 use super::types::*;
 use crate::status::panic_text;
 use std::ffi::{c_char, CStr, CString};
@@ -379,33 +380,87 @@ fn unsupported(c: fmi2Component, what: &str) -> fmi2Status {
     with(c, |_| Err(format!("{what} is not supported by this FMU")))
 }
 
-#[no_mangle]
-pub extern "C" fn fmi2SerializedFMUstateSize(
-    c: fmi2Component,
-    _state: fmi2FMUstate,
-    _size: *mut usize,
-) -> fmi2Status {
-    unsupported(c, "serializing FMU states (canSerializeFMUstate is false)")
+/// The bytes of `state` ([`serial`](super::serial)).
+///
+/// # Safety
+/// `state` is NULL or a state from `fmi2GetFMUstate` or
+/// `fmi2DeSerializeFMUstate`.
+unsafe fn state_bytes(comp: &Component, state: fmi2FMUstate) -> Result<Vec<u8>, String> {
+    // SAFETY: by the contract.
+    let snap = unsafe { (state as *const Snapshot).as_ref() }.ok_or("FMUstate: NULL")?;
+    serialize(comp.inst.start(), snap)
 }
 
+/// # Safety
+/// `state` is NULL or a state of this instance; `size` is NULL or
+/// writable.
 #[no_mangle]
-pub extern "C" fn fmi2SerializeFMUstate(
+pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
     c: fmi2Component,
-    _state: fmi2FMUstate,
-    _bytes: *mut fmi2Byte,
-    _size: usize,
+    state: fmi2FMUstate,
+    size: *mut usize,
 ) -> fmi2Status {
-    unsupported(c, "serializing FMU states (canSerializeFMUstate is false)")
+    with(c, |comp| {
+        let bytes = unsafe { state_bytes(comp, state) }?;
+        // SAFETY: by the contract.
+        *unsafe { size.as_mut() }.ok_or("size: NULL")? = bytes.len();
+        Ok(())
+    })
 }
 
+/// # Safety
+/// `state` is NULL or a state of this instance; `bytes` is NULL or
+/// writable for `size` bytes.
 #[no_mangle]
-pub extern "C" fn fmi2DeSerializeFMUstate(
+pub unsafe extern "C" fn fmi2SerializeFMUstate(
     c: fmi2Component,
-    _bytes: *const fmi2Byte,
-    _size: usize,
-    _state: *mut fmi2FMUstate,
+    state: fmi2FMUstate,
+    bytes: *mut fmi2Byte,
+    size: usize,
 ) -> fmi2Status {
-    unsupported(c, "serializing FMU states (canSerializeFMUstate is false)")
+    with(c, |comp| {
+        let data = unsafe { state_bytes(comp, state) }?;
+        if bytes.is_null() {
+            return Err("serializedState: NULL".into());
+        }
+        if size != data.len() {
+            return Err(format!(
+                "size is {size}, but the state is {} bytes (fmi2SerializedFMUstateSize)",
+                data.len()
+            ));
+        }
+        // SAFETY: `bytes` is writable for `size` = data.len() bytes.
+        unsafe { std::ptr::copy_nonoverlapping(data.as_ptr(), bytes.cast::<u8>(), size) };
+        Ok(())
+    })
+}
+
+/// # Safety
+/// `bytes` is NULL or valid for `size` bytes; `state` is NULL or points to
+/// NULL or to a state of this instance.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
+    c: fmi2Component,
+    bytes: *const fmi2Byte,
+    size: usize,
+    state: *mut fmi2FMUstate,
+) -> fmi2Status {
+    with(c, |comp| {
+        // SAFETY: by the contract.
+        let slot = unsafe { state.as_mut() }.ok_or("FMUstate: NULL")?;
+        let data: &[u8] = match size {
+            0 => &[],
+            _ if bytes.is_null() => return Err("serializedState: NULL".into()),
+            // SAFETY: valid for `size` bytes by the contract.
+            _ => unsafe { std::slice::from_raw_parts(bytes.cast::<u8>(), size) },
+        };
+        let snap = deserialize(comp.inst.start(), data)?;
+        match unsafe { (*slot as *mut Snapshot).as_mut() } {
+            Some(old) => *old = snap,
+            None => *slot = Box::into_raw(Box::new(snap)) as fmi2FMUstate,
+        }
+        Ok(())
+    })
 }
 
 #[no_mangle]

@@ -22,13 +22,14 @@ pub enum Mode {
 /// What can be saved and restored: everything that changes while stepping.
 #[derive(Clone)]
 pub struct Snapshot {
-    model: Model,
-    x: f64,
-    y: f64,
-    time: f64,
-    period: Option<f64>,
-    history: Vec<(f64, f64)>,
-    mode: Mode,
+    pub(super) model: Model,
+    pub(super) x: f64,
+    pub(super) y: f64,
+    pub(super) time: f64,
+    pub(super) period: Option<f64>,
+    /// Each committed sample's input and the sample period it ran at.
+    pub(super) history: Vec<(f64, f64)>,
+    pub(super) mode: Mode,
 }
 
 /// An instance.
@@ -191,7 +192,9 @@ impl Instance {
             .model
             .step(s.x)
             .map_err(|e| format!("fmi2DoStep at t = {t} (input x = {}): {e}", s.x))?;
-        s.history.push((s.x, h));
+        // The period the sample ran at (not `h`, which may be a few ulps
+        // off it): a replay then sets the very same periods.
+        s.history.push((s.x, s.period.unwrap_or(h)));
         s.time = t + h;
         Ok(())
     }
@@ -261,26 +264,12 @@ impl Instance {
 
     /// Rebuilds the model with `params` and replays the committed samples.
     fn change_params(&mut self, params: &[f64]) -> Result<(), String> {
-        let mut model = self
+        let model = self
             .now
             .model
             .with_params(params)
             .map_err(|e| e.to_string())?;
-        let mut period = None;
-        let mut y = None;
-        for (k, &(x, h)) in self.now.history.iter().enumerate() {
-            if period != Some(h) {
-                model
-                    .set_sample_period(h)
-                    .map_err(|e| format!("replaying step {k} with the new parameters: {e}"))?;
-                period = Some(h);
-            }
-            y = Some(
-                model
-                    .step(x)
-                    .map_err(|e| format!("replaying step {k} with the new parameters: {e}"))?,
-            );
-        }
+        let (model, period, y) = replay(model, &self.now.history, "with the new parameters")?;
         self.now.model = model;
         self.now.period = period;
         if let Some(y) = y {
@@ -289,6 +278,11 @@ impl Instance {
             self.now.y = self.initial_output()?;
         }
         Ok(())
+    }
+
+    /// The model as instantiated.
+    pub(super) fn start(&self) -> &Model {
+        &self.start
     }
 
     pub fn snapshot(&self) -> Snapshot {
@@ -300,8 +294,35 @@ impl Instance {
     }
 }
 
+/// Runs `model` (from its initial state) through the committed samples
+/// `history` as `do_step` ran them: the model, its sample period and its
+/// last output (`None` for no samples). `why` says what the replay is for,
+/// in an error.
+pub(super) fn replay(
+    mut model: Model,
+    history: &[(f64, f64)],
+    why: &str,
+) -> Result<(Model, Option<f64>, Option<f64>), String> {
+    let mut period = None;
+    let mut y = None;
+    for (k, &(x, h)) in history.iter().enumerate() {
+        if period != Some(h) {
+            model
+                .set_sample_period(h)
+                .map_err(|e| format!("replaying step {k} {why}: {e}"))?;
+            period = Some(h);
+        }
+        y = Some(
+            model
+                .step(x)
+                .map_err(|e| format!("replaying step {k} {why}: {e}"))?,
+        );
+    }
+    Ok((model, period, y))
+}
+
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
 
     #[test]
@@ -318,7 +339,8 @@ mod tests {
         assert!(uri_path("file:///a%2").unwrap().ends_with("a%2"));
     }
 
-    fn stepping(json: &str) -> Instance {
+    /// An instance of `json` ready to step.
+    pub(in crate::fmi2) fn stepping(json: &str) -> Instance {
         let mut inst = Instance::new(Model::from_json(json).unwrap());
         inst.setup(0.0).unwrap();
         inst.enter_initialization().unwrap();
@@ -326,7 +348,8 @@ mod tests {
         inst
     }
 
-    fn run(inst: &mut Instance, xs: &[f64], h: f64) -> Vec<f64> {
+    /// Steps `inst` through `xs` with step `h`: the outputs.
+    pub(in crate::fmi2) fn run(inst: &mut Instance, xs: &[f64], h: f64) -> Vec<f64> {
         xs.iter()
             .map(|&x| {
                 let t = inst.time();

@@ -26,7 +26,12 @@
 //!   one `fmi2SetReal` call.
 //! * `fmi2GetFMUstate` takes a snapshot (a clone of the model, its input,
 //!   output, time and history); `fmi2SetFMUstate` restores it, and replay
-//!   from it is identical. States are not serializable.
+//!   from it is identical. `fmi2SerializeFMUstate` writes a state as bytes
+//!   (its parameters and committed samples, 16 bytes per step; see
+//!   `serial`), and `fmi2DeSerializeFMUstate` restores them in any
+//!   instance of the same FMU by replaying the samples: bit for bit the
+//!   saved instance's continuation. Bytes that are corrupted, truncated or
+//!   of another FMU are refused with a logged message.
 //! * `fmi2Reset` returns to the state after instantiation (the start
 //!   values). Calls the FMU does not support (Model Exchange, directional
 //!   derivatives, input derivatives, asynchronous steps, Integer, Boolean
@@ -40,6 +45,7 @@
 mod description;
 mod exports;
 mod instance;
+mod serial;
 mod types;
 
 pub use description::{guid, model_description, VR_FIRST_PARAM, VR_X, VR_Y};
