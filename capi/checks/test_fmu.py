@@ -207,6 +207,41 @@ def test_a_serialized_state_continues_bit_for_bit_in_a_fresh_instance(paper_fmu,
     fresh.close()
 
 
+def test_directional_derivatives_agree_with_central_differences_of_the_fmu(paper_fmu) -> None:
+    s = Slave(paper_fmu)
+    x = signal(900)
+    s.run(x[:-1])
+    before = s.fmu.getFMUstate()
+    s.run(x[-1:])
+    y, f_c = s.vr["y"], s.vr["left.mms.f_c"]
+
+    def y_after_last(value: float, vr: int) -> float:
+        """y of the last step again, with `vr` set to `value` before it."""
+        after = s.fmu.getFMUstate()
+        s.fmu.setFMUstate(before)
+        s.fmu.setReal([vr], [value])
+        if vr != s.vr["x"]:
+            s.fmu.setReal([s.vr["x"]], [float(x[-1])])
+        s.fmu.doStep(currentCommunicationPoint=s.t - H, communicationStepSize=H)
+        out = s.fmu.getReal([y])[0]
+        s.fmu.setFMUstate(after)
+        s.fmu.freeFMUstate(after)
+        return out
+
+    for vr, at in [(s.vr["x"], float(x[-1])), (f_c, 1.5)]:
+        exact = s.fmu.getDirectionalDerivative([y], [vr], [1.0])[0]
+        d = 1e-6 * abs(at)
+        fd = (y_after_last(at + d, vr) - y_after_last(at - d, vr)) / (2 * d)
+        assert abs(exact - fd) <= 1e-6 * abs(exact), (vr, exact, fd)
+    # a combination: J · dv over two knowns
+    both = s.fmu.getDirectionalDerivative([y], [s.vr["x"], f_c], [2.0, -3.0])[0]
+    parts = [s.fmu.getDirectionalDerivative([y], [vr], [1.0])[0] for vr in (s.vr["x"], f_c)]
+    assert both == pytest.approx(2.0 * parts[0] - 3.0 * parts[1], rel=1e-15)
+    with pytest.raises(Exception, match="fmi2GetDirectionalDerivative"):
+        s.fmu.getDirectionalDerivative([s.vr["x"]], [f_c], [1.0])
+    s.close()
+
+
 def test_a_parameter_change_acts_as_the_same_change_in_the_spec(cli, root, paper_fmu, tmp_path) -> None:
     spec = json.loads((root / "examples" / "specs" / "paper.json").read_text())
     spec["left"]["f_c"] = 2.5

@@ -463,20 +463,32 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
     })
 }
 
+/// # Safety
+/// `unknown` and `dvUnknown` are NULL or valid for `nUnknown` elements,
+/// `known` and `dvKnown` for `nKnown`.
 #[no_mangle]
-pub extern "C" fn fmi2GetDirectionalDerivative(
+pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
     c: fmi2Component,
-    _unknown: *const fmi2ValueReference,
-    _nUnknown: usize,
-    _known: *const fmi2ValueReference,
-    _nKnown: usize,
-    _dvKnown: *const fmi2Real,
-    _dvUnknown: *mut fmi2Real,
+    unknown: *const fmi2ValueReference,
+    nUnknown: usize,
+    known: *const fmi2ValueReference,
+    nKnown: usize,
+    dvKnown: *const fmi2Real,
+    dvUnknown: *mut fmi2Real,
 ) -> fmi2Status {
-    unsupported(
-        c,
-        "fmi2GetDirectionalDerivative (providesDirectionalDerivative is false)",
-    )
+    with(c, |comp| {
+        let (unknowns, _) = unsafe { slices(unknown, dvUnknown as *const f64, nUnknown) }?;
+        let (knowns, dv_known) = unsafe { slices(known, dvKnown, nKnown) }?;
+        let dv = comp
+            .inst
+            .directional_derivative(unknowns, knowns, dv_known)?;
+        for (k, v) in dv.into_iter().enumerate() {
+            // SAFETY: `dvUnknown` is valid for nUnknown doubles (checked
+            // non-NULL).
+            unsafe { *dvUnknown.add(k) = v };
+        }
+        Ok(())
+    })
 }
 
 #[no_mangle]

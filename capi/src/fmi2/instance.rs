@@ -2,6 +2,7 @@
 //! committed since the start (for parameter changes), and its mode. Safe
 //! Rust; `exports.rs` puts the C functions around it.
 
+use super::derivatives::{partials, Known};
 use super::description::{guid, VR_FIRST_PARAM, VR_X, VR_Y};
 use crate::model::Model;
 use std::path::PathBuf;
@@ -278,6 +279,37 @@ impl Instance {
             self.now.y = self.initial_output()?;
         }
         Ok(())
+    }
+
+    /// `dvUnknown = J · dvKnown` at the current communication point:
+    /// `J` the partial derivatives of the unknowns `unknown` (the output
+    /// `y`) with respect to the knowns `known` (the input `x` and
+    /// parameters; see [`derivatives`](super::derivatives)).
+    pub fn directional_derivative(
+        &self,
+        unknown: &[u32],
+        known: &[u32],
+        dv_known: &[f64],
+    ) -> Result<Vec<f64>, String> {
+        if let Some(&vr) = unknown.iter().find(|&&vr| vr != VR_Y) {
+            return Err(format!(
+                "unknown {vr}: only the output y (value reference {VR_Y}) is an unknown"
+            ));
+        }
+        let knowns = known
+            .iter()
+            .map(|&vr| match vr {
+                VR_X => Ok(Known::Input),
+                VR_Y => Err("y is an output, not a known".to_string()),
+                _ => self.param_index(vr).map(Known::Param),
+            })
+            .collect::<Result<Vec<Known>, String>>()?;
+        if let Some(v) = dv_known.iter().find(|v| !v.is_finite()) {
+            return Err(format!("dvKnown: {v} is not finite"));
+        }
+        let partials = partials(&self.now, &knowns)?;
+        let dy: f64 = partials.iter().zip(dv_known).map(|(d, v)| d * v).sum();
+        Ok(vec![dy; unknown.len()])
     }
 
     /// The model as instantiated.

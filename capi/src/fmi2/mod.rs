@@ -32,16 +32,22 @@
 //!   instance of the same FMU by replaying the samples: bit for bit the
 //!   saved instance's continuation. Bytes that are corrupted, truncated or
 //!   of another FMU are refused with a logged message.
+//! * `fmi2GetDirectionalDerivative` gives the exact partial derivatives
+//!   of `y` at the current communication point with respect to the input
+//!   of the last step and to every parameter (the total derivative along
+//!   the samples committed since the start), from a dual-number replay of
+//!   those samples (see `derivatives`).
 //! * `fmi2Reset` returns to the state after instantiation (the start
-//!   values). Calls the FMU does not support (Model Exchange, directional
-//!   derivatives, input derivatives, asynchronous steps, Integer, Boolean
-//!   or String variables) return `fmi2Error` with a message through the
+//!   values). Calls the FMU does not support (Model Exchange, input
+//!   derivatives, asynchronous steps, Integer, Boolean or String
+//!   variables) return `fmi2Error` with a message through the
 //!   logger. No panic crosses the C boundary; instances are independent.
 //!
 //! # Reference
 //! Modelica Association, *Functional Mock-up Interface for Model Exchange
 //! and Co-Simulation*, version 2.0.4 (2022).
 
+mod derivatives;
 mod description;
 mod exports;
 mod instance;
