@@ -306,6 +306,22 @@ def test_instances_are_independent(paper_fmu) -> None:
     b.close()
 
 
+def test_two_fmus_of_different_models_stepped_alternately_are_each_their_solo_run(cli, root, paper_fmu, tmp_path) -> None:
+    pi_fmu = export(cli, root / "examples" / "specs" / "prandtl-ishlinskii.json", tmp_path / "pi.fmu")
+    x = signal(800)
+    solo_paper = Slave(paper_fmu, "solo paper").run(x)
+    solo_pi = Slave(pi_fmu, "solo pi").run(0.7 * x)
+    paper, pi = Slave(paper_fmu, "paper"), Slave(pi_fmu, "pi")
+    ya, yb = [], []
+    for v in x:
+        ya.extend(paper.run([v]))
+        yb.extend(pi.run([0.7 * v]))
+    assert np.array_equal(np.array(ya), solo_paper)
+    assert np.array_equal(np.array(yb), solo_pi)
+    paper.close()
+    pi.close()
+
+
 def test_wrong_guid_and_model_exchange_are_refused(paper_fmu) -> None:
     md = fmpy.read_model_description(str(paper_fmu))
     unzip = fmpy.extract(str(paper_fmu))
