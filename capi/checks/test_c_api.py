@@ -110,3 +110,27 @@ def test_bench_fmi(build_c, root, cli, tmp_path):
     assert fmi > 0 and capi > 0
     sums = re.search(rf"^checksum: fmi {NUMBER}, capi {NUMBER}$", out, re.M)
     assert sums and sums.group(1) == sums.group(2), out
+
+
+def test_ten_thousand_lives_in_one_process_keep_memory_flat(build_c, root, cli, tmp_path):
+    """capi/checks/c/soak.c: 10 000 cycles of instantiate, 1000 steps,
+    reset, 1000 steps, free, through the FMU's fmi2 functions and through
+    the C API: every run gives the first run's outputs, and resident memory
+    grows by less than 1 MB after the first 100 cycles."""
+    import zipfile
+
+    fmu = tmp_path / "paper.fmu"
+    subprocess.run([str(cli), "export-fmu", "--model", str(root / "examples" / "specs" / "paper.json"), "--output", str(fmu)], check=True, capture_output=True)
+    unzipped = tmp_path / "paper"
+    zipfile.ZipFile(fmu).extractall(unzipped)
+    exe = build_c(root / "capi" / "checks" / "c" / "soak.c", name="soak")
+    out = _run(exe, unzipped, 10000, 1000, cwd=root)
+    for face in ("fmi2", "capi"):
+        line = re.search(
+            rf"^{face}: 10000 cycles of 1000 steps, {NUMBER} us per cycle, resident (\d+) kB after 100 cycles, (\d+) kB at the end, growth (-?\d+) kB$",
+            out,
+            re.M,
+        )
+        assert line, out
+        assert int(line.group(2)) > 0, out  # memory was read
+        assert int(line.group(4)) < 1024, out

@@ -11,46 +11,19 @@
  *   ./bench_fmi paper [N]
  *
  * libhysteron_c.so is the FMU's binary too, so the fmi2* functions are
- * linked directly; the FMI 2.0 prototypes needed are declared below.
+ * linked directly (their prototypes: fmi2_host.h).
  * Prints `fmi2DoStep: <ns> ns per step`, `hysteron_step: <ns> ns per step`
  * and their difference, medians of 5 runs, and the sums of both outputs,
  * which must be equal (exit code 1 otherwise).
  */
 #define _POSIX_C_SOURCE 199309L
-#include "common.h"
+#include "fmi2_host.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-
-typedef void *fmi2Component;
-typedef struct {
-    void (*logger)(void *, const char *, int, const char *, const char *, ...);
-    void *(*allocateMemory)(size_t, size_t);
-    void (*freeMemory)(void *);
-    void (*stepFinished)(void *, int);
-    void *componentEnvironment;
-} fmi2CallbackFunctions;
-
-fmi2Component fmi2Instantiate(const char *, int, const char *, const char *,
-                              const fmi2CallbackFunctions *, int, int);
-void fmi2FreeInstance(fmi2Component);
-int fmi2SetupExperiment(fmi2Component, int, double, double, int, double);
-int fmi2EnterInitializationMode(fmi2Component);
-int fmi2ExitInitializationMode(fmi2Component);
-int fmi2Reset(fmi2Component);
-int fmi2SetReal(fmi2Component, const unsigned int *, size_t, const double *);
-int fmi2GetReal(fmi2Component, const unsigned int *, size_t, double *);
-int fmi2DoStep(fmi2Component, double, double, int);
-
-static void logger(void *env, const char *name, int status, const char *category,
-                   const char *message, ...) {
-    (void)env;
-    (void)category;
-    fprintf(stderr, "%s (status %d): %s\n", name, status, message);
-}
 
 static double now(void) {
     struct timespec ts;
@@ -61,20 +34,6 @@ static double now(void) {
 static int by_value(const void *a, const void *b) {
     double x = *(const double *)a, y = *(const double *)b;
     return (x > y) - (x < y);
-}
-
-/* The value of attribute `name` (`name="..."`) in `xml`, copied into `out`. */
-static int attribute(const char *xml, const char *name, char *out, size_t len) {
-    char key[64];
-    snprintf(key, sizeof key, " %s=\"", name);
-    const char *at = strstr(xml, key);
-    if (!at) return 0;
-    at += strlen(key);
-    const char *end = strchr(at, '"');
-    if (!end || (size_t)(end - at) >= len) return 0;
-    memcpy(out, at, (size_t)(end - at));
-    out[end - at] = '\0';
-    return 1;
 }
 
 #define RUNS 5
@@ -91,24 +50,15 @@ int main(int argc, char **argv) {
         fprintf(stderr, "N must be positive\n");
         return 2;
     }
-    char path[4096], guid[128], uri[4200];
-    snprintf(path, sizeof path, "%s/modelDescription.xml", dir);
-    char *xml = read_file(path);
-    if (!attribute(xml, "guid", guid, sizeof guid)) {
-        fprintf(stderr, "cannot read the GUID from %s\n", path);
-        return 1;
-    }
-    free(xml);
-    snprintf(uri, sizeof uri, "file://%s/resources", dir);
-    snprintf(path, sizeof path, "%s/resources/model.json", dir);
-    char *json = read_file(path);
+    UnzippedFmu fmu = open_fmu(dir);
+    char *json = fmu.json;
 
     double *x = malloc((size_t)n * sizeof *x);
     for (long i = 0; i < n; i++)
         x[i] = 2.5 * sin(TAU * (double)i / 2000.0) + 0.3 * sin(TAU * (double)i / 97.3);
 
-    fmi2CallbackFunctions callbacks = {logger, NULL, NULL, NULL, NULL};
-    fmi2Component c = fmi2Instantiate("bench", 1, guid, uri, &callbacks, 0, 0);
+    fmi2CallbackFunctions callbacks = {fmu_logger, NULL, NULL, NULL, NULL};
+    fmi2Component c = fmi2Instantiate("bench", 1, fmu.guid, fmu.uri, &callbacks, 0, 0);
     HysteronModel *model = NULL;
     if (!c || hysteron_model_from_json(json, &model) != HYSTERON_STATUS_OK) {
         fprintf(stderr, "cannot instantiate: %s\n", hysteron_last_error());
