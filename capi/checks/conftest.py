@@ -55,10 +55,14 @@ def build_c(cc: str, release: pathlib.Path, root: pathlib.Path, tmp_path_factory
     the executable's path."""
     out_dir = tmp_path_factory.mktemp("c")
 
-    def build(*sources: pathlib.Path, name: str) -> pathlib.Path:
+    def build(*sources: pathlib.Path, name: str, sanitize: bool = False) -> pathlib.Path:
+        """`sanitize` builds with AddressSanitizer and UndefinedBehaviorSanitizer
+        (the C side; the library's own allocations go through the
+        sanitizer's malloc and free)."""
         exe = out_dir / name
+        flags = ["-O1", "-g", "-fsanitize=address,undefined", "-fno-omit-frame-pointer"] if sanitize else ["-O2"]
         subprocess.run(
-            [cc, "-std=c11", "-O2", "-Wall", "-Wextra", "-Werror", "-I", str(root / "capi" / "include"),
+            [cc, "-std=c11", *flags, "-Wall", "-Wextra", "-Werror", "-I", str(root / "capi" / "include"),
              *map(str, sources), "-o", str(exe), "-L", str(release), "-lhysteron_c",
              f"-Wl,-rpath,{release}", "-lm"],
             check=True,

@@ -5,8 +5,12 @@ trial/commit, reset, clone, parameters, every error path)."""
 
 from __future__ import annotations
 
+import os
+import pathlib
 import re
 import subprocess
+
+import pytest
 
 # The number of `ok` lines capi/checks/c/contract.c prints when every check
 # passes (update it with the checks).
@@ -112,19 +116,40 @@ def test_bench_fmi(build_c, root, cli, tmp_path):
     assert sums and sums.group(1) == sums.group(2), out
 
 
-def test_ten_thousand_lives_in_one_process_keep_memory_flat(build_c, root, cli, tmp_path):
-    """capi/checks/c/soak.c: 10 000 cycles of instantiate, 1000 steps,
-    reset, 1000 steps, free, through the FMU's fmi2 functions and through
-    the C API: every run gives the first run's outputs, and resident memory
-    grows by less than 1 MB after the first 100 cycles."""
+@pytest.fixture
+def unzipped_paper_fmu(cli, root, tmp_path) -> pathlib.Path:
     import zipfile
 
     fmu = tmp_path / "paper.fmu"
     subprocess.run([str(cli), "export-fmu", "--model", str(root / "examples" / "specs" / "paper.json"), "--output", str(fmu)], check=True, capture_output=True)
     unzipped = tmp_path / "paper"
     zipfile.ZipFile(fmu).extractall(unzipped)
+    return unzipped
+
+
+def test_the_c_checks_run_clean_under_address_and_undefined_behaviour_sanitizers(build_c, root, unzipped_paper_fmu):
+    """contract.c and a short soak.c (200 cycles: the sanitizer's
+    quarantine makes memory figures meaningless, so only its reports
+    count) built with -fsanitize=address,undefined: no report, exit 0,
+    leaks checked at exit."""
+    env = dict(os.environ, ASAN_OPTIONS="detect_leaks=1", UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1")
+    runs = [
+        (build_c(root / "capi" / "checks" / "c" / "contract.c", name="contract_asan", sanitize=True), [root / "examples" / "specs" / "paper.json"]),
+        (build_c(root / "capi" / "checks" / "c" / "soak.c", name="soak_asan", sanitize=True), [unzipped_paper_fmu, 200, 1000]),
+    ]
+    for exe, args in runs:
+        result = subprocess.run([str(exe), *map(str, args)], cwd=root, capture_output=True, text=True, timeout=600, env=env)
+        assert result.returncode == 0, result.stderr
+        assert "Sanitizer" not in result.stderr and "runtime error" not in result.stderr, result.stderr
+
+
+def test_ten_thousand_lives_in_one_process_keep_memory_flat(build_c, root, unzipped_paper_fmu):
+    """capi/checks/c/soak.c: 10 000 cycles of instantiate, 1000 steps,
+    reset, 1000 steps, free, through the FMU's fmi2 functions and through
+    the C API: every run gives the first run's outputs, and resident memory
+    grows by less than 1 MB after the first 100 cycles."""
     exe = build_c(root / "capi" / "checks" / "c" / "soak.c", name="soak")
-    out = _run(exe, unzipped, 10000, 1000, cwd=root)
+    out = _run(exe, unzipped_paper_fmu, 10000, 1000, cwd=root)
     for face in ("fmi2", "capi"):
         line = re.search(
             rf"^{face}: 10000 cycles of 1000 steps, {NUMBER} us per cycle, resident (\d+) kB after 100 cycles, (\d+) kB at the end, growth (-?\d+) kB$",
