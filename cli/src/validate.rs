@@ -17,13 +17,20 @@
 //! * `--skip SECONDS`: the samples at `i·dt < SECONDS` are simulated (a
 //!   warm-up) but not scored.
 //!
+//! * `--covariance FILE` (written by `fit --covariance`, with the fitted
+//!   spec as `--model`) draws the model's uncertainty band over each
+//!   record's input in its figure ([`band::predict_band`](crate::identify::band::predict_band));
+//!   it needs `--plot`, and the file's values must be the spec's.
+//!
 //! Nothing is written unless every record was read, run and scored and
 //! every figure drawn; then the files are written atomically. No output
 //! may be a record or the model file (compared after canonicalization),
 //! and two records with the same file stem cannot both have a figure.
 
 use crate::args;
+use crate::band::{self as band_file, BandArgs, CovarianceFileError};
 use crate::csvio::{self, CsvIoError};
+use crate::identify::band::{Band, BandError, Covariance};
 use crate::identify::metrics::{self, ErrorFigures, Lowpass, MetricsError};
 use crate::model_file::ModelFileError;
 use crate::models::Spec;
@@ -88,6 +95,15 @@ pub struct ValidateOptions {
     /// an input).
     #[arg(long, value_name = "OUT.csv")]
     pub csv: Option<PathBuf>,
+    /// Also draw the model's uncertainty band in each figure (needs
+    /// --plot): the covariance file that `fit --covariance` wrote, with
+    /// the fitted spec it wrote as --model; the band is computed over
+    /// each record's input (see --band-level and --band-method).
+    #[arg(long, value_name = "COV.json")]
+    pub covariance: Option<PathBuf>,
+    /// The band's level and method (for --covariance).
+    #[command(flatten)]
+    pub band_args: BandArgs,
 }
 
 impl ValidateOptions {
@@ -114,6 +130,20 @@ pub struct ScoredColumns {
 /// where relevant).
 #[derive(Debug, thiserror::Error)]
 pub enum ValidateError {
+    /// `--covariance` without `--plot`: the band is drawn in the figures.
+    #[error("--covariance draws the uncertainty band in the figures: give --plot DIR too")]
+    CovarianceWithoutPlot,
+    /// The covariance file could not be read or is not the model's.
+    #[error(transparent)]
+    Covariance(#[from] CovarianceFileError),
+    /// The band could not be computed on a record.
+    #[error("data `{}`: band: {source}", path.display())]
+    Band {
+        /// The record.
+        path: PathBuf,
+        /// Why.
+        source: BandError,
+    },
     /// An output path names an input file or another output.
     #[error(transparent)]
     SameFile(#[from] csvio::SameFile),
@@ -448,6 +478,8 @@ struct Scored {
     model: Vec<f64>,
     /// The low-passed measurement (with `--lowpass`).
     measured_lp: Option<Vec<f64>>,
+    /// The model's uncertainty band (with `--covariance`).
+    band: Option<Band>,
 }
 
 /// The first `skip` seconds of a record sampled every `dt`, in samples:
@@ -507,12 +539,19 @@ pub fn run(opts: &ValidateOptions) -> Result<ValidateReport, ValidateError> {
     if opts.columns.input_column.trim() == opts.columns.output_column.trim() {
         return Err(ValidateError::SameColumn(opts.columns.input_column.clone()));
     }
+    if opts.covariance.is_some() && opts.plot.is_none() {
+        return Err(ValidateError::CovarianceWithoutPlot);
+    }
     let model_err = |e| ModelFileError::new(&opts.model, e);
     let spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
     // Built once to check the spec before any record is read (with a
     // stand-in period where it leaves the period to the data).
     let kind = spec.kind();
-    spec.or_dt(Spec::STAND_IN_DT).build().map_err(model_err)?;
+    let checked = spec.or_dt(Spec::STAND_IN_DT).build().map_err(model_err)?;
+    let cov = match &opts.covariance {
+        Some(path) => Some(band_file::read_for(path, checked.as_ref())?),
+        None => None,
+    };
     // A rate-independent model has no period unless one is given (a
     // rate-dependent one's is checked with each record).
     let source = opts.dt_source();
@@ -528,7 +567,7 @@ pub fn run(opts: &ValidateOptions) -> Result<ValidateReport, ValidateError> {
     let mut scored: Vec<Scored> = Vec::with_capacity(opts.data.len());
     let mut columns = (String::new(), String::new());
     for (k, path) in opts.data.iter().enumerate() {
-        let s = score(opts, &source, &spec, path, k)?;
+        let s = score(opts, &source, &spec, cov.as_ref(), path, k)?;
         if k == 0 {
             columns = s.1;
         }
@@ -585,6 +624,7 @@ fn score(
     opts: &ValidateOptions,
     source: &DtSource,
     spec: &Spec,
+    cov: Option<&Covariance>,
     path: &Path,
     k: usize,
 ) -> Result<(Scored, (String, String)), ValidateError> {
@@ -690,6 +730,18 @@ fn score(
         });
     }
 
+    let band = match cov {
+        Some(cov) => Some(
+            opts.band_args
+                .band(model.as_ref(), cov, &x)
+                .map_err(|source| ValidateError::Band {
+                    path: path.to_path_buf(),
+                    source,
+                })?,
+        ),
+        None => None,
+    };
+
     let metrics_err = |error| ValidateError::Metrics {
         path: path.to_path_buf(),
         column: output_name.clone(),
@@ -719,6 +771,7 @@ fn score(
             measured,
             model: y,
             measured_lp,
+            band,
         },
         (input_name, output_name),
     ))
@@ -775,6 +828,20 @@ fn figure(
     time_panel
         .series
         .push(Series::line("model", pairs(&time, &s.model), 1).with_style(Style::ThickLine));
+    if let Some(b) = &s.band {
+        // the band's edges as thin purple lines over the model
+        let label = format!(
+            "{} % band ({})",
+            csvio::fmt_f64(100.0 * b.level),
+            b.method.name()
+        );
+        time_panel
+            .series
+            .push(Series::line(label, pairs(&time, &b.lower), 3));
+        time_panel
+            .series
+            .push(Series::line("", pairs(&time, &b.upper), 3));
+    }
     plot::render(&[loop_panel, time_panel], 1, 2, (1200, 500))
 }
 
