@@ -98,7 +98,8 @@ pub struct ValidateOptions {
     /// Also draw the model's uncertainty band in each figure (needs
     /// --plot): the covariance file that `fit --covariance` wrote, with
     /// the fitted spec it wrote as --model; the band is computed over
-    /// each record's input (see --band-level and --band-method).
+    /// each record's input (see --band-level and --band-method) and
+    /// drawn under the model and, in a third panel, about it.
     #[arg(long, value_name = "COV.json")]
     pub covariance: Option<PathBuf>,
     /// The band's level and method (for --covariance).
@@ -825,24 +826,49 @@ fn figure(
     time_panel
         .series
         .push(Series::line(label, pairs(&time, measured), 5));
+    let Some(b) = &s.band else {
+        time_panel
+            .series
+            .push(Series::line("model", pairs(&time, &s.model), 1).with_style(Style::ThickLine));
+        return plot::render(&[loop_panel, time_panel], 1, 2, (1200, 500));
+    };
+    // The band's edges as thin purple lines under the model, and, since a
+    // band is often narrower than the model's line, a third panel of the
+    // edges about the model (lower − model, upper − model; the
+    // measurement's noise, often far wider, left out so the band shows).
+    let band_label = format!(
+        "{} % band ({})",
+        csvio::fmt_f64(100.0 * b.level),
+        b.method.name()
+    );
+    time_panel
+        .series
+        .push(Series::line(band_label.clone(), pairs(&time, &b.lower), 3));
+    time_panel
+        .series
+        .push(Series::line("", pairs(&time, &b.upper), 3));
     time_panel
         .series
         .push(Series::line("model", pairs(&time, &s.model), 1).with_style(Style::ThickLine));
-    if let Some(b) = &s.band {
-        // the band's edges as thin purple lines over the model
-        let label = format!(
-            "{} % band ({})",
-            csvio::fmt_f64(100.0 * b.level),
-            b.method.name()
-        );
-        time_panel
-            .series
-            .push(Series::line(label, pairs(&time, &b.lower), 3));
-        time_panel
-            .series
-            .push(Series::line("", pairs(&time, &b.upper), 3));
-    }
-    plot::render(&[loop_panel, time_panel], 1, 2, (1200, 500))
+    // plotters labels ticks with a fixed format: the edges are scaled by a
+    // power of ten named in the axis label (as `fit`'s residual)
+    let largest = b
+        .lower
+        .iter()
+        .chain(&b.upper)
+        .zip(s.model.iter().chain(&s.model))
+        .fold(0.0_f64, |a, (e, m)| a.max((e - m).abs()));
+    let (scale, axis) = plot::power_of_ten(largest, &format!("{output} - model"));
+    let about = |edge: &[f64]| -> Vec<(f64, f64)> {
+        let d = edge.iter().zip(&s.model).map(|(e, m)| (e - m) / scale);
+        time.iter().copied().zip(d).collect()
+    };
+    let mut band_panel = Panel::new(&format!("{band_label} about the model"), &time_label, &axis);
+    band_panel
+        .series
+        .push(Series::line("edges - model", about(&b.lower), 3));
+    band_panel.series.push(Series::line("", about(&b.upper), 3));
+    plot::render(&[loop_panel, time_panel, band_panel], 1, 3, (1800, 500))
 }
 
 fn file_name(p: &Path) -> String {
