@@ -99,7 +99,7 @@ fn fit_writes_the_band_and_the_covariance() {
     let col = |name: &str| column(&headers, &rows, name);
     let (out, lo, hi) = (col("output"), col("lower"), col("upper"));
 
-    let model = Spec::from_json_file(&dir.join("fitted.json"))
+    let model = Spec::from_json_file(dir.join("fitted.json"))
         .unwrap()
         .build()
         .unwrap();
