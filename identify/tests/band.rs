@@ -291,3 +291,37 @@ fn covariance_is_the_correlation_scaled_by_the_standard_errors() {
         }
     }
 }
+
+/// A covariance that does not fit the model is a typed error naming what
+/// is wrong.
+#[test]
+fn a_covariance_that_does_not_fit_the_model_is_refused() {
+    use hysteron_identify::band::{predict_band, Covariance};
+    let model = truth();
+    let x = input(50);
+    let cov = |indices: Vec<usize>, matrix: Vec<Vec<f64>>| Covariance {
+        names: indices.iter().map(|i| format!("p{i}")).collect(),
+        values: indices.iter().map(|_| 1.0).collect(),
+        indices,
+        matrix,
+    };
+    let lin = BandMethod::Linearized;
+    let cases = [
+        (cov(vec![9], vec![vec![1.0]]), "index 9"),
+        (cov(vec![0, 2], vec![vec![1.0, 0.0]]), "2 × 2"),
+        (cov(vec![0], vec![vec![f64::NAN]]), "(0, 0) is not finite"),
+    ];
+    for (c, want) in cases {
+        match predict_band(model.as_ref(), &c, &x, 0.95, lin) {
+            Err(e @ BandError::Covariance(_)) => {
+                assert!(e.to_string().contains(want), "{e}")
+            }
+            other => panic!("{want}: {other:?}"),
+        }
+    }
+    // a zero covariance: a band of zero width about the model's output
+    let zero = cov(vec![0], vec![vec![0.0]]);
+    let b = predict_band(model.as_ref(), &zero, &x, 0.95, lin).unwrap();
+    assert_eq!(b.lower, b.output);
+    assert_eq!(b.upper, b.output);
+}
