@@ -29,6 +29,7 @@
 //! ([`crate::identify::selection`]), which Python's `compare` uses too.
 
 use crate::args;
+use crate::band::BandArgs;
 use crate::csvio::{self, CsvIoError};
 use crate::fit_cmd::{self, FitCmdOptions, JacobianArg};
 use crate::identify::selection::{self, rank, Outcome};
@@ -302,6 +303,9 @@ fn fit_on(
         seed: opts.seed,
         no_progress: true,
         period: opts.period.clone(),
+        band: None,
+        covariance: None,
+        band_args: BandArgs::default(),
     })
     .map_err(|e| format!("fit: {e}"))
 }
@@ -323,6 +327,8 @@ fn held_out_on(
         skip: opts.skip,
         plot: None,
         csv: None,
+        covariance: None,
+        band_args: BandArgs::default(),
     })
     .map_err(|e| format!("validate: {e}"))?;
     validated

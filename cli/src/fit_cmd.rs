@@ -17,11 +17,18 @@
 //!   terminal; it is cleared before anything else is printed, so errors
 //!   stay one line. It is never drawn when stderr is not a terminal.
 //!
+//! * `--band FILE` writes the uncertainty band of the fitted output over
+//!   each record's input (CSV: `record` with several records, the input
+//!   column, `output`, `lower`, `upper`), from the covariance of the
+//!   shared parameters ([`Fit::predict_band`](crate::identify::Fit::predict_band);
+//!   each record's own parameters held at its values); `--covariance FILE`
+//!   writes that covariance (JSON), which `validate --covariance` reads.
+//!
 //! Nothing is written unless everything before succeeded: model and data
 //! are read and checked, the fit run, the fitted spec built and simulated
 //! over the record, and the figure drawn in memory first; then the files are
 //! written atomically. No output may be the data or the model file, nor
-//! the other output (compared after canonicalization).
+//! another output (compared after canonicalization).
 //!
 //! # Exit status
 //!
@@ -33,8 +40,10 @@
 //! fit exits with 0; errors (nothing written) with 1.
 
 use crate::args;
+use crate::band::{self as band_file, BandArgs};
 use crate::csvio::{self, CsvIoError};
 use crate::fitting::{not_converged_note, Display};
+use crate::identify::band::{BandError, Covariance};
 use crate::identify::{
     fit_multistart, free_by_names, FitError, FitOptions, FitReport, Jacobian, MultiStart, Record,
 };
@@ -99,6 +108,20 @@ pub struct FitCmdOptions {
     /// the sample index) and the residual as an SVG figure.
     #[arg(long, value_name = "FIT.svg")]
     pub plot: Option<PathBuf>,
+    /// Also write the uncertainty band of the fitted output over each
+    /// record's input as CSV (written atomically): columns record (with
+    /// several records), the input column, output (the fitted model's),
+    /// lower, upper; see --band-level and --band-method.
+    #[arg(long, value_name = "BAND.csv")]
+    pub band: Option<PathBuf>,
+    /// Also write the covariance of the fitted shared parameters as JSON
+    /// (names, indices, values, matrix): `validate --covariance` reads it
+    /// with the fitted spec to draw the band on other records.
+    #[arg(long, value_name = "COV.json")]
+    pub covariance: Option<PathBuf>,
+    /// The band's level and method (for --band).
+    #[command(flatten)]
+    pub band_args: BandArgs,
     /// Levenberg-Marquardt's patience: at most PATIENCE·(free + 1) trial
     /// steps; each accepted step also runs 2·free simulations for its
     /// Jacobian, so at most PATIENCE·(free + 1)·(2·free + 1) model runs
@@ -265,6 +288,15 @@ pub enum FitCmdError {
     /// fitted spec cannot be simulated over the record.
     #[error("fitted parameters of model `{}`: {}", .0.display(), .1)]
     Fitted(PathBuf, String),
+    /// The band or the covariance could not be computed (a singular
+    /// fit, a model without a dual twin, too few Monte-Carlo draws ran).
+    #[error("{flag}: {source}")]
+    Band {
+        /// `--band` or `--covariance`.
+        flag: &'static str,
+        /// Why.
+        source: BandError,
+    },
     /// Writing an output or drawing a figure failed.
     #[error(transparent)]
     Output(#[from] OutputError),
@@ -440,6 +472,17 @@ pub fn run(opts: &FitCmdOptions) -> Result<FitCmdReport, FitCmdError> {
         csvio::refuse_same("plot", p, &[("output", opts.output.as_path())])
             .map_err(FitCmdError::SameFile)?;
     }
+    let mut outputs: Vec<(&'static str, &Path)> = vec![("output", opts.output.as_path())];
+    if let Some(p) = &opts.plot {
+        outputs.push(("plot", p.as_path()));
+    }
+    for (flag, path) in [("band", &opts.band), ("covariance", &opts.covariance)] {
+        if let Some(p) = path {
+            csvio::refuse_same(flag, p, &inputs).map_err(FitCmdError::SameFile)?;
+            csvio::refuse_same(flag, p, &outputs).map_err(FitCmdError::SameFile)?;
+            outputs.push((flag, p.as_path()));
+        }
+    }
     for (j, d) in opts.data.iter().enumerate() {
         let same = |e: &PathBuf| csvio::same_file(e, d);
         if opts.data[..j].iter().any(same) {
@@ -553,6 +596,19 @@ pub fn run(opts: &FitCmdOptions) -> Result<FitCmdReport, FitCmdError> {
             error,
         )))
     })?;
+    let cov = match (&opts.band, &opts.covariance) {
+        (None, None) => None,
+        (band, _) => Some(
+            Covariance::of_fit(&fit).map_err(|source| FitCmdError::Band {
+                flag: if band.is_some() {
+                    "--band"
+                } else {
+                    "--covariance"
+                },
+                source,
+            })?,
+        ),
+    };
     let report = fit.report;
 
     // The fitted spec, checked to build to exactly the fitted parameters
@@ -570,6 +626,7 @@ pub fn run(opts: &FitCmdOptions) -> Result<FitCmdReport, FitCmdError> {
         ));
     }
     let mut y_fit = Vec::with_capacity(loaded.len());
+    let mut bands = Vec::new();
     for (r, l) in loaded.iter().enumerate() {
         let mut p = report.all_params.clone();
         for fp in report.params.iter().filter(|fp| fp.record == Some(r)) {
@@ -584,7 +641,25 @@ pub fn run(opts: &FitCmdOptions) -> Result<FitCmdReport, FitCmdError> {
             m.run(&l.x)
                 .map_err(|e| fitted_err(format!("simulating record {r}: {e}")))?,
         );
+        // the band of record r: its own parameters held at its values
+        if let (Some(_), Some(cov)) = (&opts.band, &cov) {
+            m.reset();
+            let band = opts
+                .band_args
+                .band(m.as_ref(), cov, &l.x)
+                .map_err(|source| FitCmdError::Band {
+                    flag: "--band",
+                    source,
+                })?;
+            bands.push((l.x.clone(), band));
+        }
     }
+    let cov_json = match &cov {
+        Some(c) if opts.covariance.is_some() => {
+            Some(band_file::to_json(c).map_err(|e| fitted_err(e.to_string()))?)
+        }
+        _ => None,
+    };
     let json = fitted
         .to_json_pretty()
         .map_err(|e| fitted_err(e.to_string()))?;
@@ -599,13 +674,24 @@ pub fn run(opts: &FitCmdOptions) -> Result<FitCmdReport, FitCmdError> {
 
     // Both destinations must be writable before either is written.
     csvio::target_dir(&opts.output).map_err(OutputError::Write)?;
-    if let Some(p) = &opts.plot {
+    for p in [&opts.plot, &opts.band, &opts.covariance]
+        .into_iter()
+        .flatten()
+    {
         csvio::target_dir(p).map_err(OutputError::Write)?;
     }
     csvio::write_string_atomic(&opts.output, &(json + "\n")).map_err(OutputError::Write)?;
     let mut files = vec![opts.output.clone()];
     if let (Some(p), Some(svg)) = (&opts.plot, svg) {
         csvio::write_string_atomic(p, &svg).map_err(OutputError::Write)?;
+        files.push(p.clone());
+    }
+    if let Some(p) = &opts.band {
+        band_file::write_csv(p, &input_name, &bands).map_err(OutputError::Write)?;
+        files.push(p.clone());
+    }
+    if let (Some(p), Some(text)) = (&opts.covariance, cov_json) {
+        csvio::write_string_atomic(p, &text).map_err(OutputError::Write)?;
         files.push(p.clone());
     }
     Ok(FitCmdReport {

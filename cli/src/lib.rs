@@ -12,6 +12,7 @@ pub use hysteron::{Error, Float, Operator, Result, Trial};
 
 pub mod analyze;
 pub mod args;
+pub mod band;
 pub mod bench;
 pub mod compare;
 pub mod csvio;

@@ -17,13 +17,20 @@
 //! * `--skip SECONDS`: the samples at `i·dt < SECONDS` are simulated (a
 //!   warm-up) but not scored.
 //!
+//! * `--covariance FILE` (written by `fit --covariance`, with the fitted
+//!   spec as `--model`) draws the model's uncertainty band over each
+//!   record's input in its figure ([`band::predict_band`](crate::identify::band::predict_band));
+//!   it needs `--plot`, and the file's values must be the spec's.
+//!
 //! Nothing is written unless every record was read, run and scored and
 //! every figure drawn; then the files are written atomically. No output
 //! may be a record or the model file (compared after canonicalization),
 //! and two records with the same file stem cannot both have a figure.
 
 use crate::args;
+use crate::band::{self as band_file, BandArgs, CovarianceFileError};
 use crate::csvio::{self, CsvIoError};
+use crate::identify::band::{Band, BandError, Covariance};
 use crate::identify::metrics::{self, ErrorFigures, Lowpass, MetricsError};
 use crate::model_file::ModelFileError;
 use crate::models::Spec;
@@ -88,6 +95,16 @@ pub struct ValidateOptions {
     /// an input).
     #[arg(long, value_name = "OUT.csv")]
     pub csv: Option<PathBuf>,
+    /// Also draw the model's uncertainty band in each figure (needs
+    /// --plot): the covariance file that `fit --covariance` wrote, with
+    /// the fitted spec it wrote as --model; the band is computed over
+    /// each record's input (see --band-level and --band-method) and
+    /// drawn under the model and, in a third panel, about it.
+    #[arg(long, value_name = "COV.json")]
+    pub covariance: Option<PathBuf>,
+    /// The band's level and method (for --covariance).
+    #[command(flatten)]
+    pub band_args: BandArgs,
 }
 
 impl ValidateOptions {
@@ -114,6 +131,20 @@ pub struct ScoredColumns {
 /// where relevant).
 #[derive(Debug, thiserror::Error)]
 pub enum ValidateError {
+    /// `--covariance` without `--plot`: the band is drawn in the figures.
+    #[error("--covariance draws the uncertainty band in the figures: give --plot DIR too")]
+    CovarianceWithoutPlot,
+    /// The covariance file could not be read or is not the model's.
+    #[error(transparent)]
+    Covariance(#[from] CovarianceFileError),
+    /// The band could not be computed on a record.
+    #[error("data `{}`: band: {source}", path.display())]
+    Band {
+        /// The record.
+        path: PathBuf,
+        /// Why.
+        source: BandError,
+    },
     /// An output path names an input file or another output.
     #[error(transparent)]
     SameFile(#[from] csvio::SameFile),
@@ -448,6 +479,8 @@ struct Scored {
     model: Vec<f64>,
     /// The low-passed measurement (with `--lowpass`).
     measured_lp: Option<Vec<f64>>,
+    /// The model's uncertainty band (with `--covariance`).
+    band: Option<Band>,
 }
 
 /// The first `skip` seconds of a record sampled every `dt`, in samples:
@@ -507,12 +540,19 @@ pub fn run(opts: &ValidateOptions) -> Result<ValidateReport, ValidateError> {
     if opts.columns.input_column.trim() == opts.columns.output_column.trim() {
         return Err(ValidateError::SameColumn(opts.columns.input_column.clone()));
     }
+    if opts.covariance.is_some() && opts.plot.is_none() {
+        return Err(ValidateError::CovarianceWithoutPlot);
+    }
     let model_err = |e| ModelFileError::new(&opts.model, e);
     let spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
     // Built once to check the spec before any record is read (with a
     // stand-in period where it leaves the period to the data).
     let kind = spec.kind();
-    spec.or_dt(Spec::STAND_IN_DT).build().map_err(model_err)?;
+    let checked = spec.or_dt(Spec::STAND_IN_DT).build().map_err(model_err)?;
+    let cov = match &opts.covariance {
+        Some(path) => Some(band_file::read_for(path, checked.as_ref())?),
+        None => None,
+    };
     // A rate-independent model has no period unless one is given (a
     // rate-dependent one's is checked with each record).
     let source = opts.dt_source();
@@ -528,7 +568,7 @@ pub fn run(opts: &ValidateOptions) -> Result<ValidateReport, ValidateError> {
     let mut scored: Vec<Scored> = Vec::with_capacity(opts.data.len());
     let mut columns = (String::new(), String::new());
     for (k, path) in opts.data.iter().enumerate() {
-        let s = score(opts, &source, &spec, path, k)?;
+        let s = score(opts, &source, &spec, cov.as_ref(), path, k)?;
         if k == 0 {
             columns = s.1;
         }
@@ -585,6 +625,7 @@ fn score(
     opts: &ValidateOptions,
     source: &DtSource,
     spec: &Spec,
+    cov: Option<&Covariance>,
     path: &Path,
     k: usize,
 ) -> Result<(Scored, (String, String)), ValidateError> {
@@ -690,6 +731,18 @@ fn score(
         });
     }
 
+    let band = match cov {
+        Some(cov) => Some(
+            opts.band_args
+                .band(model.as_ref(), cov, &x)
+                .map_err(|source| ValidateError::Band {
+                    path: path.to_path_buf(),
+                    source,
+                })?,
+        ),
+        None => None,
+    };
+
     let metrics_err = |error| ValidateError::Metrics {
         path: path.to_path_buf(),
         column: output_name.clone(),
@@ -719,6 +772,7 @@ fn score(
             measured,
             model: y,
             measured_lp,
+            band,
         },
         (input_name, output_name),
     ))
@@ -772,10 +826,49 @@ fn figure(
     time_panel
         .series
         .push(Series::line(label, pairs(&time, measured), 5));
+    let Some(b) = &s.band else {
+        time_panel
+            .series
+            .push(Series::line("model", pairs(&time, &s.model), 1).with_style(Style::ThickLine));
+        return plot::render(&[loop_panel, time_panel], 1, 2, (1200, 500));
+    };
+    // The band's edges as thin purple lines under the model, and, since a
+    // band is often narrower than the model's line, a third panel of the
+    // edges about the model (lower − model, upper − model; the
+    // measurement's noise, often far wider, left out so the band shows).
+    let band_label = format!(
+        "{} % band ({})",
+        csvio::fmt_f64(100.0 * b.level),
+        b.method.name()
+    );
+    time_panel
+        .series
+        .push(Series::line(band_label.clone(), pairs(&time, &b.lower), 3));
+    time_panel
+        .series
+        .push(Series::line("", pairs(&time, &b.upper), 3));
     time_panel
         .series
         .push(Series::line("model", pairs(&time, &s.model), 1).with_style(Style::ThickLine));
-    plot::render(&[loop_panel, time_panel], 1, 2, (1200, 500))
+    // plotters labels ticks with a fixed format: the edges are scaled by a
+    // power of ten named in the axis label (as `fit`'s residual)
+    let largest = b
+        .lower
+        .iter()
+        .chain(&b.upper)
+        .zip(s.model.iter().chain(&s.model))
+        .fold(0.0_f64, |a, (e, m)| a.max((e - m).abs()));
+    let (scale, axis) = plot::power_of_ten(largest, &format!("{output} - model"));
+    let about = |edge: &[f64]| -> Vec<(f64, f64)> {
+        let d = edge.iter().zip(&s.model).map(|(e, m)| (e - m) / scale);
+        time.iter().copied().zip(d).collect()
+    };
+    let mut band_panel = Panel::new(&format!("{band_label} about the model"), &time_label, &axis);
+    band_panel
+        .series
+        .push(Series::line("edges - model", about(&b.lower), 3));
+    band_panel.series.push(Series::line("", about(&b.upper), 3));
+    plot::render(&[loop_panel, time_panel, band_panel], 1, 3, (1800, 500))
 }
 
 fn file_name(p: &Path) -> String {

@@ -14,6 +14,8 @@
 //!   warnings ([`diagnostics`]);
 //! * [`multistart`]: the same fit from a Latin hypercube of starts, the
 //!   best kept;
+//! * [`band`]: uncertainty bands around a fitted model's output
+//!   ([`Fit::predict_band`]), linearized or Monte Carlo;
 //! * [`batch`]: many parameter sets or many records simulated in parallel;
 //! * [`metrics`]: error figures of a model against a measured record (RMS,
 //!   largest error, NRMSE) and a zero-phase Butterworth low-pass.
@@ -25,6 +27,7 @@
 // and no unchecked indexing outside tests (the lints are in the workspace
 // Cargo.toml; each exception is an `allow` with the invariant that makes it safe).
 
+pub mod band;
 pub mod batch;
 pub mod benchmark;
 mod compressed;

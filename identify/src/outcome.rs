@@ -71,6 +71,61 @@ pub struct FitReport {
     pub starts: Option<StartsSummary>,
 }
 
+impl FitReport {
+    /// The covariance of the free parameters in the model's own (external)
+    /// parameters, in the order of [`params`](Self::params):
+    ///
+    /// `C_ij = ρ_ij σ_i σ_j`
+    ///
+    /// from [`correlation`](Self::correlation) and each parameter's
+    /// [`std_error`](FittedParam::std_error) (the delta method through the
+    /// reparametrization: to first order, `C = D C_int D` with `D` the
+    /// diagonal of the maps' slopes). A parameter without a standard error
+    /// (its Jacobian column vanishes) has a zero row and column: it is held
+    /// at its value. `ρ` is symmetrized (`(ρ_ij + ρ_ji)/2`, a difference
+    /// in the last bits from the inverse's rounding), so `C` is exactly
+    /// symmetric. `None` where the fit gives no correlation (`JᵀJ`
+    /// singular).
+    pub fn covariance(&self) -> Option<Vec<Vec<f64>>> {
+        let rho = self.correlation.as_ref()?;
+        let sd: Vec<Option<f64>> = self
+            .params
+            .iter()
+            .map(|p| p.std_error.filter(|s| s.is_finite()))
+            .collect();
+        let cov = sd
+            .iter()
+            .enumerate()
+            .map(|(i, si)| {
+                sd.iter()
+                    .enumerate()
+                    .map(|(j, sj)| {
+                        let at = |a: usize, b: usize| {
+                            rho.get(a)
+                                .and_then(|row| row.get(b))
+                                .copied()
+                                .unwrap_or(0.0)
+                        };
+                        // (ρ_ij + ρ_ji)/2: the inverse's rounding leaves ρ
+                        // asymmetric in the last bits, C is made exactly
+                        // symmetric
+                        let r = if i == j {
+                            1.0
+                        } else {
+                            0.5 * (at(i, j) + at(j, i))
+                        };
+                        match (si, sj) {
+                            (Some(a), Some(b)) if r.is_finite() => r * (a * b),
+                            _ => 0.0,
+                        }
+                    })
+                    .collect()
+            })
+            .collect();
+        Some(cov)
+    }
+}
+
 fn seconds<S: serde::Serializer>(d: &Duration, s: S) -> Result<S::Ok, S::Error> {
     s.serialize_f64(d.as_secs_f64())
 }

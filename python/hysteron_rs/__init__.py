@@ -24,6 +24,7 @@ from __future__ import annotations
 
 from ._native import (
     AnalysisError,
+    Band,
     DescribingFunction,
     Ensemble,
     FitError,
@@ -86,6 +87,7 @@ from ._operators import (
 
 __all__ = [
     "AnalysisError",
+    "Band",
     "DescribingFunction",
     "Ensemble",
     "FitError",

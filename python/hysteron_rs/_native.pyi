@@ -9,6 +9,7 @@ from typing_extensions import TypeAlias, final
 __version__: str
 __all__ = [
     "AnalysisError",
+    "Band",
     "DescribingFunction",
     "Ensemble",
     "FitError",
@@ -284,6 +285,55 @@ class FitResult:
         """Per record (in the order given): a dict of `samples` (compared),
         `rms` and `nrmse` (`rms / RMS(y)`, RMS about zero; `None` for an
         output that is zero throughout).
+        """
+    def predict_band(
+        self,
+        x: _ArrayLike,
+        level: float = 0.95,
+        method: str = "linearized",
+        draws: int = 1000,
+        seed: int = 0,
+    ) -> Band:
+        """The band of probability content `level` around the fitted model's
+        output along `x` (from its initial state), from the covariance of
+        the fitted shared parameters `C_ij = ρ_ij σ_i σ_j`.
+
+        `method="linearized"`: `y_k ± z·√(g_kᵀ C g_k)`, `g_k = ∂y_k/∂θ`
+        (exact, forward-mode), `z = Φ⁻¹((1 + level)/2)`.
+        `method="monte_carlo"`: `draws` parameter vectors from `N(θ̂, C)`
+        (generator seeded by `seed`) simulated, and the empirical quantiles
+        `(1 ∓ level)/2` per sample of those that ran (`Band.failed_draws`
+        counts the others). Per-record parameters and parameters without a
+        standard error are held at their values. The GIL is released while
+        it runs.
+        """
+
+@final
+class Band:
+    """An uncertainty band around a fitted model's output
+    (`FitResult.predict_band`): per input sample, the fitted output and
+    the band's edges.
+    """
+
+    @property
+    def output(self) -> npt.NDArray[np.float64]:
+        """The fitted model's output, one value per input sample."""
+    @property
+    def lower(self) -> npt.NDArray[np.float64]:
+        """The band's lower edge, per sample."""
+    @property
+    def upper(self) -> npt.NDArray[np.float64]:
+        """The band's upper edge, per sample."""
+    @property
+    def level(self) -> float:
+        """The band's probability content, in (0, 1)."""
+    @property
+    def method(self) -> str:
+        """`"linearized"` or `"monte_carlo"`."""
+    @property
+    def failed_draws(self) -> int:
+        """Monte-Carlo draws that did not run (a parameter out of its domain,
+        a model error), left out of the quantiles; 0 for `"linearized"`.
         """
 
 @final

@@ -16,6 +16,7 @@
 //! names the parameter's path, an error at a sample says `at sample i`
 //! (the exception's `sample` attribute holds `i`).
 
+use hysteron::identify::band::BandError as RustBandError;
 use hysteron::identify::FitError as RustFitError;
 use hysteron::models::describing::AnalysisError as RustAnalysisError;
 use hysteron::models::SpecError as RustSpecError;
@@ -126,6 +127,27 @@ pub fn fit_error(py: Python<'_>, e: RustFitError) -> PyErr {
             ))
         }
         other => FitError::new_err(other.to_string()),
+    }
+}
+
+/// The exception of a band error: the input's errors an [`InputError`]
+/// (`sample` set for a sample that is not finite), the model's as
+/// [`operator_error`], a fit without a covariance or a dual twin and too
+/// few draws a [`FitError`], a bad `level` or `draws` a [`HysteronError`].
+pub fn band_error(py: Python<'_>, e: RustBandError) -> PyErr {
+    match e {
+        RustBandError::Model(inner) => operator_error(py, inner),
+        RustBandError::NonFiniteInput { sample, .. } => {
+            let err = InputError::new_err(e.to_string());
+            let _ = err.value(py).setattr("sample", sample);
+            err
+        }
+        RustBandError::EmptyInput => InputError::new_err(e.to_string()),
+        RustBandError::Singular | RustBandError::NoDualTwin | RustBandError::TooFewDraws { .. } => {
+            FitError::new_err(e.to_string())
+        }
+        RustBandError::NonFiniteSensitivity { .. } => SolverError::new_err(e.to_string()),
+        other => HysteronError::new_err(other.to_string()),
     }
 }
 

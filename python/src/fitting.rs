@@ -1,13 +1,15 @@
 //! `fit`: Levenberg-Marquardt identification of a model's free parameters.
 
 use crate::array::samples;
-use crate::errors::{fit_error, spec_error, ParameterError};
+use crate::errors::{band_error, fit_error, spec_error, HysteronError, ParameterError};
 use crate::model::Model;
+use hysteron::identify::band::{self, BandMethod, Covariance};
 use hysteron::identify::{
     fit_multistart, FitOptions, FitReport, FitStatus, FittedParam, Jacobian, MultiStart, Progress,
     Record,
 };
-use numpy::PyArray2;
+use hysteron::Operator;
+use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::sync::Mutex;
@@ -21,6 +23,9 @@ use std::sync::Mutex;
 #[pyclass(module = "hysteron_rs", frozen)]
 pub struct FitResult {
     model: Py<Model>,
+    /// The fitted model as the fit ran it (at its sample period), for
+    /// bands.
+    fitted: Box<dyn Operator<f64>>,
     report: FitReport,
     history: Vec<Progress>,
     /// The sample period (s) the model ran at in the fit, `None` for a
@@ -112,8 +117,114 @@ impl FitResult {
     }
 }
 
+/// An uncertainty band around a fitted model's output
+/// (`FitResult.predict_band`): per input sample, the fitted output and
+/// the band's edges.
+#[pyclass(module = "hysteron_rs", frozen)]
+pub struct Band {
+    output: Vec<f64>,
+    lower: Vec<f64>,
+    upper: Vec<f64>,
+    /// The band's probability content, in (0, 1).
+    #[pyo3(get)]
+    level: f64,
+    /// `"linearized"` or `"monte_carlo"`.
+    #[pyo3(get)]
+    method: &'static str,
+    /// Monte-Carlo draws that did not run (a parameter out of its domain,
+    /// a model error), left out of the quantiles; 0 for `"linearized"`.
+    #[pyo3(get)]
+    failed_draws: usize,
+}
+
+#[pymethods]
+impl Band {
+    /// The fitted model's output, one value per input sample.
+    #[getter]
+    fn output<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.output)
+    }
+
+    /// The band's lower edge, per sample.
+    #[getter]
+    fn lower<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.lower)
+    }
+
+    /// The band's upper edge, per sample.
+    #[getter]
+    fn upper<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.upper)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Band(level={}, method={:?}, samples={}, failed_draws={})",
+            self.level,
+            self.method,
+            self.output.len(),
+            self.failed_draws
+        )
+    }
+}
+
 #[pymethods]
 impl FitResult {
+    /// The band of probability content `level` around the fitted model's
+    /// output along `x` (from its initial state), from the covariance of
+    /// the fitted shared parameters `C_ij = ρ_ij σ_i σ_j`.
+    ///
+    /// `method="linearized"`: `y_k ± z·√(g_kᵀ C g_k)`, `g_k = ∂y_k/∂θ`
+    /// (exact, forward-mode), `z = Φ⁻¹((1 + level)/2)`.
+    /// `method="monte_carlo"`: `draws` parameter vectors from `N(θ̂, C)`
+    /// (generator seeded by `seed`) simulated, and the empirical quantiles
+    /// `(1 ∓ level)/2` per sample of those that ran (`Band.failed_draws`
+    /// counts the others). Per-record parameters and parameters without a
+    /// standard error are held at their values. The GIL is released while
+    /// it runs.
+    #[pyo3(signature = (x, level=0.95, method="linearized", draws=1000, seed=0))]
+    fn predict_band(
+        &self,
+        py: Python<'_>,
+        x: &Bound<'_, PyAny>,
+        level: f64,
+        method: &str,
+        draws: i64,
+        seed: u64,
+    ) -> PyResult<Band> {
+        let x = samples(x, "x")?;
+        let method = match method {
+            "linearized" => BandMethod::Linearized,
+            "monte_carlo" => BandMethod::MonteCarlo {
+                draws: usize::try_from(draws).map_err(|_| {
+                    HysteronError::new_err(format!("draws: must be at least 1 (got {draws})"))
+                })?,
+                seed,
+            },
+            other => {
+                return Err(HysteronError::new_err(format!(
+                    "method: expected \"linearized\" or \"monte_carlo\", got {other:?}"
+                )))
+            }
+        };
+        let model = &self.fitted;
+        let report = &self.report;
+        let band = py
+            .detach(|| {
+                let cov = Covariance::of_report(report)?;
+                band::predict_band(model.as_ref(), &cov, &x, level, method)
+            })
+            .map_err(|e| band_error(py, e))?;
+        Ok(Band {
+            method: band.method.name(),
+            output: band.output,
+            lower: band.lower,
+            upper: band.upper,
+            level: band.level,
+            failed_draws: band.failed_draws,
+        })
+    }
+
     /// The model with the fitted parameters, in its initial state.
     #[getter]
     fn model(&self, py: Python<'_>) -> Py<Model> {
@@ -344,6 +455,7 @@ fn run_fit(
         evaluations: report.evaluations,
         wall_time: report.wall_time.as_secs_f64(),
         jacobian: jacobian_name(report.jacobian),
+        fitted: fitted.model,
         report,
         history: history.into_inner().unwrap_or_default(),
     })

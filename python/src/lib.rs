@@ -24,6 +24,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     errors::register(m)?;
     m.add_class::<model::Model>()?;
     m.add_class::<fitting::FitResult>()?;
+    m.add_class::<fitting::Band>()?;
     m.add_class::<analysis::DescribingFunction>()?;
     m.add_class::<analysis::LoopEnergy>()?;
     m.add_class::<ensemble::Ensemble>()?;
