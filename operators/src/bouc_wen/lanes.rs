@@ -22,7 +22,7 @@ struct Lane {
 
 /// Eight Bouc-Wen springs with one input: for each lane its parameters,
 /// state `(z, h)`, direction, branch start `z_a` and the terms of its
-/// branch ([`ExpForm`]), lane by lane. A lane with `n ≠ 1` runs its own
+/// branch, lane by lane. A lane with `n ≠ 1` runs its own
 /// spring, one sample at a time.
 pub struct BoucWenLanes {
     w: [f64; WIDTH],
@@ -63,7 +63,7 @@ fn exp(v: f64) -> f64 {
 /// `H = w S(z) z + (1 − w) S(z) h`, `h = sgn(ż) g(sgn(ż) (z − z_a))`,
 ///
 /// each branch `g(s) = g∞ − (f/c) e^{−c s}` from its start (the last
-/// reversal `z_a`), with the terms [`Branch`] precomputes there. The lanes
+/// reversal `z_a`), with the terms the spring precomputes there. The lanes
 /// do the operations of the spring's own batch loop in the same order,
 /// with no fused multiply-add, and call the C library's `exp` lane by lane
 /// (the spring's own function: a vectorised exponential would differ from
@@ -73,7 +73,8 @@ fn exp(v: f64) -> f64 {
 /// sums run [`WIDTH`] lanes per instruction. A reversal (starting each
 /// lane's branch, a logarithm and divisions), a lane at rest before its
 /// first motion and a branch outside the common form (a side with
-/// `c = 0`, or the first piece evaluated with `expm1`, see [`Branch`]) are
+/// `c = 0`, or a first piece evaluated with `expm1`, where `|β − γ|` is
+/// below a sixteenth of `β + γ`) are
 /// handled lane by lane. A lane whose exponent is not 1 steps its own
 /// spring (tabulated flow or integration) one sample at a time, giving
 /// its bits too, without the speed.
