@@ -1,4 +1,5 @@
-/* The C -O3 reference of two of hysteron's ODE-integrated leaves, written
+/* The C -O3 reference of two of hysteron's ODE-integrated leaves, and of
+ * the closed-form Bouc-Wen spring (n = 1) alone and in an ensemble, written
  * for this project: the same step as operators/src/bwbn.rs (with
  * energy_flow.rs) and operators/src/jiles_atherton.rs, on the same adaptive
  * Dormand-Prince 5(4) as operators/src/ode.rs (the same tableau, error
@@ -7,7 +8,8 @@
  * `hysteron bench`. Prints one row per kernel in the format of the shared
  * C reference (kernel, Msamples/s, ns/sample median, checksum, run times).
  *
- * Build and run: bash bench/run_families.sh [N] [REPS]
+ * Build and run: bash bench/run_families.sh [N] [REPS] [KERNEL]
+ * (KERNEL: only the rows whose label contains it, e.g. "Bouc-Wen").
  */
 #include <math.h>
 #include <stdio.h>
@@ -237,6 +239,125 @@ static int ja_step(const Ja *p, double *s, double x, double *out, double *tangen
     return 0;
 }
 
+/* ---- Bouc-Wen n = 1 (operators/src/bouc_wen, hysteretic_state.rs) ----
+ * H = w S z + (1 - w) S h, dh/dz = alpha - |h| (beta sgn(dz h) + gamma),
+ * every sample in closed form from its branch start (the last reversal):
+ * the same branch terms as `StateEquation::branch` and the same pieces as
+ * `Branch::at`. Constant stiffness S, z0 = h0 = 0 (the `bouc_wen n=1`
+ * kernel: w = 0.1, alpha = 1, beta = 0.7, gamma = 0.3, S = 1). */
+typedef struct { double w, alpha, beta, gamma, s; } Bw;
+typedef struct { double g_a, f_a, c_a, fc_a, inf_a, s0, f_0, c_0, fc_0; int near; } BwBranch;
+
+static double bw_side(const Bw *p, double g, double f) {
+    return (g > 0.0 || (g == 0.0 && f > 0.0)) ? p->beta + p->gamma : p->beta - p->gamma;
+}
+
+static BwBranch bw_branch(const Bw *p, double g) {
+    BwBranch b;
+    double c = g < 0.0 ? p->gamma - p->beta : p->beta + p->gamma;
+    b.g_a = g;
+    b.f_a = p->alpha - fabs(g) * c;
+    b.c_a = bw_side(p, g, b.f_a);
+    b.s0 = INFINITY;
+    if ((g > 0.0 && b.f_a < 0.0) || (g < 0.0 && b.f_a > 0.0)) {
+        double s = b.c_a == 0.0 ? -g / b.f_a : -log1p(g * b.c_a / b.f_a) / b.c_a;
+        if (isfinite(s)) b.s0 = s;
+    }
+    b.f_0 = p->alpha;
+    b.c_0 = bw_side(p, 0.0, p->alpha);
+    b.near = b.c_a != b.c_0 && fabs(b.c_a) * 16.0 < fabs(b.c_0);
+    b.fc_a = b.f_a / b.c_a;
+    b.inf_a = g + b.f_a / b.c_a;
+    b.fc_0 = p->alpha / b.c_0;
+    return b;
+}
+
+static double bw_at(const BwBranch *b, double s) {
+    if (b->s0 < s) {
+        double t = s - b->s0;
+        return b->c_0 == 0.0 ? b->f_0 * t : b->fc_0 - b->fc_0 * exp(-b->c_0 * t);
+    }
+    if (b->c_a == 0.0) return b->g_a + b->f_a * s;
+    if (b->near) return b->g_a - b->fc_a * expm1(-b->c_a * s);
+    return b->inf_a - b->fc_a * exp(-b->c_a * s);
+}
+
+/* One spring over x[0..n) into y, from z = h = 0 at rest. */
+static void bw_run(const Bw *p, const double *x, double *y, size_t n, size_t stride) {
+    double z = 0.0, h = 0.0, sign = 1.0, z_a = 0.0;
+    int moving = 0;
+    BwBranch b = bw_branch(p, 0.0);
+    for (size_t i = 0; i < n; i++) {
+        double dz = x[i] - z;
+        if (dz != 0.0 || moving) {
+            double d = dz > 0.0 ? 1.0 : dz < 0.0 ? -1.0 : sign;
+            if (!moving || d != sign) {
+                sign = d;
+                moving = 1;
+                z_a = z;
+                b = bw_branch(p, sign * h);
+            }
+            z = x[i];
+            h = sign * bw_at(&b, sign * (z - z_a));
+        }
+        y[i * stride] = p->w * p->s * z + (1.0 - p->w) * p->s * h;
+    }
+}
+
+static volatile double BW_VALUES[5] = {0.1, 1.0, 0.7, 0.3, 1.0};
+#define BW_ENSEMBLE 64
+
+static Bw bw_params(double beta_scale) {
+    return (Bw){BW_VALUES[0], BW_VALUES[1], BW_VALUES[2] * beta_scale, BW_VALUES[3], BW_VALUES[4]};
+}
+
+static double run_bw(const double *x, double *y, size_t n) {
+    Bw p = bw_params(1.0);
+    bw_run(&p, x, y, n, 1);
+    double cs = 0.0;
+    for (size_t i = 0; i < n; i++) cs += y[i];
+    return cs;
+}
+
+/* The ensemble of `hysteron bench`'s `ensemble bouc_wen n=1`: 64 springs,
+ * instance j with beta scaled by 0.5 + j/64, over the first n/64 samples,
+ * one row of outputs per instance. Sample by sample, the 64 instances in
+ * the inner loop (state and branch terms instance by instance, the
+ * direction common: every instance starts at z0 = 0), so that the
+ * compiler may vectorise across instances. */
+static double run_bw_ensemble(const double *x, double *y, size_t n) {
+    size_t t = n / BW_ENSEMBLE;
+    Bw p[BW_ENSEMBLE];
+    BwBranch b[BW_ENSEMBLE];
+    double h[BW_ENSEMBLE];
+    for (int j = 0; j < BW_ENSEMBLE; j++) {
+        p[j] = bw_params(0.5 + (double)j / BW_ENSEMBLE);
+        h[j] = 0.0;
+    }
+    double z = 0.0, sign = 1.0, z_a = 0.0;
+    int moving = 0;
+    for (size_t i = 0; i < t; i++) {
+        double dz = x[i] - z;
+        if (dz != 0.0 || moving) {
+            double d = dz > 0.0 ? 1.0 : dz < 0.0 ? -1.0 : sign;
+            if (!moving || d != sign) {
+                sign = d;
+                moving = 1;
+                z_a = z;
+                for (int j = 0; j < BW_ENSEMBLE; j++) b[j] = bw_branch(&p[j], sign * h[j]);
+            }
+            z = x[i];
+            double s = sign * (z - z_a);
+            for (int j = 0; j < BW_ENSEMBLE; j++) h[j] = sign * bw_at(&b[j], s);
+        }
+        for (int j = 0; j < BW_ENSEMBLE; j++)
+            y[j * t + i] = p[j].w * p[j].s * z + (1.0 - p[j].w) * p[j].s * h[j];
+    }
+    double cs = 0.0;
+    for (size_t i = 0; i < t * BW_ENSEMBLE; i++) cs += y[i];
+    return cs;
+}
+
 /* ---- timing ---- */
 static double now(void) {
     struct timespec ts;
@@ -277,7 +398,8 @@ static double run_ja(const double *x, double *y, size_t n) {
 int main(int argc, char **argv) {
     size_t n = argc > 1 ? strtoull(argv[1], NULL, 10) : 10000000;
     int reps = argc > 2 ? atoi(argv[2]) : 5;
-    if (n == 0 || reps < 1 || reps > 1000) { fprintf(stderr, "usage: families [N] [REPS]\n"); return 2; }
+    const char *only = argc > 3 ? argv[3] : "";
+    if (n == 0 || reps < 1 || reps > 1000) { fprintf(stderr, "usage: families [N] [REPS] [KERNEL]\n"); return 2; }
     double *x = malloc(n * sizeof *x), *y = malloc(n * sizeof *y), ts[1000];
     if (!x || !y) return 1;
     for (size_t i = 0; i < n; i++) x[i] = 2.5 * sin(2 * M_PI * i / 2000.0) + 0.3 * sin(2 * M_PI * i / 97.3);
@@ -293,8 +415,10 @@ int main(int argc, char **argv) {
     printf("families.c  gcc %s  [%s]  N=%zu  reps=%d\n", __VERSION__, mode, n, reps);
     printf("%-30s %11s %10s %22s  runs (s)\n", "kernel", "Msamples/s", "ns/sample", "checksum");
     struct { const char *label; double (*run)(const double *, double *, size_t); } k[] = {
-        {"BWBN (DP5)", run_bwbn}, {"Jiles-Atherton (DP5)", run_ja}};
-    for (int j = 0; j < 2; j++) {
+        {"BWBN (DP5)", run_bwbn}, {"Jiles-Atherton (DP5)", run_ja},
+        {"Bouc-Wen n=1", run_bw}, {"Bouc-Wen n=1 ensemble x64", run_bw_ensemble}};
+    for (int j = 0; j < 4; j++) {
+        if (!strstr(k[j].label, only)) continue;
         double cs = k[j].run(x, y, n); /* untimed */
         for (int rep = 0; rep < reps; rep++) {
             double t0 = now();

@@ -27,12 +27,15 @@
 //!   Dormand–Prince, at their example parameters ([`bwbn`],
 //!   [`jiles_atherton`]); the command prints each output's sum, the
 //!   checksum that `bench/families.c`, their C reference, prints too;
-//! * `ensemble play`, `ensemble mms`: an [`Ensemble`] of [`ENSEMBLE`]
-//!   instances of the play and MMS kernels (the threshold or `F_c` spread
-//!   over `0.5..1.5` times the kernel's) over the first `1/ENSEMBLE` of
+//! * `ensemble play`, `ensemble mms`, `ensemble bouc_wen n=1`,
+//!   `ensemble bouc_wen n=1.5`: an [`Ensemble`] of [`ENSEMBLE`] instances
+//!   of the play, MMS and Bouc-Wen kernels (the threshold, `F_c` or `β`
+//!   spread over `0.5..1.5` times the kernel's) over the first `1/ENSEMBLE` of
 //!   the input, on one thread, into one output buffer: timed per
 //!   instance-sample, and compared in a note with the single-instance
-//!   kernel of the same run.
+//!   kernel of the same run; the command prints the sum of the outputs
+//!   (and of the `bouc_wen n=1` kernel's), the checksums that
+//!   `bench/families.c` prints for its Bouc-Wen rows.
 
 use crate::args;
 use crate::composition::PiBank;
@@ -56,6 +59,15 @@ pub const BATCH: usize = 64;
 
 /// Instances in the ensemble kernels.
 pub const ENSEMBLE: usize = 64;
+
+/// The `bouc_wen n=1` kernel's spring as a spec (for its ensemble).
+pub const BW_SPEC_1: &str = r#"{"type": "bouc_wen", "w": 0.1, "alpha": 1.0, "beta": 0.7,
+    "gamma": 0.3, "n": 1.0, "h0": 0.0, "z0": 0.0, "stiffness": 1.0}"#;
+
+/// The `bouc_wen n=1.5` kernel's spring as a spec (default tolerance, the
+/// kernel's [`BW15_RTOL`]).
+pub const BW_SPEC_15: &str = r#"{"type": "bouc_wen", "w": 0.1, "alpha": 1.0, "beta": 0.7,
+    "gamma": 0.3, "n": 1.5, "h0": 0.0, "z0": 0.0, "stiffness": 1.0}"#;
 
 /// The kernel input `x_i = 2.5 sin(2π i/2000) + 0.3 sin(2π i/97.3)`.
 pub fn kernel_input(n: usize) -> Vec<f64> {
@@ -238,21 +250,28 @@ fn time_with(
     })
 }
 
-/// Times an ensemble of [`ENSEMBLE`] instances of `spec` (its first
-/// parameter spread over `0.5..1.5` times its value, the others as given)
+/// Times an ensemble of [`ENSEMBLE`] instances of `spec` (its parameter
+/// `spread` over `0.5..1.5` times its value, the others as given)
 /// over the first `x.len() / ENSEMBLE` samples of `x`, on one thread, into
 /// one output buffer: the same instance-samples as one kernel run, timed
 /// per instance-sample.
 fn time_ensemble(
     kernel: &str,
     spec: &str,
+    spread: &str,
     x: &[f64],
     runs: usize,
-) -> std::result::Result<Timing, String> {
+) -> std::result::Result<(Timing, f64), String> {
     let spec = Spec::from_json(spec).map_err(|e| e.to_string())?;
-    let own = spec.build().map_err(|e| e.to_string())?.params();
+    let model = spec.build().map_err(|e| e.to_string())?;
+    let own = model.params();
+    let column = model
+        .param_names()
+        .iter()
+        .position(|n| n == spread)
+        .ok_or_else(|| format!("kernel {kernel}: no parameter {spread}"))?;
     let params = DMatrix::from_fn(ENSEMBLE, own.len(), |i, j| {
-        let spread = if j == 0 {
+        let spread = if j == column {
             0.5 + i as f64 / ENSEMBLE as f64
         } else {
             1.0
@@ -274,11 +293,13 @@ fn time_ensemble(
     if let Some(f) = check.first() {
         return Err(format!("kernel {kernel}: {f}"));
     }
-    time_with(kernel, ENSEMBLE * x.len(), runs, || {
+    let checksum = out.iter().sum();
+    let t = time_with(kernel, ENSEMBLE * x.len(), runs, || {
         let run = pool.install(|| ensemble.run_into(x, &mut out));
         std::hint::black_box(run.map(|f| f.len()).ok());
         Ok(())
-    })
+    })?;
+    Ok((t, checksum))
 }
 
 /// Runs the kernel table.
@@ -315,6 +336,10 @@ pub fn run(opts: &BenchOptions) -> std::result::Result<BenchReport, String> {
     if wanted("bouc_wen n=1") {
         let mut bw = bouc_wen(1.0).map_err(lib)?;
         timings.push(time_op("bouc_wen n=1", &mut bw, &x, &mut y, runs)?);
+        notes.push(format!(
+            "bouc_wen n=1: checksum (sum of outputs) {:.10e}",
+            y.iter().sum::<f64>()
+        ));
     }
     if wanted("bouc_wen n=1.5") {
         let mut bw = bouc_wen(1.5)
@@ -405,16 +430,32 @@ pub fn run(opts: &BenchOptions) -> std::result::Result<BenchReport, String> {
             medians[0] / medians[1]
         ));
     }
-    for (kernel, alone, spec) in [
-        ("ensemble play", "play", r#"{"type": "play", "r": 0.5}"#),
+    for (kernel, alone, spec, spread) in [
+        (
+            "ensemble play",
+            "play",
+            r#"{"type": "play", "r": 0.5}"#,
+            "r",
+        ),
         (
             "ensemble mms",
             "mms",
             r#"{"type": "mms", "f_c": 1.0, "k": 5.0}"#,
+            "f_c",
+        ),
+        ("ensemble bouc_wen n=1", "bouc_wen n=1", BW_SPEC_1, "beta"),
+        (
+            "ensemble bouc_wen n=1.5",
+            "bouc_wen n=1.5",
+            BW_SPEC_15,
+            "beta",
         ),
     ] {
         if wanted(kernel) {
-            let t = time_ensemble(kernel, spec, &x, runs)?;
+            let (t, checksum) = time_ensemble(kernel, spec, spread, &x, runs)?;
+            notes.push(format!(
+                "{kernel}: checksum (sum of outputs) {checksum:.10e}"
+            ));
             if let Some(one) = timings.iter().find(|t| t.kernel == alone) {
                 notes.push(format!(
                     "{kernel}: {:.2}x the instances per second of one {alone} at a time (1 thread)",

@@ -1,8 +1,8 @@
 //! The `sweep` job: runs a model spec (JSON, see
 //! [`Spec`](crate::models::Spec)) once per parameter set of a CSV file over
-//! one input column, as an [`Ensemble`] (play and MMS leaves eight
-//! instances per vector instruction, any other model one instance at a
-//! time, in parallel).
+//! one input column, as an [`Ensemble`] (play and MMS leaves, and the
+//! Bouc-Wen spring where every set has `n = 1`, eight instances per vector
+//! instruction, any other model one instance at a time, in parallel).
 //!
 //! * The parameter sets (`--params`): a CSV file whose header names
 //!   parameters as the built model's

@@ -67,6 +67,8 @@ fn prints_one_row_per_kernel_in_the_table_format() {
             "paper model batch x64, 2 thread(s)",
             "ensemble play",
             "ensemble mms",
+            "ensemble bouc_wen n=1",
+            "ensemble bouc_wen n=1.5",
         ],
         "{stdout}"
     );

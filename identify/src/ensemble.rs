@@ -1,6 +1,7 @@
 //! Many instances of one model structure, each with its own parameter
 //! vector, run over one input: the leaves with a lane kernel
-//! ([`hysteron_operators::lanes`]: play, MMS) eight instances per vector
+//! ([`hysteron_operators::lanes`]: play, MMS, the Bouc-Wen spring with
+//! `n = 1`) eight instances per vector
 //! instruction, every other model one instance at a time; in parallel
 //! (rayon) over blocks of instances either way.
 //!
@@ -11,7 +12,7 @@
 
 use hysteron_models::Spec;
 use hysteron_operators::lanes::{run_lanes, LaneLaw, WIDTH};
-use hysteron_operators::{Error, Leaf, Mms, Operator, Play};
+use hysteron_operators::{BoucWen, Error, Leaf, Mms, Operator, Play};
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 use std::fmt;
@@ -108,6 +109,9 @@ impl EnsembleRun {
 enum Lanes {
     Play(Vec<<Play<f64> as Leaf<f64>>::Params>),
     Mms(Vec<<Mms<f64> as Leaf<f64>>::Params>),
+    /// Every instance with `n = 1` (closed form): a spring with another
+    /// exponent has no vector form, and runs faster alone.
+    BoucWen(Vec<<BoucWen<f64> as Leaf<f64>>::Params>),
 }
 
 /// `N` instances of the model of one spec, instance `i` with the
@@ -215,6 +219,7 @@ impl Ensemble {
         match &self.lanes {
             Some(Lanes::Play(_)) => Kernel::Lanes("play"),
             Some(Lanes::Mms(_)) => Kernel::Lanes("mms"),
+            Some(Lanes::BoucWen(_)) => Kernel::Lanes("bouc_wen"),
             None => Kernel::Instances,
         }
     }
@@ -266,6 +271,7 @@ impl Ensemble {
         let mut failures = match &self.lanes {
             Some(Lanes::Play(laws)) => self.run_lanes(laws, x, out),
             Some(Lanes::Mms(laws)) => self.run_lanes(laws, x, out),
+            Some(Lanes::BoucWen(laws)) => self.run_lanes(laws, x, out),
             None => self.run_instances(x, out),
         };
         failures.sort_by_key(|f| f.instance);
@@ -364,6 +370,9 @@ fn lanes_for(spec: &Spec, sets: &[Result<Vec<f64>, Error>]) -> Option<Lanes> {
     match spec.kind() {
         "play" => lane_set::<Play<f64>>(spec, sets).map(Lanes::Play),
         "mms" => lane_set::<Mms<f64>>(spec, sets).map(Lanes::Mms),
+        "bouc_wen" => lane_set::<BoucWen<f64>>(spec, sets)
+            .filter(|laws| laws.iter().all(|p| p.n == 1.0))
+            .map(Lanes::BoucWen),
         _ => None,
     }
 }

@@ -42,9 +42,14 @@ fn rows_around(model: &dyn Operator<f64>, n: usize) -> DMatrix<f64> {
 /// its own model run alone; returns the kernel used.
 fn check_against_alone(spec: &Spec, n: usize) -> Kernel {
     let model = spec.build().unwrap();
-    let params = rows_around(&*model, n);
-    let x = input(600);
-    let ensemble = Ensemble::new(spec, &params).unwrap();
+    check_rows(spec, &rows_around(&*model, n), &input(600)).0
+}
+
+/// [`check_against_alone`] for the rows `params` over `x`; the kernel and
+/// the failed instances.
+fn check_rows(spec: &Spec, params: &DMatrix<f64>, x: &[f64]) -> (Kernel, Vec<usize>) {
+    let (model, n, x) = (spec.build().unwrap(), params.nrows(), x.to_vec());
+    let ensemble = Ensemble::new(spec, params).unwrap();
     let run = ensemble.run(&x).unwrap();
     for i in 0..n {
         let row: Vec<f64> = params.row(i).iter().copied().collect();
@@ -74,7 +79,8 @@ fn check_against_alone(spec: &Spec, n: usize) -> Kernel {
             ),
         }
     }
-    ensemble.kernel()
+    let failed = run.failures.iter().map(|f| f.instance).collect();
+    (ensemble.kernel(), failed)
 }
 
 /// Every registered leaf at its example (a rate-dependent one at 1 ms):
@@ -87,9 +93,48 @@ fn every_leaf_in_an_ensemble_is_each_instance_alone() {
         let want = match leaf.kind() {
             "play" => Kernel::Lanes("play"),
             "mms" => Kernel::Lanes("mms"),
+            // (its example has n = 1.5; with n = 1 in lanes, see below)
+            "bouc_wen" => Kernel::Instances,
             _ => Kernel::Instances,
         };
         assert_eq!(kernel, want, "{}", leaf.kind());
+    }
+}
+
+/// The Bouc-Wen spring with `n = 1` in every instance steps in lanes
+/// (with any other exponent, one instance at a time): softening and
+/// hardening sets, a piecewise stiffness map, a row out of its domain, and
+/// rows whose state diverges under a large input (flagged by the lanes,
+/// with the error each gives alone), over an input driven far enough for
+/// every branch piece.
+#[test]
+fn bouc_wen_with_n_1_in_lanes_is_each_instance_alone() {
+    for stiffness in ["1.5", r#"{"z": [0.0, 0.5, 2.0], "s": [1.0, 1.6, 3.0]}"#] {
+        let spec = Spec::from_json(&format!(
+            r#"{{"type": "bouc_wen", "w": 0.3, "alpha": 1.0, "beta": 0.6, "gamma": 0.4,
+                "n": 1.0, "h0": 0.2, "z0": -0.1, "stiffness": {stiffness}}}"#
+        ))
+        .unwrap();
+        let model = spec.build().unwrap();
+        let names = model.param_names();
+        let col = |name: &str| names.iter().position(|n| n == name).unwrap();
+        let mut params = rows_around(&*model, 19);
+        for i in 0..19 {
+            params[(i, col("n"))] = 1.0;
+            // β from −0.9 to 0.9 against γ = 0.4 ± 3 %: hardening sets
+            // (β + γ < 0) diverge under the large input
+            params[(i, col("beta"))] = -0.9 + 0.1 * i as f64;
+        }
+        // (β = γ: a side with c = 0)
+        params[(17, col("gamma"))] = params[(17, col("beta"))];
+        for (scale, diverging) in [(1.0, 0), (40.0, 3)] {
+            let x: Vec<f64> = input(600).iter().map(|v| scale * v).collect();
+            let (kernel, failed) = check_rows(&spec, &params, &x);
+            assert_eq!(kernel, Kernel::Lanes("bouc_wen"));
+            // row 2 is refused; at scale 40 the hardening rows diverge
+            assert!(failed.contains(&2), "{failed:?}");
+            assert!(failed.len() > diverging, "{failed:?}");
+        }
     }
 }
 

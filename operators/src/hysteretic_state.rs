@@ -222,6 +222,39 @@ impl<T: Float> Branch<T> {
     }
 }
 
+/// The terms of a branch both of whose pieces [`Branch::at`] evaluates in
+/// the general form `g∞ − (f/c) e^{−c s}` ([`closed_form`] with `c ≠ 0`),
+/// for the lane kernel of the Bouc-Wen spring: `at(s)` is
+/// `fc_0 − fc_0 e^{(−c_0)(s − s0)}` where `s0 < s`, else
+/// `inf_a − fc_a e^{(−c_a) s}`, the same operations on the same values.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct ExpForm {
+    pub s0: f64,
+    pub c_a: f64,
+    pub fc_a: f64,
+    pub inf_a: f64,
+    pub c_0: f64,
+    pub fc_0: f64,
+}
+
+impl Branch<f64> {
+    /// The branch's [`ExpForm`], or `None` where a piece takes another form
+    /// (the first evaluated by [`closed_form_near`], or a side with `c = 0`).
+    pub(crate) fn exp_form(&self) -> Option<ExpForm> {
+        if self.near_a || self.c_a == 0.0 || self.c_0 == 0.0 {
+            return None;
+        }
+        Some(ExpForm {
+            s0: self.s0,
+            c_a: self.c_a,
+            fc_a: self.fc_a,
+            inf_a: self.inf_a,
+            c_0: self.c_0,
+            fc_0: self.fc_0,
+        })
+    }
+}
+
 /// `g + (f/c) (1 − e^{−c s})` as `g∞ − (f/c) e^{−c s}` with
 /// `g∞ = g + f/c` (one `exp`, whose latency is shorter than `expm1`'s), or
 /// `g + f s` for `c = 0`. Its error is a few ulps of

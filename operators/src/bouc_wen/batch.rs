@@ -87,7 +87,12 @@ impl<T: Float> BoucWen<T> {
     // `n` is the shorter of the two lengths.
     #[allow(clippy::indexing_slicing)]
     #[inline(always)]
-    pub(super) fn run_while(&mut self, zs: &[T], ys: &mut [T], mut keep: impl FnMut(usize, T) -> bool) -> usize {
+    pub(super) fn run_while(
+        &mut self,
+        zs: &[T],
+        ys: &mut [T],
+        mut keep: impl FnMut(usize, T) -> bool,
+    ) -> usize {
         self.pending = None;
         if let Evaluation::Adaptive = self.evaluation {
             return process_while_by_trials(self, zs, ys, &mut keep);
@@ -137,16 +142,14 @@ impl<T: Float> BoucWen<T> {
             self.s = next;
             i += 1;
             let run = match (self.s.branch, &self.evaluation) {
-                (BranchStart::Linear(branch), _) => {
-                    self.run_branch(
+                (BranchStart::Linear(branch), _) => self.run_branch(
                     zs,
                     ys,
                     i,
                     |s, _| Some(branch.at(s)),
                     &mut keep,
                     &mut segment,
-                )
-                }
+                ),
                 (BranchStart::Flow(sa), Evaluation::Table(table, hint)) => {
                     let mut hint = *hint;
                     let run = self.run_branch(

@@ -10,11 +10,14 @@
 //!   reaches.
 //!
 //! `batch` runs a branch's samples in one loop for every tabulated or
-//! closed-form method; `state` holds what a step leaves.
+//! closed-form method; `state` holds what a step leaves; `lanes` steps
+//! eight springs with different parameters together
+//! ([`LaneLaw`](crate::lanes::LaneLaw)).
 
 mod batch;
 mod closed_form;
 mod evaluation;
+mod lanes;
 mod sensitive;
 mod state;
 mod tabulated;
@@ -25,6 +28,7 @@ use crate::{
     Float, Keep, Leaf, Operator, Result, StiffnessMap, Trial,
 };
 use evaluation::Evaluation;
+pub use lanes::BoucWenLanes;
 use state::{BranchStart, State};
 
 declare_params! {
@@ -173,9 +177,14 @@ impl<T: Float> BoucWen<T> {
             q.solver == solver
                 && v(q.eq.rtol).to_bits() == v(rtol).to_bits()
                 && matches!(q.evaluation, Evaluation::ClosedForm) == closed_form
-                && [(a.alpha, b.alpha), (a.beta, b.beta), (a.gamma, b.gamma), (a.n, b.n)]
-                    .iter()
-                    .all(|&(x, y)| v(x).to_bits() == v(y).to_bits())
+                && [
+                    (a.alpha, b.alpha),
+                    (a.beta, b.beta),
+                    (a.gamma, b.gamma),
+                    (a.n, b.n),
+                ]
+                .iter()
+                .all(|&(x, y)| v(x).to_bits() == v(y).to_bits())
         };
         let evaluation = match previous.filter(same_flow) {
             Some(q) => q.evaluation.reused(),
@@ -340,10 +349,12 @@ impl<T: Float> BoucWen<T> {
     fn step_integrated(&mut self, z: T, dir: i64, sign: T) -> Result<State<T>> {
         match &mut self.evaluation {
             Evaluation::ClosedForm => self.step_closed_form(z, dir, sign),
-            Evaluation::Table(table, hint) => match tabulated::step(table, hint, &self.s, z, dir, sign) {
-                Some(next) => Ok(next),
-                None => self.step_adaptive(z, dir, sign),
-            },
+            Evaluation::Table(table, hint) => {
+                match tabulated::step(table, hint, &self.s, z, dir, sign) {
+                    Some(next) => Ok(next),
+                    None => self.step_adaptive(z, dir, sign),
+                }
+            }
             Evaluation::Sensitive(..) | Evaluation::Adaptive => self.step_adaptive(z, dir, sign),
         }
     }
@@ -561,6 +572,11 @@ impl<T: Float> BoucWen<T> {
     /// The spring for new parameters with this one's tolerance and solver.
     fn with_same_settings(&self, p: BoucWenParams<T>) -> Result<Self> {
         p.validate()?;
-        Ok(Self::build_reusing(p, self.eq.rtol, self.solver, Some(self)))
+        Ok(Self::build_reusing(
+            p,
+            self.eq.rtol,
+            self.solver,
+            Some(self),
+        ))
     }
 }

@@ -154,6 +154,8 @@ impl<T: Float> Lookahead<T> {
             let sigmas = self.sigmas.get(..m).unwrap_or_default();
             self.found = flow.lookup_run(sigmas, hint, &mut self.points);
         }
-        self.points.get(k - self.from).filter(|_| k < self.from + self.found)
+        self.points
+            .get(k - self.from)
+            .filter(|_| k < self.from + self.found)
     }
 }

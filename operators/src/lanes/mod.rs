@@ -11,22 +11,24 @@
 mod transpose;
 
 use crate::simd::Isa;
-use crate::{Error, Result, StepLaw};
+use crate::{Error, Result};
 use transpose::{Columns, Tile};
 
 /// Instances per block: the `f64` lanes of an AVX-512 register.
 pub const WIDTH: usize = 8;
 
-/// A step law with a kernel that steps [`WIDTH`] instances together over
-/// one input.
+/// The parameters of a leaf with a kernel that steps [`WIDTH`] instances
+/// together over one input (a [`StepLaw`](crate::StepLaw), or a leaf with its own batch
+/// loop such as the Bouc-Wen spring).
 ///
 /// # Requirements
 /// * [`step_lanes`](LaneLaw::step_lanes) gives lane `j` the output that
-///   [`StepLaw::step`] gives instance `j` from its own state, bit for bit,
+///   the leaf built from instance `j`'s parameters gives at that sample
+///   from its own state ([`StepLaw::step`](crate::StepLaw::step) for a step law), bit for bit,
 ///   for every finite input;
 /// * a block made of fewer than [`WIDTH`] instances repeats the last one in
 ///   the unused lanes (their outputs are not read).
-pub trait LaneLaw: StepLaw<f64> + Sized {
+pub trait LaneLaw: Sized {
     /// The parameters and states of one block of instances, lane by lane.
     type Block;
 
@@ -214,7 +216,7 @@ mod tests {
     /// Every instance of `laws` run in lanes gives the bits of its own run.
     fn lanes_are_each_alone<L>(laws: &[L])
     where
-        L: LaneLaw + Clone,
+        L: LaneLaw + crate::StepLaw<f64> + Clone,
         Stepped<L, f64>: Leaf<f64, Params = L> + Operator<f64>,
     {
         let x = walk(1000);

@@ -1,0 +1,376 @@
+//! [`WIDTH`] springs with different parameters stepped together over one
+//! input, for `n = 1` (closed form).
+
+use super::BoucWenParams;
+use crate::hysteretic_state::{Branch, ExpForm, Power, StateEquation};
+use crate::lanes::{LaneLaw, WIDTH};
+use crate::{BoucWen, Operator, ParamSet, StiffnessMap};
+
+/// What one lane needs besides its vector terms: its state equation (to
+/// start a branch at a reversal), its stiffness map, and the branch itself
+/// where the vector form does not cover it.
+struct Lane {
+    eq: StateEquation<f64>,
+    map: StiffnessMap<f64>,
+    slopes: Vec<f64>,
+    /// The stiffness map's segment at the last sample.
+    segment: usize,
+    /// The current branch where it is not in [`ExpForm`] (evaluated by
+    /// [`Branch::at`] in this lane alone).
+    odd: Option<Branch<f64>>,
+}
+
+/// Eight Bouc-Wen springs with one input: for each lane its parameters,
+/// state `(z, h)`, direction, branch start `z_a` and the terms of its
+/// branch, lane by lane. A lane with `n ≠ 1` runs its own
+/// spring, one sample at a time.
+pub struct BoucWenLanes {
+    w: [f64; WIDTH],
+    /// `1 − w`.
+    one_w: [f64; WIDTH],
+    /// Each lane's stiffness where every map is constant.
+    stiffness: Option<[f64; WIDTH]>,
+    z: [f64; WIDTH],
+    h: [f64; WIDTH],
+    /// The direction of motion `±1` (`+1` before any motion).
+    sign: [f64; WIDTH],
+    /// Whether the lane has moved (has a branch).
+    moving: [bool; WIDTH],
+    z_a: [f64; WIDTH],
+    s0: [f64; WIDTH],
+    c_a: [f64; WIDTH],
+    fc_a: [f64; WIDTH],
+    inf_a: [f64; WIDTH],
+    c_0: [f64; WIDTH],
+    fc_0: [f64; WIDTH],
+    lanes: Vec<Lane>,
+    /// Whether a lane's branch is outside the common form.
+    odd: bool,
+    /// The lanes with `n ≠ 1` and their springs (`None`: refused, the lane
+    /// gives NaN).
+    others: Vec<(usize, Option<BoucWen<f64>>)>,
+}
+
+/// `e^v` in one lane: the C library's `exp`, the function the spring's own
+/// [`Branch::at`] calls (`f64::exp`), so that every lane keeps its bits.
+#[inline(always)]
+fn exp(v: f64) -> f64 {
+    v.exp()
+}
+
+/// The `n = 1` spring ([`BoucWen`], closed form) in every lane:
+///
+/// `H = w S(z) z + (1 − w) S(z) h`, `h = sgn(ż) g(sgn(ż) (z − z_a))`,
+///
+/// each branch `g(s) = g∞ − (f/c) e^{−c s}` from its start (the last
+/// reversal `z_a`), with the terms the spring precomputes there. The lanes
+/// do the operations of the spring's own batch loop in the same order,
+/// with no fused multiply-add, and call the C library's `exp` lane by lane
+/// (the spring's own function: a vectorised exponential would differ from
+/// it by an ulp, and the state's output by many ulps of `H` where `H`
+/// crosses zero), so every lane's outputs are the bits of the instance
+/// alone, on every instruction set; the comparisons, selects, products and
+/// sums run [`WIDTH`] lanes per instruction. A reversal (starting each
+/// lane's branch, a logarithm and divisions), a lane at rest before its
+/// first motion and a branch outside the common form (a side with
+/// `c = 0`, or a first piece evaluated with `expm1`, where `|β − γ|` is
+/// below a sixteenth of `β + γ`) are
+/// handled lane by lane. A lane whose exponent is not 1 steps its own
+/// spring (tabulated flow or integration) one sample at a time, giving
+/// its bits too, without the speed.
+impl LaneLaw for BoucWenParams<f64> {
+    type Block = BoucWenLanes;
+
+    fn block(laws: &[Self]) -> BoucWenLanes {
+        let lane_of = |j: usize| laws.get(j).or(laws.last());
+        let field = |f: fn(&Self) -> f64| -> [f64; WIDTH] {
+            core::array::from_fn(|j| lane_of(j).map_or(0.0, f))
+        };
+        let rtol = BoucWen::<f64>::default_tolerance();
+        let mut lanes = Vec::with_capacity(WIDTH);
+        let mut others = Vec::new();
+        for j in 0..WIDTH {
+            // (`laws` is not empty: `run_lanes` passes one to WIDTH laws)
+            let p = lane_of(j).cloned().unwrap_or_else(BoucWenParams::example);
+            let eq = StateEquation::new(p.alpha, p.beta, p.gamma, p.n, rtol);
+            let map = p.stiffness.clone();
+            if eq.power != Power::One {
+                others.push((j, BoucWen::from_params(p).ok()));
+            }
+            lanes.push(Lane {
+                eq,
+                slopes: map.slopes(),
+                map,
+                segment: 0,
+                odd: None,
+            });
+        }
+        let stiffness = if lanes.iter().all(|l| l.map.len() == 1) {
+            let mut s = [0.0; WIDTH];
+            for (s, l) in s.iter_mut().zip(&mut lanes) {
+                *s = l.map.eval_from(&l.slopes, 0.0, &mut l.segment).0;
+            }
+            Some(s)
+        } else {
+            None
+        };
+        let w = field(|p| p.w);
+        let z0 = field(|p| p.z0);
+        BoucWenLanes {
+            w,
+            one_w: w.map(|w| 1.0 - w),
+            stiffness,
+            z: z0,
+            h: field(|p| p.h0),
+            sign: [1.0; WIDTH],
+            moving: [false; WIDTH],
+            z_a: z0,
+            s0: [f64::INFINITY; WIDTH],
+            c_a: [1.0; WIDTH],
+            fc_a: [0.0; WIDTH],
+            inf_a: [0.0; WIDTH],
+            c_0: [1.0; WIDTH],
+            fc_0: [0.0; WIDTH],
+            lanes,
+            odd: false,
+            others,
+        }
+    }
+
+    // `j < WIDTH`, the length of every lane array.
+    #[allow(clippy::indexing_slicing)]
+    #[inline(always)]
+    fn step_lanes(b: &mut BoucWenLanes, x: f64, y: &mut [f64; WIDTH]) {
+        // Every lane goes on along its branch (or stands still on it), the
+        // common case once the lanes have moved: the input is common.
+        let mut goes_on = true;
+        for j in 0..WIDTH {
+            goes_on &= b.moving[j] & (b.sign[j] * (x - b.z[j]) >= 0.0);
+        }
+        let mut rest = [false; WIDTH];
+        if !goes_on {
+            b.turn(x, &mut rest);
+        }
+        // `Branch::at(s)` in every lane: past the zero crossing `s0` the
+        // piece from `g = 0` (asymptote `f_0/c_0`), else the first.
+        let mut travel = [0.0; WIDTH];
+        let mut arg = [0.0; WIDTH];
+        let mut asym = [0.0; WIDTH];
+        let mut fc = [0.0; WIDTH];
+        for j in 0..WIDTH {
+            let s = b.sign[j] * (x - b.z_a[j]);
+            travel[j] = s;
+            let past = b.s0[j] < s;
+            arg[j] = if past {
+                -b.c_0[j] * (s - b.s0[j])
+            } else {
+                -b.c_a[j] * s
+            };
+            asym[j] = if past { b.fc_0[j] } else { b.inf_a[j] };
+            fc[j] = if past { b.fc_0[j] } else { b.fc_a[j] };
+        }
+        let e = arg.map(exp);
+        let mut h = [0.0; WIDTH];
+        for j in 0..WIDTH {
+            h[j] = b.sign[j] * (asym[j] - fc[j] * e[j]);
+        }
+        // The lanes outside the common form, and those at rest (at their
+        // own `z`).
+        let mut z = [x; WIDTH];
+        if !goes_on || b.odd {
+            for (j, lane) in b.lanes.iter().enumerate() {
+                if rest[j] {
+                    (z[j], h[j]) = (b.z[j], b.h[j]);
+                } else if let Some(branch) = &lane.odd {
+                    h[j] = b.sign[j] * branch.at(travel[j]);
+                }
+            }
+        }
+        // `H = w S z + (1 − w) S h`.
+        let s = match b.stiffness {
+            Some(s) => s,
+            None => {
+                let mut s = [0.0; WIDTH];
+                for ((s, lane), &z) in s.iter_mut().zip(&mut b.lanes).zip(&z) {
+                    *s = lane.map.eval_from(&lane.slopes, z, &mut lane.segment).0;
+                }
+                s
+            }
+        };
+        for j in 0..WIDTH {
+            y[j] = b.w[j] * s[j] * z[j] + b.one_w[j] * s[j] * h[j];
+        }
+        b.z = z;
+        b.h = h;
+        for (j, spring) in &mut b.others {
+            let out = spring.as_mut().and_then(|spring| {
+                let mut v = [0.0];
+                spring.process(&[x], &mut v).ok().map(|()| v[0])
+            });
+            if let Some(y) = y.get_mut(*j) {
+                *y = out.unwrap_or(f64::NAN);
+            }
+        }
+    }
+}
+
+impl BoucWenLanes {
+    /// The lane-by-lane part of a step to `x` where some lane does not go
+    /// on along its branch: a lane that reverses (or makes its first
+    /// motion) starts its branch at its last state; a lane before any
+    /// motion at `x` stays at rest (`rest`).
+    #[cold]
+    fn turn(&mut self, x: f64, rest: &mut [bool; WIDTH]) {
+        for (j, (lane, rest)) in self.lanes.iter_mut().zip(rest.iter_mut()).enumerate() {
+            let (Some(sign), Some(z), Some(moving), Some(&h)) = (
+                self.sign.get_mut(j),
+                self.z.get(j),
+                self.moving.get_mut(j),
+                self.h.get(j),
+            ) else {
+                continue;
+            };
+            let dz = x - *z;
+            let turns = if dz > 0.0 {
+                !*moving || *sign < 0.0
+            } else if dz < 0.0 {
+                !*moving || *sign > 0.0
+            } else {
+                *rest = !*moving;
+                false
+            };
+            if !turns {
+                continue;
+            }
+            *sign = if dz < 0.0 { -1.0 } else { 1.0 };
+            *moving = true;
+            let branch = lane.eq.branch(*sign * h);
+            let form = branch.exp_form();
+            lane.odd = form.is_none().then_some(branch);
+            let ExpForm {
+                s0,
+                c_a,
+                fc_a,
+                inf_a,
+                c_0,
+                fc_0,
+            } = form.unwrap_or(ExpForm {
+                s0: f64::INFINITY,
+                c_a: 1.0,
+                fc_a: 0.0,
+                inf_a: 0.0,
+                c_0: 1.0,
+                fc_0: 0.0,
+            });
+            for (v, value) in [
+                (&mut self.z_a, *z),
+                (&mut self.s0, s0),
+                (&mut self.c_a, c_a),
+                (&mut self.fc_a, fc_a),
+                (&mut self.inf_a, inf_a),
+                (&mut self.c_0, c_0),
+                (&mut self.fc_0, fc_0),
+            ] {
+                if let Some(v) = v.get_mut(j) {
+                    *v = value;
+                }
+            }
+        }
+        self.odd = self.lanes.iter().any(|l| l.odd.is_some());
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lanes::run_lanes;
+
+    /// Reversals of growing amplitude, holds, and a start at rest.
+    fn input(n: usize) -> Vec<f64> {
+        (0..n)
+            .map(|i| {
+                let t = i as f64 / n as f64;
+                let hold = if i % 23 == 5 || i < 3 { 0.0 } else { 1.0 };
+                (0.2 + 3.0 * t) * (std::f64::consts::TAU * 6.0 * t).sin() * hold
+                    + 0.05 * (i as f64 * 0.37).sin() * hold
+            })
+            .collect()
+    }
+
+    fn params(i: usize, n: f64) -> BoucWenParams<f64> {
+        let f = i as f64;
+        BoucWenParams {
+            w: 0.05 * f,
+            alpha: 1.0 + 0.1 * f,
+            beta: 0.3 + 0.05 * f,
+            gamma: 0.4 - 0.07 * f,
+            n,
+            h0: 0.1 - 0.03 * f,
+            // instance 0 starts where the input does: at rest
+            z0: if i == 0 { 0.0 } else { 0.02 * f - 0.1 },
+            stiffness: if i % 3 == 1 {
+                StiffnessMap::new(vec![0.0, 0.5, 2.0], vec![1.0, 1.5 + 0.1 * f, 3.0]).unwrap()
+            } else {
+                StiffnessMap::constant(1.0 + 0.2 * f).unwrap()
+            },
+        }
+    }
+
+    /// Every lane's outputs are the bits of its spring run alone, or it is
+    /// flagged where that run fails.
+    fn each_alone(laws: &[BoucWenParams<f64>], x: &[f64]) {
+        let mut out = vec![0.0; laws.len() * x.len()];
+        let failed = run_lanes(laws, x, &mut out).unwrap();
+        for (i, (law, row)) in laws.iter().zip(out.chunks(x.len())).enumerate() {
+            match BoucWen::from_params(law.clone()).unwrap().run(x) {
+                Ok(alone) => {
+                    assert!(!failed.contains(&i), "instance {i} flagged");
+                    for (k, (a, b)) in alone.iter().zip(row).enumerate() {
+                        assert_eq!(
+                            a.to_bits(),
+                            b.to_bits(),
+                            "instance {i}, sample {k}: {a} vs {b}"
+                        );
+                    }
+                }
+                Err(_) => assert!(failed.contains(&i), "instance {i} not flagged"),
+            }
+        }
+    }
+
+    /// Thirteen `n = 1` springs (a full block and a part): softening and
+    /// hardening loops, piecewise stiffness, one starting at rest, one with
+    /// `β = γ` (a side with `c = 0`) and one with `β − γ` far below `β + γ`
+    /// (the first piece by `expm1`).
+    #[test]
+    fn closed_form_lanes_are_each_spring_alone() {
+        let mut laws: Vec<_> = (0..13).map(|i| params(i, 1.0)).collect();
+        laws[5].gamma = laws[5].beta;
+        laws[6].gamma = 0.97 * laws[6].beta;
+        each_alone(&laws, &input(3000));
+    }
+
+    /// A lane whose state diverges (a hardening set, `β + γ < 0`, driven
+    /// far) is flagged, and the others finish with their own bits.
+    #[test]
+    fn a_diverging_lane_is_flagged_and_the_others_finish() {
+        let mut laws: Vec<_> = (0..8).map(|i| params(i, 1.0)).collect();
+        laws[3].beta = -2.0;
+        laws[3].gamma = -2.0;
+        let x: Vec<f64> = input(2000).iter().map(|v| 200.0 * v).collect();
+        assert!(BoucWen::from_params(laws[3].clone())
+            .unwrap()
+            .run(&x)
+            .is_err());
+        each_alone(&laws, &x);
+    }
+
+    /// Lanes with `n ≠ 1` in a block run their own springs.
+    #[test]
+    fn other_exponents_in_a_block_are_each_spring_alone() {
+        let laws: Vec<_> = (0..9)
+            .map(|i| params(i, if i % 2 == 0 { 1.0 } else { 1.5 }))
+            .collect();
+        each_alone(&laws, &input(800));
+    }
+}
