@@ -14,7 +14,8 @@ use pyo3::prelude::*;
 
 /// `N` instances of a model's structure, instance `i` with the parameter
 /// vector `params[i]` (columns in the order of `model.param_names`): play and MMS
-/// leaves step eight instances per vector instruction, any other model
+/// leaves, and a Bouc-Wen spring whose rows all have `n = 1`, step eight
+/// instances per vector instruction, any other model
 /// one instance at a time, in parallel. Every instance gives the bits the
 /// model gives alone with its parameters.
 #[pyclass(module = "hysteron_rs._native", frozen)]
