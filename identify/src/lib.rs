@@ -15,6 +15,9 @@
 //! * [`multistart`]: the same fit from a Latin hypercube of starts, the
 //!   best kept;
 //! * [`batch`]: many parameter sets or many records simulated in parallel;
+//! * [`sobol`]: global sensitivity, the Sobol first-order and total
+//!   indices of a statistic of a model's output (Saltelli design, one
+//!   ensemble for all runs);
 //! * [`metrics`]: error figures of a model against a measured record (RMS,
 //!   largest error, NRMSE) and a zero-phase Butterworth low-pass.
 //!
@@ -41,6 +44,7 @@ mod problem;
 mod record;
 pub mod report;
 pub mod selection;
+pub mod sobol;
 mod transform;
 mod triangular;
 
