@@ -12,7 +12,7 @@
 //!   record (closed polygon, trapezoid rule), the signed work `∮ y dx`,
 //!   the peak `max |y|`, the RMS or the mean of `y`.
 //! * `N` base samples (`--samples`, a power of two) make `N (k + 2)` runs
-//!   of the model over the whole input, all as one ensemble (play and MMS
+//!   of the model over the whole input, through one ensemble (play and MMS
 //!   leaves eight per vector instruction).
 //!
 //! The table is printed; with `--output` it is also written as CSV

@@ -19,10 +19,11 @@
 //! and seeded, from the `sobol_burley` crate), mapped uniformly into the
 //! bounds; `A_B^(i)` is `A` with its column `i` taken from `B`. The model
 //! runs once per row of `A`, `B` and the `k` matrices `A_B^(i)`:
-//! `N (k + 2)` runs, all through one [`Ensemble`] (in chunks of whole lane
-//! blocks, in parallel).
+//! `N (k + 2)` runs, all through the [`Ensemble`] of the design's
+//! parameter matrix (split into chunks of whole lane blocks when the
+//! outputs would pass 2²² values, to bound memory), in parallel.
 //!
-//! **Estimators** (Saltelli et al. 2010, Table 2, (b) and (f)), with
+//! **Estimators** (the pair Saltelli et al. 2010 recommend), with
 //! `f_A`, `f_B`, `f_{A_B^i}` the statistic's values row by row, `V` the
 //! variance of the `2N` values of `f_A` and `f_B` together:
 //!
