@@ -131,4 +131,7 @@ pub mod guide {
     /// `docs/composing.md`
     #[doc = include_str!("../docs/composing.md")]
     pub struct Composing;
+    /// `docs/uncertainty.md`
+    #[doc = include_str!("../docs/uncertainty.md")]
+    pub struct Uncertainty;
 }

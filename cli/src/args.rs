@@ -127,6 +127,16 @@ pub fn bench_runs(s: &str) -> Result<usize, ArgError> {
     integer_in(s, 1, 1000)
 }
 
+/// `--samples` of `sobol`: 16 to 65536 (that it is a power of two is
+/// checked with the other options).
+pub fn sobol_samples(s: &str) -> Result<usize, ArgError> {
+    integer_in(
+        s,
+        hysteron::identify::sobol::MIN_SAMPLES,
+        hysteron::identify::sobol::MAX_SAMPLES,
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -29,5 +29,6 @@ pub mod plot;
 pub mod reference_figures;
 pub mod sensitivity;
 pub mod simulate;
+pub mod sobol;
 pub mod sweep;
 pub mod validate;

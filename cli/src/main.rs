@@ -14,6 +14,11 @@
 //!   model spec over one column of a CSV file and writes the output with
 //!   its derivatives `dy/d<param>` by forward-mode automatic
 //!   differentiation (see [`hysteron_cli::sensitivity`]);
+//! * `hysteron sobol --model SPEC.json --input IN.csv [--column x]
+//!   --factor NAME=LOW:HIGH ... [--statistic energy|work|peak|rms|mean]
+//!   [--samples N] [--seed S] [--output OUT.csv]`: the Sobol first-order
+//!   and total indices of a statistic of the output with respect to chosen
+//!   parameters (see [`hysteron_cli::sobol`]);
 //! * `hysteron fit --model SPEC.json --data DATA.csv [--input-column x]
 //!   [--output-column y] --free a,b,c --output FITTED.json [--plot FIT.svg]
 //!   [--dt SECONDS | --time-column t]`:
@@ -62,7 +67,7 @@
 use clap::{Parser, Subcommand};
 use hysteron_cli::{
     analyze, bench, compare, csvio, export_fmu, fit_cmd, fitting, identify_paper, paper,
-    sensitivity, simulate, sweep, validate,
+    sensitivity, simulate, sobol, sweep, validate,
 };
 use std::fmt;
 use std::path::PathBuf;
@@ -106,6 +111,16 @@ enum Command {
     /// set_2, … (NaN for a set that failed, which the report names with
     /// its error).
     Sweep(sweep::SweepOptions),
+    /// Global sensitivity of a model spec (JSON): which parameters matter
+    /// for a scalar statistic of its output over one column of a CSV file
+    /// (the loop energy |∮ y dx|, the work, the peak |y|, the RMS or the
+    /// mean of y). Each factor (--factor NAME=LOW:HIGH) is uniform within
+    /// its bounds, the others keep the spec's values; prints the Sobol
+    /// first-order index S_i (the share of the statistic's variance the
+    /// factor explains alone) and total index S_Ti (with its
+    /// interactions), from N (k + 2) runs on a scrambled Sobol sequence
+    /// (Saltelli design and estimators).
+    Sobol(sobol::SobolCmdOptions),
     /// Fit parameters of a model spec (JSON) to one record or several
     /// (input and measured output columns of CSV files) with
     /// Levenberg-Marquardt, starting from the spec's values; prints a
@@ -205,6 +220,7 @@ fn main() -> ExitCode {
         Command::Simulate(opts) => reported(simulate::run(&opts), |_| true),
         Command::Sensitivity(opts) => reported(sensitivity::run(&opts), |_| true),
         Command::Sweep(opts) => reported(sweep::run(&opts), |_| true),
+        Command::Sobol(opts) => reported(sobol::run(&opts), |_| true),
         Command::Fit(opts) => reported(fit_cmd::run(&opts), fit_cmd::FitCmdReport::converged),
         Command::Validate(opts) => reported(validate::run(&opts), |_| true),
         Command::Analyze(opts) => reported(analyze::run(&opts), |_| true),

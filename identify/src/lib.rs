@@ -17,6 +17,9 @@
 //! * [`band`]: uncertainty bands around a fitted model's output
 //!   ([`Fit::predict_band`]), linearized or Monte Carlo;
 //! * [`batch`]: many parameter sets or many records simulated in parallel;
+//! * [`sobol`]: global sensitivity, the Sobol first-order and total
+//!   indices of a statistic of a model's output (Saltelli design, one
+//!   ensemble for all runs);
 //! * [`metrics`]: error figures of a model against a measured record (RMS,
 //!   largest error, NRMSE) and a zero-phase Butterworth low-pass.
 //!
@@ -44,6 +47,7 @@ mod problem;
 mod record;
 pub mod report;
 pub mod selection;
+pub mod sobol;
 mod transform;
 mod triangular;
 
