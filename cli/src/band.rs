@@ -1,7 +1,7 @@
 //! The options of an uncertainty band, shared by `fit` (`--band`) and
 //! `validate` (`--covariance`), and the covariance file that carries a
 //! fit's parameter covariance from one to the other
-//! ([`band::Covariance`](crate::identify::band::Covariance), JSON).
+//! ([`Covariance`], JSON).
 
 use crate::csvio::{self, CsvIoError};
 use crate::identify::band::{self, Band, BandError, BandMethod, Covariance};
