@@ -391,7 +391,8 @@ class LoopEnergy:
 class Ensemble:
     """`N` instances of a model's structure, instance `i` with the parameter
     vector `params[i]` (columns in the order of `model.param_names`): play and MMS
-    leaves step eight instances per vector instruction, any other model
+    leaves, and a Bouc-Wen spring whose rows all have `n = 1`, step eight
+    instances per vector instruction, any other model
     one instance at a time, in parallel. Every instance gives the bits the
     model gives alone with its parameters.
     """
