@@ -16,6 +16,7 @@
 
 pub mod c_api;
 pub mod fmi2;
+pub mod fmu;
 pub mod model;
 pub mod status;
 

@@ -4,9 +4,9 @@
 //! failed call).
 #![allow(non_snake_case)]
 
-use super::instance::{Instance, Mode, Snapshot};
-use super::serial::{deserialize, serialize};
 use super::types::*;
+use crate::fmu::instance::{Instance, Mode, Snapshot};
+use crate::fmu::serial::{deserialize, serialize};
 use crate::status::panic_text;
 use std::ffi::{c_char, CStr, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -380,7 +380,7 @@ fn unsupported(c: fmi2Component, what: &str) -> fmi2Status {
     with(c, |_| Err(format!("{what} is not supported by this FMU")))
 }
 
-/// The bytes of `state` ([`serial`](super::serial)).
+/// The bytes of `state` ([`serial`](crate::fmu::serial)).
 ///
 /// # Safety
 /// `state` is NULL or a state from `fmi2GetFMUstate` or
