@@ -89,36 +89,53 @@ unsafe fn text(ptr: fmi3String) -> Option<String> {
     )
 }
 
-/// `(vr, nvr)` and `(values, n)` as slices: every variable of the FMU is a
-/// scalar, so `n` must be `nvr` (empty for 0).
+/// `(vr, nvr)` as a slice, for `n` values at `values`: every variable of
+/// the FMU is a scalar, so `n` must be `nvr`; for `n > 0` neither pointer
+/// may be NULL. The values are not read (an array to be written may be
+/// uninitialized).
 ///
 /// # Safety
-/// For `nvr > 0` and `n > 0` the pointers are NULL or valid for `nvr` and
-/// `n` elements.
-unsafe fn slices<'a, T>(
+/// For `nvr > 0`, `vr` is NULL or valid for `nvr` elements.
+unsafe fn references<'a, T>(
     vr: *const fmi3ValueReference,
     nvr: usize,
     values: *const T,
     n: usize,
-) -> Result<(&'a [u32], &'a [T]), String> {
+) -> Result<&'a [u32], String> {
     if n != nvr {
         return Err(format!(
             "{n} values for {nvr} value references: every variable is a scalar"
         ));
     }
     if n == 0 {
-        return Ok((&[], &[]));
+        return Ok(&[]);
     }
     if vr.is_null() || values.is_null() {
         return Err("valueReferences or values: NULL".into());
     }
-    // SAFETY: non-NULL and valid for n elements by the contract.
-    Ok(unsafe {
-        (
-            std::slice::from_raw_parts(vr, n),
-            std::slice::from_raw_parts(values, n),
-        )
-    })
+    // SAFETY: non-NULL and valid for n = nvr elements by the contract.
+    Ok(unsafe { std::slice::from_raw_parts(vr, n) })
+}
+
+/// `(vr, nvr)` and `(values, n)` as slices, checked as by [`references`].
+///
+/// # Safety
+/// For `nvr > 0` and `n > 0` the pointers are NULL or valid for `nvr` and
+/// `n` initialized elements.
+unsafe fn slices<'a, T>(
+    vr: *const fmi3ValueReference,
+    nvr: usize,
+    values: *const T,
+    n: usize,
+) -> Result<(&'a [u32], &'a [T]), String> {
+    // SAFETY: by the contract.
+    let vrs = unsafe { references(vr, nvr, values, n) }?;
+    if vrs.is_empty() {
+        return Ok((&[], &[]));
+    }
+    // SAFETY: `values` is non-NULL (checked) and valid for n initialized
+    // elements by the contract.
+    Ok((vrs, unsafe { std::slice::from_raw_parts(values, n) }))
 }
 
 #[no_mangle]
@@ -169,6 +186,7 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
         }
         // SAFETY: NULL or NUL-terminated by the contract.
         let token = unsafe { text(instantiationToken) }.ok_or("instantiationToken: NULL")?;
+        // SAFETY: likewise.
         let resources = unsafe { text(resourcePath) }
             .ok_or("resourcePath: NULL (the FMU's spec is resources/model.json)")?;
         Instance::from_resource_dir(&PathBuf::from(resources), &token, Fmi::V3)
@@ -305,9 +323,9 @@ pub unsafe extern "C" fn fmi3GetFloat64(
     nValues: usize,
 ) -> fmi3Status {
     with(instance, |comp| {
-        // SAFETY: by the contract.
-        let (vrs, _) = unsafe {
-            slices(
+        // SAFETY: by the contract; `values` is only written.
+        let vrs = unsafe {
+            references(
                 valueReferences,
                 nValueReferences,
                 values.cast_const(),
@@ -471,6 +489,7 @@ pub unsafe extern "C" fn fmi3GetFMUState(
     with(instance, |comp| {
         // SAFETY: by the contract.
         let slot = unsafe { FMUState.as_mut() }.ok_or("FMUState: NULL")?;
+        // SAFETY: `*slot` is NULL or a state of this module by the contract.
         unsafe { store(slot, comp.inst.snapshot()) };
         Ok(())
     })
@@ -536,6 +555,7 @@ pub unsafe extern "C" fn fmi3SerializedFMUStateSize(
     with(instance, |comp| {
         // SAFETY: by the contract.
         let bytes = unsafe { state_bytes(comp, FMUState) }?;
+        // SAFETY: `size` is NULL or writable by the contract.
         *unsafe { size.as_mut() }.ok_or("size: NULL")? = bytes.len();
         Ok(())
     })
@@ -612,10 +632,11 @@ pub unsafe extern "C" fn fmi3GetDirectionalDerivative(
     nSensitivity: usize,
 ) -> fmi3Status {
     with(instance, |comp| {
-        // SAFETY: by the contract.
-        let (unknown, _) =
-            unsafe { slices(unknowns, nUnknowns, sensitivity.cast_const(), nSensitivity) }
+        // SAFETY: by the contract; `sensitivity` is only written.
+        let unknown =
+            unsafe { references(unknowns, nUnknowns, sensitivity.cast_const(), nSensitivity) }
                 .map_err(|e| format!("unknowns and sensitivity: {e}"))?;
+        // SAFETY: by the contract.
         let (known, seed) = unsafe { slices(knowns, nKnowns, seed, nSeed) }
             .map_err(|e| format!("knowns and seed: {e}"))?;
         let dv = comp.inst.directional_derivative(unknown, known, seed)?;
