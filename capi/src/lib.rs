@@ -1,4 +1,4 @@
-//! hysteron from C and from FMI 2.0 co-simulation hosts.
+//! hysteron from C and from FMI 2.0 and FMI 3.0 co-simulation hosts.
 //!
 //! The crate builds `libhysteron_c.so`, which is two things at once:
 //!
@@ -7,15 +7,19 @@
 //!   `hysteron_trial`/`hysteron_commit`, `hysteron_process`,
 //!   `hysteron_reset`, parameters by name, clone and free; status codes
 //!   plus `hysteron_last_error()`;
-//! * **the FMU binary** ([`fmi2`]): the `fmi2*` functions of FMI 2.0
-//!   co-simulation, which `hysteron export-fmu` packs with a model's spec
-//!   and its `modelDescription.xml`.
+//! * **the FMU binary** ([`fmi2`], [`fmi3`]): the `fmi2*` functions of
+//!   FMI 2.0 co-simulation and the `fmi3*` functions of FMI 3.0
+//!   co-simulation, around one instance state machine ([`fmu`]), which
+//!   `hysteron export-fmu [--fmi 3]` packs with a model's spec and its
+//!   `modelDescription.xml`.
 //!
 //! No Rust panic crosses the C boundary: every exported function runs
 //! under `catch_unwind` and reports a panic as an error (a bug).
 
 pub mod c_api;
 pub mod fmi2;
+pub mod fmi3;
+pub mod fmu;
 pub mod model;
 pub mod status;
 

@@ -1,17 +1,20 @@
-//! `hysteron export-fmu`: a model spec as an FMI 2.0 co-simulation FMU.
+//! `hysteron export-fmu`: a model spec as an FMI 2.0 (the default) or,
+//! with `--fmi 3`, an FMI 3.0 co-simulation FMU.
 //!
 //! The FMU is a zip archive holding `modelDescription.xml` (the input `x`,
-//! the output `y`, and every parameter as a tunable Real named by its path
-//! with the spec's value as its start), `binaries/linux64/<id>.so` (a copy
-//! of `libhysteron_c.so`, which implements the `fmi2*` functions for any
-//! spec) and `resources/model.json` (the spec, read when the FMU is
-//! instantiated). The semantics are those of `hysteron_c::fmi2`.
+//! the output `y`, and every parameter as a tunable Real (FMI 3.0:
+//! Float64) named by its path with the spec's value as its start; FMI 3.0
+//! adds the independent variable `time`), the binary (a copy of
+//! `libhysteron_c.so`, which implements the `fmi2*` and `fmi3*` functions
+//! for any spec) as `binaries/linux64/<id>.so` (FMI 2.0) or
+//! `binaries/x86_64-linux/<id>.so` (FMI 3.0), and `resources/model.json`
+//! (the spec, read when the FMU is instantiated). The semantics are those
+//! of `hysteron_c::fmi2` and `hysteron_c::fmi3`.
 
 use crate::csvio::{self, CsvIoError, SameFile};
 use crate::model_file::ModelFileError;
 use crate::models::Spec;
-use hysteron_c::fmi2::model_description;
-use hysteron_c::Model;
+use hysteron_c::{fmi2, fmi3, Model};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use zip::write::SimpleFileOptions;
@@ -34,6 +37,46 @@ pub struct ExportFmuOptions {
     /// built by `cargo build --release`).
     #[arg(long, value_name = "libhysteron_c.so")]
     pub library: Option<PathBuf>,
+    /// The FMI version: 2 (FMI 2.0) or 3 (FMI 3.0).
+    #[arg(long, value_name = "VERSION", default_value = "2", value_parser = ["2", "3"])]
+    pub fmi: String,
+}
+
+impl ExportFmuOptions {
+    /// The FMI version asked for.
+    fn version(&self) -> FmiVersion {
+        if self.fmi == "3" {
+            FmiVersion::V3
+        } else {
+            FmiVersion::V2
+        }
+    }
+}
+
+/// The FMI version of an FMU.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FmiVersion {
+    /// FMI 2.0.
+    V2,
+    /// FMI 3.0.
+    V3,
+}
+
+impl FmiVersion {
+    /// Where the binary goes in the archive.
+    fn binary_dir(self) -> &'static str {
+        match self {
+            FmiVersion::V2 => "binaries/linux64",
+            FmiVersion::V3 => "binaries/x86_64-linux",
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            FmiVersion::V2 => "FMI 2.0",
+            FmiVersion::V3 => "FMI 3.0",
+        }
+    }
 }
 
 /// Why an FMU could not be written.
@@ -56,7 +99,7 @@ pub enum ExportFmuError {
         reason: String,
     },
     /// Only Linux x86-64 binaries are packed.
-    #[error("export-fmu packs binaries/linux64 only: this program was built for {0}")]
+    #[error("export-fmu packs Linux x86-64 binaries only: this program was built for {0}")]
     Platform(&'static str),
     /// The output names the model file.
     #[error(transparent)]
@@ -75,14 +118,17 @@ pub struct ExportFmuReport {
     pub identifier: String,
     /// Number of tunable parameters.
     pub parameters: usize,
+    /// The FMI version.
+    pub fmi: FmiVersion,
 }
 
 impl std::fmt::Display for ExportFmuReport {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "wrote {} (FMI 2.0 co-simulation, model identifier `{}`: input x, output y, {} tunable parameters)",
+            "wrote {} ({} co-simulation, model identifier `{}`: input x, output y, {} tunable parameters)",
             self.output.display(),
+            self.fmi.name(),
             self.identifier,
             self.parameters
         )
@@ -162,7 +208,11 @@ pub fn run(opts: &ExportFmuOptions) -> Result<ExportFmuReport, ExportFmuError> {
             .unwrap_or_else(|| default_name(&opts.output)),
     )?;
     let (_, binary) = library(opts.library.as_deref())?;
-    let description = model_description(&model, &json, &id, &id);
+    let version = opts.version();
+    let description = match version {
+        FmiVersion::V2 => fmi2::model_description(&model, &json, &id, &id),
+        FmiVersion::V3 => fmi3::model_description(&model, &json, &id, &id),
+    };
     csvio::refuse_same("output", &opts.output, &[("model", opts.model.as_path())])?;
     csvio::write_atomic(&opts.output, |w| {
         let mut zip = zip::ZipWriter::new(w);
@@ -171,7 +221,7 @@ pub fn run(opts: &ExportFmuOptions) -> Result<ExportFmuReport, ExportFmuError> {
         let binary_options = deflate.unix_permissions(0o755);
         zip.start_file("modelDescription.xml", deflate)?;
         zip.write_all(description.as_bytes())?;
-        zip.start_file(format!("binaries/linux64/{id}.so"), binary_options)?;
+        zip.start_file(format!("{}/{id}.so", version.binary_dir()), binary_options)?;
         zip.write_all(&binary)?;
         zip.start_file("resources/model.json", deflate)?;
         zip.write_all(json.as_bytes())?;
@@ -182,6 +232,7 @@ pub fn run(opts: &ExportFmuOptions) -> Result<ExportFmuReport, ExportFmuError> {
         output: opts.output.clone(),
         identifier: id,
         parameters: model.names().len(),
+        fmi: version,
     })
 }
 
@@ -200,5 +251,62 @@ mod tests {
             "my_model_v2"
         );
         assert_eq!(default_name(Path::new("2d.fmu")), "_2d");
+    }
+
+    /// The archive's entries and its description, for FMI `fmi`.
+    fn export(fmi: &str) -> (Vec<String>, String) {
+        let dir = tempfile::tempdir().unwrap();
+        let library = dir.path().join("libhysteron_c.so");
+        std::fs::write(&library, b"\x7fELF not really a library").unwrap();
+        let spec = dir.path().join("play.json");
+        std::fs::write(&spec, r#"{"type": "play", "r": 0.5}"#).unwrap();
+        let opts = ExportFmuOptions {
+            model: spec,
+            output: dir.path().join("m.fmu"),
+            name: Some("m".into()),
+            library: Some(library),
+            fmi: fmi.into(),
+        };
+        let report = run(&opts).unwrap();
+        assert_eq!(report.parameters, 2);
+        let mut zip = zip::ZipArchive::new(std::fs::File::open(&opts.output).unwrap()).unwrap();
+        let mut names: Vec<String> = zip.file_names().map(|n| n.unwrap().into_owned()).collect();
+        names.sort();
+        let mut xml = String::new();
+        std::io::Read::read_to_string(&mut zip.by_name("modelDescription.xml").unwrap(), &mut xml)
+            .unwrap();
+        (names, xml)
+    }
+
+    #[test]
+    fn fmi_3_archives_have_the_3_0_layout_and_2_stays_the_default() {
+        if !(cfg!(target_os = "linux") && cfg!(target_arch = "x86_64")) {
+            return;
+        }
+        let (names, xml) = export("3");
+        assert_eq!(
+            names,
+            [
+                "binaries/x86_64-linux/m.so",
+                "modelDescription.xml",
+                "resources/model.json"
+            ]
+        );
+        assert!(xml.contains(r#"fmiVersion="3.0""#), "{xml}");
+        assert!(xml.contains(r#"causality="independent""#), "{xml}");
+        let (names, xml) = export("2");
+        assert_eq!(
+            names,
+            [
+                "binaries/linux64/m.so",
+                "modelDescription.xml",
+                "resources/model.json"
+            ]
+        );
+        assert!(xml.contains(r#"fmiVersion="2.0""#), "{xml}");
+        let defaults = <ExportFmuOptions as clap::Args>::augment_args(clap::Command::new("x"))
+            .try_get_matches_from(["x", "--model", "a.json", "--output", "a.fmu"])
+            .unwrap();
+        assert_eq!(defaults.get_one::<String>("fmi").unwrap(), "2");
     }
 }

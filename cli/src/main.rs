@@ -39,8 +39,9 @@
 //!   a joint refinement (see [`hysteron_cli::identify_paper`]).
 //!
 //! * `hysteron export-fmu --model SPEC.json --output MODEL.fmu [--name
-//!   NAME] [--library libhysteron_c.so]`: the spec as an FMI 2.0
-//!   co-simulation FMU (see [`hysteron_cli::export_fmu`]).
+//!   NAME] [--library libhysteron_c.so] [--fmi 2|3]`: the spec as an FMI
+//!   2.0 (default) or 3.0 co-simulation FMU (see
+//!   [`hysteron_cli::export_fmu`]).
 //!
 //! * `hysteron compare --candidates CANDIDATES.json --train DATA.csv ...
 //!   --validate DATA.csv ... --work-dir DIR [--lowpass HZ] [--csv OUT.csv]

@@ -1,55 +1,8 @@
-//! `modelDescription.xml` of a model, and the GUID that ties it to the
-//! spec in `resources/model.json`.
+//! The FMI 2.0 `modelDescription.xml` of a model.
 
+use crate::fmu::{attr, guid, VR_FIRST_PARAM, VR_X, VR_Y};
 use crate::model::Model;
 use std::fmt::Write;
-
-/// Value reference of the input `x`.
-pub const VR_X: u32 = 0;
-/// Value reference of the output `y`.
-pub const VR_Y: u32 = 1;
-/// Value reference of the first parameter (parameter `i` is `VR_FIRST_PARAM + i`).
-pub const VR_FIRST_PARAM: u32 = 2;
-
-/// The GUID of a spec's JSON text: 128 bits of FNV-1a over the text and
-/// the library version, written as `{8-4-4-4-12}` hex digits. The FMU
-/// refuses to instantiate when `resources/model.json` does not match the
-/// description's GUID.
-pub fn guid(json: &str) -> String {
-    let fnv = |seed: u64| {
-        let mut h: u64 = 0xcbf2_9ce4_8422_2325 ^ seed;
-        for b in env!("CARGO_PKG_VERSION").bytes().chain(json.bytes()) {
-            h ^= u64::from(b);
-            h = h.wrapping_mul(0x0000_0100_0000_01b3);
-        }
-        h
-    };
-    let (a, b) = (fnv(0), fnv(0x9e37_79b9_7f4a_7c15));
-    format!(
-        "{{{:08x}-{:04x}-{:04x}-{:04x}-{:012x}}}",
-        a >> 32,
-        (a >> 16) & 0xffff,
-        a & 0xffff,
-        b >> 48,
-        b & 0xffff_ffff_ffff
-    )
-}
-
-/// Escapes `text` for an XML attribute.
-fn attr(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            c => out.push(c),
-        }
-    }
-    out
-}
 
 /// The `modelDescription.xml` of `model` (built from the spec text
 /// `json`) as an FMI 2.0 co-simulation FMU named `model_name` whose binary
@@ -122,20 +75,6 @@ pub fn model_description(model: &Model, json: &str, model_name: &str, identifier
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn guid_depends_on_every_byte_and_has_the_uuid_shape() {
-        let a = guid(r#"{"type": "gain", "k": 1}"#);
-        let b = guid(r#"{"type": "gain", "k": 2}"#);
-        assert_ne!(a, b);
-        assert_eq!(a, guid(r#"{"type": "gain", "k": 1}"#));
-        let parts: Vec<usize> = a
-            .trim_matches(['{', '}'])
-            .split('-')
-            .map(str::len)
-            .collect();
-        assert_eq!(parts, [8, 4, 4, 4, 12], "{a}");
-    }
 
     #[test]
     fn description_lists_every_parameter_with_its_exact_start() {

@@ -4,9 +4,9 @@
 //! failed call).
 #![allow(non_snake_case)]
 
-use super::instance::{Instance, Mode, Snapshot};
-use super::serial::{deserialize, serialize};
 use super::types::*;
+use crate::fmu::instance::{Instance, Mode, Snapshot};
+use crate::fmu::serial::{deserialize, serialize};
 use crate::status::panic_text;
 use std::ffi::{c_char, CStr, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -87,27 +87,45 @@ unsafe fn text(ptr: fmi2String) -> Option<String> {
     )
 }
 
+/// `(vr, n)` as a slice (empty for `n = 0`), with `values` checked
+/// non-NULL for `n > 0` but not read (an array to be written may be
+/// uninitialized).
+///
+/// # Safety
+/// For `n > 0`, `vr` is NULL or valid for `n` elements.
+unsafe fn references<'a, T>(
+    vr: *const fmi2ValueReference,
+    values: *const T,
+    n: usize,
+) -> Result<&'a [u32], String> {
+    if n == 0 {
+        return Ok(&[]);
+    }
+    if vr.is_null() || values.is_null() {
+        return Err("vr or value: NULL".into());
+    }
+    // SAFETY: non-NULL and valid for n elements by the contract.
+    Ok(unsafe { std::slice::from_raw_parts(vr, n) })
+}
+
 /// `(vr, n)` and `(value, n)` as slices (empty for `n = 0`).
 ///
 /// # Safety
-/// For `n > 0` the pointers are NULL or valid for `n` elements.
+/// For `n > 0` the pointers are NULL or valid for `n` initialized
+/// elements.
 unsafe fn slices<'a, T>(
     vr: *const fmi2ValueReference,
     values: *const T,
     n: usize,
 ) -> Result<(&'a [u32], &'a [T]), String> {
-    if n == 0 {
+    // SAFETY: by the contract.
+    let vrs = unsafe { references(vr, values, n) }?;
+    if vrs.is_empty() {
         return Ok((&[], &[]));
     }
-    if vr.is_null() || values.is_null() {
-        return Err("vr or value: NULL".into());
-    }
-    Ok(unsafe {
-        (
-            std::slice::from_raw_parts(vr, n),
-            std::slice::from_raw_parts(values, n),
-        )
-    })
+    // SAFETY: `values` is non-NULL (checked) and valid for n initialized
+    // elements by the contract.
+    Ok((vrs, unsafe { std::slice::from_raw_parts(values, n) }))
 }
 
 #[no_mangle]
@@ -233,7 +251,8 @@ pub unsafe extern "C" fn fmi2GetReal(
     value: *mut fmi2Real,
 ) -> fmi2Status {
     with(c, |comp| {
-        let (vrs, _) = unsafe { slices(vr, value as *const f64, nvr) }?;
+        // SAFETY: by the contract; `value` is only written.
+        let vrs = unsafe { references(vr, value.cast_const(), nvr) }?;
         for (k, &r) in vrs.iter().enumerate() {
             // SAFETY: `value` is valid for nvr doubles (checked non-NULL).
             unsafe { *value.add(k) = comp.inst.get_real(r)? };
@@ -380,7 +399,7 @@ fn unsupported(c: fmi2Component, what: &str) -> fmi2Status {
     with(c, |_| Err(format!("{what} is not supported by this FMU")))
 }
 
-/// The bytes of `state` ([`serial`](super::serial)).
+/// The bytes of `state` ([`serial`](crate::fmu::serial)).
 ///
 /// # Safety
 /// `state` is NULL or a state from `fmi2GetFMUstate` or
@@ -477,7 +496,8 @@ pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
     dvUnknown: *mut fmi2Real,
 ) -> fmi2Status {
     with(c, |comp| {
-        let (unknowns, _) = unsafe { slices(unknown, dvUnknown as *const f64, nUnknown) }?;
+        // SAFETY: by the contract; `dvUnknown` is only written.
+        let unknowns = unsafe { references(unknown, dvUnknown.cast_const(), nUnknown) }?;
         let (knowns, dv_known) = unsafe { slices(known, dvKnown, nKnown) }?;
         let dv = comp
             .inst

@@ -28,7 +28,7 @@
 //!   output, time and history); `fmi2SetFMUstate` restores it, and replay
 //!   from it is identical. `fmi2SerializeFMUstate` writes a state as bytes
 //!   (its parameters and committed samples, 16 bytes per step; see
-//!   `serial`), and `fmi2DeSerializeFMUstate` restores them in any
+//!   `fmu::serial`), and `fmi2DeSerializeFMUstate` restores them in any
 //!   instance of the same FMU by replaying the samples: bit for bit the
 //!   saved instance's continuation. Bytes that are corrupted, truncated or
 //!   of another FMU are refused with a logged message.
@@ -36,7 +36,7 @@
 //!   of `y` at the current communication point with respect to the input
 //!   of the last step and to every parameter (the total derivative along
 //!   the samples committed since the start), from a dual-number replay of
-//!   those samples (see `derivatives`).
+//!   those samples (see `fmu::derivatives`).
 //! * `fmi2Reset` returns to the state after instantiation (the start
 //!   values). Calls the FMU does not support (Model Exchange, input
 //!   derivatives, asynchronous steps, Integer, Boolean or String
@@ -47,11 +47,9 @@
 //! Modelica Association, *Functional Mock-up Interface for Model Exchange
 //! and Co-Simulation*, version 2.0.4 (2022).
 
-mod derivatives;
 mod description;
 mod exports;
-mod instance;
-mod serial;
 mod types;
 
-pub use description::{guid, model_description, VR_FIRST_PARAM, VR_X, VR_Y};
+pub use crate::fmu::{guid, VR_FIRST_PARAM, VR_X, VR_Y};
+pub use description::model_description;

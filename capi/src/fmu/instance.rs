@@ -1,17 +1,19 @@
 //! One FMU instance: the model, its input and output, the samples
 //! committed since the start (for parameter changes), and its mode. Safe
-//! Rust; `exports.rs` puts the C functions around it.
+//! Rust; `fmi2::exports` and `fmi3::exports` put the C functions around
+//! it. Its messages name the functions of the FMI version it serves.
 
 use super::derivatives::{partials, Known};
-use super::description::{guid, VR_FIRST_PARAM, VR_X, VR_Y};
+use super::{guid, Fmi, VR_FIRST_PARAM, VR_X, VR_Y};
 use crate::model::Model;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Relative difference below which a step size is the current sample
 /// period (see [`Instance::do_step`]).
 pub const SAME_PERIOD: f64 = 1e-9;
 
-/// Where an instance is in the FMI 2.0 co-simulation state machine.
+/// Where an instance is in the co-simulation state machine (FMI 3.0's
+/// Step Mode is `Stepping`; the FMU has no Event Mode).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Mode {
     Instantiated,
@@ -35,8 +37,10 @@ pub struct Snapshot {
 
 /// An instance.
 pub struct Instance {
-    /// The model as instantiated (for `fmi2Reset`).
+    /// The model as instantiated (for `fmi2Reset`/`fmi3Reset`).
     start: Model,
+    /// Whose function names the messages use.
+    api: Fmi,
     now: Snapshot,
 }
 
@@ -71,9 +75,20 @@ pub fn uri_path(uri: &str) -> Result<PathBuf, String> {
 
 impl Instance {
     /// The instance of the spec in `resources/model.json` under the
-    /// resource URI, checked against the description's `guid`.
+    /// resource URI (FMI 2.0), checked against the description's `guid`.
     pub fn from_resources(resources: &str, expected_guid: &str) -> Result<Instance, String> {
-        let path = uri_path(resources)?.join("model.json");
+        Instance::from_resource_dir(&uri_path(resources)?, expected_guid, Fmi::V2)
+    }
+
+    /// The instance of the spec in `model.json` in the directory
+    /// `resources` (FMI 3.0 passes it as a path), checked against the
+    /// description's GUID (FMI 3.0: instantiation token).
+    pub fn from_resource_dir(
+        resources: &Path,
+        expected_guid: &str,
+        api: Fmi,
+    ) -> Result<Instance, String> {
+        let path = resources.join("model.json");
         let json = std::fs::read_to_string(&path)
             .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
         let found = guid(&json);
@@ -83,12 +98,13 @@ impl Instance {
             ));
         }
         let model = Model::from_json(&json).map_err(|e| format!("{}: {e}", path.display()))?;
-        Ok(Instance::new(model))
+        Ok(Instance::new(model).speaking(api))
     }
 
-    /// A fresh instance of `model`.
+    /// A fresh instance of `model`, speaking FMI 2.0.
     pub fn new(model: Model) -> Instance {
         Instance {
+            api: Fmi::V2,
             now: Snapshot {
                 model: model.clone(),
                 x: 0.0,
@@ -102,6 +118,12 @@ impl Instance {
         }
     }
 
+    /// The instance with messages naming the functions of `api`.
+    pub fn speaking(mut self, api: Fmi) -> Instance {
+        self.api = api;
+        self
+    }
+
     pub fn mode(&self) -> Mode {
         self.now.mode
     }
@@ -111,14 +133,18 @@ impl Instance {
         self.now.time
     }
 
+    /// The start time (`fmi2SetupExperiment`; in FMI 3.0 an argument of
+    /// `fmi3EnterInitializationMode`).
     pub fn setup(&mut self, start_time: f64) -> Result<(), String> {
+        let f = match self.api {
+            Fmi::V2 => "fmi2SetupExperiment",
+            Fmi::V3 => "fmi3EnterInitializationMode",
+        };
         if self.now.mode != Mode::Instantiated {
-            return Err("fmi2SetupExperiment: only after instantiation or reset".into());
+            return Err(format!("{f}: only after instantiation or reset"));
         }
         if !start_time.is_finite() {
-            return Err(format!(
-                "fmi2SetupExperiment: startTime {start_time} is not finite"
-            ));
+            return Err(format!("{f}: startTime {start_time} is not finite"));
         }
         self.now.time = start_time;
         Ok(())
@@ -126,7 +152,10 @@ impl Instance {
 
     pub fn enter_initialization(&mut self) -> Result<(), String> {
         if self.now.mode != Mode::Instantiated {
-            return Err("fmi2EnterInitializationMode: only after instantiation or reset".into());
+            return Err(format!(
+                "{}: only after instantiation or reset",
+                self.api.function("EnterInitializationMode")
+            ));
         }
         self.now.mode = Mode::Initialization;
         Ok(())
@@ -135,7 +164,10 @@ impl Instance {
     /// Leaves initialization: `y` is the model's initial output.
     pub fn exit_initialization(&mut self) -> Result<(), String> {
         if self.now.mode != Mode::Initialization {
-            return Err("fmi2ExitInitializationMode: not in initialization mode".into());
+            return Err(format!(
+                "{}: not in initialization mode",
+                self.api.function("ExitInitializationMode")
+            ));
         }
         self.now.y = self.initial_output()?;
         self.now.mode = Mode::Stepping;
@@ -162,19 +194,23 @@ impl Instance {
     /// Back to the state after instantiation: the description's start
     /// values (parameters set since are forgotten), input 0, time 0.
     pub fn reset(&mut self) {
-        *self = Instance::new(self.start.clone());
+        *self = Instance::new(self.start.clone()).speaking(self.api);
     }
 
     /// One step: the current input is the sample at `t + h`. A step size
     /// `h` that differs from the current sample period by more than
     /// [`SAME_PERIOD`] (relative) becomes the new period.
     pub fn do_step(&mut self, t: f64, h: f64) -> Result<(), String> {
+        let f = self.api.function("DoStep");
         if self.now.mode != Mode::Stepping {
-            return Err("fmi2DoStep: only after fmi2ExitInitializationMode".into());
+            return Err(format!(
+                "{f}: only after {}",
+                self.api.function("ExitInitializationMode")
+            ));
         }
         if !(h > 0.0 && h.is_finite() && t.is_finite()) {
             return Err(format!(
-                "fmi2DoStep: communicationStepSize must be positive and finite (got {h} at t = {t})"
+                "{f}: communicationStepSize must be positive and finite (got {h} at t = {t})"
             ));
         }
         let s = &mut self.now;
@@ -186,13 +222,13 @@ impl Instance {
         if !same {
             s.model
                 .set_sample_period(h)
-                .map_err(|e| format!("fmi2DoStep at t = {t}: step size {h}: {e}"))?;
+                .map_err(|e| format!("{f} at t = {t}: step size {h}: {e}"))?;
             s.period = Some(h);
         }
         s.y = s
             .model
             .step(s.x)
-            .map_err(|e| format!("fmi2DoStep at t = {t} (input x = {}): {e}", s.x))?;
+            .map_err(|e| format!("{f} at t = {t} (input x = {}): {e}", s.x))?;
         // The period the sample ran at (not `h`, which may be a few ulps
         // off it): a replay then sets the very same periods.
         s.history.push((s.x, s.period.unwrap_or(h)));
@@ -218,7 +254,8 @@ impl Instance {
             .filter(|&i| i < n)
             .ok_or_else(|| {
                 format!(
-                    "no Real variable with value reference {vr} (0 = x, 1 = y, 2..{} parameters)",
+                    "no {} variable with value reference {vr} (0 = x, 1 = y, 2..{} parameters)",
+                    self.api.real(),
                     VR_FIRST_PARAM as usize + n
                 )
             })
@@ -229,7 +266,10 @@ impl Instance {
     /// On an error nothing changes.
     pub fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Result<(), String> {
         if self.now.mode == Mode::Terminated {
-            return Err("fmi2SetReal: the instance is terminated".into());
+            return Err(format!(
+                "{}: the instance is terminated",
+                self.api.set_real()
+            ));
         }
         let mut x = self.now.x;
         // Read only when a parameter is set: a host sets the input alone
@@ -313,7 +353,7 @@ impl Instance {
     }
 
     /// The model as instantiated.
-    pub(super) fn start(&self) -> &Model {
+    pub(crate) fn start(&self) -> &Model {
         &self.start
     }
 
@@ -372,7 +412,7 @@ pub(super) mod tests {
     }
 
     /// An instance of `json` ready to step.
-    pub(in crate::fmi2) fn stepping(json: &str) -> Instance {
+    pub(in crate::fmu) fn stepping(json: &str) -> Instance {
         let mut inst = Instance::new(Model::from_json(json).unwrap());
         inst.setup(0.0).unwrap();
         inst.enter_initialization().unwrap();
@@ -381,7 +421,7 @@ pub(super) mod tests {
     }
 
     /// Steps `inst` through `xs` with step `h`: the outputs.
-    pub(in crate::fmi2) fn run(inst: &mut Instance, xs: &[f64], h: f64) -> Vec<f64> {
+    pub(in crate::fmu) fn run(inst: &mut Instance, xs: &[f64], h: f64) -> Vec<f64> {
         xs.iter()
             .map(|&x| {
                 let t = inst.time();

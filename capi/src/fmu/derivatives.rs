@@ -1,5 +1,6 @@
-//! Directional derivatives of the FMU's output (`fmi2GetDirectionalDerivative`):
-//! the exact partial derivatives of the output `y_k` at the current
+//! Directional derivatives of the FMU's output
+//! (`fmi2GetDirectionalDerivative`, `fmi3GetDirectionalDerivative`): the
+//! exact partial derivatives of the output `y_k` at the current
 //! communication point with respect to the input sample it took, `x_k`,
 //! and to each parameter, by forward-mode dual numbers.
 //!
@@ -114,9 +115,9 @@ pub fn partials(state: &Snapshot, knowns: &[Known]) -> Result<Vec<f64>, String> 
 
 #[cfg(test)]
 mod tests {
-    use super::super::description::{VR_FIRST_PARAM, VR_X, VR_Y};
     use super::super::instance::tests::{run, stepping};
     use super::super::instance::Instance;
+    use super::super::{VR_FIRST_PARAM, VR_X, VR_Y};
 
     /// The central differences' step, relative to the value (absolute for
     /// a value of 0, see [`scale_of`]): small enough that the sample at which the

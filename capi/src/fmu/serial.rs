@@ -1,6 +1,6 @@
-//! FMU states as bytes (`fmi2SerializeFMUstate`): what a host saves to a
-//! file or sends to another process, and restores into any instance of
-//! the same FMU.
+//! FMU states as bytes (`fmi2SerializeFMUstate`, `fmi3SerializeFMUState`):
+//! what a host saves to a file or sends to another process, and restores
+//! into any instance of the same FMU.
 //!
 //! A state is written as the parameters and the committed samples, not as
 //! the model's internal variables: restoring it rebuilds the model with
@@ -25,7 +25,7 @@
 //! version, whose checksum fails, or whose replay does not end where the
 //! state says are refused with a message naming what is wrong.
 
-use super::description::guid;
+use super::guid;
 use super::instance::{replay, Mode, Snapshot};
 use crate::model::Model;
 
@@ -227,9 +227,9 @@ pub fn deserialize(start: &Model, bytes: &[u8]) -> Result<Snapshot, String> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::description::{VR_FIRST_PARAM, VR_X};
     use super::super::instance::tests::{run, stepping};
     use super::super::instance::Instance;
+    use super::super::{VR_FIRST_PARAM, VR_X};
     use super::*;
 
     const MSD: &str = r#"{"type": "cascade", "first": {"type": "play", "r": 0.1},
@@ -323,7 +323,7 @@ mod tests {
         let err = altered(14, &[2]);
         assert!(err.contains("format version 2"), "{err}");
         let y = f64::from_le_bytes(bytes[107..115].try_into().unwrap());
-        assert_eq!(y, saved.get_real(super::super::description::VR_Y).unwrap());
+        assert_eq!(y, saved.get_real(super::super::VR_Y).unwrap());
         let err = altered(107, &(y + 1e-9).to_le_bytes());
         assert!(err.contains("does not replay"), "{err}");
     }

@@ -1,0 +1,356 @@
+"""FMI 3.0 co-simulation FMUs from `hysteron export-fmu --fmi 3`, checked
+with an independent FMI host, FMPy: validation, simulation against
+`hysteron simulate` (constant and variable communication steps), state
+save/restore and serialization, errors, and the functions the FMU does not
+support.
+
+As with the FMI 2.0 FMU (test_fmu.py), FMPy applies the input of the table
+at the start of each step and `fmi3DoStep` takes the input set last as the
+sample at the end of the step, so FMPy's output row k + 1 is the CLI's
+output row k (row 0 is the initial output)."""
+
+from __future__ import annotations
+
+import ctypes
+import json
+import pathlib
+import re
+
+import numpy as np
+import pytest
+
+fmpy = pytest.importorskip("fmpy")
+from fmpy.fmi2 import FMU2Slave  # noqa: E402
+from fmpy.fmi3 import FMU3Slave, FMU3Model  # noqa: E402
+from fmpy.validation import validate_fmu  # noqa: E402
+
+from test_fmu import H, benchmark_input, cli_simulate, export, signal  # noqa: E402
+
+VR_TIME = 2147483647
+
+
+def export3(cli: pathlib.Path, spec: pathlib.Path, out: pathlib.Path, *extra: str) -> pathlib.Path:
+    return export(cli, spec, out, "--fmi", "3", *extra)
+
+
+def fmpy_simulate(fmu: pathlib.Path, x: np.ndarray, h: float, start_values: dict | None = None) -> np.ndarray:
+    n = x.size
+    t = np.arange(n) * h
+    table = np.array(list(zip(t, x)), dtype=[("time", np.float64), ("x", np.float64)])
+    res = fmpy.simulate_fmu(str(fmu), start_time=0.0, stop_time=n * h, output_interval=h, input=table, output=["y"], start_values=start_values or {})
+    assert res.size == n + 1
+    return res["y"][1:]
+
+
+def test_the_fmu_is_fmi_3_with_the_3_0_layout(cli, root, tmp_path) -> None:
+    fmu = export3(cli, root / "examples" / "specs" / "paper.json", tmp_path / "paper.fmu")
+    md = fmpy.read_model_description(str(fmu))
+    assert md.fmiVersion == "3.0"
+    assert md.modelExchange is None and md.coSimulation is not None
+    import xml.etree.ElementTree as ET
+    import zipfile
+
+    cs = ET.fromstring(zipfile.ZipFile(fmu).read("modelDescription.xml")).find("CoSimulation")
+    for flag in ["canHandleVariableCommunicationStepSize", "canGetAndSetFMUState", "canSerializeFMUState", "providesDirectionalDerivatives"]:
+        assert cs.get(flag) == "true", flag
+    by_name = {v.name: v for v in md.modelVariables}
+    assert [v.name for v in md.modelVariables if v.causality == "independent"] == ["time"]
+    assert by_name["time"].valueReference == VR_TIME
+    assert (by_name["x"].valueReference, by_name["y"].valueReference) == (0, 1)
+    assert all(v.type == "Float64" for v in md.modelVariables)
+    # The parameters and their start values are those of the FMI 2.0 FMU.
+    md2 = fmpy.read_model_description(str(export(cli, root / "examples" / "specs" / "paper.json", tmp_path / "paper2.fmu")))
+    params2 = {v.name: (v.valueReference, v.start) for v in md2.modelVariables if v.causality == "parameter"}
+    params3 = {v.name: (v.valueReference, v.start) for v in md.modelVariables if v.causality == "parameter"}
+    assert params3 == params2 and len(params3) > 5
+    assert md.instantiationToken == md2.guid
+    assert sorted(zipfile.ZipFile(fmu).namelist()) == ["binaries/x86_64-linux/paper.so", "modelDescription.xml", "resources/model.json"]
+
+
+def test_the_binary_exports_every_fmi3_function_of_the_standard(cli, root, tmp_path) -> None:
+    """Every function type of the standard's fmi3FunctionTypes.h (as FMPy
+    ships it) has its function in the binary."""
+    header = pathlib.Path(fmpy.__file__).parent / "c-code" / "fmi3FunctionTypes.h"
+    names = sorted(set(re.findall(r"\b(fmi3\w+)TYPE\b", header.read_text())))
+    assert len(names) == 75, names
+    fmu = export3(cli, root / "examples" / "specs" / "paper.json", tmp_path / "paper.fmu")
+    lib = ctypes.CDLL(str(pathlib.Path(fmpy.extract(str(fmu))) / "binaries" / "x86_64-linux" / "paper.so"))
+    missing = [n for n in names if not hasattr(lib, n)]
+    assert missing == []
+
+
+CASES = [
+    ("paper.json", 1.4),  # the paper's model: friction in a gap, Bouc-Wen spring
+    ("prandtl-ishlinskii.json", 1.0),  # a PI bank
+    ("pi-inverse.json", 1.0),  # its analytic inverse
+]
+
+
+@pytest.mark.parametrize("spec, amplitude", CASES)
+def test_validates_and_reproduces_the_cli_bit_for_bit(cli, root, tmp_path, spec, amplitude) -> None:
+    path = root / "examples" / "specs" / spec
+    fmu = export3(cli, path, tmp_path / "model.fmu")
+    assert validate_fmu(str(fmu)) == []
+    x = signal(3000, amplitude)
+    got = fmpy_simulate(fmu, x, 1e-3)
+    want = cli_simulate(cli, path, x, tmp_path)
+    assert np.array_equal(got, want), np.max(np.abs(got - want))
+
+
+def test_rate_dependent_model_takes_the_step_as_its_period(cli, root, tmp_path) -> None:
+    """The Bouc-Wen benchmark: its period comes from fmi3DoStep's step size."""
+    path = root / "examples" / "specs" / "boucwen-benchmark.json"
+    fmu = export3(cli, path, tmp_path / "bw.fmu")
+    assert validate_fmu(str(fmu)) == []
+    u, _ = benchmark_input(root, 1)
+    got = fmpy_simulate(fmu, u[:4000] * 0.5, H)
+    assert np.array_equal(got, cli_simulate(cli, path, u[:4000] * 0.5, tmp_path, "--dt", repr(H)))
+    got = fmpy_simulate(fmu, u, 1.0 / 750.0)
+    want = cli_simulate(cli, path, u, tmp_path, "--dt", repr(1.0 / 750.0))
+    assert np.array_equal(got, want), np.max(np.abs(got - want))
+
+
+class Slave3:
+    """An instance driven by hand through FMPy's FMU3Slave."""
+
+    def __init__(self, fmu: pathlib.Path, name: str = "inst") -> None:
+        md = fmpy.read_model_description(str(fmu))
+        self.vr = {v.name: v.valueReference for v in md.modelVariables}
+        self.dir = fmpy.extract(str(fmu))
+        self.fmu = FMU3Slave(guid=md.instantiationToken, unzipDirectory=self.dir, modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
+        self.fmu.instantiate()
+        self.start()
+
+    def start(self) -> None:
+        self.fmu.enterInitializationMode(startTime=0.0)
+        self.fmu.exitInitializationMode()
+        self.t = 0.0
+
+    def step(self, x: float, h: float) -> float:
+        self.fmu.setFloat64([self.vr["x"]], [float(x)])
+        event, terminate, early, last = self.fmu.doStep(currentCommunicationPoint=self.t, communicationStepSize=h)
+        assert (event, terminate, early, last) == (False, False, False, self.t + h)
+        self.t += h
+        return self.fmu.getFloat64([self.vr["y"]])[0]
+
+    def run(self, xs, hs=None) -> np.ndarray:
+        hs = [H] * len(xs) if hs is None else hs
+        return np.array([self.step(x, h) for x, h in zip(xs, hs)])
+
+    def close(self) -> None:
+        self.fmu.terminate()
+        self.fmu.freeInstance()
+
+
+class Slave2:
+    """The FMI 2.0 FMU of the same spec, driven the same way."""
+
+    def __init__(self, fmu: pathlib.Path) -> None:
+        md = fmpy.read_model_description(str(fmu))
+        self.vr = {v.name: v.valueReference for v in md.modelVariables}
+        self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=fmpy.extract(str(fmu)), modelIdentifier=md.coSimulation.modelIdentifier, instanceName="fmi2")
+        self.fmu.instantiate()
+        self.fmu.setupExperiment(startTime=0.0)
+        self.fmu.enterInitializationMode()
+        self.fmu.exitInitializationMode()
+        self.t = 0.0
+
+    def run(self, xs, hs) -> np.ndarray:
+        out = []
+        for x, h in zip(xs, hs):
+            self.fmu.setReal([self.vr["x"]], [float(x)])
+            self.fmu.doStep(currentCommunicationPoint=self.t, communicationStepSize=h)
+            self.t += h
+            out.append(self.fmu.getReal([self.vr["y"]])[0])
+        return np.array(out)
+
+
+def varying_steps(n: int) -> list:
+    """Step sizes that change at every few steps, over a factor of 5."""
+    rng = np.random.default_rng(7)
+    return list(1e-3 * rng.choice([0.5, 1.0, 1.3, 2.5], size=n))
+
+
+@pytest.mark.parametrize("spec", ["paper.json", "boucwen-benchmark.json"])
+def test_a_variable_communication_step_gives_the_fmi2_fmus_outputs_bit_for_bit(cli, root, tmp_path, spec) -> None:
+    """Driven by hand with a varying step size, the FMI 3.0 FMU gives the
+    FMI 2.0 FMU's outputs; for the rate-dependent benchmark they are the
+    model stepped at those periods (checked for the 2.0 FMU in
+    test_fmu.py and in the instance's tests), and differ from a constant
+    step's."""
+    path = root / "examples" / "specs" / spec
+    fmu3 = export3(cli, path, tmp_path / "m3.fmu")
+    fmu2 = export(cli, path, tmp_path / "m2.fmu")
+    x = signal(2000, 1.4 if spec == "paper.json" else 0.5) * (1.0 if spec == "paper.json" else 40.0)
+    hs = varying_steps(x.size)
+    s3 = Slave3(fmu3)
+    got = s3.run(x, hs)
+    want = Slave2(fmu2).run(x, hs)
+    assert np.array_equal(got, want)
+    assert s3.fmu.getFloat64([VR_TIME]) == [s3.t]
+    if spec == "boucwen-benchmark.json":
+        assert not np.array_equal(got, Slave3(fmu3, "constant").run(x, [1e-3] * x.size))
+    s3.close()
+
+
+@pytest.fixture
+def paper_fmu(cli, root, tmp_path) -> pathlib.Path:
+    return export3(cli, root / "examples" / "specs" / "paper.json", tmp_path / "paper.fmu")
+
+
+def test_saved_states_replay_identically_and_reset_restarts(paper_fmu) -> None:
+    s = Slave3(paper_fmu)
+    x = signal(1200)
+    first = s.run(x[:500])
+    state = s.fmu.getFMUState()
+    a = s.run(x[500:])
+    s.fmu.setFMUState(state)
+    s.t = 500 * H
+    b = s.run(x[500:])
+    assert np.array_equal(a, b)
+    s.fmu.freeFMUState(state)
+    s.fmu.reset()
+    s.start()
+    assert np.array_equal(s.run(x[:500]), first)
+    s.close()
+
+
+def test_a_serialized_state_continues_bit_for_bit_in_a_fresh_instance(paper_fmu, capsys) -> None:
+    s = Slave3(paper_fmu)
+    x = signal(1500)
+    hs = varying_steps(x.size)
+    s.run(x[:600], hs[:600])
+    s.fmu.setFloat64([s.vr["left.mms.f_c"]], [2.0])  # a parameter changed on the way
+    s.run(x[600:700], hs[600:700])
+    state = s.fmu.getFMUState()
+    data = s.fmu.serializeFMUState(state)
+    s.fmu.freeFMUState(state)
+    t_saved = s.t
+    a = s.run(x[700:], hs[700:])
+    fresh = Slave3(paper_fmu, "fresh")
+    restored = fresh.fmu.deserializeFMUState(data)
+    fresh.fmu.setFMUState(restored)
+    fresh.fmu.freeFMUState(restored)
+    assert fresh.fmu.getFloat64([VR_TIME]) == [t_saved]
+    fresh.t = t_saved
+    assert fresh.fmu.getFloat64([fresh.vr["left.mms.f_c"]]) == [2.0]
+    assert np.array_equal(fresh.run(x[700:], hs[700:]), a)
+    # Truncated or corrupted bytes: fmi3Error with a logged message; the
+    # instance is unchanged.
+    capsys.readouterr()
+    before = fresh.fmu.getFloat64([fresh.vr["y"]])
+    for bad, why in [(data[:-1], "CRC-32"), (data[:40], "truncated"), (data[:60] + bytes([data[60] ^ 1]) + data[61:], "CRC-32")]:
+        with pytest.raises(Exception, match="fmi3DeserializeFMUState"):
+            fresh.fmu.deserializeFMUState(bad)
+        assert why in capsys.readouterr().out
+    assert fresh.fmu.getFloat64([fresh.vr["y"]]) == before
+    s.close()
+    fresh.close()
+
+
+def test_directional_derivatives_are_the_fmi2_fmus(cli, root, paper_fmu, tmp_path) -> None:
+    """The same exact derivatives as the FMI 2.0 FMU (which test_fmu.py
+    checks against central differences), through FMI 3.0's seed and
+    sensitivity arrays."""
+    x = signal(900)
+    s3 = Slave3(paper_fmu)
+    s3.run(x)
+    s2 = Slave2(export(cli, root / "examples" / "specs" / "paper.json", tmp_path / "paper2.fmu"))
+    s2.run(x, [H] * x.size)
+    y, xv, f_c = s3.vr["y"], s3.vr["x"], s3.vr["left.mms.f_c"]
+    for knowns, seed in [([xv], [1.0]), ([f_c], [1.0]), ([xv, f_c], [2.0, -3.0])]:
+        got = s3.fmu.getDirectionalDerivative([y], knowns, seed)
+        want = s2.fmu.getDirectionalDerivative([y], knowns, seed)
+        assert list(got) == list(want) and got[0] != 0.0, (knowns, got, want)
+    with pytest.raises(Exception, match="fmi3GetDirectionalDerivative"):
+        s3.fmu.getDirectionalDerivative([xv], [f_c], [1.0])
+    s3.close()
+
+
+def test_errors_are_fmi3Error_with_a_message_and_leave_the_instance_usable(paper_fmu, capsys) -> None:
+    s = Slave3(paper_fmu)
+    x = signal(300)
+    s.run(x[:100])
+    capsys.readouterr()
+    with pytest.raises(Exception, match="fmi3SetFloat64"):
+        s.fmu.setFloat64([s.vr["x"]], [float("nan")])
+    with pytest.raises(Exception, match="fmi3SetFloat64"):
+        s.fmu.setFloat64([s.vr["left.mms.f_c"]], [-1.0])
+    with pytest.raises(Exception, match="fmi3SetFloat64"):
+        s.fmu.setFloat64([s.vr["y"]], [1.0])
+    with pytest.raises(Exception, match="fmi3SetFloat64"):
+        s.fmu.setFloat64([VR_TIME], [1.0])
+    with pytest.raises(Exception, match="fmi3GetFloat64"):
+        s.fmu.getFloat64([s.vr["x"]], nValues=2)
+    with pytest.raises(Exception, match="fmi3DoStep"):
+        s.fmu.doStep(currentCommunicationPoint=s.t, communicationStepSize=0.0)
+    log = capsys.readouterr().out
+    for fragment in ["x: input NaN is not finite", "f_c", "y is an output", "time is the independent variable", "2 values for 1 value references", "fmi3DoStep: communicationStepSize must be positive"]:
+        assert fragment in log, (fragment, log)
+    assert "fmi2" not in log
+    # Nothing changed; the instance runs on as one that never erred.
+    fresh = Slave3(paper_fmu, "fresh")
+    assert np.array_equal(s.run(x[100:]), fresh.run(x)[100:])
+    s.close()
+    fresh.close()
+
+
+def test_unsupported_calls_are_fmi3Error_with_a_message(paper_fmu, capsys) -> None:
+    s = Slave3(paper_fmu)
+    s.run(signal(10))
+    capsys.readouterr()
+    calls = {
+        "fmi3EnterEventMode": lambda: s.fmu.enterEventMode(),
+        "fmi3UpdateDiscreteStates": lambda: s.fmu.updateDiscreteStates(),
+        "fmi3GetAdjointDerivative": lambda: s.fmu.getAdjointDerivative([s.vr["y"]], [s.vr["x"]], [1.0]),
+        "fmi3GetOutputDerivatives": lambda: s.fmu.getOutputDerivatives([s.vr["y"]], [1]),
+        "fmi3EnterConfigurationMode": lambda: s.fmu.enterConfigurationMode(),
+        "fmi3GetInt32": lambda: s.fmu.getInt32([s.vr["y"]]),
+        "fmi3SetBoolean": lambda: s.fmu.setBoolean([0], [True]),
+        "fmi3GetClock": lambda: s.fmu.getClock([0]),
+        # FMPy's wrapper of this one passes a type for the count: called directly.
+        "fmi3GetNumberOfVariableDependencies": lambda: s.fmu.fmi3GetNumberOfVariableDependencies(s.fmu.component, s.vr["y"], ctypes.byref(ctypes.c_size_t())),
+        "fmi3SetTime": lambda: s.fmu.fmi3SetTime(s.fmu.component, 1.0),
+    }
+    for name, call in calls.items():
+        with pytest.raises(Exception, match=name):
+            call()
+        log = capsys.readouterr().out
+        assert "[ERROR]" in log and ("not supported" in log or "has no" in log), (name, log)
+    # Getters and setters of the types the FMU has none of, with no value
+    # references: nothing to do.
+    assert list(s.fmu.getInt32([])) == []
+    s.fmu.setString([], [])
+    # Still usable; Step Mode again is accepted and changes nothing.
+    s.fmu.enterStepMode()
+    s.run(signal(10))
+    s.close()
+
+
+def test_model_exchange_event_mode_and_a_wrong_token_are_refused(paper_fmu, capsys) -> None:
+    md = fmpy.read_model_description(str(paper_fmu))
+    unzip = fmpy.extract(str(paper_fmu))
+    ident = md.coSimulation.modelIdentifier
+    capsys.readouterr()
+    me = FMU3Model(guid=md.instantiationToken, unzipDirectory=unzip, modelIdentifier=ident, instanceName="me")
+    with pytest.raises(Exception, match="Failed to instantiate"):
+        me.instantiate()
+    assert "Model Exchange is not supported" in capsys.readouterr().out
+    bad = FMU3Slave(guid="{00000000-0000-0000-0000-000000000000}", unzipDirectory=unzip, modelIdentifier=ident, instanceName="bad")
+    with pytest.raises(Exception, match="Failed to instantiate"):
+        bad.instantiate()
+    assert "does not match" in capsys.readouterr().out
+    events = FMU3Slave(guid=md.instantiationToken, unzipDirectory=unzip, modelIdentifier=ident, instanceName="events")
+    with pytest.raises(Exception, match="Failed to instantiate"):
+        events.instantiate(eventModeUsed=True)
+    assert "hasEventMode is false" in capsys.readouterr().out
+
+
+def test_a_parameter_change_acts_as_the_same_change_in_the_spec(cli, root, paper_fmu, tmp_path) -> None:
+    spec = json.loads((root / "examples" / "specs" / "paper.json").read_text())
+    spec["left"]["f_c"] = 2.5
+    changed = tmp_path / "changed.json"
+    changed.write_text(json.dumps(spec))
+    x = signal(1500)
+    want = cli_simulate(cli, changed, x, tmp_path)
+    assert np.array_equal(fmpy_simulate(paper_fmu, x, 1e-3, {"left.mms.f_c": 2.5}), want)

@@ -1,0 +1,834 @@
+//! The `fmi3*` functions of the FMU binary: every function of the FMI 3.0
+//! standard. Each checks its pointers, runs under a panic guard, and
+//! reports an error through `logMessage` with `fmi3Error`; the instance
+//! stays usable (its state is that before the failed call).
+#![allow(non_snake_case)]
+
+use super::description::VR_TIME;
+use super::types::*;
+use crate::fmu::instance::{Instance, Mode, Snapshot};
+use crate::fmu::serial::{deserialize, serialize};
+use crate::fmu::Fmi;
+use crate::status::panic_text;
+use std::ffi::{c_char, CStr, CString};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::PathBuf;
+
+/// The host's logger and its environment.
+#[derive(Clone, Copy)]
+struct Logger {
+    environment: fmi3InstanceEnvironment,
+    log: Option<fmi3LogMessageCallback>,
+}
+
+impl Logger {
+    fn log(&self, status: fmi3Status, message: &str) {
+        let Some(log) = self.log else {
+            return;
+        };
+        let text = CString::new(message.replace('\0', " ")).unwrap_or_default();
+        // SAFETY: the host's logger, with NUL-terminated strings that live
+        // through the call (FMI 3.0 messages are plain text, no format).
+        unsafe {
+            log(
+                self.environment,
+                status,
+                c"logStatusError".as_ptr(),
+                text.as_ptr(),
+            )
+        };
+    }
+}
+
+/// An instance with the host's logger.
+struct Component {
+    logger: Logger,
+    inst: Instance,
+}
+
+/// Runs `body` on the instance `c`: NULL is `fmi3Error`, an `Err` is
+/// logged and `fmi3Error`, a panic is logged and `fmi3Fatal`.
+fn with(c: fmi3Instance, body: impl FnOnce(&mut Component) -> Result<(), String>) -> fmi3Status {
+    // SAFETY: `c` is NULL or an instance from fmi3InstantiateCoSimulation,
+    // used by one thread at a time (FMI 3.0 §2.2.1).
+    let Some(comp) = (unsafe { (c as *mut Component).as_mut() }) else {
+        return FMI3_ERROR;
+    };
+    match catch_unwind(AssertUnwindSafe(|| body(comp))) {
+        Ok(Ok(())) => FMI3_OK,
+        Ok(Err(message)) => {
+            comp.logger.log(FMI3_ERROR, &message);
+            FMI3_ERROR
+        }
+        Err(payload) => {
+            comp.logger.log(
+                FMI3_FATAL,
+                &format!(
+                    "internal error (a bug in hysteron): {}",
+                    panic_text(&payload)
+                ),
+            );
+            FMI3_FATAL
+        }
+    }
+}
+
+/// `*ptr` as text, for messages, names and paths.
+///
+/// # Safety
+/// `ptr` is NULL or NUL-terminated.
+unsafe fn text(ptr: fmi3String) -> Option<String> {
+    if ptr.is_null() {
+        return None;
+    }
+    // SAFETY: NUL-terminated by the contract.
+    Some(
+        unsafe { CStr::from_ptr(ptr) }
+            .to_string_lossy()
+            .into_owned(),
+    )
+}
+
+/// `(vr, nvr)` as a slice, for `n` values at `values`: every variable of
+/// the FMU is a scalar, so `n` must be `nvr`; for `n > 0` neither pointer
+/// may be NULL. The values are not read (an array to be written may be
+/// uninitialized).
+///
+/// # Safety
+/// For `nvr > 0`, `vr` is NULL or valid for `nvr` elements.
+unsafe fn references<'a, T>(
+    vr: *const fmi3ValueReference,
+    nvr: usize,
+    values: *const T,
+    n: usize,
+) -> Result<&'a [u32], String> {
+    if n != nvr {
+        return Err(format!(
+            "{n} values for {nvr} value references: every variable is a scalar"
+        ));
+    }
+    if n == 0 {
+        return Ok(&[]);
+    }
+    if vr.is_null() || values.is_null() {
+        return Err("valueReferences or values: NULL".into());
+    }
+    // SAFETY: non-NULL and valid for n = nvr elements by the contract.
+    Ok(unsafe { std::slice::from_raw_parts(vr, n) })
+}
+
+/// `(vr, nvr)` and `(values, n)` as slices, checked as by [`references`].
+///
+/// # Safety
+/// For `nvr > 0` and `n > 0` the pointers are NULL or valid for `nvr` and
+/// `n` initialized elements.
+unsafe fn slices<'a, T>(
+    vr: *const fmi3ValueReference,
+    nvr: usize,
+    values: *const T,
+    n: usize,
+) -> Result<(&'a [u32], &'a [T]), String> {
+    // SAFETY: by the contract.
+    let vrs = unsafe { references(vr, nvr, values, n) }?;
+    if vrs.is_empty() {
+        return Ok((&[], &[]));
+    }
+    // SAFETY: `values` is non-NULL (checked) and valid for n initialized
+    // elements by the contract.
+    Ok((vrs, unsafe { std::slice::from_raw_parts(values, n) }))
+}
+
+#[no_mangle]
+pub extern "C" fn fmi3GetVersion() -> *const c_char {
+    c"3.0".as_ptr()
+}
+
+#[no_mangle]
+pub extern "C" fn fmi3SetDebugLogging(
+    instance: fmi3Instance,
+    _loggingOn: fmi3Boolean,
+    _nCategories: usize,
+    _categories: *const fmi3String,
+) -> fmi3Status {
+    // Errors are always logged; there is nothing else to log.
+    with(instance, |_| Ok(()))
+}
+
+/// # Safety
+/// Pointers as FMI 3.0 specifies for `fmi3InstantiateCoSimulation`.
+#[no_mangle]
+pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
+    _instanceName: fmi3String,
+    instantiationToken: fmi3String,
+    resourcePath: fmi3String,
+    _visible: fmi3Boolean,
+    _loggingOn: fmi3Boolean,
+    eventModeUsed: fmi3Boolean,
+    _earlyReturnAllowed: fmi3Boolean,
+    _requiredIntermediateVariables: *const fmi3ValueReference,
+    nRequiredIntermediateVariables: usize,
+    instanceEnvironment: fmi3InstanceEnvironment,
+    logMessage: Option<fmi3LogMessageCallback>,
+    _intermediateUpdate: Option<fmi3IntermediateUpdateCallback>,
+) -> fmi3Instance {
+    let logger = Logger {
+        environment: instanceEnvironment,
+        log: logMessage,
+    };
+    let made = catch_unwind(AssertUnwindSafe(|| -> Result<Instance, String> {
+        if eventModeUsed {
+            return Err("eventModeUsed: the FMU has no Event Mode (hasEventMode is false)".into());
+        }
+        if nRequiredIntermediateVariables != 0 {
+            return Err(
+                "requiredIntermediateVariables: the FMU provides no intermediate updates".into(),
+            );
+        }
+        // SAFETY: NULL or NUL-terminated by the contract.
+        let token = unsafe { text(instantiationToken) }.ok_or("instantiationToken: NULL")?;
+        // SAFETY: likewise.
+        let resources = unsafe { text(resourcePath) }
+            .ok_or("resourcePath: NULL (the FMU's spec is resources/model.json)")?;
+        Instance::from_resource_dir(&PathBuf::from(resources), &token, Fmi::V3)
+    }));
+    match made {
+        Ok(Ok(inst)) => Box::into_raw(Box::new(Component { logger, inst })) as fmi3Instance,
+        Ok(Err(message)) => {
+            logger.log(FMI3_ERROR, &message);
+            std::ptr::null_mut()
+        }
+        Err(payload) => {
+            logger.log(FMI3_FATAL, &panic_text(&payload));
+            std::ptr::null_mut()
+        }
+    }
+}
+
+/// Refuses an interface the FMU does not implement: NULL, with a message.
+fn refuse_instance(
+    environment: fmi3InstanceEnvironment,
+    log: Option<fmi3LogMessageCallback>,
+    what: &str,
+) -> fmi3Instance {
+    let logger = Logger { environment, log };
+    // A panic in the host's logger must not cross back into C.
+    let _ = catch_unwind(AssertUnwindSafe(|| {
+        logger.log(
+            FMI3_ERROR,
+            &format!("{what} is not supported by this FMU: it is a Co-Simulation FMU"),
+        )
+    }));
+    std::ptr::null_mut()
+}
+
+#[no_mangle]
+pub extern "C" fn fmi3InstantiateModelExchange(
+    _instanceName: fmi3String,
+    _instantiationToken: fmi3String,
+    _resourcePath: fmi3String,
+    _visible: fmi3Boolean,
+    _loggingOn: fmi3Boolean,
+    instanceEnvironment: fmi3InstanceEnvironment,
+    logMessage: Option<fmi3LogMessageCallback>,
+) -> fmi3Instance {
+    refuse_instance(instanceEnvironment, logMessage, "Model Exchange")
+}
+
+#[no_mangle]
+pub extern "C" fn fmi3InstantiateScheduledExecution(
+    _instanceName: fmi3String,
+    _instantiationToken: fmi3String,
+    _resourcePath: fmi3String,
+    _visible: fmi3Boolean,
+    _loggingOn: fmi3Boolean,
+    instanceEnvironment: fmi3InstanceEnvironment,
+    logMessage: Option<fmi3LogMessageCallback>,
+    _clockUpdate: Option<fmi3ClockUpdateCallback>,
+    _lockPreemption: Option<fmi3PreemptionCallback>,
+    _unlockPreemption: Option<fmi3PreemptionCallback>,
+) -> fmi3Instance {
+    refuse_instance(instanceEnvironment, logMessage, "Scheduled Execution")
+}
+
+/// # Safety
+/// `instance` is NULL or an instance from `fmi3InstantiateCoSimulation`,
+/// not used afterwards.
+#[no_mangle]
+pub unsafe extern "C" fn fmi3FreeInstance(instance: fmi3Instance) {
+    if !instance.is_null() {
+        // SAFETY: made by Box::into_raw in fmi3InstantiateCoSimulation,
+        // freed once.
+        drop(unsafe { Box::from_raw(instance as *mut Component) });
+    }
+}
+
+#[no_mangle]
+pub extern "C" fn fmi3EnterInitializationMode(
+    instance: fmi3Instance,
+    _toleranceDefined: fmi3Boolean,
+    _tolerance: fmi3Float64,
+    startTime: fmi3Float64,
+    _stopTimeDefined: fmi3Boolean,
+    _stopTime: fmi3Float64,
+) -> fmi3Status {
+    with(instance, |comp| {
+        comp.inst.setup(startTime)?;
+        comp.inst.enter_initialization()
+    })
+}
+
+#[no_mangle]
+pub extern "C" fn fmi3ExitInitializationMode(instance: fmi3Instance) -> fmi3Status {
+    with(instance, |comp| comp.inst.exit_initialization())
+}
+
+/// The FMU has no Event Mode: after `fmi3ExitInitializationMode` it is in
+/// Step Mode already, and entering it again changes nothing.
+#[no_mangle]
+pub extern "C" fn fmi3EnterStepMode(instance: fmi3Instance) -> fmi3Status {
+    with(instance, |comp| {
+        if comp.inst.mode() == Mode::Stepping {
+            Ok(())
+        } else {
+            Err("fmi3EnterStepMode: only after fmi3ExitInitializationMode".into())
+        }
+    })
+}
+
+#[no_mangle]
+pub extern "C" fn fmi3Terminate(instance: fmi3Instance) -> fmi3Status {
+    with(instance, |comp| {
+        comp.inst.terminate();
+        Ok(())
+    })
+}
+
+#[no_mangle]
+pub extern "C" fn fmi3Reset(instance: fmi3Instance) -> fmi3Status {
+    with(instance, |comp| {
+        comp.inst.reset();
+        Ok(())
+    })
+}
+
+/// # Safety
+/// `valueReferences` is NULL or valid for `nValueReferences` elements,
+/// `values` for `nValues`.
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetFloat64(
+    instance: fmi3Instance,
+    valueReferences: *const fmi3ValueReference,
+    nValueReferences: usize,
+    values: *mut fmi3Float64,
+    nValues: usize,
+) -> fmi3Status {
+    with(instance, |comp| {
+        // SAFETY: by the contract; `values` is only written.
+        let vrs = unsafe {
+            references(
+                valueReferences,
+                nValueReferences,
+                values.cast_const(),
+                nValues,
+            )
+        }?;
+        let got = vrs
+            .iter()
+            .map(|&vr| match vr {
+                VR_TIME => Ok(comp.inst.time()),
+                _ => comp.inst.get_real(vr),
+            })
+            .collect::<Result<Vec<f64>, String>>()?;
+        for (k, v) in got.into_iter().enumerate() {
+            // SAFETY: `values` is valid for nValues = nValueReferences
+            // doubles (checked non-NULL).
+            unsafe { *values.add(k) = v };
+        }
+        Ok(())
+    })
+}
+
+/// # Safety
+/// `valueReferences` is NULL or valid for `nValueReferences` elements,
+/// `values` for `nValues`.
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SetFloat64(
+    instance: fmi3Instance,
+    valueReferences: *const fmi3ValueReference,
+    nValueReferences: usize,
+    values: *const fmi3Float64,
+    nValues: usize,
+) -> fmi3Status {
+    with(instance, |comp| {
+        // SAFETY: by the contract.
+        let (vrs, values) = unsafe { slices(valueReferences, nValueReferences, values, nValues) }?;
+        if vrs.contains(&VR_TIME) {
+            return Err("time is the independent variable; it cannot be set".into());
+        }
+        comp.inst.set_real(vrs, values)
+    })
+}
+
+/// Refuses a call on variables of a type the FMU does not have; with no
+/// value references it has nothing to do and succeeds.
+fn no_variables(instance: fmi3Instance, nvr: usize, what: &str) -> fmi3Status {
+    with(instance, |_| {
+        if nvr == 0 {
+            Ok(())
+        } else {
+            Err(format!("the FMU has no {what} variables (all are Float64)"))
+        }
+    })
+}
+
+/// `fmi3Get<T>` and `fmi3Set<T>` for the types the FMU has no variables of.
+macro_rules! no_variables_of {
+    ($($get:ident, $set:ident, $t:ty, $what:literal;)*) => {$(
+        #[no_mangle]
+        pub extern "C" fn $get(
+            instance: fmi3Instance,
+            _valueReferences: *const fmi3ValueReference,
+            nValueReferences: usize,
+            _values: *mut $t,
+            _nValues: usize,
+        ) -> fmi3Status {
+            no_variables(instance, nValueReferences, $what)
+        }
+
+        #[no_mangle]
+        pub extern "C" fn $set(
+            instance: fmi3Instance,
+            _valueReferences: *const fmi3ValueReference,
+            nValueReferences: usize,
+            _values: *const $t,
+            _nValues: usize,
+        ) -> fmi3Status {
+            no_variables(instance, nValueReferences, $what)
+        }
+    )*};
+}
+
+no_variables_of! {
+    fmi3GetFloat32, fmi3SetFloat32, fmi3Float32, "Float32";
+    fmi3GetInt8, fmi3SetInt8, fmi3Int8, "Int8";
+    fmi3GetUInt8, fmi3SetUInt8, fmi3UInt8, "UInt8";
+    fmi3GetInt16, fmi3SetInt16, fmi3Int16, "Int16";
+    fmi3GetUInt16, fmi3SetUInt16, fmi3UInt16, "UInt16";
+    fmi3GetInt32, fmi3SetInt32, fmi3Int32, "Int32";
+    fmi3GetUInt32, fmi3SetUInt32, fmi3UInt32, "UInt32";
+    fmi3GetInt64, fmi3SetInt64, fmi3Int64, "Int64";
+    fmi3GetUInt64, fmi3SetUInt64, fmi3UInt64, "UInt64";
+    fmi3GetBoolean, fmi3SetBoolean, fmi3Boolean, "Boolean";
+    fmi3GetString, fmi3SetString, fmi3String, "String";
+}
+
+#[no_mangle]
+pub extern "C" fn fmi3GetBinary(
+    instance: fmi3Instance,
+    _valueReferences: *const fmi3ValueReference,
+    nValueReferences: usize,
+    _valueSizes: *mut usize,
+    _values: *mut fmi3Binary,
+    _nValues: usize,
+) -> fmi3Status {
+    no_variables(instance, nValueReferences, "Binary")
+}
+
+#[no_mangle]
+pub extern "C" fn fmi3SetBinary(
+    instance: fmi3Instance,
+    _valueReferences: *const fmi3ValueReference,
+    nValueReferences: usize,
+    _valueSizes: *const usize,
+    _values: *const fmi3Binary,
+    _nValues: usize,
+) -> fmi3Status {
+    no_variables(instance, nValueReferences, "Binary")
+}
+
+#[no_mangle]
+pub extern "C" fn fmi3GetClock(
+    instance: fmi3Instance,
+    _valueReferences: *const fmi3ValueReference,
+    nValueReferences: usize,
+    _values: *mut fmi3Clock,
+) -> fmi3Status {
+    no_variables(instance, nValueReferences, "Clock")
+}
+
+#[no_mangle]
+pub extern "C" fn fmi3SetClock(
+    instance: fmi3Instance,
+    _valueReferences: *const fmi3ValueReference,
+    nValueReferences: usize,
+    _values: *const fmi3Clock,
+) -> fmi3Status {
+    no_variables(instance, nValueReferences, "Clock")
+}
+
+/// Stores `snap` in the slot `*slot`: over the state there, or new.
+///
+/// # Safety
+/// `*slot` is NULL or a state from this module.
+unsafe fn store(slot: &mut fmi3FMUState, snap: Snapshot) {
+    // SAFETY: NULL or a Snapshot made by Box::into_raw below.
+    match unsafe { (*slot as *mut Snapshot).as_mut() } {
+        Some(old) => *old = snap,
+        None => *slot = Box::into_raw(Box::new(snap)) as fmi3FMUState,
+    }
+}
+
+/// # Safety
+/// `FMUState` is NULL or points to NULL or to a state from this function
+/// or `fmi3DeserializeFMUState`.
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetFMUState(
+    instance: fmi3Instance,
+    FMUState: *mut fmi3FMUState,
+) -> fmi3Status {
+    with(instance, |comp| {
+        // SAFETY: by the contract.
+        let slot = unsafe { FMUState.as_mut() }.ok_or("FMUState: NULL")?;
+        // SAFETY: `*slot` is NULL or a state of this module by the contract.
+        unsafe { store(slot, comp.inst.snapshot()) };
+        Ok(())
+    })
+}
+
+/// # Safety
+/// `FMUState` is NULL or a state from `fmi3GetFMUState` or
+/// `fmi3DeserializeFMUState`.
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SetFMUState(
+    instance: fmi3Instance,
+    FMUState: fmi3FMUState,
+) -> fmi3Status {
+    with(instance, |comp| {
+        // SAFETY: by the contract.
+        let snap = unsafe { (FMUState as *const Snapshot).as_ref() }.ok_or("FMUState: NULL")?;
+        comp.inst.restore(snap);
+        Ok(())
+    })
+}
+
+/// # Safety
+/// `FMUState` is NULL or points to NULL or to a state from
+/// `fmi3GetFMUState` or `fmi3DeserializeFMUState`.
+#[no_mangle]
+pub unsafe extern "C" fn fmi3FreeFMUState(
+    instance: fmi3Instance,
+    FMUState: *mut fmi3FMUState,
+) -> fmi3Status {
+    with(instance, |_| {
+        // SAFETY: by the contract.
+        if let Some(slot) = unsafe { FMUState.as_mut() } {
+            if !slot.is_null() {
+                // SAFETY: made by Box::into_raw in `store`, freed once.
+                drop(unsafe { Box::from_raw(*slot as *mut Snapshot) });
+                *slot = std::ptr::null_mut();
+            }
+        }
+        Ok(())
+    })
+}
+
+/// The bytes of `state` ([`serial`](crate::fmu::serial)).
+///
+/// # Safety
+/// `state` is NULL or a state from `fmi3GetFMUState` or
+/// `fmi3DeserializeFMUState`.
+unsafe fn state_bytes(comp: &Component, state: fmi3FMUState) -> Result<Vec<u8>, String> {
+    // SAFETY: by the contract.
+    let snap = unsafe { (state as *const Snapshot).as_ref() }.ok_or("FMUState: NULL")?;
+    serialize(comp.inst.start(), snap)
+}
+
+/// # Safety
+/// `FMUState` is NULL or a state of this instance; `size` is NULL or
+/// writable.
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SerializedFMUStateSize(
+    instance: fmi3Instance,
+    FMUState: fmi3FMUState,
+    size: *mut usize,
+) -> fmi3Status {
+    with(instance, |comp| {
+        // SAFETY: by the contract.
+        let bytes = unsafe { state_bytes(comp, FMUState) }?;
+        // SAFETY: `size` is NULL or writable by the contract.
+        *unsafe { size.as_mut() }.ok_or("size: NULL")? = bytes.len();
+        Ok(())
+    })
+}
+
+/// # Safety
+/// `FMUState` is NULL or a state of this instance; `serializedState` is
+/// NULL or writable for `size` bytes.
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SerializeFMUState(
+    instance: fmi3Instance,
+    FMUState: fmi3FMUState,
+    serializedState: *mut fmi3Byte,
+    size: usize,
+) -> fmi3Status {
+    with(instance, |comp| {
+        // SAFETY: by the contract.
+        let data = unsafe { state_bytes(comp, FMUState) }?;
+        if serializedState.is_null() {
+            return Err("serializedState: NULL".into());
+        }
+        if size != data.len() {
+            return Err(format!(
+                "size is {size}, but the state is {} bytes (fmi3SerializedFMUStateSize)",
+                data.len()
+            ));
+        }
+        // SAFETY: `serializedState` is writable for `size` = data.len()
+        // bytes.
+        unsafe { std::ptr::copy_nonoverlapping(data.as_ptr(), serializedState, size) };
+        Ok(())
+    })
+}
+
+/// # Safety
+/// `serializedState` is NULL or valid for `size` bytes; `FMUState` is NULL
+/// or points to NULL or to a state of this instance.
+#[no_mangle]
+pub unsafe extern "C" fn fmi3DeserializeFMUState(
+    instance: fmi3Instance,
+    serializedState: *const fmi3Byte,
+    size: usize,
+    FMUState: *mut fmi3FMUState,
+) -> fmi3Status {
+    with(instance, |comp| {
+        // SAFETY: by the contract.
+        let slot = unsafe { FMUState.as_mut() }.ok_or("FMUState: NULL")?;
+        let data: &[u8] = match size {
+            0 => &[],
+            _ if serializedState.is_null() => return Err("serializedState: NULL".into()),
+            // SAFETY: valid for `size` bytes by the contract.
+            _ => unsafe { std::slice::from_raw_parts(serializedState, size) },
+        };
+        let snap = deserialize(comp.inst.start(), data)?;
+        // SAFETY: `*slot` is NULL or a state of this module by the contract.
+        unsafe { store(slot, snap) };
+        Ok(())
+    })
+}
+
+/// # Safety
+/// `unknowns` is NULL or valid for `nUnknowns` elements, `knowns` for
+/// `nKnowns`, `seed` for `nSeed` and `sensitivity` for `nSensitivity`.
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetDirectionalDerivative(
+    instance: fmi3Instance,
+    unknowns: *const fmi3ValueReference,
+    nUnknowns: usize,
+    knowns: *const fmi3ValueReference,
+    nKnowns: usize,
+    seed: *const fmi3Float64,
+    nSeed: usize,
+    sensitivity: *mut fmi3Float64,
+    nSensitivity: usize,
+) -> fmi3Status {
+    with(instance, |comp| {
+        // SAFETY: by the contract; `sensitivity` is only written.
+        let unknown =
+            unsafe { references(unknowns, nUnknowns, sensitivity.cast_const(), nSensitivity) }
+                .map_err(|e| format!("unknowns and sensitivity: {e}"))?;
+        // SAFETY: by the contract.
+        let (known, seed) = unsafe { slices(knowns, nKnowns, seed, nSeed) }
+            .map_err(|e| format!("knowns and seed: {e}"))?;
+        let dv = comp.inst.directional_derivative(unknown, known, seed)?;
+        for (k, v) in dv.into_iter().enumerate() {
+            // SAFETY: `sensitivity` is valid for nSensitivity = nUnknowns
+            // doubles (checked non-NULL).
+            unsafe { *sensitivity.add(k) = v };
+        }
+        Ok(())
+    })
+}
+
+/// Writes `value` to `*ptr` unless `ptr` is NULL.
+///
+/// # Safety
+/// `ptr` is NULL or writable.
+unsafe fn put<T>(ptr: *mut T, value: T) {
+    // SAFETY: by the contract.
+    if let Some(slot) = unsafe { ptr.as_mut() } {
+        *slot = value;
+    }
+}
+
+/// # Safety
+/// The out-parameters are NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn fmi3DoStep(
+    instance: fmi3Instance,
+    currentCommunicationPoint: fmi3Float64,
+    communicationStepSize: fmi3Float64,
+    _noSetFMUStatePriorToCurrentPoint: fmi3Boolean,
+    eventHandlingNeeded: *mut fmi3Boolean,
+    terminateSimulation: *mut fmi3Boolean,
+    earlyReturn: *mut fmi3Boolean,
+    lastSuccessfulTime: *mut fmi3Float64,
+) -> fmi3Status {
+    with(instance, |comp| {
+        let done = comp
+            .inst
+            .do_step(currentCommunicationPoint, communicationStepSize);
+        // No events, no early return; a failed step left the time where
+        // it was.
+        // SAFETY: NULL or writable by the contract.
+        unsafe {
+            put(eventHandlingNeeded, false);
+            put(terminateSimulation, false);
+            put(earlyReturn, false);
+            put(lastSuccessfulTime, comp.inst.time());
+        }
+        done
+    })
+}
+
+/// Refuses a call the FMU does not support.
+fn unsupported(instance: fmi3Instance, what: &str) -> fmi3Status {
+    with(instance, |_| {
+        Err(format!("{what} is not supported by this FMU"))
+    })
+}
+
+/// Functions of the interfaces and features the FMU does not implement
+/// (Model Exchange, Scheduled Execution, Event and Configuration Mode,
+/// clocks, adjoint derivatives, output derivatives, dependencies): each
+/// `fmi3Error` with a message.
+macro_rules! unsupported {
+    ($($name:ident($($arg:ident: $t:ty),*) => $why:literal;)*) => {$(
+        #[no_mangle]
+        pub extern "C" fn $name(instance: fmi3Instance, $($arg: $t),*) -> fmi3Status {
+            unsupported(instance, concat!(stringify!($name), " (", $why, ")"))
+        }
+    )*};
+}
+
+unsupported! {
+    fmi3EnterEventMode() => "the FMU has no Event Mode";
+    fmi3EvaluateDiscreteStates() => "the FMU has no discrete states";
+    fmi3UpdateDiscreteStates(
+        _discreteStatesNeedUpdate: *mut fmi3Boolean,
+        _terminateSimulation: *mut fmi3Boolean,
+        _nominalsOfContinuousStatesChanged: *mut fmi3Boolean,
+        _valuesOfContinuousStatesChanged: *mut fmi3Boolean,
+        _nextEventTimeDefined: *mut fmi3Boolean,
+        _nextEventTime: *mut fmi3Float64
+    ) => "the FMU has no Event Mode";
+    fmi3EnterConfigurationMode() => "the FMU has no structural parameters";
+    fmi3ExitConfigurationMode() => "the FMU has no structural parameters";
+    fmi3GetNumberOfVariableDependencies(
+        _valueReference: fmi3ValueReference,
+        _nDependencies: *mut usize
+    ) => "the dependencies are in modelDescription.xml";
+    fmi3GetVariableDependencies(
+        _dependent: fmi3ValueReference,
+        _elementIndicesOfDependent: *mut usize,
+        _independents: *mut fmi3ValueReference,
+        _elementIndicesOfIndependents: *mut usize,
+        _dependencyKinds: *mut fmi3DependencyKind,
+        _nDependencies: usize
+    ) => "the dependencies are in modelDescription.xml";
+    fmi3GetAdjointDerivative(
+        _unknowns: *const fmi3ValueReference,
+        _nUnknowns: usize,
+        _knowns: *const fmi3ValueReference,
+        _nKnowns: usize,
+        _seed: *const fmi3Float64,
+        _nSeed: usize,
+        _sensitivity: *mut fmi3Float64,
+        _nSensitivity: usize
+    ) => "providesAdjointDerivatives is false; use fmi3GetDirectionalDerivative";
+    fmi3GetOutputDerivatives(
+        _valueReferences: *const fmi3ValueReference,
+        _nValueReferences: usize,
+        _orders: *const fmi3Int32,
+        _values: *mut fmi3Float64,
+        _nValues: usize
+    ) => "maxOutputDerivativeOrder is 0";
+    fmi3GetIntervalDecimal(
+        _valueReferences: *const fmi3ValueReference,
+        _nValueReferences: usize,
+        _intervals: *mut fmi3Float64,
+        _qualifiers: *mut fmi3IntervalQualifier
+    ) => "the FMU has no clocks";
+    fmi3GetIntervalFraction(
+        _valueReferences: *const fmi3ValueReference,
+        _nValueReferences: usize,
+        _counters: *mut fmi3UInt64,
+        _resolutions: *mut fmi3UInt64,
+        _qualifiers: *mut fmi3IntervalQualifier
+    ) => "the FMU has no clocks";
+    fmi3GetShiftDecimal(
+        _valueReferences: *const fmi3ValueReference,
+        _nValueReferences: usize,
+        _shifts: *mut fmi3Float64
+    ) => "the FMU has no clocks";
+    fmi3GetShiftFraction(
+        _valueReferences: *const fmi3ValueReference,
+        _nValueReferences: usize,
+        _counters: *mut fmi3UInt64,
+        _resolutions: *mut fmi3UInt64
+    ) => "the FMU has no clocks";
+    fmi3SetIntervalDecimal(
+        _valueReferences: *const fmi3ValueReference,
+        _nValueReferences: usize,
+        _intervals: *const fmi3Float64
+    ) => "the FMU has no clocks";
+    fmi3SetIntervalFraction(
+        _valueReferences: *const fmi3ValueReference,
+        _nValueReferences: usize,
+        _counters: *const fmi3UInt64,
+        _resolutions: *const fmi3UInt64
+    ) => "the FMU has no clocks";
+    fmi3SetShiftDecimal(
+        _valueReferences: *const fmi3ValueReference,
+        _nValueReferences: usize,
+        _shifts: *const fmi3Float64
+    ) => "the FMU has no clocks";
+    fmi3SetShiftFraction(
+        _valueReferences: *const fmi3ValueReference,
+        _nValueReferences: usize,
+        _counters: *const fmi3UInt64,
+        _resolutions: *const fmi3UInt64
+    ) => "the FMU has no clocks";
+    fmi3ActivateModelPartition(
+        _clockReference: fmi3ValueReference,
+        _activationTime: fmi3Float64
+    ) => "Scheduled Execution is not implemented";
+    fmi3EnterContinuousTimeMode() => "Model Exchange is not implemented";
+    fmi3CompletedIntegratorStep(
+        _noSetFMUStatePriorToCurrentPoint: fmi3Boolean,
+        _enterEventMode: *mut fmi3Boolean,
+        _terminateSimulation: *mut fmi3Boolean
+    ) => "Model Exchange is not implemented";
+    fmi3SetTime(_time: fmi3Float64) => "Model Exchange is not implemented";
+    fmi3SetContinuousStates(
+        _continuousStates: *const fmi3Float64,
+        _nContinuousStates: usize
+    ) => "Model Exchange is not implemented";
+    fmi3GetContinuousStateDerivatives(
+        _derivatives: *mut fmi3Float64,
+        _nContinuousStates: usize
+    ) => "Model Exchange is not implemented";
+    fmi3GetEventIndicators(
+        _eventIndicators: *mut fmi3Float64,
+        _nEventIndicators: usize
+    ) => "Model Exchange is not implemented";
+    fmi3GetContinuousStates(
+        _continuousStates: *mut fmi3Float64,
+        _nContinuousStates: usize
+    ) => "Model Exchange is not implemented";
+    fmi3GetNominalsOfContinuousStates(
+        _nominals: *mut fmi3Float64,
+        _nContinuousStates: usize
+    ) => "Model Exchange is not implemented";
+    fmi3GetNumberOfEventIndicators(_nEventIndicators: *mut usize) => "Model Exchange is not implemented";
+    fmi3GetNumberOfContinuousStates(_nContinuousStates: *mut usize) => "Model Exchange is not implemented";
+}
