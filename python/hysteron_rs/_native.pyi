@@ -410,15 +410,16 @@ class Ensemble:
     @property
     def kernel(self) -> str:
         """How the instances are stepped: the leaf of the lane kernel
-        (`"play"`, `"mms"`), or `"instances"` (one at a time).
+        (`"play"`, `"mms"`, `"bouc_wen"`), or `"instances"` (one at a time).
         """
-    def run(self, x: _ArrayLike, *, errors: str = "raise") -> npt.NDArray[np.float64]:
+    def run(self, x: _ArrayLike, *, errors: str = "raise", threads: Optional[int] = None) -> npt.NDArray[np.float64]:
         """Runs every instance from its initial state over `x` (1-D) and
         returns the outputs, shape `(len(self), len(x))`. With
         `errors="raise"` the first failing instance raises its typed error
         (its `index` the instance); with `errors="nan"` a failing
-        instance's row is NaN and the others are returned. The GIL is
-        released while it runs.
+        instance's row is NaN and the others are returned. The instances
+        run on `threads` threads (default: one per core); the GIL is
+        released while they run.
         """
 
 def leaf_kinds() -> List[Dict[str, Any]]:

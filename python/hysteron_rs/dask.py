@@ -131,7 +131,8 @@ def _run_ensemble(
     errors: str,
 ) -> npt.NDArray[np.float64]:
     try:
-        return Ensemble(model, rows).run(x, errors=errors)
+        # One thread per task: Dask runs as many tasks as the workers have threads.
+        return Ensemble(model, rows).run(x, errors=errors, threads=1)
     except HysteronError as e:
         raise _renumbered(e, offset, "instance") from None
 

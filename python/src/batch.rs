@@ -12,7 +12,10 @@ use pyo3::types::PyDict;
 
 /// Runs `work` on a pool of `threads` threads, or rayon's global pool
 /// (one thread per core) for `None`.
-fn on_pool<R: Send>(threads: Option<usize>, work: impl FnOnce() -> R + Send) -> PyResult<R> {
+pub(crate) fn on_pool<R: Send>(
+    threads: Option<usize>,
+    work: impl FnOnce() -> R + Send,
+) -> PyResult<R> {
     match threads {
         None => Ok(work()),
         Some(0) => Err(InputError::new_err("threads: must be at least 1")),

@@ -2,7 +2,7 @@
 //! together ([`hysteron::identify::ensemble`]), the GIL released.
 
 use crate::array::{matrix, samples};
-use crate::batch::indexed_error;
+use crate::batch::{indexed_error, on_pool};
 use crate::errors::{InputError, SpecError};
 use crate::model::Model;
 use hysteron::identify::ensemble::{
@@ -53,7 +53,7 @@ impl Ensemble {
     }
 
     /// How the instances are stepped: the leaf of the lane kernel
-    /// (`"play"`, `"mms"`), or `"instances"` (one at a time).
+    /// (`"play"`, `"mms"`, `"bouc_wen"`), or `"instances"` (one at a time).
     #[getter]
     fn kernel(&self) -> &'static str {
         match self.inner.kernel() {
@@ -66,14 +66,16 @@ impl Ensemble {
     /// returns the outputs, shape `(len(self), len(x))`. With
     /// `errors="raise"` the first failing instance raises its typed error
     /// (its `index` the instance); with `errors="nan"` a failing
-    /// instance's row is NaN and the others are returned. The GIL is
-    /// released while it runs.
-    #[pyo3(signature = (x, *, errors = "raise"))]
+    /// instance's row is NaN and the others are returned. The instances
+    /// run on `threads` threads (default: one per core); the GIL is
+    /// released while they run.
+    #[pyo3(signature = (x, *, errors = "raise", threads = None))]
     fn run<'py>(
         &self,
         py: Python<'py>,
         x: &Bound<'py, PyAny>,
         errors: &str,
+        threads: Option<usize>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let raise = match errors {
             "raise" => true,
@@ -85,7 +87,9 @@ impl Ensemble {
             }
         };
         let x = samples(x, "x")?;
-        let run = py.detach(|| self.inner.run(&x)).map_err(ensemble_error)?;
+        let run = py
+            .detach(|| on_pool(threads, || self.inner.run(&x)))?
+            .map_err(ensemble_error)?;
         if raise {
             if let Some(InstanceFailure { instance, error }) = run.failures.into_iter().next() {
                 return Err(indexed_error(py, "instance", instance, error));

@@ -38,6 +38,9 @@ def test_each_instance_is_the_model_alone(model: hy.Model, kernel: str) -> None:
     assert y.shape == (13, 700) and y.dtype == np.float64
     for i, row in enumerate(rows):
         assert np.array_equal(y[i], _alone(model, row, x)), i
+    # on one thread, or two: the same bits
+    assert np.array_equal(ensemble.run(x, threads=1), y)
+    assert np.array_equal(ensemble.run(x, threads=2), y)
 
 
 def test_a_failing_instance_is_named_or_nan() -> None:
@@ -64,3 +67,5 @@ def test_bad_shapes_and_inputs_are_typed_errors() -> None:
         ensemble.run([0.0, np.nan])
     with pytest.raises(hy.InputError, match="errors: must be"):
         ensemble.run([0.0], errors="ignore")
+    with pytest.raises(hy.InputError, match="threads: must be at least 1"):
+        ensemble.run([0.0], threads=0)
