@@ -41,7 +41,7 @@
 //! 181 (2010) 259–270.
 
 use crate::ensemble::{Ensemble, EnsembleError};
-use crate::free_by_names;
+use crate::fit::free_by_names;
 use hysteron_models::energy::closed_loop_work;
 use hysteron_models::Spec;
 use hysteron_operators::lanes::WIDTH;
