@@ -185,43 +185,34 @@ pub fn read_for(
 /// column, `output`, `lower`, `upper`.
 pub fn write_csv(path: &Path, input: &str, bands: &[(Vec<f64>, Band)]) -> Result<(), CsvIoError> {
     let several = bands.len() > 1;
-    let mut text = String::new();
-    if several {
-        text.push_str("record,");
-    }
-    text.push_str(&csv_field(input));
-    text.push_str(",output,lower,upper\n");
-    for (r, (x, b)) in bands.iter().enumerate() {
-        for (k, &xk) in x.iter().enumerate() {
-            if several {
-                text.push_str(&r.to_string());
-                text.push(',');
-            }
-            for (j, v) in [
-                Some(xk),
-                b.output.get(k).copied(),
-                b.lower.get(k).copied(),
-                b.upper.get(k).copied(),
-            ]
-            .into_iter()
-            .enumerate()
-            {
-                if j > 0 {
-                    text.push(',');
+    let wrap = |e: csv::Error| csvio::csv_write_error(path, e);
+    csvio::write_csv_atomic_with(
+        path,
+        |e| e,
+        |out| {
+            let mut header: Vec<&str> = if several { vec!["record"] } else { vec![] };
+            header.extend([input, "output", "lower", "upper"]);
+            out.write_record(&header).map_err(wrap)?;
+            let mut row: Vec<String> = Vec::with_capacity(5);
+            for (r, (x, b)) in bands.iter().enumerate() {
+                for (k, &xk) in x.iter().enumerate() {
+                    row.clear();
+                    if several {
+                        row.push(r.to_string());
+                    }
+                    row.extend(
+                        [
+                            Some(xk),
+                            b.output.get(k).copied(),
+                            b.lower.get(k).copied(),
+                            b.upper.get(k).copied(),
+                        ]
+                        .map(|v| csvio::fmt_f64(v.unwrap_or(f64::NAN))),
+                    );
+                    out.write_record(&row).map_err(wrap)?;
                 }
-                csvio::push_f64(&mut text, v.unwrap_or(f64::NAN));
             }
-            text.push('\n');
-        }
-    }
-    csvio::write_string_atomic(path, &text)
-}
-
-/// A CSV field, quoted where it holds a comma, a quote or a line break.
-fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n', '\r']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_string()
-    }
+            Ok(())
+        },
+    )
 }
