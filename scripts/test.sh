@@ -10,6 +10,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export CARGO_TERM_COLOR=never
+# A fresh clone gains nothing from incremental compilation but its disk.
+if [ -n "${CI:-}" ]; then export CARGO_INCREMENTAL=0; fi
 
 # The checkout must be left as it was found (ignored paths excepted): a
 # test that writes into it, or a stale lock file, fails the run at the end.
