@@ -40,7 +40,7 @@ cargo test --workspace
 echo "== the vector kernels' contract on AVX2 and without vector kernels (HYSTERON_ISA caps the dispatch)"
 for isa in avx2 portable; do
     HYSTERON_ISA=$isa cargo test -q -p hysteron --test contract
-    HYSTERON_ISA=$isa cargo test -q -p hysteron-operators --lib -- exp_m1 lanes
+    HYSTERON_ISA=$isa cargo test -q -p hysteron-operators --lib -- exp_kernel lanes
     HYSTERON_ISA=$isa cargo test -q -p hysteron-identify --test ensemble
 done
 

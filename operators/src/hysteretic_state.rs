@@ -259,12 +259,20 @@ impl Branch<f64> {
 /// `g∞ = g + f/c` (one `exp`, whose latency is shorter than `expm1`'s), or
 /// `g + f s` for `c = 0`. Its error is a few ulps of
 /// `|g∞| + |f/c| e^{−c s}`.
+///
+/// Over `f64` the exponential is the branch-free kernel
+/// [`crate::exp_kernel::exp`] (within one ulp of the C library's), which
+/// the lanes of an ensemble run four or eight at a time with the same
+/// bits; over dual numbers its value is the kernel's too
+/// ([`crate::exp_kernel::with_kernel_value`]).
 #[inline(always)]
 fn closed_form<T: Float>(g: T, f: T, c: T, f_over_c: T, asymptote: T, s: T) -> T {
     if c == T::zero() {
         flat_side(g, f, c, s)
     } else {
-        asymptote - f_over_c * (-c * s).exp()
+        asymptote
+            - f_over_c
+                * crate::exp_kernel::with_kernel_value(-c * s, crate::exp_kernel::exp, T::exp)
     }
 }
 

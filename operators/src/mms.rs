@@ -5,7 +5,6 @@ use crate::{
     check_lengths, declare_params, reversal, CastScalar, Error, Float, Result, StepLaw, Stepped,
     Trial,
 };
-use core::any::TypeId;
 
 declare_params! {
     /// Parameters of the [`Mms`] friction operator.
@@ -164,7 +163,7 @@ impl LaneLaw for MmsParams<f64> {
             let sign = if dir < 0 { -1.0 } else { 1.0 };
             let d = (x - b.x_r).abs();
             for (((state, &y_r), &k), &f_c) in b.y.iter_mut().zip(&b.y_r).zip(&b.k).zip(&b.f_c) {
-                let rise = -crate::exp_m1::exp_m1_nonpositive(-k * d);
+                let rise = -crate::exp_kernel::exp_m1_nonpositive(-k * d);
                 *state = on_branch(rise, sign * f_c, y_r);
             }
             (b.x, b.dir) = (x, dir);
@@ -186,7 +185,7 @@ fn rise<T: Float>(k: T, x: T, x_r: T) -> T {
 /// `e^{−a} − 1` for `−a ≤ 0`, keeping full relative accuracy near the
 /// reversal (`a → 0`), where `e^{−a} − 1` would cancel.
 ///
-/// Over `f64` it is the branch-free kernel of [`crate::exp_m1`] (within
+/// Over `f64` it is the branch-free kernel of [`crate::exp_kernel`] (within
 /// about one ulp), which the batch loop runs four or eight samples per
 /// instruction, so that `step` and the batch loop give the same bits.
 /// Over other scalars the library's `expm1` near the reversal (`a ≤ ln 2`)
@@ -195,30 +194,20 @@ fn rise<T: Float>(k: T, x: T, x_r: T) -> T {
 /// value is the `f64` kernel's.
 #[inline(always)]
 fn exp_m1_of_negative<T: Float>(minus_a: T) -> T {
-    if TypeId::of::<T>() == TypeId::of::<f64>() {
-        // (`as_f64` and `lit` are the identity on `f64`)
-        return T::lit(crate::exp_m1::exp_m1_nonpositive(minus_a.as_f64()));
-    }
-    let v = if minus_a < -T::LN_2() {
-        minus_a.exp() - T::one()
-    } else {
-        minus_a.exp_m1()
-    };
-    if T::CARRIES_DERIVATIVES {
-        // The value of the `f64` kernel, so that the dual twin's values are
-        // the `f64` model's bits: the two differ by an ulp or so, so the
-        // difference is exact, and so is the sum.
-        let kernel = T::lit(crate::exp_m1::exp_m1_nonpositive(minus_a.as_f64()));
-        return v + (kernel - v.without_derivatives());
-    }
-    v
+    crate::exp_kernel::with_kernel_value(minus_a, crate::exp_kernel::exp_m1_nonpositive, |m| {
+        if m < -T::LN_2() {
+            m.exp() - T::one()
+        } else {
+            m.exp_m1()
+        }
+    })
 }
 
 /// [`exp_m1_of_negative`] of every value of `v`, in place (over `f64`
-/// vectorised: [`crate::exp_m1::exp_m1_nonpositive_in_place`]).
+/// vectorised: [`crate::exp_kernel::exp_m1_nonpositive_in_place`]).
 fn exp_m1_of_negative_in_place<T: Float>(v: &mut [T]) {
     match crate::simd::as_f64_mut(v) {
-        Some(v) => crate::exp_m1::exp_m1_nonpositive_in_place(v),
+        Some(v) => crate::exp_kernel::exp_m1_nonpositive_in_place(v),
         None => {
             for a in v {
                 *a = exp_m1_of_negative(*a);
@@ -454,7 +443,7 @@ mod tests {
             below = below.next_down();
         }
         for a in grid {
-            let kernel = crate::exp_m1::exp_m1_nonpositive(-a);
+            let kernel = crate::exp_kernel::exp_m1_nonpositive(-a);
             assert_eq!(exp_m1_of_negative(-a).to_bits(), kernel.to_bits());
             let a = a as f32;
             let (got, want) = (exp_m1_of_negative(-a), (-a).exp_m1());

@@ -51,33 +51,24 @@ pub struct BoucWenLanes {
     others: Vec<(usize, Option<BoucWen<f64>>)>,
 }
 
-/// `e^v` in one lane: the C library's `exp`, the function the spring's own
-/// [`Branch::at`] calls (`f64::exp`), so that every lane keeps its bits.
-#[inline(always)]
-fn exp(v: f64) -> f64 {
-    v.exp()
-}
-
 /// The `n = 1` spring ([`BoucWen`], closed form) in every lane:
 ///
 /// `H = w S(z) z + (1 − w) S(z) h`, `h = sgn(ż) g(sgn(ż) (z − z_a))`,
 ///
 /// each branch `g(s) = g∞ − (f/c) e^{−c s}` from its start (the last
 /// reversal `z_a`), with the terms the spring precomputes there. The lanes
-/// do the operations of the spring's own batch loop in the same order,
-/// with no fused multiply-add, and call the C library's `exp` lane by lane
-/// (the spring's own function: a vectorised exponential would differ from
-/// it by an ulp, and the state's output by many ulps of `H` where `H`
-/// crosses zero), so every lane's outputs are the bits of the instance
-/// alone, on every instruction set; the comparisons, selects, products and
-/// sums run [`WIDTH`] lanes per instruction. A reversal (starting each
-/// lane's branch, a logarithm and divisions), a lane at rest before its
-/// first motion and a branch outside the common form (a side with
-/// `c = 0`, or a first piece evaluated with `expm1`, where `|β − γ|` is
-/// below a sixteenth of `β + γ`) are
-/// handled lane by lane. A lane whose exponent is not 1 steps its own
-/// spring (tabulated flow or integration) one sample at a time, giving
-/// its bits too, without the speed.
+/// do the operations of the spring's own loop in the same order, with no
+/// fused multiply-add, and the exponential is the spring's own branch-free
+/// kernel ([`crate::exp_kernel::exp`]), so every lane's outputs are the
+/// bits of the instance alone, on every instruction set, while the
+/// exponentials, comparisons, selects, products and sums run [`WIDTH`]
+/// lanes per instruction. A reversal (starting each lane's branch, a
+/// logarithm and divisions), a lane at rest before its first motion and a
+/// branch outside the common form (a side with `c = 0`, or a first piece
+/// evaluated with `expm1`, where `|β − γ|` is below a sixteenth of
+/// `β + γ`) are handled lane by lane. A lane whose exponent is not 1 steps
+/// its own spring (tabulated flow or integration) one sample at a time,
+/// giving its bits too, without the speed.
 impl LaneLaw for BoucWenParams<f64> {
     type Block = BoucWenLanes;
 
@@ -169,7 +160,7 @@ impl LaneLaw for BoucWenParams<f64> {
             asym[j] = if past { b.fc_0[j] } else { b.inf_a[j] };
             fc[j] = if past { b.fc_0[j] } else { b.fc_a[j] };
         }
-        let e = arg.map(exp);
+        let e = arg.map(crate::exp_kernel::exp);
         let mut h = [0.0; WIDTH];
         for j in 0..WIDTH {
             h[j] = b.sign[j] * (asym[j] - fc[j] * e[j]);

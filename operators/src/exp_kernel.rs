@@ -1,14 +1,17 @@
-//! `e^x − 1` for `x ≤ 0` in `f64`, written so that a loop over it
-//! vectorises: no branch, no table, no call.
+//! `e^x` and `e^x − 1` (for `x ≤ 0`) in `f64`, written so that a loop
+//! over them vectorises: no branch, no table, no call.
 //!
-//! The MMS branch `1 − e^{−K |x − x_r|}` needs it once per sample; a call to
-//! the C library's `exp` or `expm1` cannot be vectorised and costs more
-//! than the rest of the sample. This function gives the same bits wherever
-//! it runs (one sample in a `step`, or four or eight per instruction in a
-//! batch loop), since every version does the same operations in the same
-//! order, with no fused multiply-add.
+//! The MMS branch `1 − e^{−K |x − x_r|}` and the Bouc-Wen branch
+//! `g∞ − (f/c) e^{−c s}` need one per sample; a call to the C library's
+//! `exp` or `expm1` cannot be vectorised and costs more than the rest of
+//! the sample. These functions give the same bits wherever they run (one
+//! sample in a `step`, or four or eight per instruction in a batch loop or
+//! across the lanes of an ensemble), since every version does the same
+//! operations in the same order, with no fused multiply-add.
 
 use crate::simd::Isa;
+use crate::Float;
+use core::any::TypeId;
 
 /// `ln 2` in two parts: the high part has 21 trailing zero bits, so
 /// `k · LN2_HI` is exact for `|k| < 2^21`, and `LN2_HI + LN2_LO` is `ln 2`
@@ -61,23 +64,91 @@ const C: [f64; 12] = [
 pub(crate) fn exp_m1_nonpositive(x: f64) -> f64 {
     // (a NaN fails the comparison and runs through as NaN)
     let x = if x < FLOOR { FLOOR } else { x };
+    let (k, s) = reduce(x);
+    // 2^k from the integer k ≥ −58: (k + 1023) << 52.
+    let scale = power_of_two(k);
+    (scale - 1.0) + scale * s
+}
+
+/// Below it `e^x` rounds to `0` (it is under half the least subnormal).
+const EXP_MIN: f64 = -746.0;
+/// Above it `e^x` overflows to `+∞`.
+const EXP_MAX: f64 = 710.0;
+
+/// `e^x`, within about one ulp (see the tests), `0` below `−745.2`
+/// (`−∞` included), `+∞` above `709.8`, NaN for NaN.
+///
+/// The reduction of [`exp_m1_nonpositive`], `e^x = 2^k (1 + s)`, with
+/// `2^k` applied as two factors `2^{k1} 2^{k2}` (`k1 = ⌊k/2⌋`), each a
+/// normal number over the whole range, so that the one rounding of the
+/// last product gives subnormal results and the overflow to `+∞`.
+///
+/// # Reference
+/// P. T. P. Tang, "Table-driven implementation of the exponential function
+/// in IEEE floating-point arithmetic", *ACM TOMS* 15(2), 1989 (the
+/// reduction, here without the table).
+#[inline(always)]
+pub(crate) fn exp(x: f64) -> f64 {
+    // (a NaN fails both comparisons and runs through as NaN)
+    let x = if x < EXP_MIN {
+        EXP_MIN
+    } else if x > EXP_MAX {
+        EXP_MAX
+    } else {
+        x
+    };
+    let (k, s) = reduce(x);
+    let k1 = k >> 1;
+    ((1.0 + s) * power_of_two(k1)) * power_of_two(k - k1)
+}
+
+/// `x = k ln 2 + r` with `k = round(x / ln 2)` (`|r| ≤ ln 2 / 2`, the
+/// product `k ln 2` in two parts), and `s = e^r − 1 = r + r² Σ_{j<12}
+/// r^j/(j+2)!`, the sum by Estrin's scheme (short dependency chains for a
+/// scalar call), its truncation below `2^-60` relative. `|x| < 2^20`.
+#[inline(always)]
+fn reduce(x: f64) -> (i64, f64) {
     let t = x * core::f64::consts::LOG2_E + SHIFTER;
     let k = t - SHIFTER;
     let r = (x - k * LN2_HI) - k * LN2_LO;
-    // 2^k from the integer in `t`'s low bits: (k + 1023) << 52, k ≥ −58.
-    let biased = t
-        .to_bits()
-        .wrapping_sub(SHIFTER.to_bits())
-        .wrapping_add(1023);
-    let scale = f64::from_bits(biased << 52);
+    // k is the integer in `t`'s low bits
+    let k_int = t.to_bits().wrapping_sub(SHIFTER.to_bits()) as i64;
     let r2 = r * r;
     let r4 = r2 * r2;
     let r8 = r4 * r4;
     let [c0, c1, c2, c3, c4, c5, c6, c7, c8, c9, c10, c11] = C;
     let q = ((c0 + c1 * r) + (c2 + c3 * r) * r2) + ((c4 + c5 * r) + (c6 + c7 * r) * r2) * r4;
     let q = q + ((c8 + c9 * r) + (c10 + c11 * r) * r2) * r8;
-    let s = r + r2 * q;
-    (scale - 1.0) + scale * s
+    (k_int, r + r2 * q)
+}
+
+/// `2^k` for `−1022 ≤ k ≤ 1023`, from its bit pattern.
+#[inline(always)]
+fn power_of_two(k: i64) -> f64 {
+    f64::from_bits((k.wrapping_add(1023) as u64) << 52)
+}
+
+/// A function of one scalar whose `f64` values are those of a kernel of
+/// this module: over `f64` the kernel itself; over dual numbers `generic`
+/// (the library's function, which gives the derivatives) with its value
+/// replaced by the kernel's, so that the dual twin's values are the `f64`
+/// model's bits (the two differ by an ulp or so: the difference is exact,
+/// and so is the sum); over other scalars `generic`.
+#[inline(always)]
+pub(crate) fn with_kernel_value<T: Float>(
+    v: T,
+    kernel: fn(f64) -> f64,
+    generic: impl FnOnce(T) -> T,
+) -> T {
+    if TypeId::of::<T>() == TypeId::of::<f64>() {
+        // (`as_f64` and `lit` are the identity on `f64`)
+        return T::lit(kernel(v.as_f64()));
+    }
+    let g = generic(v);
+    if T::CARRIES_DERIVATIVES {
+        return g + (T::lit(kernel(v.as_f64())) - g.without_derivatives());
+    }
+    g
 }
 
 /// [`exp_m1_nonpositive`] of every value of `v`, in place: four or eight
@@ -167,6 +238,60 @@ mod tests {
         assert_eq!(exp_m1_nonpositive(-1e300), -1.0);
         assert_eq!(exp_m1_nonpositive(f64::NEG_INFINITY), -1.0);
         assert!(exp_m1_nonpositive(f64::NAN).is_nan());
+    }
+
+    /// `exp` against the C library's (itself within one ulp) on a grid
+    /// over its whole range, from results far in the subnormals to the
+    /// largest finite ones, and at the ends of every reduction interval
+    /// near `0`, with neighbours.
+    #[test]
+    fn exp_within_one_ulp_of_the_c_library() {
+        let mut worst = (0, 0.0);
+        let mut check = |x: f64| {
+            let d = ulps(exp(x), x.exp());
+            if d > worst.0 {
+                worst = (d, x);
+            }
+        };
+        let mut x = -745.0_f64;
+        while x < 709.7 {
+            check(x);
+            x += 0.000_731_3;
+        }
+        let mut a = 1e-300_f64;
+        while a < 1.0 {
+            check(a);
+            check(-a);
+            a *= 1.001;
+        }
+        for k in -60..60 {
+            let edge = (k as f64 + 0.5) * core::f64::consts::LN_2;
+            let (mut up, mut down) = (edge, edge);
+            for _ in 0..64 {
+                check(up);
+                check(down);
+                up = up.next_up();
+                down = down.next_down();
+            }
+        }
+        assert!(worst.0 <= 1, "{} ulps at x = {:e}", worst.0, worst.1);
+    }
+
+    /// `exp`'s ends and special values: `1` at `0`, `0` far below and at
+    /// `−∞`, `+∞` past the overflow and at `+∞`, NaN through.
+    #[test]
+    fn exp_special_values() {
+        assert_eq!(exp(0.0), 1.0);
+        assert_eq!(exp(-0.0), 1.0);
+        assert_eq!(exp(-746.0), 0.0);
+        assert_eq!(exp(-1e300), 0.0);
+        assert_eq!(exp(f64::NEG_INFINITY), 0.0);
+        assert!(exp(-745.0) > 0.0);
+        assert!(exp(709.7).is_finite());
+        assert_eq!(exp(709.8), f64::INFINITY);
+        assert_eq!(exp(1e300), f64::INFINITY);
+        assert_eq!(exp(f64::INFINITY), f64::INFINITY);
+        assert!(exp(f64::NAN).is_nan());
     }
 
     /// The slice version gives the scalar's bits on whichever instruction
