@@ -89,14 +89,8 @@ const EXP_MAX: f64 = 710.0;
 /// reduction, here without the table).
 #[inline(always)]
 pub(crate) fn exp(x: f64) -> f64 {
-    // (a NaN fails both comparisons and runs through as NaN)
-    let x = if x < EXP_MIN {
-        EXP_MIN
-    } else if x > EXP_MAX {
-        EXP_MAX
-    } else {
-        x
-    };
+    // (`clamp` keeps a NaN, which runs through as NaN)
+    let x = x.clamp(EXP_MIN, EXP_MAX);
     let (k, s) = reduce(x);
     let k1 = k >> 1;
     ((1.0 + s) * power_of_two(k1)) * power_of_two(k - k1)
