@@ -51,7 +51,7 @@ use crate::model_file::ModelFileError;
 use crate::models::Spec;
 use crate::output::OutputError;
 use crate::period::{self, Period, PeriodError, SamplePeriodArgs};
-use crate::plot::{self, Panel, PlotError, Series, Style};
+use crate::plot::{self, file_name, pairs, Panel, PlotError, Series, Style};
 use crate::Operator;
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -718,9 +718,6 @@ fn figure(
     records: &[Loaded],
     fits: &[Vec<f64>],
 ) -> Result<String, PlotError> {
-    let pairs = |a: &[f64], b: &[f64]| -> Vec<(f64, f64)> {
-        a.iter().copied().zip(b.iter().copied()).collect()
-    };
     let mut panels = Vec::new();
     for ((l, y_fit), path) in records.iter().zip(fits).zip(&opts.data) {
         let (x, y) = (&l.x, &l.y);
@@ -760,9 +757,4 @@ fn figure(
     }
     let rows = records.len().max(1);
     plot::render(&panels, rows, 3, (1500, 480 * rows as u32))
-}
-
-fn file_name(p: &Path) -> String {
-    p.file_name()
-        .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into())
 }

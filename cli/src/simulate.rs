@@ -23,7 +23,7 @@ use crate::model_file::ModelFileError;
 use crate::models::Spec;
 use crate::output::OutputError;
 use crate::period::{self, Period, PeriodError, SamplePeriodArgs};
-use crate::plot;
+use crate::plot::{self, file_name};
 use crate::Operator;
 use std::fmt;
 use std::fs::File;
@@ -374,9 +374,4 @@ pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
         period,
         files,
     })
-}
-
-fn file_name(p: &Path) -> String {
-    p.file_name()
-        .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into())
 }

@@ -36,7 +36,7 @@ use crate::model_file::ModelFileError;
 use crate::models::Spec;
 use crate::output::OutputError;
 use crate::period::{self, DtSource, Period, PeriodError};
-use crate::plot::{self, Panel, PlotError, Series, Style};
+use crate::plot::{self, file_name, pairs, Panel, PlotError, Series, Style};
 use crate::Operator;
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -786,9 +786,6 @@ fn figure(
     s: &Scored,
     (input, output): &(String, String),
 ) -> Result<String, PlotError> {
-    let pairs = |a: &[f64], b: &[f64]| -> Vec<(f64, f64)> {
-        a.iter().copied().zip(b.iter().copied()).collect()
-    };
     let (measured, label) = match (&s.measured_lp, opts.lowpass) {
         (Some(lp), Some(hz)) => (
             lp.as_slice(),
@@ -869,11 +866,6 @@ fn figure(
         .push(Series::line("edges - model", about(&b.lower), 3));
     band_panel.series.push(Series::line("", about(&b.upper), 3));
     plot::render(&[loop_panel, time_panel, band_panel], 1, 3, (1800, 500))
-}
-
-fn file_name(p: &Path) -> String {
-    p.file_name()
-        .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into())
 }
 
 #[cfg(test)]
