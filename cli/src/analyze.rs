@@ -1,5 +1,6 @@
 //! The `analyze` job: the describing function and the work per loop of a
-//! model spec (JSON, see [`Spec`]) driven by sines of given amplitudes.
+//! model spec (JSON, see [`Spec`](crate::models::Spec)) driven by sines of
+//! given amplitudes.
 //!
 //! For every amplitude `A` the model (built once, reset for each
 //! amplitude) runs `settle_periods` periods of `x = A sin θ` with
@@ -29,9 +30,8 @@
 use crate::args;
 use crate::csvio;
 use crate::identify::report::fmt_g;
-use crate::model_file::ModelFileError;
+use crate::model_file::{self, ModelFileError};
 use crate::models::describing::{AnalysisError, DescribingFunction, SineOptions, SteadyCycle};
-use crate::models::Spec;
 use crate::output::OutputError;
 use crate::period;
 use std::fmt;
@@ -223,7 +223,6 @@ pub fn run(opts: &AnalyzeOptions) -> Result<AnalyzeReport, AnalyzeError> {
             }));
         }
     }
-    let model_err = |e| ModelFileError::new(&opts.model, e);
     if !(1..=17).contains(&opts.precision) {
         return Err(AnalyzeError::Argument(AnalysisError::InvalidArgument {
             name: "precision",
@@ -231,11 +230,11 @@ pub fn run(opts: &AnalyzeOptions) -> Result<AnalyzeReport, AnalyzeError> {
             reason: "must be 1 to 17 significant digits",
         }));
     }
-    let mut spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
+    let mut spec = model_file::read(&opts.model)?;
     if let Some(dt) = opts.dt {
         spec = spec.with_dt(dt);
     }
-    let model = spec.build().map_err(model_err)?;
+    let model = model_file::build(&opts.model, &spec)?;
     let period = match (spec.is_rate_dependent(), opts.dt) {
         (false, _) => None,
         (true, Some(dt)) => Some((dt, "--dt")),

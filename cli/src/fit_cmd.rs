@@ -47,7 +47,7 @@ use crate::identify::band::{BandError, Covariance};
 use crate::identify::{
     fit_multistart, free_by_names, FitError, FitOptions, FitReport, Jacobian, MultiStart, Record,
 };
-use crate::model_file::ModelFileError;
+use crate::model_file::{self, ModelFileError};
 use crate::models::Spec;
 use crate::output::OutputError;
 use crate::period::{self, Period, PeriodError, SamplePeriodArgs};
@@ -497,12 +497,9 @@ pub fn run(opts: &FitCmdOptions) -> Result<FitCmdReport, FitCmdError> {
         other => other,
     };
 
-    let model_err = |e| ModelFileError::new(&opts.model, e);
-    let spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
-    // The spec's own errors first (a period it leaves out is a stand-in here).
-    spec.or_dt(Spec::STAND_IN_DT).build().map_err(model_err)?;
+    let (spec, _) = model_file::read_checked(&opts.model)?;
     let (spec, period) = with_period(opts, spec)?;
-    let model = spec.build().map_err(model_err)?;
+    let model = model_file::build(&opts.model, &spec)?;
 
     let free = indices(opts, model.as_ref(), "--free", &opts.free)?;
     let own = indices(opts, model.as_ref(), "--own", &opts.own)?;

@@ -19,7 +19,7 @@
 //! canonicalization, also when the output does not exist yet).
 
 use crate::csvio::{self, CsvIoError};
-use crate::model_file::ModelFileError;
+use crate::model_file::{self, ModelFileError};
 use crate::models::Spec;
 use crate::output::OutputError;
 use crate::period::{self, Period, PeriodError, SamplePeriodArgs};
@@ -186,12 +186,10 @@ impl RecordInput {
         &self,
         period: &SamplePeriodArgs,
     ) -> Result<RecordModel, SimulateError> {
-        let model_err = |e| ModelFileError::new(&self.model, e);
-        let spec = Spec::from_json_file(&self.model).map_err(model_err)?;
-        spec.or_dt(Spec::STAND_IN_DT).build().map_err(model_err)?;
+        let (spec, _) = model_file::read_checked(&self.model)?;
         let (spec, period) = period::for_record(&spec, &period.source(), &self.input)
             .map_err(SimulateError::period)?;
-        let model = spec.build().map_err(model_err)?;
+        let model = model_file::build(&self.model, &spec)?;
         Ok(RecordModel {
             spec,
             period,
