@@ -466,23 +466,13 @@ pub fn run(opts: &FitCmdOptions) -> Result<FitCmdReport, FitCmdError> {
     let mut inputs: Vec<(&'static str, &Path)> =
         opts.data.iter().map(|d| ("data", d.as_path())).collect();
     inputs.push(("model", opts.model.as_path()));
-    csvio::refuse_same("output", &opts.output, &inputs).map_err(FitCmdError::SameFile)?;
-    if let Some(p) = &opts.plot {
-        csvio::refuse_same("plot", p, &inputs).map_err(FitCmdError::SameFile)?;
-        csvio::refuse_same("plot", p, &[("output", opts.output.as_path())])
-            .map_err(FitCmdError::SameFile)?;
-    }
-    let mut outputs: Vec<(&'static str, &Path)> = vec![("output", opts.output.as_path())];
-    if let Some(p) = &opts.plot {
-        outputs.push(("plot", p.as_path()));
-    }
-    for (flag, path) in [("band", &opts.band), ("covariance", &opts.covariance)] {
-        if let Some(p) = path {
-            csvio::refuse_same(flag, p, &inputs).map_err(FitCmdError::SameFile)?;
-            csvio::refuse_same(flag, p, &outputs).map_err(FitCmdError::SameFile)?;
-            outputs.push((flag, p.as_path()));
-        }
-    }
+    let outputs = [
+        ("output", Some(opts.output.as_path())),
+        ("plot", opts.plot.as_deref()),
+        ("band", opts.band.as_deref()),
+        ("covariance", opts.covariance.as_deref()),
+    ];
+    csvio::refuse_overwrites(&inputs, &outputs)?;
     for (j, d) in opts.data.iter().enumerate() {
         let same = |e: &PathBuf| csvio::same_file(e, d);
         if opts.data[..j].iter().any(same) {

@@ -171,11 +171,7 @@ impl RecordInput {
             ("input", self.input.as_path()),
             ("model", self.model.as_path()),
         ];
-        csvio::refuse_same("output", output, &inputs)?;
-        if let Some(p) = plot {
-            csvio::refuse_same("plot", p, &inputs)?;
-            csvio::refuse_same("plot", p, &[("output", output)])?;
-        }
+        csvio::refuse_overwrites(&inputs, &[("output", Some(output)), ("plot", plot)])?;
         Ok(())
     }
 
