@@ -31,7 +31,7 @@
 use crate::args;
 use crate::band::BandArgs;
 use crate::csvio::{self, CsvIoError};
-use crate::fit_cmd::{self, FitCmdOptions, JacobianArg};
+use crate::fit_cmd::{self, FitCmdOptions, JACOBIAN, PATIENCE, SPREAD};
 use crate::identify::selection::{self, rank, Outcome};
 use crate::output::OutputError;
 use crate::period::SamplePeriodArgs;
@@ -135,17 +135,6 @@ pub struct CompareOptions {
     #[arg(long)]
     pub no_progress: bool,
 }
-
-/// Levenberg-Marquardt's patience in each candidate's fit
-/// ([`FitCmdOptions::patience`], `fit`'s default).
-pub const PATIENCE: usize = 200;
-
-/// How the Jacobians of the fits are computed (`fit`'s default).
-pub const JACOBIAN: JacobianArg = JacobianArg::Exact;
-
-/// Half-width of the hypercube of the starting points
-/// ([`FitCmdOptions::spread`]): ln 4, `fit`'s default.
-pub const SPREAD: f64 = 2.0 * std::f64::consts::LN_2;
 
 /// An error of the compare job as a whole (a candidate's own failure is in
 /// its row instead).
@@ -277,7 +266,8 @@ fn progress_bar(n: usize, wanted: bool) -> ProgressBar {
     bar
 }
 
-/// Fits a candidate on `records`, writing the fitted spec to `output`.
+/// Fits a candidate on `records`, writing the fitted spec to `output`
+/// (with `fit`'s defaults for what `compare` does not set).
 fn fit_on(
     c: &Candidate,
     records: &[PathBuf],
@@ -640,10 +630,5 @@ mod tests {
         assert_eq!(short(1.3371), "1.337");
         assert_eq!(short(2.5e-5), "2.500e-5");
         assert_eq!(short(0.0), "0");
-    }
-
-    #[test]
-    fn spread_is_the_default_of_the_starts() {
-        assert_eq!(SPREAD, crate::identify::MultiStart::default().spread);
     }
 }

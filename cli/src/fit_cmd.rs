@@ -127,13 +127,13 @@ pub struct FitCmdOptions {
     /// Jacobian, so at most PATIENCE·(free + 1)·(2·free + 1) model runs
     /// (at least 1; for a hard bound use --max-evaluations or
     /// --max-seconds).
-    #[arg(long, value_name = "N", default_value_t = 200, value_parser = args::at_least_1, allow_negative_numbers = true)]
+    #[arg(long, value_name = "N", default_value_t = PATIENCE, value_parser = args::at_least_1, allow_negative_numbers = true)]
     pub patience: usize,
     /// How the Jacobian is computed: `exact` (forward-mode derivatives
     /// through the model over dual numbers, one simulation per 8
     /// parameters; see the guide's docs/derivatives.md) or `fd` (central finite
     /// differences, two simulations per parameter).
-    #[arg(long, value_enum, default_value_t = JacobianArg::Exact)]
+    #[arg(long, value_enum, default_value_t = JACOBIAN)]
     pub jacobian: JacobianArg,
     /// Fit from N starting points: the spec's own and N − 1 from a Latin
     /// hypercube around it (see --spread), in parallel; the best is
@@ -145,7 +145,7 @@ pub struct FitCmdOptions {
     /// positive parameter starts within a factor e^S of its value, one
     /// in [0, 1] within ±S in its logit, an unbounded one within
     /// ±S·max(|p|, 1). Default ln 4.
-    #[arg(long, value_name = "S", default_value_t = 4f64.ln(), value_parser = args::positive_f64, allow_hyphen_values = true)]
+    #[arg(long, value_name = "S", default_value_t = SPREAD, value_parser = args::positive_f64, allow_hyphen_values = true)]
     pub spread: f64,
     /// Seed of the hypercube (the same seed, the same starts).
     #[arg(long, value_name = "K", default_value_t = 0)]
@@ -159,6 +159,19 @@ pub struct FitCmdOptions {
     #[command(flatten)]
     pub period: SamplePeriodArgs,
 }
+
+/// The default of [`FitCmdOptions::patience`] (`--patience`), which
+/// `compare`'s fits use too.
+pub const PATIENCE: usize = 200;
+
+/// The default of [`FitCmdOptions::jacobian`] (`--jacobian`), which
+/// `compare`'s fits use too.
+pub const JACOBIAN: JacobianArg = JacobianArg::Exact;
+
+/// The default of [`FitCmdOptions::spread`] (`--spread`), which
+/// `compare`'s fits use too: ln 4, the library's
+/// ([`MultiStart::default`]).
+pub const SPREAD: f64 = 2.0 * std::f64::consts::LN_2;
 
 impl FitCmdOptions {
     /// The starting points ([`fit_multistart`]; one start: a plain fit).
@@ -744,4 +757,14 @@ fn figure(
     }
     let rows = records.len().max(1);
     plot::render(&panels, rows, 3, (1500, 480 * rows as u32))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spread_is_the_default_of_the_starts() {
+        assert_eq!(SPREAD, MultiStart::default().spread);
+    }
 }
