@@ -33,7 +33,7 @@ use crate::identify::report::fmt_g;
 use crate::model_file::{self, ModelFileError};
 use crate::models::describing::{AnalysisError, DescribingFunction, SineOptions, SteadyCycle};
 use crate::output::OutputError;
-use crate::period;
+use crate::period::{self, Origin, Period};
 use std::fmt;
 use std::path::PathBuf;
 
@@ -149,9 +149,9 @@ pub struct AnalyzeReport {
     pub model: &'static str,
     /// The options used.
     pub sine: SineOptions,
-    /// The sample period (s) the model ran at, and whether it was the
-    /// spec's own (`None` for a rate-independent model).
-    pub period: Option<(f64, &'static str)>,
+    /// The sample period the model ran at: `--dt` or the spec's own
+    /// (`None` for a rate-independent model).
+    pub period: Option<Period>,
     /// Significant digits of the printed table.
     pub precision: usize,
     /// One row per amplitude, in the order given.
@@ -167,8 +167,8 @@ impl fmt::Display for AnalyzeReport {
             "analyzed a `{}` model driven by A sin θ ({} samples per period, {} settle periods)",
             self.model, self.sine.samples_per_period, self.sine.settle_periods
         )?;
-        if let Some((dt, origin)) = self.period {
-            writeln!(f, "sample period: {} s ({origin})", csvio::fmt_f64(dt))?;
+        if let Some(p) = &self.period {
+            writeln!(f, "sample period: {p}")?;
         }
         let w = (self.precision + 8).max(19);
         writeln!(
@@ -237,11 +237,14 @@ pub fn run(opts: &AnalyzeOptions) -> Result<AnalyzeReport, AnalyzeError> {
     let model = model_file::build(&opts.model, &spec)?;
     let period = match (spec.is_rate_dependent(), opts.dt) {
         (false, _) => None,
-        (true, Some(dt)) => Some((dt, "--dt")),
-        (true, None) => spec
-            .stated_periods()
-            .first()
-            .map(|&dt| (dt, "the spec's dt")),
+        (true, Some(dt)) => Some(Period {
+            dt,
+            origin: Origin::Option,
+        }),
+        (true, None) => spec.stated_periods().first().map(|&dt| Period {
+            dt,
+            origin: Origin::Spec(None),
+        }),
     };
     let analysis_err = |e| AnalyzeError::Analysis(opts.model.clone(), e);
     let mut rows = Vec::with_capacity(opts.amplitudes.len());
