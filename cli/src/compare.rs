@@ -44,16 +44,20 @@ use std::fmt;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
-/// One candidate structure: a spec and what to fit.
-#[derive(Debug, Clone, PartialEq)]
+/// One candidate structure: a spec and what to fit; an entry of the
+/// candidates file.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Candidate {
     /// Its name in the table (letters, digits, `-`, `_`; unique).
     pub name: String,
-    /// The spec; its values are the start.
+    /// The spec; its values are the start. In the file, relative to the
+    /// file's folder.
     pub model: PathBuf,
     /// The parameters to fit (full names or unique suffixes).
     pub free: Vec<String>,
-    /// Parameters fitted per record (`fit --own`).
+    /// Parameters fitted per record (`fit --own`; none if left out).
+    #[serde(default)]
     pub own: Vec<String>,
 }
 
@@ -61,17 +65,7 @@ pub struct Candidate {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct CandidatesFile {
-    candidates: Vec<CandidateEntry>,
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct CandidateEntry {
-    name: String,
-    model: PathBuf,
-    free: Vec<String>,
-    #[serde(default)]
-    own: Vec<String>,
+    candidates: Vec<Candidate>,
 }
 
 /// Options of the compare job: its command-line flags, whose doc comments
@@ -204,10 +198,8 @@ pub fn read_candidates(path: &Path) -> Result<Vec<Candidate>, CompareError> {
             )));
         }
         out.push(Candidate {
-            name: c.name,
-            model: base.join(c.model),
-            free: c.free,
-            own: c.own,
+            model: base.join(&c.model),
+            ..c
         });
     }
     Ok(out)
