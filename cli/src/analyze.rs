@@ -1,5 +1,6 @@
 //! The `analyze` job: the describing function and the work per loop of a
-//! model spec (JSON, see [`Spec`]) driven by sines of given amplitudes.
+//! model spec (JSON, see [`Spec`](crate::models::Spec)) driven by sines of
+//! given amplitudes.
 //!
 //! For every amplitude `A` the model (built once, reset for each
 //! amplitude) runs `settle_periods` periods of `x = A sin θ` with
@@ -29,11 +30,10 @@
 use crate::args;
 use crate::csvio;
 use crate::identify::report::fmt_g;
-use crate::model_file::ModelFileError;
+use crate::model_file::{self, ModelFileError};
 use crate::models::describing::{AnalysisError, DescribingFunction, SineOptions, SteadyCycle};
-use crate::models::Spec;
 use crate::output::OutputError;
-use crate::period;
+use crate::period::{self, Origin, Period};
 use std::fmt;
 use std::path::PathBuf;
 
@@ -149,9 +149,9 @@ pub struct AnalyzeReport {
     pub model: &'static str,
     /// The options used.
     pub sine: SineOptions,
-    /// The sample period (s) the model ran at, and whether it was the
-    /// spec's own (`None` for a rate-independent model).
-    pub period: Option<(f64, &'static str)>,
+    /// The sample period the model ran at: `--dt` or the spec's own
+    /// (`None` for a rate-independent model).
+    pub period: Option<Period>,
     /// Significant digits of the printed table.
     pub precision: usize,
     /// One row per amplitude, in the order given.
@@ -167,8 +167,8 @@ impl fmt::Display for AnalyzeReport {
             "analyzed a `{}` model driven by A sin θ ({} samples per period, {} settle periods)",
             self.model, self.sine.samples_per_period, self.sine.settle_periods
         )?;
-        if let Some((dt, origin)) = self.period {
-            writeln!(f, "sample period: {} s ({origin})", csvio::fmt_f64(dt))?;
+        if let Some(p) = &self.period {
+            writeln!(f, "sample period: {p}")?;
         }
         let w = (self.precision + 8).max(19);
         writeln!(
@@ -223,7 +223,6 @@ pub fn run(opts: &AnalyzeOptions) -> Result<AnalyzeReport, AnalyzeError> {
             }));
         }
     }
-    let model_err = |e| ModelFileError::new(&opts.model, e);
     if !(1..=17).contains(&opts.precision) {
         return Err(AnalyzeError::Argument(AnalysisError::InvalidArgument {
             name: "precision",
@@ -231,18 +230,21 @@ pub fn run(opts: &AnalyzeOptions) -> Result<AnalyzeReport, AnalyzeError> {
             reason: "must be 1 to 17 significant digits",
         }));
     }
-    let mut spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
+    let mut spec = model_file::read(&opts.model)?;
     if let Some(dt) = opts.dt {
         spec = spec.with_dt(dt);
     }
-    let model = spec.build().map_err(model_err)?;
+    let model = model_file::build(&opts.model, &spec)?;
     let period = match (spec.is_rate_dependent(), opts.dt) {
         (false, _) => None,
-        (true, Some(dt)) => Some((dt, "--dt")),
-        (true, None) => spec
-            .stated_periods()
-            .first()
-            .map(|&dt| (dt, "the spec's dt")),
+        (true, Some(dt)) => Some(Period {
+            dt,
+            origin: Origin::Option,
+        }),
+        (true, None) => spec.stated_periods().first().map(|&dt| Period {
+            dt,
+            origin: Origin::Spec(None),
+        }),
     };
     let analysis_err = |e| AnalyzeError::Analysis(opts.model.clone(), e);
     let mut rows = Vec::with_capacity(opts.amplitudes.len());

@@ -31,7 +31,7 @@
 use crate::args;
 use crate::band::BandArgs;
 use crate::csvio::{self, CsvIoError};
-use crate::fit_cmd::{self, FitCmdOptions, JacobianArg};
+use crate::fit_cmd::{self, FitCmdOptions, JACOBIAN, PATIENCE, SPREAD};
 use crate::identify::selection::{self, rank, Outcome};
 use crate::output::OutputError;
 use crate::period::SamplePeriodArgs;
@@ -44,16 +44,20 @@ use std::fmt;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
-/// One candidate structure: a spec and what to fit.
-#[derive(Debug, Clone, PartialEq)]
+/// One candidate structure: a spec and what to fit; an entry of the
+/// candidates file.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Candidate {
     /// Its name in the table (letters, digits, `-`, `_`; unique).
     pub name: String,
-    /// The spec; its values are the start.
+    /// The spec; its values are the start. In the file, relative to the
+    /// file's folder.
     pub model: PathBuf,
     /// The parameters to fit (full names or unique suffixes).
     pub free: Vec<String>,
-    /// Parameters fitted per record (`fit --own`).
+    /// Parameters fitted per record (`fit --own`; none if left out).
+    #[serde(default)]
     pub own: Vec<String>,
 }
 
@@ -61,17 +65,7 @@ pub struct Candidate {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct CandidatesFile {
-    candidates: Vec<CandidateEntry>,
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct CandidateEntry {
-    name: String,
-    model: PathBuf,
-    free: Vec<String>,
-    #[serde(default)]
-    own: Vec<String>,
+    candidates: Vec<Candidate>,
 }
 
 /// Options of the compare job: its command-line flags, whose doc comments
@@ -135,17 +129,6 @@ pub struct CompareOptions {
     #[arg(long)]
     pub no_progress: bool,
 }
-
-/// Levenberg-Marquardt's patience in each candidate's fit
-/// ([`FitCmdOptions::patience`], `fit`'s default).
-pub const PATIENCE: usize = 200;
-
-/// How the Jacobians of the fits are computed (`fit`'s default).
-pub const JACOBIAN: JacobianArg = JacobianArg::Exact;
-
-/// Half-width of the hypercube of the starting points
-/// ([`FitCmdOptions::spread`]): ln 4, `fit`'s default.
-pub const SPREAD: f64 = 2.0 * std::f64::consts::LN_2;
 
 /// An error of the compare job as a whole (a candidate's own failure is in
 /// its row instead).
@@ -215,10 +198,8 @@ pub fn read_candidates(path: &Path) -> Result<Vec<Candidate>, CompareError> {
             )));
         }
         out.push(Candidate {
-            name: c.name,
-            model: base.join(c.model),
-            free: c.free,
-            own: c.own,
+            model: base.join(&c.model),
+            ..c
         });
     }
     Ok(out)
@@ -277,7 +258,8 @@ fn progress_bar(n: usize, wanted: bool) -> ProgressBar {
     bar
 }
 
-/// Fits a candidate on `records`, writing the fitted spec to `output`.
+/// Fits a candidate on `records`, writing the fitted spec to `output`
+/// (with `fit`'s defaults for what `compare` does not set).
 fn fit_on(
     c: &Candidate,
     records: &[PathBuf],
@@ -640,10 +622,5 @@ mod tests {
         assert_eq!(short(1.3371), "1.337");
         assert_eq!(short(2.5e-5), "2.500e-5");
         assert_eq!(short(0.0), "0");
-    }
-
-    #[test]
-    fn spread_is_the_default_of_the_starts() {
-        assert_eq!(SPREAD, crate::identify::MultiStart::default().spread);
     }
 }

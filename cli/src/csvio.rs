@@ -915,8 +915,6 @@ pub fn join_paths(files: &[PathBuf]) -> String {
         .join(", ")
 }
 
-/// The first entry of `others` that `output` names (compared with
-/// [`same_file`]), for refusing to overwrite an input.
 /// An output path that names an input file (compared after
 /// canonicalization, also when the output does not exist yet).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -950,6 +948,26 @@ pub fn refuse_same(
     }
 }
 
+/// Refuses each given output of `outputs` (each with its name) that is
+/// one of `inputs` or an output before it ([`refuse_same`], against the
+/// inputs first), in the order given.
+pub fn refuse_overwrites(
+    inputs: &[(&'static str, &Path)],
+    outputs: &[(&'static str, Option<&Path>)],
+) -> Result<(), SameFile> {
+    let mut earlier: Vec<(&'static str, &Path)> = Vec::with_capacity(outputs.len());
+    for &(what, output) in outputs {
+        if let Some(output) = output {
+            refuse_same(what, output, inputs)?;
+            refuse_same(what, output, &earlier)?;
+            earlier.push((what, output));
+        }
+    }
+    Ok(())
+}
+
+/// The first entry of `others` that `output` names (compared with
+/// [`same_file`]), for refusing to overwrite an input.
 pub fn clash<'a>(
     output: &Path,
     others: &[(&'static str, &'a Path)],

@@ -12,8 +12,7 @@
 //! of `hysteron_c::fmi2` and `hysteron_c::fmi3`.
 
 use crate::csvio::{self, CsvIoError, SameFile};
-use crate::model_file::ModelFileError;
-use crate::models::Spec;
+use crate::model_file::{self, ModelFileError};
 use hysteron_c::{fmi2, fmi3, Model};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -195,8 +194,7 @@ fn library(given: Option<&Path>) -> Result<(PathBuf, Vec<u8>), ExportFmuError> {
 
 /// Writes the FMU.
 pub fn run(opts: &ExportFmuOptions) -> Result<ExportFmuReport, ExportFmuError> {
-    let spec =
-        Spec::from_json_file(&opts.model).map_err(|e| ModelFileError::new(&opts.model, e))?;
+    let spec = model_file::read(&opts.model)?;
     let json = spec
         .to_json_pretty()
         .map_err(|e| ModelFileError::new(&opts.model, e))?;

@@ -47,11 +47,11 @@ use crate::identify::band::{BandError, Covariance};
 use crate::identify::{
     fit_multistart, free_by_names, FitError, FitOptions, FitReport, Jacobian, MultiStart, Record,
 };
-use crate::model_file::ModelFileError;
+use crate::model_file::{self, ModelFileError};
 use crate::models::Spec;
 use crate::output::OutputError;
 use crate::period::{self, Period, PeriodError, SamplePeriodArgs};
-use crate::plot::{self, Panel, PlotError, Series, Style};
+use crate::plot::{self, file_name, pairs, Panel, PlotError, Series, Style};
 use crate::Operator;
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -127,13 +127,13 @@ pub struct FitCmdOptions {
     /// Jacobian, so at most PATIENCE·(free + 1)·(2·free + 1) model runs
     /// (at least 1; for a hard bound use --max-evaluations or
     /// --max-seconds).
-    #[arg(long, value_name = "N", default_value_t = 200, value_parser = args::at_least_1, allow_negative_numbers = true)]
+    #[arg(long, value_name = "N", default_value_t = PATIENCE, value_parser = args::at_least_1, allow_negative_numbers = true)]
     pub patience: usize,
     /// How the Jacobian is computed: `exact` (forward-mode derivatives
     /// through the model over dual numbers, one simulation per 8
     /// parameters; see the guide's docs/derivatives.md) or `fd` (central finite
     /// differences, two simulations per parameter).
-    #[arg(long, value_enum, default_value_t = JacobianArg::Exact)]
+    #[arg(long, value_enum, default_value_t = JACOBIAN)]
     pub jacobian: JacobianArg,
     /// Fit from N starting points: the spec's own and N − 1 from a Latin
     /// hypercube around it (see --spread), in parallel; the best is
@@ -145,7 +145,7 @@ pub struct FitCmdOptions {
     /// positive parameter starts within a factor e^S of its value, one
     /// in [0, 1] within ±S in its logit, an unbounded one within
     /// ±S·max(|p|, 1). Default ln 4.
-    #[arg(long, value_name = "S", default_value_t = 4f64.ln(), value_parser = args::positive_f64, allow_hyphen_values = true)]
+    #[arg(long, value_name = "S", default_value_t = SPREAD, value_parser = args::positive_f64, allow_hyphen_values = true)]
     pub spread: f64,
     /// Seed of the hypercube (the same seed, the same starts).
     #[arg(long, value_name = "K", default_value_t = 0)]
@@ -159,6 +159,19 @@ pub struct FitCmdOptions {
     #[command(flatten)]
     pub period: SamplePeriodArgs,
 }
+
+/// The default of [`FitCmdOptions::patience`] (`--patience`), which
+/// `compare`'s fits use too.
+pub const PATIENCE: usize = 200;
+
+/// The default of [`FitCmdOptions::jacobian`] (`--jacobian`), which
+/// `compare`'s fits use too.
+pub const JACOBIAN: JacobianArg = JacobianArg::Exact;
+
+/// The default of [`FitCmdOptions::spread`] (`--spread`), which
+/// `compare`'s fits use too: ln 4, the library's
+/// ([`MultiStart::default`]).
+pub const SPREAD: f64 = 2.0 * std::f64::consts::LN_2;
 
 impl FitCmdOptions {
     /// The starting points ([`fit_multistart`]; one start: a plain fit).
@@ -466,23 +479,13 @@ pub fn run(opts: &FitCmdOptions) -> Result<FitCmdReport, FitCmdError> {
     let mut inputs: Vec<(&'static str, &Path)> =
         opts.data.iter().map(|d| ("data", d.as_path())).collect();
     inputs.push(("model", opts.model.as_path()));
-    csvio::refuse_same("output", &opts.output, &inputs).map_err(FitCmdError::SameFile)?;
-    if let Some(p) = &opts.plot {
-        csvio::refuse_same("plot", p, &inputs).map_err(FitCmdError::SameFile)?;
-        csvio::refuse_same("plot", p, &[("output", opts.output.as_path())])
-            .map_err(FitCmdError::SameFile)?;
-    }
-    let mut outputs: Vec<(&'static str, &Path)> = vec![("output", opts.output.as_path())];
-    if let Some(p) = &opts.plot {
-        outputs.push(("plot", p.as_path()));
-    }
-    for (flag, path) in [("band", &opts.band), ("covariance", &opts.covariance)] {
-        if let Some(p) = path {
-            csvio::refuse_same(flag, p, &inputs).map_err(FitCmdError::SameFile)?;
-            csvio::refuse_same(flag, p, &outputs).map_err(FitCmdError::SameFile)?;
-            outputs.push((flag, p.as_path()));
-        }
-    }
+    let outputs = [
+        ("output", Some(opts.output.as_path())),
+        ("plot", opts.plot.as_deref()),
+        ("band", opts.band.as_deref()),
+        ("covariance", opts.covariance.as_deref()),
+    ];
+    csvio::refuse_overwrites(&inputs, &outputs)?;
     for (j, d) in opts.data.iter().enumerate() {
         let same = |e: &PathBuf| csvio::same_file(e, d);
         if opts.data[..j].iter().any(same) {
@@ -497,12 +500,9 @@ pub fn run(opts: &FitCmdOptions) -> Result<FitCmdReport, FitCmdError> {
         other => other,
     };
 
-    let model_err = |e| ModelFileError::new(&opts.model, e);
-    let spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
-    // The spec's own errors first (a period it leaves out is a stand-in here).
-    spec.or_dt(Spec::STAND_IN_DT).build().map_err(model_err)?;
+    let (spec, _) = model_file::read_checked(&opts.model)?;
     let (spec, period) = with_period(opts, spec)?;
-    let model = spec.build().map_err(model_err)?;
+    let model = model_file::build(&opts.model, &spec)?;
 
     let free = indices(opts, model.as_ref(), "--free", &opts.free)?;
     let own = indices(opts, model.as_ref(), "--own", &opts.own)?;
@@ -718,9 +718,6 @@ fn figure(
     records: &[Loaded],
     fits: &[Vec<f64>],
 ) -> Result<String, PlotError> {
-    let pairs = |a: &[f64], b: &[f64]| -> Vec<(f64, f64)> {
-        a.iter().copied().zip(b.iter().copied()).collect()
-    };
     let mut panels = Vec::new();
     for ((l, y_fit), path) in records.iter().zip(fits).zip(&opts.data) {
         let (x, y) = (&l.x, &l.y);
@@ -762,7 +759,12 @@ fn figure(
     plot::render(&panels, rows, 3, (1500, 480 * rows as u32))
 }
 
-fn file_name(p: &Path) -> String {
-    p.file_name()
-        .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into())
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spread_is_the_default_of_the_starts() {
+        assert_eq!(SPREAD, MultiStart::default().spread);
+    }
 }

@@ -36,7 +36,7 @@ use crate::identify::report::fmt_g;
 use crate::models::{Spec, SpecError, TransmissionParams};
 use crate::operators::BoucWen;
 use crate::output::OutputError;
-use crate::plot::{self, Panel, PlotError, Series, Style};
+use crate::plot::{self, file_name, pairs, Panel, PlotError, Series, Style};
 use crate::Operator;
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -373,15 +373,6 @@ pub fn run(opts: &IdentifyPaperOptions) -> Result<IdentifyPaperReport, IdentifyP
         result,
         files,
     })
-}
-
-fn pairs(a: &[f64], b: &[f64]) -> Vec<(f64, f64)> {
-    a.iter().copied().zip(b.iter().copied()).collect()
-}
-
-fn file_name(p: &Path) -> String {
-    p.file_name()
-        .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into())
 }
 
 /// The loop: measured, the stage-1 spring alone, the identified model, the

@@ -40,7 +40,7 @@
 use crate::csvio::{self, CsvIoError};
 use crate::models::experiments::{self, Experiment, Part, Record};
 use crate::models::TransmissionParams;
-use crate::plot::{self, Panel, PlotError, Series, Style};
+use crate::plot::{self, pairs, Panel, PlotError, Series, Style};
 use std::fmt;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -206,10 +206,6 @@ pub fn summarise(name: &str, x: &[f64], f: &[f64]) -> RunSummary {
     }
 }
 
-fn points(x: &[f64], y: &[f64]) -> Vec<(f64, f64)> {
-    x.iter().copied().zip(y.iter().copied()).collect()
-}
-
 /// Runs the paper job.
 pub fn run(opts: &PaperOptions) -> Result<PaperReport, PaperError> {
     let start = Instant::now();
@@ -356,7 +352,7 @@ fn loop_panels(
     // the slowest is drawn as a wide band under the others.
     for (i, p) in ranges.iter().enumerate() {
         let r = p.range.clone();
-        let s = Series::line(&p.label, points(&sines.x[r.clone()], &sines.force[r]), i);
+        let s = Series::line(&p.label, pairs(&sines.x[r.clone()], &sines.force[r]), i);
         left.series
             .push(if i == 0 { s.with_style(Style::Band) } else { s });
     }
@@ -370,7 +366,7 @@ fn loop_panels(
         right.series.push(
             Series::line(
                 "5 Hz in sines",
-                points(&sines.x[r.clone()], &sines.force[r]),
+                pairs(&sines.x[r.clone()], &sines.force[r]),
                 7,
             )
             .with_style(Style::Band),
@@ -378,12 +374,12 @@ fn loop_panels(
     }
     // Wide, under the thin line of state II, which ends on the same loop.
     right.series.push(
-        Series::line("initial state I", points(&one.1.x, &one.1.force), 1)
+        Series::line("initial state I", pairs(&one.1.x, &one.1.force), 1)
             .with_style(Style::ThickLine),
     );
     right.series.push(Series::line(
         "initial state II",
-        points(&two.1.x, &two.1.force),
+        pairs(&two.1.x, &two.1.force),
         0,
     ));
     // Start markers: where each run begins (x = 0, the initial force).
@@ -411,9 +407,9 @@ fn chirp_figure((e, r): (&Experiment, &Record)) -> Result<String, PaperError> {
     );
     force
         .series
-        .push(Series::line("", points(&r.t, &r.force), 0));
+        .push(Series::line("", pairs(&r.t, &r.force), 0));
     let mut input = Panel::new(&format!("{}: input", e.name), "time t [s]", "input x [deg]");
-    input.series.push(Series::line("", points(&r.t, &r.x), 1));
+    input.series.push(Series::line("", pairs(&r.t, &r.x), 1));
     plot::render(&[force, input], 2, 1, (1000, 720))
         .map_err(|e| PaperError::Plot("chirp.svg".into(), e))
 }

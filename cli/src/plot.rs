@@ -20,6 +20,7 @@
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::fmt;
+use std::path::Path;
 
 /// An error while drawing a figure.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -633,14 +634,25 @@ pub fn tick_label(v: &f64) -> String {
     }
 }
 
+/// The points `(x_i, y_i)` of a line of `y` over `x` (as many as the
+/// shorter has).
+pub fn pairs(x: &[f64], y: &[f64]) -> Vec<(f64, f64)> {
+    x.iter().copied().zip(y.iter().copied()).collect()
+}
+
+/// How a figure's title names the file at `path`: its file name, or the
+/// whole path where it has none.
+pub fn file_name(path: &Path) -> String {
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into(),
+    )
+}
+
 /// A panel of `y` over `x` (a hysteresis loop), one unlabelled line.
 pub fn loop_panel(title: &str, x_label: &str, y_label: &str, x: &[f64], y: &[f64]) -> Panel {
     let mut p = Panel::new(title, x_label, y_label);
-    p.series.push(Series::line(
-        "",
-        x.iter().copied().zip(y.iter().copied()).collect(),
-        0,
-    ));
+    p.series.push(Series::line("", pairs(x, y), 0));
     p
 }
 

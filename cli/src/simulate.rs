@@ -19,11 +19,11 @@
 //! canonicalization, also when the output does not exist yet).
 
 use crate::csvio::{self, CsvIoError};
-use crate::model_file::ModelFileError;
+use crate::model_file::{self, ModelFileError};
 use crate::models::Spec;
 use crate::output::OutputError;
 use crate::period::{self, Period, PeriodError, SamplePeriodArgs};
-use crate::plot;
+use crate::plot::{self, file_name};
 use crate::Operator;
 use std::fmt;
 use std::fs::File;
@@ -171,11 +171,7 @@ impl RecordInput {
             ("input", self.input.as_path()),
             ("model", self.model.as_path()),
         ];
-        csvio::refuse_same("output", output, &inputs)?;
-        if let Some(p) = plot {
-            csvio::refuse_same("plot", p, &inputs)?;
-            csvio::refuse_same("plot", p, &[("output", output)])?;
-        }
+        csvio::refuse_overwrites(&inputs, &[("output", Some(output)), ("plot", plot)])?;
         Ok(())
     }
 
@@ -186,12 +182,10 @@ impl RecordInput {
         &self,
         period: &SamplePeriodArgs,
     ) -> Result<RecordModel, SimulateError> {
-        let model_err = |e| ModelFileError::new(&self.model, e);
-        let spec = Spec::from_json_file(&self.model).map_err(model_err)?;
-        spec.or_dt(Spec::STAND_IN_DT).build().map_err(model_err)?;
+        let (spec, _) = model_file::read_checked(&self.model)?;
         let (spec, period) = period::for_record(&spec, &period.source(), &self.input)
             .map_err(SimulateError::period)?;
-        let model = spec.build().map_err(model_err)?;
+        let model = model_file::build(&self.model, &spec)?;
         Ok(RecordModel {
             spec,
             period,
@@ -374,9 +368,4 @@ pub fn run(opts: &SimulateOptions) -> Result<SimulateReport, SimulateError> {
         period,
         files,
     })
-}
-
-fn file_name(p: &Path) -> String {
-    p.file_name()
-        .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into())
 }

@@ -32,11 +32,11 @@ use crate::band::{self as band_file, BandArgs, CovarianceFileError};
 use crate::csvio::{self, CsvIoError};
 use crate::identify::band::{Band, BandError, Covariance};
 use crate::identify::metrics::{self, ErrorFigures, Lowpass, MetricsError};
-use crate::model_file::ModelFileError;
+use crate::model_file::{self, ModelFileError};
 use crate::models::Spec;
 use crate::output::OutputError;
 use crate::period::{self, DtSource, Period, PeriodError};
-use crate::plot::{self, Panel, PlotError, Series, Style};
+use crate::plot::{self, file_name, pairs, Panel, PlotError, Series, Style};
 use crate::Operator;
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -543,12 +543,8 @@ pub fn run(opts: &ValidateOptions) -> Result<ValidateReport, ValidateError> {
     if opts.covariance.is_some() && opts.plot.is_none() {
         return Err(ValidateError::CovarianceWithoutPlot);
     }
-    let model_err = |e| ModelFileError::new(&opts.model, e);
-    let spec = Spec::from_json_file(&opts.model).map_err(model_err)?;
-    // Built once to check the spec before any record is read (with a
-    // stand-in period where it leaves the period to the data).
+    let (spec, checked) = model_file::read_checked(&opts.model)?;
     let kind = spec.kind();
-    let checked = spec.or_dt(Spec::STAND_IN_DT).build().map_err(model_err)?;
     let cov = match &opts.covariance {
         Some(path) => Some(band_file::read_for(path, checked.as_ref())?),
         None => None,
@@ -704,9 +700,7 @@ fn score(
     // A fresh model per record, from the spec's initial state.
     let spec = period.as_ref().map_or(spec.clone(), |p| p.apply(spec));
     let period = period.filter(|_| spec.is_rate_dependent());
-    let mut model = spec
-        .build()
-        .map_err(|e| ModelFileError::new(&opts.model, e))?;
+    let mut model = model_file::build(&opts.model, &spec)?;
     let y = model.run(&x).map_err(|e| {
         ValidateError::Operator(Box::new(csvio::SampleFailure::locate(
             &opts.model,
@@ -786,9 +780,6 @@ fn figure(
     s: &Scored,
     (input, output): &(String, String),
 ) -> Result<String, PlotError> {
-    let pairs = |a: &[f64], b: &[f64]| -> Vec<(f64, f64)> {
-        a.iter().copied().zip(b.iter().copied()).collect()
-    };
     let (measured, label) = match (&s.measured_lp, opts.lowpass) {
         (Some(lp), Some(hz)) => (
             lp.as_slice(),
@@ -869,11 +860,6 @@ fn figure(
         .push(Series::line("edges - model", about(&b.lower), 3));
     band_panel.series.push(Series::line("", about(&b.upper), 3));
     plot::render(&[loop_panel, time_panel, band_panel], 1, 3, (1800, 500))
-}
-
-fn file_name(p: &Path) -> String {
-    p.file_name()
-        .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into())
 }
 
 #[cfg(test)]

@@ -59,40 +59,41 @@ fn setup(n: usize) -> (TempDir, Vec<f64>) {
     (tmp, x)
 }
 
-fn fit_args<'a>(extra: &[&'a str]) -> Vec<&'a str> {
-    let mut args = vec![
-        "fit",
-        "--model",
-        "start.json",
-        "--data",
-        "data.csv",
-        "--output-column",
-        "F",
-        "--free",
-        FREE,
-        "--output",
-        "fitted.json",
-        "--no-progress",
-    ];
-    args.extend_from_slice(extra);
-    args
+/// `fit` of the start spec to `data.csv`, writing `fitted.json`; each
+/// test adds its own options.
+const FIT: [&str; 12] = [
+    "fit",
+    "--model",
+    "start.json",
+    "--data",
+    "data.csv",
+    "--output-column",
+    "F",
+    "--free",
+    FREE,
+    "--output",
+    "fitted.json",
+    "--no-progress",
+];
+
+/// The records of [`setup`], and the start spec fitted to `data.csv`
+/// ([`FIT`] with the `extra` options).
+fn fitted(n: usize, extra: &[&str]) -> (TempDir, Vec<f64>) {
+    let (tmp, x) = setup(n);
+    hysteron(tmp.path())
+        .args(FIT)
+        .args(extra)
+        .assert()
+        .success();
+    (tmp, x)
 }
 
 /// The band file holds the band the library gives for the fitted spec
 /// and the covariance file, bit for bit; the fitted output is the spec's.
 #[test]
 fn fit_writes_the_band_and_the_covariance() {
-    let (tmp, x) = setup(300);
+    let (tmp, x) = fitted(300, &["--band", "band.csv", "--covariance", "cov.json"]);
     let dir = tmp.path();
-    hysteron(dir)
-        .args(fit_args(&[
-            "--band",
-            "band.csv",
-            "--covariance",
-            "cov.json",
-        ]))
-        .assert()
-        .success();
     let (headers, rows) = read_csv(&dir.join("band.csv"));
     assert_eq!(headers, ["x", "output", "lower", "upper"]);
     assert_eq!(rows.len(), x.len());
@@ -114,18 +115,10 @@ fn fit_writes_the_band_and_the_covariance() {
 
     // Monte Carlo, another level: its own band, around the same output
     hysteron(dir)
-        .args(fit_args(&[
-            "--band",
-            "mc.csv",
-            "--band-method",
-            "monte_carlo",
-            "--band-level",
-            "0.9",
-            "--band-draws",
-            "500",
-            "--band-seed",
-            "3",
-        ]))
+        .args(FIT)
+        .args(["--band", "mc.csv", "--band-method", "monte_carlo"])
+        .args(["--band-level", "0.9", "--band-draws", "500"])
+        .args(["--band-seed", "3"])
         .assert()
         .success();
     let (h2, r2) = read_csv(&dir.join("mc.csv"));
@@ -150,80 +143,50 @@ fn fit_writes_the_band_and_the_covariance() {
 fn bad_band_options_are_refused() {
     let (tmp, _) = setup(120);
     let dir = tmp.path();
-    for level in ["1", "0", "-0.5", "nan", "ninety"] {
+    let band = |option: &str, value: &str| {
         let mut cmd = hysteron(dir);
-        cmd.args(fit_args(&["--band", "band.csv", "--band-level", level]));
+        cmd.args(FIT).args(["--band", "band.csv", option, value]);
+        cmd
+    };
+    for level in ["1", "0", "-0.5", "nan", "ninety"] {
         let before = snapshot(dir);
-        let out = cmd.assert().failure().get_output().clone();
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert!(err.contains("--band-level"), "{level}: {err}");
+        usage_error(&mut band("--band-level", level), "--band-level");
         assert_eq!(snapshot(dir), before);
     }
-    let mut cmd = hysteron(dir);
-    cmd.args(fit_args(&[
-        "--band",
-        "band.csv",
-        "--band-method",
-        "bootstrap",
-    ]));
-    let out = cmd.assert().failure().get_output().clone();
-    assert!(String::from_utf8_lossy(&out.stderr).contains("monte_carlo"));
-    let mut cmd = hysteron(dir);
-    cmd.args(fit_args(&["--band", "band.csv", "--band-draws", "0"]));
-    let out = cmd.assert().failure().get_output().clone();
-    assert!(String::from_utf8_lossy(&out.stderr).contains("--band-draws"));
+    usage_error(&mut band("--band-method", "bootstrap"), "monte_carlo");
+    usage_error(&mut band("--band-draws", "0"), "--band-draws");
     // too few draws for the level: after the fit, before any file
     fails_leaving_dir_unchanged(
         dir,
-        hysteron(dir).args(fit_args(&[
-            "--band",
-            "band.csv",
-            "--band-method",
-            "monte_carlo",
-            "--band-draws",
-            "10",
-        ])),
+        band("--band-draws", "10").args(["--band-method", "monte_carlo"]),
         &["--band: only 10 of 10 draws ran", "needs at least 40"],
     );
     // the band may not overwrite an input
     fails_leaving_dir_unchanged(
         dir,
-        hysteron(dir).args(fit_args(&["--band", "data.csv"])),
+        hysteron(dir).args(FIT).args(["--band", "data.csv"]),
         &["band", "data.csv"],
     );
 }
 
-fn validate_args<'a>(extra: &[&'a str]) -> Vec<&'a str> {
-    let mut args = vec![
-        "validate",
-        "--model",
-        "fitted.json",
-        "--data",
-        "valid.csv",
-        "--output-column",
-        "F",
-    ];
-    args.extend_from_slice(extra);
-    args
-}
+/// `validate` of a spec on `valid.csv` (the spec, `--model SPEC`, and
+/// the options follow).
+const VALIDATE: [&str; 5] = ["validate", "--data", "valid.csv", "--output-column", "F"];
 
 /// `validate --covariance` draws the band in the record's figure; it
 /// needs `--plot`, and a covariance of the model's fit.
 #[test]
 fn validate_draws_the_band_of_the_fit() {
-    let (tmp, _) = setup(200);
+    let (tmp, _) = fitted(200, &["--covariance", "cov.json"]);
     let dir = tmp.path();
-    hysteron(dir)
-        .args(fit_args(&["--covariance", "cov.json"]))
-        .assert()
-        .success();
-    hysteron(dir)
-        .args(validate_args(&[
-            "--covariance",
-            "cov.json",
-            "--plot",
-            "figs",
-        ]))
+    let validate = |model: &str, covariance: &str| {
+        let mut cmd = hysteron(dir);
+        cmd.args(VALIDATE)
+            .args(["--model", model, "--covariance", covariance]);
+        cmd
+    };
+    validate("fitted.json", "cov.json")
+        .args(["--plot", "figs"])
         .assert()
         .success();
     let svg = fs::read_to_string(dir.join("figs/valid.svg")).unwrap();
@@ -231,17 +194,9 @@ fn validate_draws_the_band_of_the_fit() {
         svg.contains("95 % band (linearized)"),
         "no band in the figure"
     );
-    hysteron(dir)
-        .args(validate_args(&[
-            "--covariance",
-            "cov.json",
-            "--plot",
-            "mc",
-            "--band-method",
-            "monte_carlo",
-            "--band-level",
-            "0.8",
-        ]))
+    validate("fitted.json", "cov.json")
+        .args(["--plot", "mc", "--band-method", "monte_carlo"])
+        .args(["--band-level", "0.8"])
         .assert()
         .success();
     let svg = fs::read_to_string(dir.join("mc/valid.svg")).unwrap();
@@ -249,31 +204,19 @@ fn validate_draws_the_band_of_the_fit() {
 
     fails_leaving_dir_unchanged(
         dir,
-        hysteron(dir).args(validate_args(&["--covariance", "cov.json"])),
+        &mut validate("fitted.json", "cov.json"),
         &["--covariance", "--plot"],
     );
     // the covariance of another model's values
     fails_leaving_dir_unchanged(
         dir,
-        hysteron(dir).args([
-            "validate",
-            "--model",
-            "start.json",
-            "--data",
-            "valid.csv",
-            "--output-column",
-            "F",
-            "--covariance",
-            "cov.json",
-            "--plot",
-            "other",
-        ]),
+        validate("start.json", "cov.json").args(["--plot", "other"]),
         &["cov.json", "left.cascade.first.play.r", "fitted spec"],
     );
     fs::write(dir.join("bad.json"), "{\"names\": [1]}").unwrap();
     fails_leaving_dir_unchanged(
         dir,
-        hysteron(dir).args(validate_args(&["--covariance", "bad.json", "--plot", "b"])),
+        validate("fitted.json", "bad.json").args(["--plot", "b"]),
         &["--covariance `bad.json`"],
     );
     assert!(!Path::new(&dir.join("b")).exists());
