@@ -6,7 +6,7 @@
 # (capi/checks: C programs built with cc, FMUs checked with FMPy), then the
 # documentation site (scripts/site.sh, with mdBook). Needs rustup's toolchain, python3 with
 # venv, and the package registries (crates.io, PyPI, and Debian's for the
-# libraries openseespy needs, installed when run as root).
+# libraries openseespy needs and libclang, installed when run as root).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export CARGO_TERM_COLOR=never
@@ -27,6 +27,15 @@ cargo fmt --all -- --check
 # (the leaves' modules are declared by a macro, which cargo fmt does not
 # follow: rustfmt reads their files itself)
 rustfmt --edition 2021 --check operators/src/*.rs
+
+echo "== libclang, with which the FMU importer test's fmi crate generates its FMI bindings (bindgen)"
+if ! ldconfig -p 2>/dev/null | grep -q 'libclang\(-[0-9.]*\)\?\.so'; then
+  if command -v apt-get >/dev/null 2>&1 && [ "$(id -u)" = 0 ]; then
+    apt-get update -qq && apt-get install -y -qq libclang-dev > /dev/null
+  else
+    echo "the fmi crate (a dev-dependency of hysteron-cli) needs libclang: install Debian's libclang-dev (as root) and run again" >&2
+  fi
+fi
 
 echo "== cargo clippy"
 cargo clippy --workspace --all-targets -- -D warnings
