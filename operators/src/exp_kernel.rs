@@ -183,9 +183,32 @@ unsafe fn in_place_avx512(v: &mut [f64]) {
 mod tests {
     use super::*;
 
-    /// Distance in ulps between two finite values of one sign.
-    fn ulps(a: f64, b: f64) -> u64 {
-        a.to_bits().abs_diff(b.to_bits())
+    /// The largest distance in ulps between `kernel` and `reference` over
+    /// `points`, and where it is.
+    fn worst_ulps(
+        kernel: fn(f64) -> f64,
+        reference: fn(f64) -> f64,
+        points: impl Iterator<Item = f64>,
+    ) -> (u64, f64) {
+        points
+            .map(|x| (kernel(x).to_bits().abs_diff(reference(x).to_bits()), x))
+            .fold((0, 0.0), |worst, d| if d.0 > worst.0 { d } else { worst })
+    }
+
+    /// The ends of the reduction intervals `(k + 1/2) ln 2` for `k` in
+    /// `ks`, each with 64 neighbours on either side.
+    fn interval_ends(ks: core::ops::Range<i32>) -> impl Iterator<Item = f64> {
+        ks.flat_map(|k| {
+            let edge = (f64::from(k) + 0.5) * core::f64::consts::LN_2;
+            let up = core::iter::successors(Some(edge), |x| Some(x.next_up()));
+            let down = core::iter::successors(Some(edge), |x| Some(x.next_down()));
+            up.take(64).chain(down.take(64))
+        })
+    }
+
+    /// `start, start·ratio, …` below `end`.
+    fn geometric(start: f64, ratio: f64, end: f64) -> impl Iterator<Item = f64> {
+        core::iter::successors(Some(start), move |a| Some(a * ratio)).take_while(move |a| *a < end)
     }
 
     /// Against the C library's `expm1` (itself within one ulp) on a
@@ -193,31 +216,10 @@ mod tests {
     /// reduction interval `(k ± 1/2) ln 2`, with neighbours.
     #[test]
     fn within_two_ulps_of_expm1() {
-        let mut worst = (0, 0.0);
-        let mut check = |x: f64| {
-            let d = ulps(exp_m1_nonpositive(x), x.exp_m1());
-            if d > worst.0 {
-                worst = (d, x);
-            }
-        };
-        let mut a = 1e-300_f64;
-        while a < 50.0 {
-            check(-a);
-            a *= 1.000_37;
-        }
-        for k in 0..60 {
-            let edge = -(k as f64 + 0.5) * core::f64::consts::LN_2;
-            let mut x = edge;
-            for _ in 0..64 {
-                check(x);
-                x = f64::from_bits(x.to_bits() + 1);
-            }
-            let mut x = edge;
-            for _ in 0..64 {
-                check(x);
-                x = f64::from_bits(x.to_bits() - 1);
-            }
-        }
+        let points = geometric(1e-300, 1.000_37, 50.0)
+            .map(|a| -a)
+            .chain(interval_ends(-60..0));
+        let worst = worst_ulps(exp_m1_nonpositive, f64::exp_m1, points);
         assert!(worst.0 <= 2, "{} ulps at x = {:e}", worst.0, worst.1);
     }
 
@@ -240,34 +242,12 @@ mod tests {
     /// near `0`, with neighbours.
     #[test]
     fn exp_within_one_ulp_of_the_c_library() {
-        let mut worst = (0, 0.0);
-        let mut check = |x: f64| {
-            let d = ulps(exp(x), x.exp());
-            if d > worst.0 {
-                worst = (d, x);
-            }
-        };
-        let mut x = -745.0_f64;
-        while x < 709.7 {
-            check(x);
-            x += 0.000_731_3;
-        }
-        let mut a = 1e-300_f64;
-        while a < 1.0 {
-            check(a);
-            check(-a);
-            a *= 1.001;
-        }
-        for k in -60..60 {
-            let edge = (k as f64 + 0.5) * core::f64::consts::LN_2;
-            let (mut up, mut down) = (edge, edge);
-            for _ in 0..64 {
-                check(up);
-                check(down);
-                up = up.next_up();
-                down = down.next_down();
-            }
-        }
+        let grid = (0..)
+            .map(|i| -745.0 + f64::from(i) * 0.000_731_3)
+            .take_while(|x| *x < 709.7);
+        let small = geometric(1e-300, 1.001, 1.0).flat_map(|a| [a, -a]);
+        let points = grid.chain(small).chain(interval_ends(-60..60));
+        let worst = worst_ulps(exp, f64::exp, points);
         assert!(worst.0 <= 1, "{} ulps at x = {:e}", worst.0, worst.1);
     }
 
