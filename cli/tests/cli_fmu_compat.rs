@@ -84,35 +84,29 @@ fn bad_arguments_are_one_line_errors() {
     assert!(err.contains("[possible values: 2, 3]"), "{err}");
     assert!(!dir.path().join("out").exists());
 
-    // /proc accepts no new folders, even for root (Linux).
-    if Path::new("/proc/self").exists() {
+    // The one-line error of `fmu-compat OUT_DIR --library LIBRARY`.
+    let fails = |out_dir: &str, library: &str| {
         let run = hysteron(dir.path())
-            .args(["fmu-compat", "/proc/hysteron-compat", "--library", &library])
+            .args(["fmu-compat", out_dir, "--library", library])
             .assert()
             .code(1);
-        let err = one_line_error(&run.get_output().stderr);
+        one_line_error(&run.get_output().stderr)
+    };
+    // /proc accepts no new folders, even for root (Linux).
+    if Path::new("/proc/self").exists() {
+        let err = fails("/proc/hysteron-compat", &library);
         assert!(
             err.contains("cannot create the folder `/proc/hysteron-compat/fmus`"),
             "{err}"
         );
     }
-
     fs::write(dir.path().join("a-file"), "").unwrap();
-    let run = hysteron(dir.path())
-        .args(["fmu-compat", "a-file", "--library", &library])
-        .assert()
-        .code(1);
-    let err = one_line_error(&run.get_output().stderr);
+    let err = fails("a-file", &library);
     assert!(
         err.contains("cannot create the folder `a-file/fmus`"),
         "{err}"
     );
-
-    let run = hysteron(dir.path())
-        .args(["fmu-compat", "out", "--library", "missing.so"])
-        .assert()
-        .code(1);
-    let err = one_line_error(&run.get_output().stderr);
+    let err = fails("out", "missing.so");
     assert!(
         err.contains("missing.so") && err.contains("--library"),
         "{err}"
