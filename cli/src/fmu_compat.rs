@@ -27,7 +27,7 @@
 //! and run over the input. An FMI importer sets the input at each
 //! communication point `t_k` and then calls `DoStep(t_k, h)`, which takes
 //! that input as the sample at `t_k + h` (see
-//! [`export_fmu`](crate::export_fmu)); so the reference's row at `t_0` is
+//! [`export_fmu`]); so the reference's row at `t_0` is
 //! the output at input 0 in the initial state (the FMU's output after
 //! initialization) and its row at `t_{k+1}` is the output after the sample
 //! `x(t_k)`.
@@ -241,8 +241,9 @@ impl fmt::Display for FmuCompatReport {
     }
 }
 
-/// The reference output at `times` for `inputs` (see the module docs):
-/// the initial output, then the output after each sample but the last.
+/// The reference output at the times of `inputs` (see the module docs):
+/// the initial output, then the output after each sample but the last
+/// (as many values as inputs).
 pub fn reference(case: &Case, inputs: &[f64]) -> Result<Vec<f64>, FmuCompatError> {
     let fail = |message: String| FmuCompatError::Reference {
         model: case.name,
@@ -256,10 +257,9 @@ pub fn reference(case: &Case, inputs: &[f64]) -> Result<Vec<f64>, FmuCompatError
     let initial = op.trial(0.0).map_err(|e| fail(e.to_string()))?.output;
     op.reset();
     let mut out = vec![initial];
-    out.extend(
-        op.run(&inputs[..inputs.len() - 1])
-            .map_err(|e| fail(e.to_string()))?,
-    );
+    let stepped = &inputs[..inputs.len().saturating_sub(1)];
+    out.extend(op.run(stepped).map_err(|e| fail(e.to_string()))?);
+    out.truncate(inputs.len());
     Ok(out)
 }
 

@@ -166,10 +166,10 @@ enum Command {
     ExportFmu(export_fmu::ExportFmuOptions),
     /// Write the compatibility information of the FMU export into a
     /// folder, in the FMI Cross-Check layout
-    /// (fmus/<2.0|3.0>/cs/<platform>/hysteron/<version>/<Model>/): for the
-    /// paper model and the Bouc-Wen benchmark, per FMI version, the FMU,
-    /// <Model>_in.csv, <Model>_ref.csv (computed by the library),
-    /// <Model>_ref.opt and a ReadMe.md.
+    /// (`fmus/<2.0|3.0>/cs/<platform>/hysteron/<version>/<Model>/`): for
+    /// the paper model and the Bouc-Wen benchmark, per FMI version, the
+    /// FMU, `<Model>_in.csv`, `<Model>_ref.csv` (computed by the library),
+    /// `<Model>_ref.opt` and a `ReadMe.md`.
     FmuCompat(fmu_compat::FmuCompatOptions),
     /// Compare candidate structures: fit each (a spec and the parameters
     /// to free, listed in a JSON file) on the training records as `fit`
