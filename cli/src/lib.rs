@@ -19,6 +19,7 @@ pub mod csvio;
 pub mod export_fmu;
 pub mod fit_cmd;
 pub mod fitting;
+pub mod fmu_compat;
 pub mod identify_paper;
 pub mod model_file;
 pub mod output;

@@ -42,6 +42,10 @@
 //!   NAME] [--library libhysteron_c.so] [--fmi 2|3]`: the spec as an FMI
 //!   2.0 (default) or 3.0 co-simulation FMU (see
 //!   [`hysteron_cli::export_fmu`]).
+//! * `hysteron fmu-compat OUT_DIR [--fmi 2|3] [--library
+//!   libhysteron_c.so]`: the FMUs of the paper model and the Bouc-Wen
+//!   benchmark with their compatibility information (input, reference,
+//!   options, ReadMe; see [`hysteron_cli::fmu_compat`]).
 //!
 //! * `hysteron compare --candidates CANDIDATES.json --train DATA.csv ...
 //!   --validate DATA.csv ... --work-dir DIR [--lowpass HZ] [--csv OUT.csv]
@@ -67,8 +71,8 @@
 
 use clap::{Parser, Subcommand};
 use hysteron_cli::{
-    analyze, bench, compare, csvio, export_fmu, fit_cmd, fitting, identify_paper, paper,
-    sensitivity, simulate, sobol, sweep, validate,
+    analyze, bench, compare, csvio, export_fmu, fit_cmd, fitting, fmu_compat, identify_paper,
+    paper, sensitivity, simulate, sobol, sweep, validate,
 };
 use std::fmt;
 use std::path::PathBuf;
@@ -160,6 +164,13 @@ enum Command {
     /// Simulink, OpenModelica, Dymola, FMPy and other FMI hosts (Linux
     /// x86-64 binary).
     ExportFmu(export_fmu::ExportFmuOptions),
+    /// Write the compatibility information of the FMU export into a
+    /// folder, in the FMI Cross-Check layout
+    /// (`fmus/<2.0|3.0>/cs/<platform>/hysteron/<version>/<Model>/`): for
+    /// the paper model and the Bouc-Wen benchmark, per FMI version, the
+    /// FMU, `<Model>_in.csv`, `<Model>_ref.csv` (computed by the library),
+    /// `<Model>_ref.opt` and a `ReadMe.md`.
+    FmuCompat(fmu_compat::FmuCompatOptions),
     /// Compare candidate structures: fit each (a spec and the parameters
     /// to free, listed in a JSON file) on the training records as `fit`
     /// does, score it on the held-out records as `validate` does, and
@@ -230,6 +241,7 @@ fn main() -> ExitCode {
             identify_paper::IdentifyPaperReport::converged,
         ),
         Command::ExportFmu(opts) => reported(export_fmu::run(&opts), |_| true),
+        Command::FmuCompat(opts) => reported(fmu_compat::run(&opts), |_| true),
         Command::Compare(opts) => reported(compare::run(&opts), |_| true),
         Command::Operators { figures } => {
             print!("{}", hysteron_cli::models::spec::reference::listing());
