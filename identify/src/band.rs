@@ -329,22 +329,26 @@ pub fn predict_band(
             .copied()
             .unwrap_or(0.0)
     });
-    let indices = &cov.indices;
     let mut run = dyn_clone::clone_box(model);
     run.reset();
     let output = run.run(x).map_err(BandError::Model)?;
+    let spread = Spread {
+        model,
+        x,
+        indices: &cov.indices,
+        c: &c,
+        level,
+    };
     let (lower, upper, failed_draws) = match method {
         BandMethod::Linearized => {
-            let half = linearized_half_widths(model, x, indices, &c, level)?;
+            let half = spread.linearized_half_widths()?;
             (
                 output.iter().zip(&half).map(|(y, h)| y - h).collect(),
                 output.iter().zip(&half).map(|(y, h)| y + h).collect(),
                 0,
             )
         }
-        BandMethod::MonteCarlo { draws, seed } => {
-            monte_carlo(model, x, indices, &c, level, draws, seed)?
-        }
+        BandMethod::MonteCarlo { draws, seed } => spread.monte_carlo(draws, seed)?,
     };
     Ok(Band {
         output,
@@ -373,51 +377,118 @@ fn check(x: &[f64], level: f64, method: BandMethod) -> Result<(), BandError> {
     Ok(())
 }
 
-/// `z·√(g_kᵀ C g_k)` per sample, `g_k` the sensitivities of the output to
-/// the parameters at `indices` from the model's dual twin.
-fn linearized_half_widths(
-    model: &(dyn Operator<f64> + 'static),
-    x: &[f64],
-    indices: &[usize],
-    c: &DMatrix<f64>,
+/// What both methods carry to the output: the model, the input, the
+/// indices of the parameters that vary, their covariance `C` and the
+/// band's level.
+struct Spread<'a> {
+    model: &'a (dyn Operator<f64> + 'static),
+    x: &'a [f64],
+    indices: &'a [usize],
+    c: &'a DMatrix<f64>,
     level: f64,
-) -> Result<Vec<f64>, BandError> {
-    if indices.is_empty() {
-        return Ok(vec![0.0; x.len()]);
+}
+
+impl Spread<'_> {
+    /// `z·√(g_kᵀ C g_k)` per sample, `g_k` the sensitivities of the output
+    /// to the parameters at `indices` from the model's dual twin.
+    fn linearized_half_widths(&self) -> Result<Vec<f64>, BandError> {
+        if self.indices.is_empty() {
+            return Ok(vec![0.0; self.x.len()]);
+        }
+        let dual = self.model.to_dual().ok_or(BandError::NoDualTwin)?;
+        let (_, columns) =
+            derivatives(dual.as_ref(), self.x, self.indices).map_err(|e| match e {
+                Failure::Model(e) => BandError::Model(e),
+                Failure::NonFinite { sample, column } => BandError::NonFiniteSensitivity {
+                    sample,
+                    param: self
+                        .indices
+                        .get(column)
+                        .and_then(|&i| self.model.param_names().get(i).cloned())
+                        .unwrap_or_default(),
+                },
+                Failure::Empty => BandError::EmptyInput,
+            })?;
+        let z = normal_quantile(self.level);
+        let half = (0..self.x.len())
+            .map(|s| {
+                let g: Vec<f64> = columns
+                    .iter()
+                    .map(|col| col.get(s).copied().unwrap_or(0.0))
+                    .collect();
+                let var: f64 = g
+                    .iter()
+                    .enumerate()
+                    .map(|(a, ga)| {
+                        g.iter()
+                            .enumerate()
+                            .map(|(b, gb)| ga * self.c.get((a, b)).copied().unwrap_or(0.0) * gb)
+                            .sum::<f64>()
+                    })
+                    .sum();
+                z * var.max(0.0).sqrt()
+            })
+            .collect();
+        Ok(half)
     }
-    let dual = model.to_dual().ok_or(BandError::NoDualTwin)?;
-    let (_, columns) = derivatives(dual.as_ref(), x, indices).map_err(|e| match e {
-        Failure::Model(e) => BandError::Model(e),
-        Failure::NonFinite { sample, column } => BandError::NonFiniteSensitivity {
-            sample,
-            param: indices
-                .get(column)
-                .and_then(|&i| model.param_names().get(i).cloned())
-                .unwrap_or_default(),
-        },
-        Failure::Empty => BandError::EmptyInput,
-    })?;
-    let z = normal_quantile(level);
-    let half = (0..x.len())
-        .map(|s| {
-            let g: Vec<f64> = columns
-                .iter()
-                .map(|col| col.get(s).copied().unwrap_or(0.0))
-                .collect();
-            let var: f64 = g
-                .iter()
-                .enumerate()
-                .map(|(a, ga)| {
-                    g.iter()
-                        .enumerate()
-                        .map(|(b, gb)| ga * c.get((a, b)).copied().unwrap_or(0.0) * gb)
-                        .sum::<f64>()
-                })
-                .sum();
-            z * var.max(0.0).sqrt()
-        })
-        .collect();
-    Ok(half)
+
+    /// The Monte-Carlo band's edges and its failed draws.
+    fn monte_carlo(
+        &self,
+        draws: usize,
+        seed: u64,
+    ) -> Result<(Vec<f64>, Vec<f64>, usize), BandError> {
+        let base = self.model.params();
+        let l = factor(self.c);
+        let mut rng = StdRng::seed_from_u64(seed);
+        let k = self.indices.len();
+        let mut params = DMatrix::from_fn(draws, base.len(), |_, col| {
+            base.get(col).copied().unwrap_or(0.0)
+        });
+        for mut row in params.row_iter_mut() {
+            let xi: Vec<f64> = (0..k).map(|_| StandardNormal.sample(&mut rng)).collect();
+            for (a, &i) in self.indices.iter().enumerate() {
+                let step: f64 = (0..k)
+                    .map(|b| {
+                        l.get((a, b)).copied().unwrap_or(0.0) * xi.get(b).copied().unwrap_or(0.0)
+                    })
+                    .sum();
+                if let Some(v) = row.get_mut(i) {
+                    *v += step;
+                }
+            }
+        }
+        let run = Ensemble::of_model(self.model, &params)
+            .and_then(|e| e.run(self.x))
+            .map_err(|e| BandError::Ensemble(e.to_string()))?;
+        let ran: Vec<&[f64]> = (0..draws)
+            .filter_map(|i| run.row(i))
+            .filter(|row| row.iter().all(|v| v.is_finite()))
+            .collect();
+        let failed = draws - ran.len();
+        let needed = needed_draws(self.level);
+        if ran.len() < needed {
+            return Err(BandError::TooFewDraws {
+                succeeded: ran.len(),
+                failed,
+                draws,
+                needed,
+                level: self.level,
+            });
+        }
+        let (lo_q, hi_q) = (0.5 * (1.0 - self.level), 0.5 * (1.0 + self.level));
+        let mut lower = Vec::with_capacity(self.x.len());
+        let mut upper = Vec::with_capacity(self.x.len());
+        let mut column = Vec::with_capacity(ran.len());
+        for s in 0..self.x.len() {
+            column.clear();
+            column.extend(ran.iter().filter_map(|row| row.get(s).copied()));
+            column.sort_by(f64::total_cmp);
+            lower.push(quantile(&column, lo_q));
+            upper.push(quantile(&column, hi_q));
+        }
+        Ok((lower, upper, failed))
+    }
 }
 
 /// `Φ⁻¹((1 + level)/2)`, the two-sided standard normal quantile.
@@ -445,66 +516,6 @@ fn needed_draws(level: f64) -> usize {
     #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
     let n = (2.0 / (1.0 - level)).ceil().min(1e9) as usize;
     n.max(2)
-}
-
-/// The Monte-Carlo band's edges and its failed draws.
-fn monte_carlo(
-    model: &(dyn Operator<f64> + 'static),
-    x: &[f64],
-    indices: &[usize],
-    c: &DMatrix<f64>,
-    level: f64,
-    draws: usize,
-    seed: u64,
-) -> Result<(Vec<f64>, Vec<f64>, usize), BandError> {
-    let base = model.params();
-    let l = factor(c);
-    let mut rng = StdRng::seed_from_u64(seed);
-    let k = indices.len();
-    let mut params = DMatrix::from_fn(draws, base.len(), |_, col| {
-        base.get(col).copied().unwrap_or(0.0)
-    });
-    for mut row in params.row_iter_mut() {
-        let xi: Vec<f64> = (0..k).map(|_| StandardNormal.sample(&mut rng)).collect();
-        for (a, &i) in indices.iter().enumerate() {
-            let step: f64 = (0..k)
-                .map(|b| l.get((a, b)).copied().unwrap_or(0.0) * xi.get(b).copied().unwrap_or(0.0))
-                .sum();
-            if let Some(v) = row.get_mut(i) {
-                *v += step;
-            }
-        }
-    }
-    let run = Ensemble::of_model(model, &params)
-        .and_then(|e| e.run(x))
-        .map_err(|e| BandError::Ensemble(e.to_string()))?;
-    let ran: Vec<&[f64]> = (0..draws)
-        .filter_map(|i| run.row(i))
-        .filter(|row| row.iter().all(|v| v.is_finite()))
-        .collect();
-    let failed = draws - ran.len();
-    let needed = needed_draws(level);
-    if ran.len() < needed {
-        return Err(BandError::TooFewDraws {
-            succeeded: ran.len(),
-            failed,
-            draws,
-            needed,
-            level,
-        });
-    }
-    let (lo_q, hi_q) = (0.5 * (1.0 - level), 0.5 * (1.0 + level));
-    let mut lower = Vec::with_capacity(x.len());
-    let mut upper = Vec::with_capacity(x.len());
-    let mut column = Vec::with_capacity(ran.len());
-    for s in 0..x.len() {
-        column.clear();
-        column.extend(ran.iter().filter_map(|row| row.get(s).copied()));
-        column.sort_by(f64::total_cmp);
-        lower.push(quantile(&column, lo_q));
-        upper.push(quantile(&column, hi_q));
-    }
-    Ok((lower, upper, failed))
 }
 
 /// The `q` quantile of the sorted, non-empty `sorted`: linear

@@ -666,23 +666,25 @@ mod tests {
 
     /// A gain whose dual twin reports a NaN derivative at every sample.
     #[derive(Debug, Clone)]
-    struct NanTwin<T: hysteron_operators::Float>(hysteron_operators::Gain<T>);
+    struct NanTwin<T: hysteron_operators::Float> {
+        gain: hysteron_operators::Gain<T>,
+    }
 
     /// The traits of `NanTwin` other than its trial, from its gain.
     macro_rules! nan_twin_traits {
         ($t:ty) => {
             impl hysteron_operators::Parameters<$t> for NanTwin<$t> {
                 fn n_params(&self) -> usize {
-                    self.0.n_params()
+                    self.gain.n_params()
                 }
                 fn params_into(&self, out: &mut Vec<$t>) {
-                    self.0.params_into(out)
+                    self.gain.params_into(out)
                 }
                 fn param_names(&self) -> Vec<String> {
-                    self.0.param_names()
+                    self.gain.param_names()
                 }
                 fn set_params(&mut self, p: &[$t]) -> hysteron_operators::Result<()> {
-                    self.0.set_params(p)
+                    self.gain.set_params(p)
                 }
             }
             impl hysteron_operators::SamplePeriod<$t> for NanTwin<$t> {}
@@ -693,21 +695,15 @@ mod tests {
     nan_twin_traits!(hysteron_operators::Dual);
 
     impl Operator<f64> for NanTwin<f64> {
-        fn trial(&mut self, x: f64) -> hysteron_operators::Result<hysteron_operators::Trial<f64>> {
-            self.0.trial(x)
-        }
-        fn commit(&mut self) {
-            self.0.commit()
-        }
-        fn reset(&mut self) {
-            self.0.reset()
-        }
+        hysteron_composition::delegate_stepping!(f64, gain);
     }
 
     impl hysteron_operators::Derivatives<f64> for NanTwin<f64> {
         fn to_dual(&self) -> Option<Box<dyn Operator<hysteron_operators::Dual>>> {
-            let k = hysteron_operators::Dual::constant(self.0.gain());
-            Some(Box::new(NanTwin(hysteron_operators::Gain::new(k).ok()?)))
+            let k = hysteron_operators::Dual::constant(self.gain.gain());
+            Some(Box::new(NanTwin {
+                gain: hysteron_operators::Gain::new(k).ok()?,
+            }))
         }
     }
 
@@ -717,15 +713,15 @@ mod tests {
             x: hysteron_operators::Dual,
         ) -> hysteron_operators::Result<hysteron_operators::Trial<hysteron_operators::Dual>>
         {
-            let mut t = self.0.trial(x)?;
+            let mut t = self.gain.trial(x)?;
             t.output.eps[0] = f64::NAN;
             Ok(t)
         }
         fn commit(&mut self) {
-            self.0.commit()
+            self.gain.commit()
         }
         fn reset(&mut self) {
-            self.0.reset()
+            self.gain.reset()
         }
     }
 
@@ -739,8 +735,9 @@ mod tests {
     /// pass is not run a second time: one pass and two simulations.
     #[test]
     fn a_failed_dual_pass_falls_back_to_differences_once() {
-        let model: Box<dyn Operator<f64>> =
-            Box::new(NanTwin(hysteron_operators::Gain::new(2.0).unwrap()));
+        let model: Box<dyn Operator<f64>> = Box::new(NanTwin {
+            gain: hysteron_operators::Gain::new(2.0).unwrap(),
+        });
         let x: Vec<f64> = (0..50).map(|i| (i as f64 * 0.3).sin()).collect();
         let y: Vec<f64> = x.iter().map(|v| 2.5 * v).collect();
         let records = [Record::new(&x, &y)];

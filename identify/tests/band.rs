@@ -58,6 +58,22 @@ fn noisy(y: &[f64], sigma: f64, rng: &mut StdRng) -> Vec<f64> {
     y.iter().map(|v| v + noise.sample(rng)).collect()
 }
 
+/// The output of `model` along `x` with Gaussian noise of `sigma` from a
+/// generator seeded by `seed`: one record.
+fn noisy_output(model: &mut dyn Operator<f64>, x: &[f64], sigma: f64, seed: u64) -> Vec<f64> {
+    noisy(
+        &model.run(x).unwrap(),
+        sigma,
+        &mut StdRng::seed_from_u64(seed),
+    )
+}
+
+/// The Monte-Carlo band of `draws` draws from the generator seeded by
+/// `seed`.
+fn monte_carlo(draws: usize, seed: u64) -> BandMethod {
+    BandMethod::MonteCarlo { draws, seed }
+}
+
 fn fitted(x: &[f64], y: &[f64]) -> Fit {
     let (m, idx) = start(1.2);
     let f = fit(m.as_ref(), x, y, &idx, &FitOptions::default()).unwrap();
@@ -115,20 +131,9 @@ fn linearized_band_covers_the_truth_at_its_level() {
 #[test]
 fn monte_carlo_agrees_with_the_linearized_band_on_a_linear_model() {
     let x = input(300);
-    let y_true = truth().run(&x).unwrap();
-    let mut rng = StdRng::seed_from_u64(3);
-    let f = fitted_gains(&x, &noisy(&y_true, 0.01, &mut rng));
+    let f = fitted_gains(&x, &noisy_output(truth().as_mut(), &x, 0.01, 3));
     let lin = f.predict_band(&x, 0.95, BandMethod::Linearized).unwrap();
-    let mc = f
-        .predict_band(
-            &x,
-            0.95,
-            BandMethod::MonteCarlo {
-                draws: 20_000,
-                seed: 11,
-            },
-        )
-        .unwrap();
+    let mc = f.predict_band(&x, 0.95, monte_carlo(20_000, 11)).unwrap();
     assert_eq!(mc.failed_draws, 0);
     assert_eq!(mc.output, lin.output);
     let (hl, hm) = (lin.half_widths(), mc.half_widths());
@@ -147,13 +152,8 @@ fn monte_carlo_agrees_with_the_linearized_band_on_a_linear_model() {
 #[test]
 fn monte_carlo_band_is_seeded_and_centred_on_the_fitted_output() {
     let x = input(120);
-    let y_true = truth().run(&x).unwrap();
-    let mut rng = StdRng::seed_from_u64(5);
-    let f = fitted(&x, &noisy(&y_true, 0.05, &mut rng));
-    let method = BandMethod::MonteCarlo {
-        draws: 200,
-        seed: 9,
-    };
+    let f = fitted(&x, &noisy_output(truth().as_mut(), &x, 0.05, 5));
+    let method = monte_carlo(200, 9);
     let (a, b) = (
         f.predict_band(&x, 0.9, method).unwrap(),
         f.predict_band(&x, 0.9, method).unwrap(),
@@ -175,23 +175,12 @@ fn draws_out_of_a_domain_are_counted_as_failed() {
     let r = free_by_names(m.as_ref(), &FREE[..1]).unwrap()[0];
     p[r] = 0.02; // a threshold small against its noise
     m.set_params(&p).unwrap();
-    let y_true = m.run(&x).unwrap();
-    let mut rng = StdRng::seed_from_u64(8);
-    let y = noisy(&y_true, 0.3, &mut rng);
+    let y = noisy_output(m.as_mut(), &x, 0.3, 8);
     let idx = free_by_names(m.as_ref(), &FREE).unwrap();
     let f = fit(m.as_ref(), &x, &y, &idx, &FitOptions::default()).unwrap();
     let sd = f.report.params[0].std_error.unwrap();
     assert!(sd > 0.5 * f.report.params[0].value, "σ_r = {sd}");
-    let band = f
-        .predict_band(
-            &x,
-            0.9,
-            BandMethod::MonteCarlo {
-                draws: 400,
-                seed: 1,
-            },
-        )
-        .unwrap();
+    let band = f.predict_band(&x, 0.9, monte_carlo(400, 1)).unwrap();
     assert!(band.failed_draws > 0 && band.failed_draws < 400);
     assert!(band.lower.iter().zip(&band.upper).all(|(l, u)| l <= u));
 }
@@ -233,8 +222,7 @@ impl Operator<f64> for Plain {
 #[test]
 fn bad_requests_are_typed_errors() {
     let x = input(100);
-    let mut rng = StdRng::seed_from_u64(2);
-    let y = noisy(&truth().run(&x).unwrap(), 0.05, &mut rng);
+    let y = noisy_output(truth().as_mut(), &x, 0.05, 2);
     let f = fitted(&x, &y);
     let lin = BandMethod::Linearized;
     for level in [0.0, 1.0, -0.5, 1.5, f64::NAN] {
@@ -252,10 +240,10 @@ fn bad_requests_are_typed_errors() {
         Err(BandError::NonFiniteInput { sample: 2, value }) if value == f64::INFINITY
     ));
     assert!(e.unwrap_err().to_string().contains("sample 2"));
-    let none = BandMethod::MonteCarlo { draws: 0, seed: 0 };
+    let none = monte_carlo(0, 0);
     assert_eq!(f.predict_band(&x, 0.95, none), Err(BandError::NoDraws));
     // 10 draws cannot place the 2.5 % and 97.5 % quantiles (40 needed)
-    let few = BandMethod::MonteCarlo { draws: 10, seed: 0 };
+    let few = monte_carlo(10, 0);
     match f.predict_band(&x, 0.95, few) {
         Err(BandError::TooFewDraws {
             succeeded: 10,
@@ -283,10 +271,7 @@ fn bad_requests_are_typed_errors() {
     let p = fit(&plain, &x, &y, &[0], &FitOptions::default()).unwrap();
     assert_eq!(p.predict_band(&x, 0.95, lin), Err(BandError::NoDualTwin));
     // the Monte-Carlo band needs no dual twin
-    let mc = BandMethod::MonteCarlo {
-        draws: 100,
-        seed: 4,
-    };
+    let mc = monte_carlo(100, 4);
     let band = p.predict_band(&x, 0.95, mc).unwrap();
     assert!(band.lower.iter().zip(&band.upper).all(|(l, u)| l <= u));
 }
@@ -296,8 +281,7 @@ fn bad_requests_are_typed_errors() {
 #[test]
 fn covariance_is_the_correlation_scaled_by_the_standard_errors() {
     let x = input(150);
-    let mut rng = StdRng::seed_from_u64(6);
-    let f = fitted(&x, &noisy(&truth().run(&x).unwrap(), 0.05, &mut rng));
+    let f = fitted(&x, &noisy_output(truth().as_mut(), &x, 0.05, 6));
     let c = f.report.covariance().unwrap();
     let rho = f.report.correlation.as_ref().unwrap();
     for (i, p) in f.report.params.iter().enumerate() {
