@@ -149,34 +149,47 @@ pub(crate) fn with_kernel_value<T: Float>(
 /// per instruction where the CPU has AVX2 or AVX-512 ([`Isa::detect`]), two
 /// otherwise; the same bits either way.
 pub(crate) fn exp_m1_nonpositive_in_place(v: &mut [f64]) {
+    map_in_place(v, exp_m1_nonpositive)
+}
+
+/// [`exp`] of every value of `v`, in place, as
+/// [`exp_m1_nonpositive_in_place`] runs its kernel.
+pub(crate) fn exp_in_place(v: &mut [f64]) {
+    map_in_place(v, exp)
+}
+
+/// `kernel` (a kernel of this module) on every value of `v`, in place, on
+/// the widest vector unit the CPU has.
+#[inline(always)]
+fn map_in_place<F: Fn(f64) -> f64>(v: &mut [f64], kernel: F) {
     #[cfg(target_arch = "x86_64")]
     match Isa::detect() {
         // SAFETY: the instruction set was detected on this CPU.
-        Some(Isa::Avx512) => return unsafe { in_place_avx512(v) },
+        Some(Isa::Avx512) => return unsafe { in_place_avx512(v, kernel) },
         // SAFETY: as above.
-        Some(Isa::Avx2) => return unsafe { in_place_avx2(v) },
+        Some(Isa::Avx2) => return unsafe { in_place_avx2(v, kernel) },
         None => {}
     }
-    in_place(v)
+    in_place(v, kernel)
 }
 
 #[inline(always)]
-fn in_place(v: &mut [f64]) {
+fn in_place<F: Fn(f64) -> f64>(v: &mut [f64], kernel: F) {
     for a in v {
-        *a = exp_m1_nonpositive(*a);
+        *a = kernel(*a);
     }
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn in_place_avx2(v: &mut [f64]) {
-    in_place(v)
+unsafe fn in_place_avx2<F: Fn(f64) -> f64>(v: &mut [f64], kernel: F) {
+    in_place(v, kernel)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]
-unsafe fn in_place_avx512(v: &mut [f64]) {
-    in_place(v)
+unsafe fn in_place_avx512<F: Fn(f64) -> f64>(v: &mut [f64], kernel: F) {
+    in_place(v, kernel)
 }
 
 #[cfg(test)]
@@ -282,6 +295,17 @@ mod tests {
             exp_m1_nonpositive_in_place(&mut v);
             for (x, y) in xs.iter().zip(&v) {
                 assert_eq!(y.to_bits(), exp_m1_nonpositive(*x).to_bits(), "x = {x}");
+            }
+            // `exp` over both signs, past its overflow and underflow too
+            let xs: Vec<f64> = xs
+                .iter()
+                .enumerate()
+                .map(|(i, x)| if i % 2 == 0 { -30.0 * x } else { *x })
+                .collect();
+            let mut v = xs.clone();
+            exp_in_place(&mut v);
+            for (x, y) in xs.iter().zip(&v) {
+                assert_eq!(y.to_bits(), exp(*x).to_bits(), "x = {x}");
             }
         }
     }

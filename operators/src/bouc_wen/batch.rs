@@ -2,6 +2,7 @@
 //! the rest of the run on the same branch from its start.
 
 use super::evaluation::Evaluation;
+use super::exp_run::ExpRun;
 use super::sensitive::{sensitive_state, Lookahead};
 use super::state::{BranchStart, Run};
 use super::BoucWen;
@@ -142,14 +143,35 @@ impl<T: Float> BoucWen<T> {
             self.s = next;
             i += 1;
             let run = match (self.s.branch, &self.evaluation) {
-                (BranchStart::Linear(branch), _) => self.run_branch(
-                    zs,
-                    ys,
-                    i,
-                    |s, _| Some(branch.at(s)),
-                    &mut keep,
-                    &mut segment,
-                ),
+                (BranchStart::Linear(branch), _) => {
+                    // Over `f64` a branch in the general form takes its
+                    // exponentials a block ahead, vectorised; the states
+                    // are `branch.at(s)`'s bits either way.
+                    let form = branch.value().exp_form();
+                    match (crate::simd::as_f64(zs), form) {
+                        (Some(zs_f64), Some(form)) => {
+                            let c = &self.s;
+                            let sign = if c.dir < 0 { -1.0 } else { 1.0 };
+                            let mut run = ExpRun::new(form, sign, c.z_a.as_f64(), zs_f64, i);
+                            self.run_branch(
+                                zs,
+                                ys,
+                                i,
+                                |s, _| Some(T::lit(run.at(s.as_f64()))),
+                                &mut keep,
+                                &mut segment,
+                            )
+                        }
+                        _ => self.run_branch(
+                            zs,
+                            ys,
+                            i,
+                            |s, _| Some(branch.at(s)),
+                            &mut keep,
+                            &mut segment,
+                        ),
+                    }
+                }
                 (BranchStart::Flow(sa), Evaluation::Table(table, hint)) => {
                     let mut hint = *hint;
                     let run = self.run_branch(

@@ -17,6 +17,7 @@
 mod batch;
 mod closed_form;
 mod evaluation;
+mod exp_run;
 mod lanes;
 mod sensitive;
 mod state;
