@@ -2,12 +2,14 @@
 //! layout, the GUID (FMI 3: instantiation token) that ties a description
 //! to its spec, the instance state machine (`instance`), FMU states as
 //! bytes (`serial`) and the exact directional derivatives
-//! (`derivatives`). The C functions around them are in
-//! [`fmi2`](crate::fmi2) and [`fmi3`](crate::fmi3); both describe the same
-//! variables under the same value references, so a host moves from one to
-//! the other without renumbering.
+//! (`derivatives`); and what the two `modelDescription.xml` say alike
+//! (`description`). The C functions around them, and the XML each version
+//! writes, are in [`fmi2`](crate::fmi2) and [`fmi3`](crate::fmi3); both
+//! describe the same variables under the same value references, so a host
+//! moves from one to the other without renumbering.
 
 pub(crate) mod derivatives;
+pub(crate) mod description;
 pub(crate) mod instance;
 pub(crate) mod serial;
 
@@ -73,22 +75,6 @@ pub fn guid(json: &str) -> String {
         b >> 48,
         b & 0xffff_ffff_ffff
     )
-}
-
-/// Escapes `text` for an XML attribute.
-pub(crate) fn attr(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            c => out.push(c),
-        }
-    }
-    out
 }
 
 #[cfg(test)]

@@ -1,0 +1,152 @@
+//! What the FMI 2.0 and FMI 3.0 `modelDescription.xml` of a model share:
+//! the model's identity on the root element, the log category, the texts
+//! of the input and output, and the parameters with their value
+//! references, start values and descriptions. Each version writes them in
+//! its own elements ([`fmi2`](crate::fmi2), [`fmi3`](crate::fmi3)).
+
+use super::{guid, Fmi, VR_FIRST_PARAM};
+use crate::model::Model;
+
+/// The `<LogCategories>` element (indented as a child of the root, one
+/// line per tag).
+pub const LOG_CATEGORIES: &str = r#"  <LogCategories>
+    <Category name="logStatusError" description="errors: bad input, parameters or calls"/>
+  </LogCategories>
+"#;
+
+/// The description of the input `x`.
+pub const X_DESCRIPTION: &str = "input sample, taken at the end of each step";
+
+/// The description of the output `y`.
+pub const Y_DESCRIPTION: &str = "output y = H[x]";
+
+/// The attributes of the root element that say which model this is:
+/// `modelName`, the GUID of the spec `json` under the attribute `token`
+/// (`guid` in FMI 2.0, `instantiationToken` in FMI 3.0), `description`
+/// and `generationTool`, escaped.
+pub fn identity(model: &Model, json: &str, model_name: &str, token: &str) -> String {
+    format!(
+        r#"modelName="{}" {token}="{}" description="{}" generationTool="hysteron {}""#,
+        attr(model_name),
+        guid(json),
+        attr(&format!("hysteron model: {}", model.spec().describe())),
+        env!("CARGO_PKG_VERSION"),
+    )
+}
+
+/// A parameter of the model as the descriptions list it (the texts are
+/// not escaped).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Parameter {
+    /// Its path (`left.mms.f_c`).
+    pub name: String,
+    /// Its value reference, `VR_FIRST_PARAM` + its index in the flat
+    /// parameter vector.
+    pub value_reference: u32,
+    /// Its value in the spec.
+    pub start: f64,
+    /// `parameter <path>`, and for a tied parameter how to set it.
+    pub description: String,
+}
+
+/// The parameters of `model`, in the order of its flat parameter vector;
+/// the note on tied parameters names the setter of `api`.
+pub fn parameters(model: &Model, api: Fmi) -> Vec<Parameter> {
+    let tied = model.spec().tied_params();
+    let values = model.operator().params();
+    model
+        .names()
+        .iter()
+        .zip(values)
+        .zip(VR_FIRST_PARAM..)
+        .map(|((name, start), value_reference)| {
+            let name = name.to_string_lossy().into_owned();
+            let note = if tied.contains(&name) {
+                format!(
+                    " (tied: set together with the other tied parameters in one {} call)",
+                    api.set_real()
+                )
+            } else {
+                String::new()
+            };
+            Parameter {
+                description: format!("parameter {name}{note}"),
+                name,
+                value_reference,
+                start,
+            }
+        })
+        .collect()
+}
+
+/// Escapes `text` for an XML attribute.
+pub fn attr(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+
+    /// A cascade whose gain's shortest round-trip form has 17 digits.
+    pub(crate) const CASCADE: &str = r#"{"type": "cascade", "first": {"type": "play", "r": 0.1, "y0": 0.0},
+        "second": {"type": "gain", "k": 0.30000000000000004}}"#;
+
+    /// The description of [`CASCADE`] named `a<b` with the identifier
+    /// `id`, written by `describe`, is the file `golden` (under
+    /// `capi/testdata`) with `{guid}` the GUID of the spec and `{version}`
+    /// the library's version: the descriptions change only where their
+    /// files do.
+    pub(crate) fn assert_describes_the_cascade_as(
+        describe: fn(&Model, &str, &str, &str) -> String,
+        golden: &str,
+    ) {
+        let model = Model::from_json(CASCADE).unwrap();
+        let want = golden
+            .replace("{guid}", &guid(CASCADE))
+            .replace("{version}", env!("CARGO_PKG_VERSION"));
+        let got = describe(&model, CASCADE, "a<b", "id");
+        assert!(got == want, "got:\n{got}\nwant:\n{want}");
+    }
+
+    #[test]
+    fn tied_parameters_say_how_to_set_them_in_each_version() {
+        let json = include_str!("../../../examples/specs/paper.json");
+        let model = Model::from_json(json).unwrap();
+        let tied = model.spec().tied_params();
+        assert!(!tied.is_empty());
+        for api in [Fmi::V2, Fmi::V3] {
+            let params = parameters(&model, api);
+            assert_eq!(params.len(), model.names().len());
+            for (i, p) in params.iter().enumerate() {
+                assert_eq!(p.value_reference, VR_FIRST_PARAM + i as u32);
+                assert_eq!(p.start.to_bits(), model.operator().params()[i].to_bits());
+                let note = format!("in one {} call", api.set_real());
+                assert_eq!(
+                    p.description.contains(&note),
+                    tied.contains(&p.name),
+                    "{p:?}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn attributes_are_escaped() {
+        assert_eq!(
+            attr(r#"a<b & "c" 'd'>"#),
+            "a&lt;b &amp; &quot;c&quot; &apos;d&apos;&gt;"
+        );
+    }
+}
