@@ -6,6 +6,10 @@
 
 use super::{guid, Fmi, VR_FIRST_PARAM};
 use crate::model::Model;
+use std::ffi::CStr;
+
+/// The one log category: every message the FMU logs is an error.
+pub const LOG_CATEGORY: &CStr = c"logStatusError";
 
 /// The `<LogCategories>` element (indented as a child of the root, one
 /// line per tag).
@@ -140,6 +144,12 @@ pub(crate) mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn the_log_category_is_the_one_described() {
+        let name = LOG_CATEGORY.to_str().unwrap();
+        assert!(LOG_CATEGORIES.contains(&format!(r#"<Category name="{name}""#)));
     }
 
     #[test]

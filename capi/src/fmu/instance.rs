@@ -124,6 +124,11 @@ impl Instance {
         self
     }
 
+    /// The FMI version whose function names the messages use.
+    pub fn api(&self) -> Fmi {
+        self.api
+    }
+
     pub fn mode(&self) -> Mode {
         self.now.mode
     }
