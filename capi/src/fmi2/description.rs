@@ -45,15 +45,3 @@ pub fn model_description(model: &Model, json: &str, model_name: &str, identifier
     );
     xml
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::fmu::description::tests::assert_describes_the_cascade_as;
-
-    #[test]
-    fn a_cascade_is_described_as_in_its_golden_file() {
-        let golden = include_str!("../../testdata/fmi2-cascade.xml");
-        assert_describes_the_cascade_as(model_description, golden);
-    }
-}

@@ -100,29 +100,8 @@ pub fn attr(text: &str) -> String {
 }
 
 #[cfg(test)]
-pub(crate) mod tests {
+mod tests {
     use super::*;
-
-    /// A cascade whose gain's shortest round-trip form has 17 digits.
-    pub(crate) const CASCADE: &str = r#"{"type": "cascade", "first": {"type": "play", "r": 0.1, "y0": 0.0},
-        "second": {"type": "gain", "k": 0.30000000000000004}}"#;
-
-    /// The description of [`CASCADE`] named `a<b` with the identifier
-    /// `id`, written by `describe`, is the file `golden` (under
-    /// `capi/testdata`) with `{guid}` the GUID of the spec and `{version}`
-    /// the library's version: the descriptions change only where their
-    /// files do.
-    pub(crate) fn assert_describes_the_cascade_as(
-        describe: fn(&Model, &str, &str, &str) -> String,
-        golden: &str,
-    ) {
-        let model = Model::from_json(CASCADE).unwrap();
-        let want = golden
-            .replace("{guid}", &guid(CASCADE))
-            .replace("{version}", env!("CARGO_PKG_VERSION"));
-        let got = describe(&model, CASCADE, "a<b", "id");
-        assert!(got == want, "got:\n{got}\nwant:\n{want}");
-    }
 
     #[test]
     fn tied_parameters_say_how_to_set_them_in_each_version() {
