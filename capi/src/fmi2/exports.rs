@@ -159,7 +159,7 @@ pub unsafe extern "C" fn fmi2GetReal(
 ) -> fmi2Status {
     with(c, |comp| {
         // SAFETY: by the contract; `value` is only written.
-        let vrs = unsafe { pointers::references(vr, value.cast_const(), nvr, VR_AND_VALUE) }?;
+        let vrs = unsafe { pointers::references(vr, nvr, value.cast_const(), nvr, VR_AND_VALUE) }?;
         for (k, &r) in vrs.iter().enumerate() {
             // SAFETY: `value` is valid for nvr doubles (checked non-NULL).
             unsafe { *value.add(k) = comp.inst.get_real(r)? };
@@ -178,7 +178,7 @@ pub unsafe extern "C" fn fmi2SetReal(
     value: *const fmi2Real,
 ) -> fmi2Status {
     with(c, |comp| {
-        let (vrs, values) = unsafe { pointers::slices(vr, value, nvr, VR_AND_VALUE) }?;
+        let (vrs, values) = unsafe { pointers::slices(vr, nvr, value, nvr, VR_AND_VALUE) }?;
         comp.inst.set_real(vrs, values)
     })
 }
@@ -353,9 +353,16 @@ pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
     with(c, |comp| {
         // SAFETY: by the contract; `dvUnknown` is only written.
         let unknowns = unsafe {
-            pointers::references(unknown, dvUnknown.cast_const(), nUnknown, VR_AND_VALUE)
+            pointers::references(
+                unknown,
+                nUnknown,
+                dvUnknown.cast_const(),
+                nUnknown,
+                VR_AND_VALUE,
+            )
         }?;
-        let (knowns, dv_known) = unsafe { pointers::slices(known, dvKnown, nKnown, VR_AND_VALUE) }?;
+        let (knowns, dv_known) =
+            unsafe { pointers::slices(known, nKnown, dvKnown, nKnown, VR_AND_VALUE) }?;
         let dv = comp
             .inst
             .directional_derivative(unknowns, knowns, dv_known)?;

@@ -1,7 +1,8 @@
 //! The FMI 3.0 `modelDescription.xml` of a model.
 
+use super::variables::variables;
 use crate::fmu::description::{
-    attr, identity, parameters, LOG_CATEGORIES, X_DESCRIPTION, Y_DESCRIPTION,
+    attr, identity, parameters, tied_note, Parameter, LOG_CATEGORIES, X_DESCRIPTION, Y_DESCRIPTION,
 };
 use crate::fmu::{Fmi, VR_X, VR_Y};
 use crate::model::Model;
@@ -17,8 +18,11 @@ pub const VR_TIME: u32 = 0x7fff_ffff;
 /// The `modelDescription.xml` of `model` (built from the spec text
 /// `json`) as an FMI 3.0 co-simulation FMU named `model_name` whose binary
 /// is `binaries/x86_64-linux/<identifier>.so`. The instantiation token is
-/// the FMI 2.0 FMU's GUID of the same spec. Start values are written in
-/// Rust's shortest round-trip form, so they read back bit for bit.
+/// the FMI 2.0 FMU's GUID of the same spec. A vector parameter is one
+/// array variable, at the value reference of its first element, whose
+/// start lists its elements' values in row-major order (see
+/// `fmi3::variables`). Start values are written in Rust's shortest
+/// round-trip form, so they read back bit for bit.
 pub fn model_description(model: &Model, json: &str, model_name: &str, identifier: &str) -> String {
     let identity = identity(model, json, model_name, "instantiationToken");
     let identifier = attr(identifier);
@@ -32,16 +36,33 @@ pub fn model_description(model: &Model, json: &str, model_name: &str, identifier
     <Float64 name="y" valueReference="{VR_Y}" causality="output" variability="continuous" initial="calculated" description="{Y_DESCRIPTION}"/>
 "#
     );
-    for p in parameters(model, Fmi::V3) {
+    let params = parameters(model, Fmi::V3);
+    let names: Vec<&str> = params.iter().map(|p| p.name.as_str()).collect();
+    for v in variables(&names) {
+        let elements = &params[v.elements.clone()];
+        let start: Vec<String> = elements.iter().map(|p| format!("{:?}", p.start)).collect();
+        let description = match elements {
+            [p] if v.dimensions.is_empty() => p.description.clone(),
+            _ => array_description(elements),
+        };
         // Writing to a String cannot fail.
-        let _ = writeln!(
+        let _ = write!(
             xml,
-            r#"    <Float64 name="{}" valueReference="{}" causality="parameter" variability="tunable" initial="exact" start="{:?}" description="{}"/>"#,
-            attr(&p.name),
-            p.value_reference,
-            p.start,
-            attr(&p.description),
+            r#"    <Float64 name="{}" valueReference="{}" causality="parameter" variability="tunable" initial="exact" start="{}" description="{}""#,
+            attr(&v.name),
+            v.value_reference(),
+            start.join(" "),
+            attr(&description),
         );
+        if v.dimensions.is_empty() {
+            xml.push_str("/>\n");
+        } else {
+            xml.push_str(">\n");
+            for size in &v.dimensions {
+                let _ = writeln!(xml, r#"      <Dimension start="{size}"/>"#);
+            }
+            xml.push_str("    </Float64>\n");
+        }
     }
     let _ = write!(
         xml,
@@ -54,4 +75,17 @@ pub fn model_description(model: &Model, json: &str, model_name: &str, identifier
 "#
     );
     xml
+}
+
+/// The description of an array of the parameters `elements`: `parameters
+/// w[0] to w[7]`, and how to set it if one of them is tied.
+fn array_description(elements: &[Parameter]) -> String {
+    let (first, last) = (&elements[0].name, &elements[elements.len() - 1].name);
+    let tied = elements.iter().any(|p| p.tied);
+    let note = if tied {
+        tied_note(Fmi::V3)
+    } else {
+        String::new()
+    };
+    format!("parameters {first} to {last}{note}")
 }

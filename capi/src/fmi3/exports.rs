@@ -6,21 +6,42 @@
 
 use super::description::VR_TIME;
 use super::types::*;
+use super::variables::Variables;
 use crate::fmu::component::{self, Host as _, Outcome};
 use crate::fmu::description::LOG_CATEGORY;
 use crate::fmu::instance::{Instance, Mode};
 use crate::fmu::pointers::{self, put, text};
 use crate::fmu::{states, Fmi};
+use std::cell::OnceCell;
 use std::ffi::c_char;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::PathBuf;
 
-/// What an FMI 3.0 instance keeps of its host: its logger and the
-/// environment to pass it.
-#[derive(Clone, Copy)]
+/// What an FMI 3.0 instance keeps beside its model: the host's logger and
+/// the environment to pass it, and the instance's parameter variables.
 struct Host {
     environment: fmi3InstanceEnvironment,
     log: Option<fmi3LogMessageCallback>,
+    /// Worked out at the first call that needs them.
+    variables: OnceCell<Variables>,
+}
+
+impl Host {
+    fn new(environment: fmi3InstanceEnvironment, log: Option<fmi3LogMessageCallback>) -> Host {
+        Host {
+            environment,
+            log,
+            variables: OnceCell::new(),
+        }
+    }
+
+    /// The parameter variables of `inst`.
+    fn variables(&self, inst: &Instance) -> &Variables {
+        self.variables.get_or_init(|| {
+            let names = inst.start().names().iter();
+            Variables::of(&names.map(|n| n.to_string_lossy()).collect::<Vec<_>>())
+        })
+    }
 }
 
 impl component::Host for Host {
@@ -56,49 +77,35 @@ fn with(
 /// What the pointers of a value-reference call are called in messages.
 const VR_AND_VALUES: &str = "valueReferences or values";
 
-/// Every variable of the FMU is a scalar: `n` values for `nvr` value
-/// references must be as many.
-fn one_value_each(nvr: usize, n: usize) -> Result<(), String> {
-    if n == nvr {
-        Ok(())
-    } else {
-        Err(format!(
-            "{n} values for {nvr} value references: every variable is a scalar"
-        ))
-    }
-}
-
-/// `(vr, nvr)` as a slice, for `n` values at `values`: `n` must be `nvr`
-/// ([`one_value_each`]), and for `n > 0` neither pointer may be NULL. The
-/// values are not read (an array to be written may be uninitialized).
+/// The flat value references (those of the FMI 2.0 FMU) that the `nvr`
+/// variables at `vr` hold, in the order of their values: an array's
+/// elements in row-major order. There must be as many as the `n` values
+/// at `values` (which are not read: an array to be written may be
+/// uninitialized), and neither pointer may be NULL where it has elements.
 ///
 /// # Safety
 /// For `nvr > 0`, `vr` is NULL or valid for `nvr` elements.
-unsafe fn references<'a, T>(
+unsafe fn flat_references<T>(
+    comp: &Component,
     vr: *const fmi3ValueReference,
     nvr: usize,
     values: *const T,
     n: usize,
-) -> Result<&'a [u32], String> {
-    one_value_each(nvr, n)?;
-    // SAFETY: by the contract, with n = nvr.
-    unsafe { pointers::references(vr, values, n, VR_AND_VALUES) }
-}
-
-/// `(vr, nvr)` and `(values, n)` as slices, checked as by [`references`].
-///
-/// # Safety
-/// For `nvr > 0` and `n > 0` the pointers are NULL or valid for `nvr` and
-/// `n` initialized elements.
-unsafe fn slices<'a, T>(
-    vr: *const fmi3ValueReference,
-    nvr: usize,
-    values: *const T,
-    n: usize,
-) -> Result<(&'a [u32], &'a [T]), String> {
-    one_value_each(nvr, n)?;
-    // SAFETY: by the contract, with n = nvr.
-    unsafe { pointers::slices(vr, values, n, VR_AND_VALUES) }
+) -> Result<Vec<u32>, String> {
+    // SAFETY: by the contract.
+    let vrs = unsafe { pointers::references(vr, nvr, values, n, VR_AND_VALUES) }?;
+    let variables = comp.host.variables(&comp.inst);
+    let mut flat = Vec::with_capacity(n);
+    for &vr in vrs {
+        flat.extend(variables.elements(vr)?);
+    }
+    if flat.len() != n {
+        return Err(format!(
+            "{n} values for {nvr} value references holding {}",
+            flat.len()
+        ));
+    }
+    Ok(flat)
 }
 
 #[no_mangle]
@@ -134,11 +141,7 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
     logMessage: Option<fmi3LogMessageCallback>,
     _intermediateUpdate: Option<fmi3IntermediateUpdateCallback>,
 ) -> fmi3Instance {
-    let host = Host {
-        environment: instanceEnvironment,
-        log: logMessage,
-    };
-    component::instantiate(host, || {
+    component::instantiate(Host::new(instanceEnvironment, logMessage), || {
         if eventModeUsed {
             return Err("eventModeUsed: the FMU has no Event Mode (hasEventMode is false)".into());
         }
@@ -162,7 +165,7 @@ fn refuse_instance(
     log: Option<fmi3LogMessageCallback>,
     what: &str,
 ) -> fmi3Instance {
-    let host = Host { environment, log };
+    let host = Host::new(environment, log);
     // A panic in the host's logger must not cross back into C.
     let _ = catch_unwind(AssertUnwindSafe(|| {
         host.log(
@@ -274,23 +277,24 @@ pub unsafe extern "C" fn fmi3GetFloat64(
 ) -> fmi3Status {
     with(instance, |comp| {
         // SAFETY: by the contract; `values` is only written.
-        let vrs = unsafe {
-            references(
+        let flat = unsafe {
+            flat_references(
+                comp,
                 valueReferences,
                 nValueReferences,
                 values.cast_const(),
                 nValues,
             )
         }?;
-        let got = vrs
-            .iter()
-            .map(|&vr| match vr {
+        let got = flat
+            .into_iter()
+            .map(|vr| match vr {
                 VR_TIME => Ok(comp.inst.time()),
                 _ => comp.inst.get_real(vr),
             })
             .collect::<Result<Vec<f64>, String>>()?;
-        // SAFETY: `values` is valid for nValues = nValueReferences =
-        // got.len() doubles (checked non-NULL).
+        // SAFETY: `values` is valid for nValues = got.len() doubles
+        // (checked non-NULL).
         unsafe { pointers::write(values, &got) };
         Ok(())
     })
@@ -309,11 +313,15 @@ pub unsafe extern "C" fn fmi3SetFloat64(
 ) -> fmi3Status {
     with(instance, |comp| {
         // SAFETY: by the contract.
-        let (vrs, values) = unsafe { slices(valueReferences, nValueReferences, values, nValues) }?;
-        if vrs.contains(&VR_TIME) {
+        let flat =
+            unsafe { flat_references(comp, valueReferences, nValueReferences, values, nValues) }?;
+        if flat.contains(&VR_TIME) {
             return Err("time is the independent variable; it cannot be set".into());
         }
-        comp.inst.set_real(vrs, values)
+        // SAFETY: valid for nValues = flat.len() values (checked non-NULL
+        // where there are any) by the contract.
+        let values = unsafe { pointers::values(values, nValues) };
+        comp.inst.set_real(&flat, values)
     })
 }
 
@@ -521,14 +529,24 @@ pub unsafe extern "C" fn fmi3GetDirectionalDerivative(
 ) -> fmi3Status {
     with(instance, |comp| {
         // SAFETY: by the contract; `sensitivity` is only written.
-        let unknown =
-            unsafe { references(unknowns, nUnknowns, sensitivity.cast_const(), nSensitivity) }
-                .map_err(|e| format!("unknowns and sensitivity: {e}"))?;
+        let unknown = unsafe {
+            flat_references(
+                comp,
+                unknowns,
+                nUnknowns,
+                sensitivity.cast_const(),
+                nSensitivity,
+            )
+        }
+        .map_err(|e| format!("unknowns and sensitivity: {e}"))?;
         // SAFETY: by the contract.
-        let (known, seed) = unsafe { slices(knowns, nKnowns, seed, nSeed) }
+        let known = unsafe { flat_references(comp, knowns, nKnowns, seed, nSeed) }
             .map_err(|e| format!("knowns and seed: {e}"))?;
-        let dv = comp.inst.directional_derivative(unknown, known, seed)?;
-        // SAFETY: `sensitivity` is valid for nSensitivity = nUnknowns =
+        // SAFETY: valid for nSeed = known.len() values (checked non-NULL
+        // where there are any) by the contract.
+        let seed = unsafe { pointers::values(seed, nSeed) };
+        let dv = comp.inst.directional_derivative(&unknown, &known, seed)?;
+        // SAFETY: `sensitivity` is valid for nSensitivity = unknown.len() =
         // dv.len() doubles (checked non-NULL).
         unsafe { pointers::write(sensitivity, &dv) };
         Ok(())

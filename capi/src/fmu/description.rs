@@ -49,8 +49,19 @@ pub struct Parameter {
     pub value_reference: u32,
     /// Its value in the spec.
     pub start: f64,
+    /// Whether it is tied to others (it can only be set together with
+    /// them).
+    pub tied: bool,
     /// `parameter <path>`, and for a tied parameter how to set it.
     pub description: String,
+}
+
+/// How to set a tied parameter in `api`, as its description says it.
+pub fn tied_note(api: Fmi) -> String {
+    format!(
+        " (tied: set together with the other tied parameters in one {} call)",
+        api.set_real()
+    )
 }
 
 /// The parameters of `model`, in the order of its flat parameter vector;
@@ -65,19 +76,14 @@ pub fn parameters(model: &Model, api: Fmi) -> Vec<Parameter> {
         .zip(VR_FIRST_PARAM..)
         .map(|((name, start), value_reference)| {
             let name = name.to_string_lossy().into_owned();
-            let note = if tied.contains(&name) {
-                format!(
-                    " (tied: set together with the other tied parameters in one {} call)",
-                    api.set_real()
-                )
-            } else {
-                String::new()
-            };
+            let tied = tied.contains(&name);
+            let note = if tied { tied_note(api) } else { String::new() };
             Parameter {
                 description: format!("parameter {name}{note}"),
                 name,
                 value_reference,
                 start,
+                tied,
             }
         })
         .collect()
@@ -115,12 +121,9 @@ mod tests {
             for (i, p) in params.iter().enumerate() {
                 assert_eq!(p.value_reference, VR_FIRST_PARAM + i as u32);
                 assert_eq!(p.start.to_bits(), model.operator().params()[i].to_bits());
+                assert_eq!(p.tied, tied.contains(&p.name), "{p:?}");
                 let note = format!("in one {} call", api.set_real());
-                assert_eq!(
-                    p.description.contains(&note),
-                    tied.contains(&p.name),
-                    "{p:?}"
-                );
+                assert_eq!(p.description.contains(&note), p.tied, "{p:?}");
             }
         }
     }

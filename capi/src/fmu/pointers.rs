@@ -20,47 +20,60 @@ pub unsafe fn text(ptr: *const c_char) -> Option<String> {
     )
 }
 
-/// `(vr, n)` as a slice (empty for `n = 0`), with `values` checked
-/// non-NULL for `n > 0` but not read (an array to be written may be
-/// uninitialized). A NULL pointer is refused as `"{names}: NULL"`.
+/// `(vr, nvr)` as a slice (empty for `nvr = 0`), with `values` checked
+/// non-NULL for `n > 0` values but not read (an array to be written may
+/// be uninitialized). A NULL pointer where there are elements is refused
+/// as `"{names}: NULL"`.
 ///
 /// # Safety
-/// For `n > 0`, `vr` is NULL or valid for `n` elements.
+/// For `nvr > 0`, `vr` is NULL or valid for `nvr` elements.
 pub unsafe fn references<'a, T>(
     vr: *const u32,
+    nvr: usize,
     values: *const T,
     n: usize,
     names: &str,
 ) -> Result<&'a [u32], String> {
-    if n == 0 {
-        return Ok(&[]);
-    }
-    if vr.is_null() || values.is_null() {
+    if (nvr > 0 && vr.is_null()) || (n > 0 && values.is_null()) {
         return Err(format!("{names}: NULL"));
     }
-    // SAFETY: non-NULL and valid for n elements by the contract.
-    Ok(unsafe { std::slice::from_raw_parts(vr, n) })
+    if nvr == 0 {
+        return Ok(&[]);
+    }
+    // SAFETY: non-NULL and valid for nvr elements by the contract.
+    Ok(unsafe { std::slice::from_raw_parts(vr, nvr) })
 }
 
-/// `(vr, n)` and `(values, n)` as slices, checked as by [`references`].
+/// `(values, n)` as a slice, empty for `n = 0`.
 ///
 /// # Safety
-/// For `n > 0` the pointers are NULL or valid for `n` initialized
-/// elements.
+/// For `n > 0`, `values` is valid for `n` initialized elements (not NULL:
+/// checked by [`references`]).
+pub unsafe fn values<'a, T>(values: *const T, n: usize) -> &'a [T] {
+    if n == 0 {
+        return &[];
+    }
+    // SAFETY: by the contract.
+    unsafe { std::slice::from_raw_parts(values, n) }
+}
+
+/// `(vr, nvr)` and `(values, n)` as slices, checked as by [`references`].
+///
+/// # Safety
+/// For `nvr > 0` and `n > 0` the pointers are NULL or valid for `nvr` and
+/// `n` initialized elements.
 pub unsafe fn slices<'a, T>(
     vr: *const u32,
+    nvr: usize,
     values: *const T,
     n: usize,
     names: &str,
 ) -> Result<(&'a [u32], &'a [T]), String> {
     // SAFETY: by the contract.
-    let vrs = unsafe { references(vr, values, n, names) }?;
-    if vrs.is_empty() {
-        return Ok((&[], &[]));
-    }
-    // SAFETY: `values` is non-NULL (checked) and valid for n initialized
-    // elements by the contract.
-    Ok((vrs, unsafe { std::slice::from_raw_parts(values, n) }))
+    let vrs = unsafe { references(vr, nvr, values, n, names) }?;
+    // SAFETY: `values` is non-NULL where n > 0 (checked) and valid for n
+    // initialized elements by the contract.
+    Ok((vrs, unsafe { self::values(values, n) }))
 }
 
 /// Copies `values` to `out`.
