@@ -12,6 +12,7 @@ use crate::fmu::description::LOG_CATEGORY;
 use crate::fmu::instance::{Instance, Mode};
 use crate::fmu::pointers::{self, put, text};
 use crate::fmu::{states, Fmi};
+use std::borrow::Cow;
 use std::cell::OnceCell;
 use std::ffi::c_char;
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -82,23 +83,33 @@ const VR_AND_VALUES: &str = "valueReferences or values";
 /// elements in row-major order. There must be as many as the `n` values
 /// at `values` (which are not read: an array to be written may be
 /// uninitialized), and neither pointer may be NULL where it has elements.
+/// Scalars alone (the input and output a host sets and gets every step)
+/// are the host's own array.
 ///
 /// # Safety
 /// For `nvr > 0`, `vr` is NULL or valid for `nvr` elements.
-unsafe fn flat_references<T>(
+unsafe fn flat_references<'a, T>(
     comp: &Component,
     vr: *const fmi3ValueReference,
     nvr: usize,
     values: *const T,
     n: usize,
-) -> Result<Vec<u32>, String> {
+) -> Result<Cow<'a, [u32]>, String> {
     // SAFETY: by the contract.
     let vrs = unsafe { pointers::references(vr, nvr, values, n, VR_AND_VALUES) }?;
     let variables = comp.host.variables(&comp.inst);
-    let mut flat = Vec::with_capacity(n);
-    for &vr in vrs {
-        flat.extend(variables.elements(vr)?);
+    // Made at the first array: until then each variable is its own
+    // element.
+    let mut arrays: Option<Vec<u32>> = None;
+    for (k, &vr) in vrs.iter().enumerate() {
+        let elements = variables.elements(vr)?;
+        match &mut arrays {
+            Some(flat) => flat.extend(elements),
+            None if elements == (vr..vr + 1) => {}
+            None => arrays = Some(vrs[..k].iter().copied().chain(elements).collect()),
+        }
     }
+    let flat = arrays.map_or(Cow::Borrowed(vrs), Cow::Owned);
     if flat.len() != n {
         return Err(format!(
             "{n} values for {nvr} value references holding {}",
@@ -287,8 +298,8 @@ pub unsafe extern "C" fn fmi3GetFloat64(
             )
         }?;
         let got = flat
-            .into_iter()
-            .map(|vr| match vr {
+            .iter()
+            .map(|&vr| match vr {
                 VR_TIME => Ok(comp.inst.time()),
                 _ => comp.inst.get_real(vr),
             })
