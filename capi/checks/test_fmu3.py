@@ -1,13 +1,9 @@
 """FMI 3.0 co-simulation FMUs from `hysteron export-fmu --fmi 3`, checked
-with an independent FMI host, FMPy: validation, simulation against
-`hysteron simulate` (constant and variable communication steps), state
-save/restore and serialization, errors, and the functions the FMU does not
-support.
-
-As with the FMI 2.0 FMU (test_fmu.py), FMPy applies the input of the table
-at the start of each step and `fmi3DoStep` takes the input set last as the
-sample at the end of the step, so FMPy's output row k + 1 is the CLI's
-output row k (row 0 is the initial output)."""
+with an independent FMI host, FMPy, beyond what test_fmus.py checks of both
+versions: the 3.0 layout and every function of the standard, a variable
+communication step against the FMI 2.0 FMU, serialized states across
+instances, directional derivatives, errors, the functions the FMU does
+not support, and vector parameters as array variables."""
 
 from __future__ import annotations
 
@@ -20,30 +16,14 @@ import numpy as np
 import pytest
 
 fmpy = pytest.importorskip("fmpy")
-from fmpy.fmi2 import FMU2Slave  # noqa: E402
 from fmpy.fmi3 import FMU3Slave, FMU3Model  # noqa: E402
 from fmpy.validation import validate_fmu  # noqa: E402
 
-from test_fmu import H, benchmark_input, cli_simulate, export, signal  # noqa: E402
-
-VR_TIME = 2147483647
-
-
-def export3(cli: pathlib.Path, spec: pathlib.Path, out: pathlib.Path, *extra: str) -> pathlib.Path:
-    return export(cli, spec, out, "--fmi", "3", *extra)
-
-
-def fmpy_simulate(fmu: pathlib.Path, x: np.ndarray, h: float, start_values: dict | None = None) -> np.ndarray:
-    n = x.size
-    t = np.arange(n) * h
-    table = np.array(list(zip(t, x)), dtype=[("time", np.float64), ("x", np.float64)])
-    res = fmpy.simulate_fmu(str(fmu), start_time=0.0, stop_time=n * h, output_interval=h, input=table, output=["y"], start_values=start_values or {})
-    assert res.size == n + 1
-    return res["y"][1:]
+from fmus import H, VR_TIME, Slave2, Slave3, assert_refuses_bad_values_and_steps, assert_refuses_damaged_state_bytes, cli_simulate, export, fmpy_simulate, signal  # noqa: E402
 
 
 def test_the_fmu_is_fmi_3_with_the_3_0_layout(cli, root, tmp_path) -> None:
-    fmu = export3(cli, root / "examples" / "specs" / "paper.json", tmp_path / "paper.fmu")
+    fmu = Slave3.export(cli, root / "examples" / "specs" / "paper.json", tmp_path / "paper.fmu")
     md = fmpy.read_model_description(str(fmu))
     assert md.fmiVersion == "3.0"
     assert md.modelExchange is None and md.coSimulation is not None
@@ -58,13 +38,31 @@ def test_the_fmu_is_fmi_3_with_the_3_0_layout(cli, root, tmp_path) -> None:
     assert by_name["time"].valueReference == VR_TIME
     assert (by_name["x"].valueReference, by_name["y"].valueReference) == (0, 1)
     assert all(v.type == "Float64" for v in md.modelVariables)
-    # The parameters and their start values are those of the FMI 2.0 FMU.
+    # The parameters and their start values are those of the FMI 2.0 FMU,
+    # the Bouc-Wen stiffness's vectors z and s as arrays.
     md2 = fmpy.read_model_description(str(export(cli, root / "examples" / "specs" / "paper.json", tmp_path / "paper2.fmu")))
-    params2 = {v.name: (v.valueReference, v.start) for v in md2.modelVariables if v.causality == "parameter"}
-    params3 = {v.name: (v.valueReference, v.start) for v in md.modelVariables if v.causality == "parameter"}
-    assert params3 == params2 and len(params3) > 5
+    assert [v.shape for v in md.modelVariables if v.name.endswith((".stiffness.z", ".stiffness.s"))] == [(6,), (6,)]
+    assert elements(md) == elements(md2) and len(elements(md)) > 5
     assert md.instantiationToken == md2.guid
     assert sorted(zipfile.ZipFile(fmu).namelist()) == ["binaries/x86_64-linux/paper.so", "modelDescription.xml", "resources/model.json"]
+
+
+def elements(md) -> dict:
+    """Name → (value reference, start) of every parameter of the
+    description `md`, an array's elements listed as FMI 2.0 names them
+    (`w[k]`, at the array's value reference + k, with its k-th start)."""
+    out = {}
+    for v in md.modelVariables:
+        if v.causality != "parameter":
+            continue
+        if not v.shape:
+            out[v.name] = (v.valueReference, v.start)
+            continue
+        assert len(v.shape) == 1, v
+        starts = v.start.split()
+        assert len(starts) == v.shape[0], v
+        out.update((f"{v.name}[{k}]", (v.valueReference + k, start)) for k, start in enumerate(starts))
+    return out
 
 
 def test_the_binary_exports_every_fmi3_function_of_the_standard(cli, root, tmp_path) -> None:
@@ -73,96 +71,10 @@ def test_the_binary_exports_every_fmi3_function_of_the_standard(cli, root, tmp_p
     header = pathlib.Path(fmpy.__file__).parent / "c-code" / "fmi3FunctionTypes.h"
     names = sorted(set(re.findall(r"\b(fmi3\w+)TYPE\b", header.read_text())))
     assert len(names) == 75, names
-    fmu = export3(cli, root / "examples" / "specs" / "paper.json", tmp_path / "paper.fmu")
+    fmu = Slave3.export(cli, root / "examples" / "specs" / "paper.json", tmp_path / "paper.fmu")
     lib = ctypes.CDLL(str(pathlib.Path(fmpy.extract(str(fmu))) / "binaries" / "x86_64-linux" / "paper.so"))
     missing = [n for n in names if not hasattr(lib, n)]
     assert missing == []
-
-
-CASES = [
-    ("paper.json", 1.4),  # the paper's model: friction in a gap, Bouc-Wen spring
-    ("prandtl-ishlinskii.json", 1.0),  # a PI bank
-    ("pi-inverse.json", 1.0),  # its analytic inverse
-]
-
-
-@pytest.mark.parametrize("spec, amplitude", CASES)
-def test_validates_and_reproduces_the_cli_bit_for_bit(cli, root, tmp_path, spec, amplitude) -> None:
-    path = root / "examples" / "specs" / spec
-    fmu = export3(cli, path, tmp_path / "model.fmu")
-    assert validate_fmu(str(fmu)) == []
-    x = signal(3000, amplitude)
-    got = fmpy_simulate(fmu, x, 1e-3)
-    want = cli_simulate(cli, path, x, tmp_path)
-    assert np.array_equal(got, want), np.max(np.abs(got - want))
-
-
-def test_rate_dependent_model_takes_the_step_as_its_period(cli, root, tmp_path) -> None:
-    """The Bouc-Wen benchmark: its period comes from fmi3DoStep's step size."""
-    path = root / "examples" / "specs" / "boucwen-benchmark.json"
-    fmu = export3(cli, path, tmp_path / "bw.fmu")
-    assert validate_fmu(str(fmu)) == []
-    u, _ = benchmark_input(root, 1)
-    got = fmpy_simulate(fmu, u[:4000] * 0.5, H)
-    assert np.array_equal(got, cli_simulate(cli, path, u[:4000] * 0.5, tmp_path, "--dt", repr(H)))
-    got = fmpy_simulate(fmu, u, 1.0 / 750.0)
-    want = cli_simulate(cli, path, u, tmp_path, "--dt", repr(1.0 / 750.0))
-    assert np.array_equal(got, want), np.max(np.abs(got - want))
-
-
-class Slave3:
-    """An instance driven by hand through FMPy's FMU3Slave."""
-
-    def __init__(self, fmu: pathlib.Path, name: str = "inst") -> None:
-        md = fmpy.read_model_description(str(fmu))
-        self.vr = {v.name: v.valueReference for v in md.modelVariables}
-        self.dir = fmpy.extract(str(fmu))
-        self.fmu = FMU3Slave(guid=md.instantiationToken, unzipDirectory=self.dir, modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
-        self.fmu.instantiate()
-        self.start()
-
-    def start(self) -> None:
-        self.fmu.enterInitializationMode(startTime=0.0)
-        self.fmu.exitInitializationMode()
-        self.t = 0.0
-
-    def step(self, x: float, h: float) -> float:
-        self.fmu.setFloat64([self.vr["x"]], [float(x)])
-        event, terminate, early, last = self.fmu.doStep(currentCommunicationPoint=self.t, communicationStepSize=h)
-        assert (event, terminate, early, last) == (False, False, False, self.t + h)
-        self.t += h
-        return self.fmu.getFloat64([self.vr["y"]])[0]
-
-    def run(self, xs, hs=None) -> np.ndarray:
-        hs = [H] * len(xs) if hs is None else hs
-        return np.array([self.step(x, h) for x, h in zip(xs, hs)])
-
-    def close(self) -> None:
-        self.fmu.terminate()
-        self.fmu.freeInstance()
-
-
-class Slave2:
-    """The FMI 2.0 FMU of the same spec, driven the same way."""
-
-    def __init__(self, fmu: pathlib.Path) -> None:
-        md = fmpy.read_model_description(str(fmu))
-        self.vr = {v.name: v.valueReference for v in md.modelVariables}
-        self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=fmpy.extract(str(fmu)), modelIdentifier=md.coSimulation.modelIdentifier, instanceName="fmi2")
-        self.fmu.instantiate()
-        self.fmu.setupExperiment(startTime=0.0)
-        self.fmu.enterInitializationMode()
-        self.fmu.exitInitializationMode()
-        self.t = 0.0
-
-    def run(self, xs, hs) -> np.ndarray:
-        out = []
-        for x, h in zip(xs, hs):
-            self.fmu.setReal([self.vr["x"]], [float(x)])
-            self.fmu.doStep(currentCommunicationPoint=self.t, communicationStepSize=h)
-            self.t += h
-            out.append(self.fmu.getReal([self.vr["y"]])[0])
-        return np.array(out)
 
 
 def varying_steps(n: int) -> list:
@@ -179,13 +91,13 @@ def test_a_variable_communication_step_gives_the_fmi2_fmus_outputs_bit_for_bit(c
     test_fmu.py and in the instance's tests), and differ from a constant
     step's."""
     path = root / "examples" / "specs" / spec
-    fmu3 = export3(cli, path, tmp_path / "m3.fmu")
+    fmu3 = Slave3.export(cli, path, tmp_path / "m3.fmu")
     fmu2 = export(cli, path, tmp_path / "m2.fmu")
     x = signal(2000, 1.4 if spec == "paper.json" else 0.5) * (1.0 if spec == "paper.json" else 40.0)
     hs = varying_steps(x.size)
     s3 = Slave3(fmu3)
     got = s3.run(x, hs)
-    want = Slave2(fmu2).run(x, hs)
+    want = Slave2(fmu2, "fmi2").run(x, hs)
     assert np.array_equal(got, want)
     assert s3.fmu.getFloat64([VR_TIME]) == [s3.t]
     if spec == "boucwen-benchmark.json":
@@ -195,24 +107,7 @@ def test_a_variable_communication_step_gives_the_fmi2_fmus_outputs_bit_for_bit(c
 
 @pytest.fixture
 def paper_fmu(cli, root, tmp_path) -> pathlib.Path:
-    return export3(cli, root / "examples" / "specs" / "paper.json", tmp_path / "paper.fmu")
-
-
-def test_saved_states_replay_identically_and_reset_restarts(paper_fmu) -> None:
-    s = Slave3(paper_fmu)
-    x = signal(1200)
-    first = s.run(x[:500])
-    state = s.fmu.getFMUState()
-    a = s.run(x[500:])
-    s.fmu.setFMUState(state)
-    s.t = 500 * H
-    b = s.run(x[500:])
-    assert np.array_equal(a, b)
-    s.fmu.freeFMUState(state)
-    s.fmu.reset()
-    s.start()
-    assert np.array_equal(s.run(x[:500]), first)
-    s.close()
+    return Slave3.export(cli, root / "examples" / "specs" / "paper.json", tmp_path / "paper.fmu")
 
 
 def test_a_serialized_state_continues_bit_for_bit_in_a_fresh_instance(paper_fmu, capsys) -> None:
@@ -235,15 +130,7 @@ def test_a_serialized_state_continues_bit_for_bit_in_a_fresh_instance(paper_fmu,
     fresh.t = t_saved
     assert fresh.fmu.getFloat64([fresh.vr["left.mms.f_c"]]) == [2.0]
     assert np.array_equal(fresh.run(x[700:], hs[700:]), a)
-    # Truncated or corrupted bytes: fmi3Error with a logged message; the
-    # instance is unchanged.
-    capsys.readouterr()
-    before = fresh.fmu.getFloat64([fresh.vr["y"]])
-    for bad, why in [(data[:-1], "CRC-32"), (data[:40], "truncated"), (data[:60] + bytes([data[60] ^ 1]) + data[61:], "CRC-32")]:
-        with pytest.raises(Exception, match="fmi3DeserializeFMUState"):
-            fresh.fmu.deserializeFMUState(bad)
-        assert why in capsys.readouterr().out
-    assert fresh.fmu.getFloat64([fresh.vr["y"]]) == before
+    assert_refuses_damaged_state_bytes(fresh, data, capsys)
     s.close()
     fresh.close()
 
@@ -255,7 +142,7 @@ def test_directional_derivatives_are_the_fmi2_fmus(cli, root, paper_fmu, tmp_pat
     x = signal(900)
     s3 = Slave3(paper_fmu)
     s3.run(x)
-    s2 = Slave2(export(cli, root / "examples" / "specs" / "paper.json", tmp_path / "paper2.fmu"))
+    s2 = Slave2(export(cli, root / "examples" / "specs" / "paper.json", tmp_path / "paper2.fmu"), "fmi2")
     s2.run(x, [H] * x.size)
     y, xv, f_c = s3.vr["y"], s3.vr["x"], s3.vr["left.mms.f_c"]
     for knowns, seed in [([xv], [1.0]), ([f_c], [1.0]), ([xv, f_c], [2.0, -3.0])]:
@@ -271,23 +158,14 @@ def test_errors_are_fmi3Error_with_a_message_and_leave_the_instance_usable(paper
     s = Slave3(paper_fmu)
     x = signal(300)
     s.run(x[:100])
-    capsys.readouterr()
-    with pytest.raises(Exception, match="fmi3SetFloat64"):
-        s.fmu.setFloat64([s.vr["x"]], [float("nan")])
-    with pytest.raises(Exception, match="fmi3SetFloat64"):
-        s.fmu.setFloat64([s.vr["left.mms.f_c"]], [-1.0])
-    with pytest.raises(Exception, match="fmi3SetFloat64"):
-        s.fmu.setFloat64([s.vr["y"]], [1.0])
+    assert_refuses_bad_values_and_steps(s, capsys)
     with pytest.raises(Exception, match="fmi3SetFloat64"):
         s.fmu.setFloat64([VR_TIME], [1.0])
     with pytest.raises(Exception, match="fmi3GetFloat64"):
         s.fmu.getFloat64([s.vr["x"]], nValues=2)
-    with pytest.raises(Exception, match="fmi3DoStep"):
-        s.fmu.doStep(currentCommunicationPoint=s.t, communicationStepSize=0.0)
     log = capsys.readouterr().out
-    for fragment in ["x: input NaN is not finite", "f_c", "y is an output", "time is the independent variable", "2 values for 1 value references", "fmi3DoStep: communicationStepSize must be positive"]:
+    for fragment in ["time is the independent variable", "2 values for 1 value references"]:
         assert fragment in log, (fragment, log)
-    assert "fmi2" not in log
     # Nothing changed; the instance runs on as one that never erred.
     fresh = Slave3(paper_fmu, "fresh")
     assert np.array_equal(s.run(x[100:]), fresh.run(x)[100:])
@@ -346,11 +224,131 @@ def test_model_exchange_event_mode_and_a_wrong_token_are_refused(paper_fmu, caps
     assert "hasEventMode is false" in capsys.readouterr().out
 
 
-def test_a_parameter_change_acts_as_the_same_change_in_the_spec(cli, root, paper_fmu, tmp_path) -> None:
-    spec = json.loads((root / "examples" / "specs" / "paper.json").read_text())
-    spec["left"]["f_c"] = 2.5
+# Models with vector parameters, one of their vectors, and other values for
+# it: a PI bank's weights, a Maxwell-slip model's element stiffnesses.
+ARRAYS = [
+    ("prandtl-ishlinskii.json", "w", [1.2, 0.5, 0.45, 0.25, 0.2, 0.1, 0.12, 0.02]),
+    ("maxwell-slip.json", "k", [20.0, 12.5, 5.0, 4.5, 2.0, 1.25]),
+]
+
+
+@pytest.mark.parametrize("spec, name, values", ARRAYS)
+def test_vector_parameters_are_array_variables_that_validate(cli, root, tmp_path, spec, name, values) -> None:
+    path = root / "examples" / "specs" / spec
+    fmu = Slave3.export(cli, path, tmp_path / "model.fmu")
+    assert validate_fmu(str(fmu)) == []
+    md = fmpy.read_model_description(str(fmu))
+    md2 = fmpy.read_model_description(str(export(cli, path, tmp_path / "model2.fmu")))
+    by_name = {v.name: v for v in md.modelVariables}
+    assert by_name[name].shape == (len(values),)
+    assert not any("[" in v.name for v in md.modelVariables)
+    # The elements are the FMI 2.0 FMU's parameters, under their value
+    # references and with their start values.
+    assert elements(md) == elements(md2)
+
+
+@pytest.mark.parametrize("spec, name, values", ARRAYS)
+def test_changed_array_start_values_give_the_cli_outputs_of_the_spec_with_them(cli, root, tmp_path, spec, name, values) -> None:
+    path = root / "examples" / "specs" / spec
+    fmu = Slave3.export(cli, path, tmp_path / "model.fmu")
+    changed = json.loads(path.read_text())
+    changed[name] = values
+    changed_path = tmp_path / "changed.json"
+    changed_path.write_text(json.dumps(changed))
+    x = signal(3000, 1.0)
+    want = cli_simulate(cli, changed_path, x, tmp_path)
+    got = fmpy_simulate(fmu, x, 1e-3, {name: values})
+    assert np.max(np.abs(got - want)) <= 1e-12 * np.max(np.abs(want)), np.max(np.abs(got - want))
+    # The start values changed the outputs.
+    assert np.max(np.abs(fmpy_simulate(fmu, x, 1e-3) - want)) > 1e-3 * np.max(np.abs(want))
+
+
+@pytest.fixture
+def pi_fmu(cli, root, tmp_path) -> pathlib.Path:
+    return Slave3.export(cli, root / "examples" / "specs" / "prandtl-ishlinskii.json", tmp_path / "pi.fmu")
+
+
+def test_an_array_round_trips_through_set_and_get_float64(cli, root, pi_fmu, tmp_path) -> None:
+    """fmi3SetFloat64 and fmi3GetFloat64 take an array's values after one
+    another (nValues the sum of the variables' sizes), and an array set
+    between steps acts as the same change in the spec."""
+    s = Slave3(pi_fmu)
+    md = fmpy.read_model_description(str(pi_fmu))
+    w, a0, y, xv = s.vr["w"], s.vr["a0"], s.vr["y"], s.vr["x"]
+    start = [float(v) for v in next(v for v in md.modelVariables if v.name == "w").start.split()]
+    assert s.get([w], 8) == start
+    new = ARRAYS[0][2]
+    s.set([w], new)
+    assert s.get([w], 8) == new
+    # Scalars and arrays in one call, in the order of their value references
+    # as given.
+    assert s.get([a0, w, y], 10) == [s.get([a0])[0], *new, s.get([y])[0]]
+    s.set([xv, w, a0], [0.25, *start, 0.3])
+    assert s.get([w, xv, a0], 10) == [*start, 0.25, 0.3]
+    s.close()
+    # Between steps: the outputs go on as those of the spec with the new
+    # weights.
+    spec = json.loads((root / "examples" / "specs" / "prandtl-ishlinskii.json").read_text())
+    spec["w"] = new
     changed = tmp_path / "changed.json"
     changed.write_text(json.dumps(spec))
-    x = signal(1500)
+    x = signal(1200, 1.0)
     want = cli_simulate(cli, changed, x, tmp_path)
-    assert np.array_equal(fmpy_simulate(paper_fmu, x, 1e-3, {"left.mms.f_c": 2.5}), want)
+    s = Slave3(pi_fmu, "between steps")
+    assert not np.array_equal(s.run(x[:500]), want[:500])
+    s.set([w], new)
+    assert np.array_equal(s.run(x[500:]), want[500:])
+    s.close()
+
+
+def test_a_wrong_count_of_values_or_an_unknown_reference_is_fmi3Error_with_a_message(pi_fmu, capsys) -> None:
+    s = Slave3(pi_fmu)
+    x = signal(300, 1.0)
+    s.run(x[:100])
+    w, y = s.vr["w"], s.vr["y"]
+    capsys.readouterr()
+    refused = [
+        ("fmi3SetFloat64", lambda: s.set([w], [1.0] * 7), "7 values for 1 value references holding 8"),
+        ("fmi3SetFloat64", lambda: s.set([w, y], [1.0] * 8), "8 values for 2 value references holding 9"),
+        ("fmi3GetFloat64", lambda: s.get([w]), "1 values for 1 value references holding 8"),
+        ("fmi3GetFloat64", lambda: s.get([w], 9), "9 values for 1 value references holding 8"),
+        ("fmi3GetFloat64", lambda: s.get([w + 1]), f"value reference {w + 1} is an element of the array w"),
+        ("fmi3SetFloat64", lambda: s.set([w + 7], [1.0]), f"value reference {w + 7} is an element of the array w"),
+        ("fmi3GetFloat64", lambda: s.get([12345], 1), "no Float64 variable with value reference 12345"),
+        ("fmi3GetDirectionalDerivative", lambda: s.fmu.getDirectionalDerivative([y], [w], [1.0]), "knowns and seed: 1 values for 1 value references holding 8"),
+        # NULL values with values to write or read.
+        ("fmi3GetFloat64", lambda: s.fmu.fmi3GetFloat64(s.fmu.component, (ctypes.c_uint * 1)(w), 1, None, 8), "valueReferences or values: NULL"),
+        ("fmi3SetFloat64", lambda: s.fmu.fmi3SetFloat64(s.fmu.component, (ctypes.c_uint * 1)(w), 1, None, 8), "valueReferences or values: NULL"),
+    ]
+    for function, call, message in refused:
+        with pytest.raises(Exception, match=function):
+            call()
+        log = capsys.readouterr().out
+        assert "[ERROR]" in log and message in log, (function, message, log)
+    # Nothing changed; the instance runs on as one that never erred.
+    fresh = Slave3(pi_fmu, "fresh")
+    assert np.array_equal(s.run(x[100:]), fresh.run(x)[100:])
+    s.close()
+    fresh.close()
+
+
+def test_directional_derivatives_of_an_array_are_the_fmi2_fmus_over_its_elements(cli, root, pi_fmu, tmp_path) -> None:
+    """A seed of an array's size for its value reference gives the FMI 2.0
+    FMU's directional derivative for its elements' value references with
+    that seed."""
+    x = signal(900, 1.0)
+    s3 = Slave3(pi_fmu)
+    s3.run(x)
+    s2 = Slave2(export(cli, root / "examples" / "specs" / "prandtl-ishlinskii.json", tmp_path / "pi2.fmu"), "fmi2")
+    s2.run(x)
+    y, xv, w, r = s3.vr["y"], s3.vr["x"], s3.vr["w"], s3.vr["r"]
+    seed_w = list(np.linspace(-1.0, 2.0, 8))
+    seed_r = list(np.linspace(0.5, -0.5, 8))
+    for knowns, seed, flat in [
+        ([w], seed_w, [w + k for k in range(8)]),
+        ([xv, w, r], [0.5, *seed_w, *seed_r], [xv, *(w + k for k in range(8)), *(r + k for k in range(8))]),
+    ]:
+        got = s3.fmu.getDirectionalDerivative([y], knowns, seed)
+        want = s2.fmu.getDirectionalDerivative([s2.vr["y"]], flat, seed)
+        assert list(got) == list(want) and got[0] != 0.0, (knowns, got, want)
+    s3.close()

@@ -78,14 +78,16 @@ pub(crate) fn spec_failure(e: SpecError) -> HysteronStatus {
 pub(crate) fn guard(body: impl FnOnce() -> HysteronStatus) -> HysteronStatus {
     match catch_unwind(AssertUnwindSafe(body)) {
         Ok(status) => status,
-        Err(payload) => fail(
-            HysteronStatus::Internal,
-            format!(
-                "internal error (a bug in hysteron): {}",
-                panic_text(&payload)
-            ),
-        ),
+        Err(payload) => fail(HysteronStatus::Internal, internal_error(&payload)),
     }
+}
+
+/// The message of a caught panic: an internal error, a bug in hysteron.
+pub(crate) fn internal_error(payload: &Box<dyn std::any::Any + Send>) -> String {
+    format!(
+        "internal error (a bug in hysteron): {}",
+        panic_text(payload)
+    )
 }
 
 /// The text of a panic payload.

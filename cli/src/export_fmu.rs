@@ -4,6 +4,7 @@
 //! The FMU is a zip archive holding `modelDescription.xml` (the input `x`,
 //! the output `y`, and every parameter as a tunable Real (FMI 3.0:
 //! Float64) named by its path with the spec's value as its start; FMI 3.0
+//! describes a vector parameter, `w[0]`, `w[1]`, …, as one array `w`, and
 //! adds the independent variable `time`), the binary (a copy of
 //! `libhysteron_c.so`, which implements the `fmi2*` and `fmi3*` functions
 //! for any spec) as `binaries/linux64/<id>.so` (FMI 2.0) or

@@ -5,128 +5,52 @@
 #![allow(non_snake_case)]
 
 use super::types::*;
-use crate::fmu::instance::{Instance, Mode, Snapshot};
-use crate::fmu::serial::{deserialize, serialize};
-use crate::status::panic_text;
-use std::ffi::{c_char, CStr, CString};
-use std::panic::{catch_unwind, AssertUnwindSafe};
+use crate::fmu::component::{self, Outcome};
+use crate::fmu::description::LOG_CATEGORY;
+use crate::fmu::instance::{Instance, Mode};
+use crate::fmu::pointers::{self, text};
+use crate::fmu::states;
+use std::ffi::{c_char, CString};
 
-/// An instance with the host's callbacks.
-struct Component {
+/// What an FMI 2.0 instance keeps of its host: its name and callbacks.
+struct Host {
     name: CString,
     callbacks: fmi2CallbackFunctions,
-    inst: Instance,
 }
 
-impl Component {
-    fn log(&self, status: fmi2Status, message: &str) {
-        log_to(&self.callbacks, &self.name, status, message);
-    }
-}
-
-fn log_to(callbacks: &fmi2CallbackFunctions, name: &CStr, status: fmi2Status, message: &str) {
-    let Some(logger) = callbacks.logger else {
-        return;
-    };
-    // The message is the format string (`%` doubled, no arguments): hosts
-    // that format it printf-style and hosts that show it as it is (FMPy)
-    // both read it.
-    let text = CString::new(message.replace('\0', " ").replace('%', "%%")).unwrap_or_default();
-    // SAFETY: the host's logger, with NUL-terminated strings and a format
-    // that consumes no arguments.
-    unsafe {
-        logger(
-            callbacks.componentEnvironment,
-            name.as_ptr(),
-            status,
-            c"logStatusError".as_ptr(),
-            text.as_ptr(),
-        );
-    }
-}
-
-/// Runs `body` on the component `c`: NULL is `fmi2Error`, an `Err` is
-/// logged and `fmi2Error`, a panic is logged and `fmi2Fatal`.
-fn with(c: fmi2Component, body: impl FnOnce(&mut Component) -> Result<(), String>) -> fmi2Status {
-    // SAFETY: `c` is NULL or a component from fmi2Instantiate, used by one
-    // thread at a time (FMI 2.0 §2.1.3).
-    let Some(comp) = (unsafe { (c as *mut Component).as_mut() }) else {
-        return FMI2_ERROR;
-    };
-    match catch_unwind(AssertUnwindSafe(|| body(comp))) {
-        Ok(Ok(())) => FMI2_OK,
-        Ok(Err(message)) => {
-            comp.log(FMI2_ERROR, &message);
-            FMI2_ERROR
-        }
-        Err(payload) => {
-            comp.log(
-                FMI2_FATAL,
-                &format!(
-                    "internal error (a bug in hysteron): {}",
-                    panic_text(&payload)
-                ),
+impl component::Host for Host {
+    fn log(&self, outcome: Outcome, message: &str) {
+        let Some(logger) = self.callbacks.logger else {
+            return;
+        };
+        // The message is the format string (`%` doubled, no arguments): hosts
+        // that format it printf-style and hosts that show it as it is (FMPy)
+        // both read it.
+        let text = component::c_string(&message.replace('%', "%%"));
+        // SAFETY: the host's logger, with NUL-terminated strings and a format
+        // that consumes no arguments.
+        unsafe {
+            logger(
+                self.callbacks.componentEnvironment,
+                self.name.as_ptr(),
+                outcome.code(),
+                LOG_CATEGORY.as_ptr(),
+                text.as_ptr(),
             );
-            FMI2_FATAL
         }
     }
 }
 
-/// `*ptr` as text, for messages and names.
-///
-/// # Safety
-/// `ptr` is NULL or NUL-terminated.
-unsafe fn text(ptr: fmi2String) -> Option<String> {
-    if ptr.is_null() {
-        return None;
-    }
-    Some(
-        unsafe { CStr::from_ptr(ptr) }
-            .to_string_lossy()
-            .into_owned(),
-    )
+/// An FMI 2.0 component: what an `fmi2Component` points to.
+type Component = component::Component<Host>;
+
+/// Runs `body` on the component `c` under the guard of [`component::with`].
+fn with(c: fmi2Component, body: impl FnOnce(&mut Component) -> Result<(), String>) -> fmi2Status {
+    component::with(c, body).code()
 }
 
-/// `(vr, n)` as a slice (empty for `n = 0`), with `values` checked
-/// non-NULL for `n > 0` but not read (an array to be written may be
-/// uninitialized).
-///
-/// # Safety
-/// For `n > 0`, `vr` is NULL or valid for `n` elements.
-unsafe fn references<'a, T>(
-    vr: *const fmi2ValueReference,
-    values: *const T,
-    n: usize,
-) -> Result<&'a [u32], String> {
-    if n == 0 {
-        return Ok(&[]);
-    }
-    if vr.is_null() || values.is_null() {
-        return Err("vr or value: NULL".into());
-    }
-    // SAFETY: non-NULL and valid for n elements by the contract.
-    Ok(unsafe { std::slice::from_raw_parts(vr, n) })
-}
-
-/// `(vr, n)` and `(value, n)` as slices (empty for `n = 0`).
-///
-/// # Safety
-/// For `n > 0` the pointers are NULL or valid for `n` initialized
-/// elements.
-unsafe fn slices<'a, T>(
-    vr: *const fmi2ValueReference,
-    values: *const T,
-    n: usize,
-) -> Result<(&'a [u32], &'a [T]), String> {
-    // SAFETY: by the contract.
-    let vrs = unsafe { references(vr, values, n) }?;
-    if vrs.is_empty() {
-        return Ok((&[], &[]));
-    }
-    // SAFETY: `values` is non-NULL (checked) and valid for n initialized
-    // elements by the contract.
-    Ok((vrs, unsafe { std::slice::from_raw_parts(values, n) }))
-}
+/// What the pointers of a value-reference call are called in messages.
+const VR_AND_VALUE: &str = "vr or value";
 
 #[no_mangle]
 pub extern "C" fn fmi2GetTypesPlatform() -> *const c_char {
@@ -154,8 +78,8 @@ pub unsafe extern "C" fn fmi2Instantiate(
         return std::ptr::null_mut();
     };
     let name = unsafe { text(instanceName) }.unwrap_or_else(|| "hysteron".into());
-    let c_name = CString::new(name.replace('\0', " ")).unwrap_or_default();
-    let made = catch_unwind(AssertUnwindSafe(|| -> Result<Instance, String> {
+    let name = component::c_string(&name);
+    component::instantiate(Host { name, callbacks }, || {
         if fmuType != FMI2_CO_SIMULATION {
             return Err(
                 "only Co-Simulation is supported (fmuType must be fmi2CoSimulation)".into(),
@@ -164,32 +88,15 @@ pub unsafe extern "C" fn fmi2Instantiate(
         let guid = unsafe { text(fmuGUID) }.ok_or("fmuGUID: NULL")?;
         let resources = unsafe { text(fmuResourceLocation) }.ok_or("fmuResourceLocation: NULL")?;
         Instance::from_resources(&resources, &guid)
-    }));
-    match made {
-        Ok(Ok(inst)) => Box::into_raw(Box::new(Component {
-            name: c_name,
-            callbacks,
-            inst,
-        })) as fmi2Component,
-        Ok(Err(message)) => {
-            log_to(&callbacks, &c_name, FMI2_ERROR, &message);
-            std::ptr::null_mut()
-        }
-        Err(payload) => {
-            log_to(&callbacks, &c_name, FMI2_FATAL, &panic_text(&payload));
-            std::ptr::null_mut()
-        }
-    }
+    })
 }
 
 /// # Safety
 /// `c` is NULL or a component from `fmi2Instantiate`, not used afterwards.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2FreeInstance(c: fmi2Component) {
-    if !c.is_null() {
-        // SAFETY: made by Box::into_raw in fmi2Instantiate, freed once.
-        drop(unsafe { Box::from_raw(c as *mut Component) });
-    }
+    // SAFETY: by the contract.
+    unsafe { component::free::<Host>(c) }
 }
 
 #[no_mangle]
@@ -252,7 +159,7 @@ pub unsafe extern "C" fn fmi2GetReal(
 ) -> fmi2Status {
     with(c, |comp| {
         // SAFETY: by the contract; `value` is only written.
-        let vrs = unsafe { references(vr, value.cast_const(), nvr) }?;
+        let vrs = unsafe { pointers::references(vr, nvr, value.cast_const(), nvr, VR_AND_VALUE) }?;
         for (k, &r) in vrs.iter().enumerate() {
             // SAFETY: `value` is valid for nvr doubles (checked non-NULL).
             unsafe { *value.add(k) = comp.inst.get_real(r)? };
@@ -271,7 +178,7 @@ pub unsafe extern "C" fn fmi2SetReal(
     value: *const fmi2Real,
 ) -> fmi2Status {
     with(c, |comp| {
-        let (vrs, values) = unsafe { slices(vr, value, nvr) }?;
+        let (vrs, values) = unsafe { pointers::slices(vr, nvr, value, nvr, VR_AND_VALUE) }?;
         comp.inst.set_real(vrs, values)
     })
 }
@@ -348,31 +255,20 @@ pub extern "C" fn fmi2SetString(
 }
 
 /// # Safety
-/// `state` is NULL or points to NULL or to a state from this function.
+/// `state` is NULL or points to NULL or to a state from this function or
+/// `fmi2DeSerializeFMUstate`.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2GetFMUstate(c: fmi2Component, state: *mut fmi2FMUstate) -> fmi2Status {
-    with(c, |comp| {
-        // SAFETY: by the contract.
-        let slot = unsafe { state.as_mut() }.ok_or("FMUstate: NULL")?;
-        let snap = comp.inst.snapshot();
-        match unsafe { (*slot as *mut Snapshot).as_mut() } {
-            Some(old) => *old = snap,
-            None => *slot = Box::into_raw(Box::new(snap)) as fmi2FMUstate,
-        }
-        Ok(())
-    })
+    // SAFETY: by the contract.
+    with(c, |comp| unsafe { states::save(&comp.inst, state) })
 }
 
 /// # Safety
 /// `state` is NULL or a state from `fmi2GetFMUstate`.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2SetFMUstate(c: fmi2Component, state: fmi2FMUstate) -> fmi2Status {
-    with(c, |comp| {
-        // SAFETY: by the contract.
-        let snap = unsafe { (state as *const Snapshot).as_ref() }.ok_or("FMUstate: NULL")?;
-        comp.inst.restore(snap);
-        Ok(())
-    })
+    // SAFETY: by the contract.
+    with(c, |comp| unsafe { states::restore(&mut comp.inst, state) })
 }
 
 /// # Safety
@@ -383,13 +279,8 @@ pub unsafe extern "C" fn fmi2FreeFMUstate(
     state: *mut fmi2FMUstate,
 ) -> fmi2Status {
     with(c, |_| {
-        if let Some(slot) = unsafe { state.as_mut() } {
-            if !slot.is_null() {
-                // SAFETY: made by Box::into_raw in fmi2GetFMUstate, freed once.
-                drop(unsafe { Box::from_raw(*slot as *mut Snapshot) });
-                *slot = std::ptr::null_mut();
-            }
-        }
+        // SAFETY: by the contract.
+        unsafe { states::free(state) };
         Ok(())
     })
 }
@@ -397,17 +288,6 @@ pub unsafe extern "C" fn fmi2FreeFMUstate(
 /// Refuses a call the FMU does not support.
 fn unsupported(c: fmi2Component, what: &str) -> fmi2Status {
     with(c, |_| Err(format!("{what} is not supported by this FMU")))
-}
-
-/// The bytes of `state` ([`serial`](crate::fmu::serial)).
-///
-/// # Safety
-/// `state` is NULL or a state from `fmi2GetFMUstate` or
-/// `fmi2DeSerializeFMUstate`.
-unsafe fn state_bytes(comp: &Component, state: fmi2FMUstate) -> Result<Vec<u8>, String> {
-    // SAFETY: by the contract.
-    let snap = unsafe { (state as *const Snapshot).as_ref() }.ok_or("FMUstate: NULL")?;
-    serialize(comp.inst.start(), snap)
 }
 
 /// # Safety
@@ -419,11 +299,9 @@ pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
     state: fmi2FMUstate,
     size: *mut usize,
 ) -> fmi2Status {
-    with(c, |comp| {
-        let bytes = unsafe { state_bytes(comp, state) }?;
-        // SAFETY: by the contract.
-        *unsafe { size.as_mut() }.ok_or("size: NULL")? = bytes.len();
-        Ok(())
+    // SAFETY: by the contract.
+    with(c, |comp| unsafe {
+        states::serialized_size(&comp.inst, state, size)
     })
 }
 
@@ -437,20 +315,9 @@ pub unsafe extern "C" fn fmi2SerializeFMUstate(
     bytes: *mut fmi2Byte,
     size: usize,
 ) -> fmi2Status {
-    with(c, |comp| {
-        let data = unsafe { state_bytes(comp, state) }?;
-        if bytes.is_null() {
-            return Err("serializedState: NULL".into());
-        }
-        if size != data.len() {
-            return Err(format!(
-                "size is {size}, but the state is {} bytes (fmi2SerializedFMUstateSize)",
-                data.len()
-            ));
-        }
-        // SAFETY: `bytes` is writable for `size` = data.len() bytes.
-        unsafe { std::ptr::copy_nonoverlapping(data.as_ptr(), bytes.cast::<u8>(), size) };
-        Ok(())
+    // SAFETY: by the contract.
+    with(c, |comp| unsafe {
+        states::serialize_into(&comp.inst, state, bytes.cast(), size)
     })
 }
 
@@ -464,21 +331,9 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
     size: usize,
     state: *mut fmi2FMUstate,
 ) -> fmi2Status {
-    with(c, |comp| {
-        // SAFETY: by the contract.
-        let slot = unsafe { state.as_mut() }.ok_or("FMUstate: NULL")?;
-        let data: &[u8] = match size {
-            0 => &[],
-            _ if bytes.is_null() => return Err("serializedState: NULL".into()),
-            // SAFETY: valid for `size` bytes by the contract.
-            _ => unsafe { std::slice::from_raw_parts(bytes.cast::<u8>(), size) },
-        };
-        let snap = deserialize(comp.inst.start(), data)?;
-        match unsafe { (*slot as *mut Snapshot).as_mut() } {
-            Some(old) => *old = snap,
-            None => *slot = Box::into_raw(Box::new(snap)) as fmi2FMUstate,
-        }
-        Ok(())
+    // SAFETY: by the contract.
+    with(c, |comp| unsafe {
+        states::deserialize_from(&comp.inst, bytes.cast(), size, state)
     })
 }
 
@@ -497,16 +352,23 @@ pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
 ) -> fmi2Status {
     with(c, |comp| {
         // SAFETY: by the contract; `dvUnknown` is only written.
-        let unknowns = unsafe { references(unknown, dvUnknown.cast_const(), nUnknown) }?;
-        let (knowns, dv_known) = unsafe { slices(known, dvKnown, nKnown) }?;
+        let unknowns = unsafe {
+            pointers::references(
+                unknown,
+                nUnknown,
+                dvUnknown.cast_const(),
+                nUnknown,
+                VR_AND_VALUE,
+            )
+        }?;
+        let (knowns, dv_known) =
+            unsafe { pointers::slices(known, nKnown, dvKnown, nKnown, VR_AND_VALUE) }?;
         let dv = comp
             .inst
             .directional_derivative(unknowns, knowns, dv_known)?;
-        for (k, v) in dv.into_iter().enumerate() {
-            // SAFETY: `dvUnknown` is valid for nUnknown doubles (checked
-            // non-NULL).
-            unsafe { *dvUnknown.add(k) = v };
-        }
+        // SAFETY: `dvUnknown` is valid for nUnknown = dv.len() doubles
+        // (checked non-NULL).
+        unsafe { pointers::write(dvUnknown, &dv) };
         Ok(())
     })
 }

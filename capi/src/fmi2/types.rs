@@ -15,11 +15,9 @@ pub type fmi2String = *const c_char;
 pub type fmi2Byte = c_char;
 
 /// `fmi2Status`, passed as a C `int` (as `fmi2Type` and
-/// `fmi2StatusKind`: a value the FMU does not know must not be UB).
+/// `fmi2StatusKind`: a value the FMU does not know must not be UB); the
+/// FMU's are the codes of [`Outcome`](crate::fmu::component::Outcome).
 pub type fmi2Status = c_int;
-pub const FMI2_OK: fmi2Status = 0;
-pub const FMI2_ERROR: fmi2Status = 3;
-pub const FMI2_FATAL: fmi2Status = 4;
 
 /// `fmi2Type`: only co-simulation is supported.
 pub const FMI2_CO_SIMULATION: c_int = 1;

@@ -6,136 +6,117 @@
 
 use super::description::VR_TIME;
 use super::types::*;
-use crate::fmu::instance::{Instance, Mode, Snapshot};
-use crate::fmu::serial::{deserialize, serialize};
-use crate::fmu::Fmi;
-use crate::status::panic_text;
-use std::ffi::{c_char, CStr, CString};
+use super::variables::Variables;
+use crate::fmu::component::{self, Host as _, Outcome};
+use crate::fmu::description::LOG_CATEGORY;
+use crate::fmu::instance::{Instance, Mode};
+use crate::fmu::pointers::{self, put, text};
+use crate::fmu::{states, Fmi};
+use std::borrow::Cow;
+use std::cell::OnceCell;
+use std::ffi::c_char;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::PathBuf;
 
-/// The host's logger and its environment.
-#[derive(Clone, Copy)]
-struct Logger {
+/// What an FMI 3.0 instance keeps beside its model: the host's logger and
+/// the environment to pass it, and the instance's parameter variables.
+struct Host {
     environment: fmi3InstanceEnvironment,
     log: Option<fmi3LogMessageCallback>,
+    /// Worked out at the first call that needs them.
+    variables: OnceCell<Variables>,
 }
 
-impl Logger {
-    fn log(&self, status: fmi3Status, message: &str) {
+impl Host {
+    fn new(environment: fmi3InstanceEnvironment, log: Option<fmi3LogMessageCallback>) -> Host {
+        Host {
+            environment,
+            log,
+            variables: OnceCell::new(),
+        }
+    }
+
+    /// The parameter variables of `inst`.
+    fn variables(&self, inst: &Instance) -> &Variables {
+        self.variables.get_or_init(|| {
+            let names = inst.start().names().iter();
+            Variables::of(&names.map(|n| n.to_string_lossy()).collect::<Vec<_>>())
+        })
+    }
+}
+
+impl component::Host for Host {
+    fn log(&self, outcome: Outcome, message: &str) {
         let Some(log) = self.log else {
             return;
         };
-        let text = CString::new(message.replace('\0', " ")).unwrap_or_default();
+        let text = component::c_string(message);
         // SAFETY: the host's logger, with NUL-terminated strings that live
         // through the call (FMI 3.0 messages are plain text, no format).
         unsafe {
             log(
                 self.environment,
-                status,
-                c"logStatusError".as_ptr(),
+                outcome.code(),
+                LOG_CATEGORY.as_ptr(),
                 text.as_ptr(),
             )
         };
     }
 }
 
-/// An instance with the host's logger.
-struct Component {
-    logger: Logger,
-    inst: Instance,
+/// An FMI 3.0 instance: what an `fmi3Instance` points to.
+type Component = component::Component<Host>;
+
+/// Runs `body` on `instance` under the guard of [`component::with`].
+fn with(
+    instance: fmi3Instance,
+    body: impl FnOnce(&mut Component) -> Result<(), String>,
+) -> fmi3Status {
+    component::with(instance, body).code()
 }
 
-/// Runs `body` on the instance `c`: NULL is `fmi3Error`, an `Err` is
-/// logged and `fmi3Error`, a panic is logged and `fmi3Fatal`.
-fn with(c: fmi3Instance, body: impl FnOnce(&mut Component) -> Result<(), String>) -> fmi3Status {
-    // SAFETY: `c` is NULL or an instance from fmi3InstantiateCoSimulation,
-    // used by one thread at a time (FMI 3.0 §2.2.1).
-    let Some(comp) = (unsafe { (c as *mut Component).as_mut() }) else {
-        return FMI3_ERROR;
-    };
-    match catch_unwind(AssertUnwindSafe(|| body(comp))) {
-        Ok(Ok(())) => FMI3_OK,
-        Ok(Err(message)) => {
-            comp.logger.log(FMI3_ERROR, &message);
-            FMI3_ERROR
-        }
-        Err(payload) => {
-            comp.logger.log(
-                FMI3_FATAL,
-                &format!(
-                    "internal error (a bug in hysteron): {}",
-                    panic_text(&payload)
-                ),
-            );
-            FMI3_FATAL
-        }
-    }
-}
+/// What the pointers of a value-reference call are called in messages.
+const VR_AND_VALUES: &str = "valueReferences or values";
 
-/// `*ptr` as text, for messages, names and paths.
-///
-/// # Safety
-/// `ptr` is NULL or NUL-terminated.
-unsafe fn text(ptr: fmi3String) -> Option<String> {
-    if ptr.is_null() {
-        return None;
-    }
-    // SAFETY: NUL-terminated by the contract.
-    Some(
-        unsafe { CStr::from_ptr(ptr) }
-            .to_string_lossy()
-            .into_owned(),
-    )
-}
-
-/// `(vr, nvr)` as a slice, for `n` values at `values`: every variable of
-/// the FMU is a scalar, so `n` must be `nvr`; for `n > 0` neither pointer
-/// may be NULL. The values are not read (an array to be written may be
-/// uninitialized).
+/// The flat value references (those of the FMI 2.0 FMU) that the `nvr`
+/// variables at `vr` hold, in the order of their values: an array's
+/// elements in row-major order. There must be as many as the `n` values
+/// at `values` (which are not read: an array to be written may be
+/// uninitialized), and neither pointer may be NULL where it has elements.
+/// Scalars alone (the input and output a host sets and gets every step)
+/// are the host's own array.
 ///
 /// # Safety
 /// For `nvr > 0`, `vr` is NULL or valid for `nvr` elements.
-unsafe fn references<'a, T>(
+unsafe fn flat_references<'a, T>(
+    comp: &Component,
     vr: *const fmi3ValueReference,
     nvr: usize,
     values: *const T,
     n: usize,
-) -> Result<&'a [u32], String> {
-    if n != nvr {
+) -> Result<Cow<'a, [u32]>, String> {
+    // SAFETY: by the contract.
+    let vrs = unsafe { pointers::references(vr, nvr, values, n, VR_AND_VALUES) }?;
+    let variables = comp.host.variables(&comp.inst);
+    // Made at the first array: until then each variable is its own
+    // element.
+    let mut arrays: Option<Vec<u32>> = None;
+    for (k, &vr) in vrs.iter().enumerate() {
+        let elements = variables.elements(vr)?;
+        match &mut arrays {
+            Some(flat) => flat.extend(elements),
+            None if elements == (vr..vr + 1) => {}
+            None => arrays = Some(vrs[..k].iter().copied().chain(elements).collect()),
+        }
+    }
+    let flat = arrays.map_or(Cow::Borrowed(vrs), Cow::Owned);
+    if flat.len() != n {
         return Err(format!(
-            "{n} values for {nvr} value references: every variable is a scalar"
+            "{n} values for {nvr} value references holding {}",
+            flat.len()
         ));
     }
-    if n == 0 {
-        return Ok(&[]);
-    }
-    if vr.is_null() || values.is_null() {
-        return Err("valueReferences or values: NULL".into());
-    }
-    // SAFETY: non-NULL and valid for n = nvr elements by the contract.
-    Ok(unsafe { std::slice::from_raw_parts(vr, n) })
-}
-
-/// `(vr, nvr)` and `(values, n)` as slices, checked as by [`references`].
-///
-/// # Safety
-/// For `nvr > 0` and `n > 0` the pointers are NULL or valid for `nvr` and
-/// `n` initialized elements.
-unsafe fn slices<'a, T>(
-    vr: *const fmi3ValueReference,
-    nvr: usize,
-    values: *const T,
-    n: usize,
-) -> Result<(&'a [u32], &'a [T]), String> {
-    // SAFETY: by the contract.
-    let vrs = unsafe { references(vr, nvr, values, n) }?;
-    if vrs.is_empty() {
-        return Ok((&[], &[]));
-    }
-    // SAFETY: `values` is non-NULL (checked) and valid for n initialized
-    // elements by the contract.
-    Ok((vrs, unsafe { std::slice::from_raw_parts(values, n) }))
+    Ok(flat)
 }
 
 #[no_mangle]
@@ -171,11 +152,7 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
     logMessage: Option<fmi3LogMessageCallback>,
     _intermediateUpdate: Option<fmi3IntermediateUpdateCallback>,
 ) -> fmi3Instance {
-    let logger = Logger {
-        environment: instanceEnvironment,
-        log: logMessage,
-    };
-    let made = catch_unwind(AssertUnwindSafe(|| -> Result<Instance, String> {
+    component::instantiate(Host::new(instanceEnvironment, logMessage), || {
         if eventModeUsed {
             return Err("eventModeUsed: the FMU has no Event Mode (hasEventMode is false)".into());
         }
@@ -190,18 +167,7 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
         let resources = unsafe { text(resourcePath) }
             .ok_or("resourcePath: NULL (the FMU's spec is resources/model.json)")?;
         Instance::from_resource_dir(&PathBuf::from(resources), &token, Fmi::V3)
-    }));
-    match made {
-        Ok(Ok(inst)) => Box::into_raw(Box::new(Component { logger, inst })) as fmi3Instance,
-        Ok(Err(message)) => {
-            logger.log(FMI3_ERROR, &message);
-            std::ptr::null_mut()
-        }
-        Err(payload) => {
-            logger.log(FMI3_FATAL, &panic_text(&payload));
-            std::ptr::null_mut()
-        }
-    }
+    })
 }
 
 /// Refuses an interface the FMU does not implement: NULL, with a message.
@@ -210,44 +176,45 @@ fn refuse_instance(
     log: Option<fmi3LogMessageCallback>,
     what: &str,
 ) -> fmi3Instance {
-    let logger = Logger { environment, log };
+    let host = Host::new(environment, log);
     // A panic in the host's logger must not cross back into C.
     let _ = catch_unwind(AssertUnwindSafe(|| {
-        logger.log(
-            FMI3_ERROR,
+        host.log(
+            Outcome::Error,
             &format!("{what} is not supported by this FMU: it is a Co-Simulation FMU"),
         )
     }));
     std::ptr::null_mut()
 }
 
-#[no_mangle]
-pub extern "C" fn fmi3InstantiateModelExchange(
-    _instanceName: fmi3String,
-    _instantiationToken: fmi3String,
-    _resourcePath: fmi3String,
-    _visible: fmi3Boolean,
-    _loggingOn: fmi3Boolean,
-    instanceEnvironment: fmi3InstanceEnvironment,
-    logMessage: Option<fmi3LogMessageCallback>,
-) -> fmi3Instance {
-    refuse_instance(instanceEnvironment, logMessage, "Model Exchange")
+/// The instantiation functions of the interfaces the FMU does not
+/// implement: the arguments the standard gives them all, then each one's
+/// own; each returns NULL with a message.
+macro_rules! refused_interfaces {
+    ($($name:ident($($arg:ident: $t:ty),*) => $what:literal;)*) => {$(
+        #[no_mangle]
+        pub extern "C" fn $name(
+            _instanceName: fmi3String,
+            _instantiationToken: fmi3String,
+            _resourcePath: fmi3String,
+            _visible: fmi3Boolean,
+            _loggingOn: fmi3Boolean,
+            instanceEnvironment: fmi3InstanceEnvironment,
+            logMessage: Option<fmi3LogMessageCallback>,
+            $($arg: $t),*
+        ) -> fmi3Instance {
+            refuse_instance(instanceEnvironment, logMessage, $what)
+        }
+    )*};
 }
 
-#[no_mangle]
-pub extern "C" fn fmi3InstantiateScheduledExecution(
-    _instanceName: fmi3String,
-    _instantiationToken: fmi3String,
-    _resourcePath: fmi3String,
-    _visible: fmi3Boolean,
-    _loggingOn: fmi3Boolean,
-    instanceEnvironment: fmi3InstanceEnvironment,
-    logMessage: Option<fmi3LogMessageCallback>,
-    _clockUpdate: Option<fmi3ClockUpdateCallback>,
-    _lockPreemption: Option<fmi3PreemptionCallback>,
-    _unlockPreemption: Option<fmi3PreemptionCallback>,
-) -> fmi3Instance {
-    refuse_instance(instanceEnvironment, logMessage, "Scheduled Execution")
+refused_interfaces! {
+    fmi3InstantiateModelExchange() => "Model Exchange";
+    fmi3InstantiateScheduledExecution(
+        _clockUpdate: Option<fmi3ClockUpdateCallback>,
+        _lockPreemption: Option<fmi3PreemptionCallback>,
+        _unlockPreemption: Option<fmi3PreemptionCallback>
+    ) => "Scheduled Execution";
 }
 
 /// # Safety
@@ -255,11 +222,8 @@ pub extern "C" fn fmi3InstantiateScheduledExecution(
 /// not used afterwards.
 #[no_mangle]
 pub unsafe extern "C" fn fmi3FreeInstance(instance: fmi3Instance) {
-    if !instance.is_null() {
-        // SAFETY: made by Box::into_raw in fmi3InstantiateCoSimulation,
-        // freed once.
-        drop(unsafe { Box::from_raw(instance as *mut Component) });
-    }
+    // SAFETY: by the contract.
+    unsafe { component::free::<Host>(instance) }
 }
 
 #[no_mangle]
@@ -324,26 +288,25 @@ pub unsafe extern "C" fn fmi3GetFloat64(
 ) -> fmi3Status {
     with(instance, |comp| {
         // SAFETY: by the contract; `values` is only written.
-        let vrs = unsafe {
-            references(
+        let flat = unsafe {
+            flat_references(
+                comp,
                 valueReferences,
                 nValueReferences,
                 values.cast_const(),
                 nValues,
             )
         }?;
-        let got = vrs
+        let got = flat
             .iter()
             .map(|&vr| match vr {
                 VR_TIME => Ok(comp.inst.time()),
                 _ => comp.inst.get_real(vr),
             })
             .collect::<Result<Vec<f64>, String>>()?;
-        for (k, v) in got.into_iter().enumerate() {
-            // SAFETY: `values` is valid for nValues = nValueReferences
-            // doubles (checked non-NULL).
-            unsafe { *values.add(k) = v };
-        }
+        // SAFETY: `values` is valid for nValues = got.len() doubles
+        // (checked non-NULL).
+        unsafe { pointers::write(values, &got) };
         Ok(())
     })
 }
@@ -361,11 +324,15 @@ pub unsafe extern "C" fn fmi3SetFloat64(
 ) -> fmi3Status {
     with(instance, |comp| {
         // SAFETY: by the contract.
-        let (vrs, values) = unsafe { slices(valueReferences, nValueReferences, values, nValues) }?;
-        if vrs.contains(&VR_TIME) {
+        let flat =
+            unsafe { flat_references(comp, valueReferences, nValueReferences, values, nValues) }?;
+        if flat.contains(&VR_TIME) {
             return Err("time is the independent variable; it cannot be set".into());
         }
-        comp.inst.set_real(vrs, values)
+        // SAFETY: valid for nValues = flat.len() values (checked non-NULL
+        // where there are any) by the contract.
+        let values = unsafe { pointers::values(values, nValues) };
+        comp.inst.set_real(&flat, values)
     })
 }
 
@@ -466,18 +433,6 @@ pub extern "C" fn fmi3SetClock(
     no_variables(instance, nValueReferences, "Clock")
 }
 
-/// Stores `snap` in the slot `*slot`: over the state there, or new.
-///
-/// # Safety
-/// `*slot` is NULL or a state from this module.
-unsafe fn store(slot: &mut fmi3FMUState, snap: Snapshot) {
-    // SAFETY: NULL or a Snapshot made by Box::into_raw below.
-    match unsafe { (*slot as *mut Snapshot).as_mut() } {
-        Some(old) => *old = snap,
-        None => *slot = Box::into_raw(Box::new(snap)) as fmi3FMUState,
-    }
-}
-
 /// # Safety
 /// `FMUState` is NULL or points to NULL or to a state from this function
 /// or `fmi3DeserializeFMUState`.
@@ -486,12 +441,9 @@ pub unsafe extern "C" fn fmi3GetFMUState(
     instance: fmi3Instance,
     FMUState: *mut fmi3FMUState,
 ) -> fmi3Status {
-    with(instance, |comp| {
-        // SAFETY: by the contract.
-        let slot = unsafe { FMUState.as_mut() }.ok_or("FMUState: NULL")?;
-        // SAFETY: `*slot` is NULL or a state of this module by the contract.
-        unsafe { store(slot, comp.inst.snapshot()) };
-        Ok(())
+    // SAFETY: by the contract.
+    with(instance, |comp| unsafe {
+        states::save(&comp.inst, FMUState)
     })
 }
 
@@ -503,11 +455,9 @@ pub unsafe extern "C" fn fmi3SetFMUState(
     instance: fmi3Instance,
     FMUState: fmi3FMUState,
 ) -> fmi3Status {
-    with(instance, |comp| {
-        // SAFETY: by the contract.
-        let snap = unsafe { (FMUState as *const Snapshot).as_ref() }.ok_or("FMUState: NULL")?;
-        comp.inst.restore(snap);
-        Ok(())
+    // SAFETY: by the contract.
+    with(instance, |comp| unsafe {
+        states::restore(&mut comp.inst, FMUState)
     })
 }
 
@@ -521,26 +471,9 @@ pub unsafe extern "C" fn fmi3FreeFMUState(
 ) -> fmi3Status {
     with(instance, |_| {
         // SAFETY: by the contract.
-        if let Some(slot) = unsafe { FMUState.as_mut() } {
-            if !slot.is_null() {
-                // SAFETY: made by Box::into_raw in `store`, freed once.
-                drop(unsafe { Box::from_raw(*slot as *mut Snapshot) });
-                *slot = std::ptr::null_mut();
-            }
-        }
+        unsafe { states::free(FMUState) };
         Ok(())
     })
-}
-
-/// The bytes of `state` ([`serial`](crate::fmu::serial)).
-///
-/// # Safety
-/// `state` is NULL or a state from `fmi3GetFMUState` or
-/// `fmi3DeserializeFMUState`.
-unsafe fn state_bytes(comp: &Component, state: fmi3FMUState) -> Result<Vec<u8>, String> {
-    // SAFETY: by the contract.
-    let snap = unsafe { (state as *const Snapshot).as_ref() }.ok_or("FMUState: NULL")?;
-    serialize(comp.inst.start(), snap)
 }
 
 /// # Safety
@@ -552,12 +485,9 @@ pub unsafe extern "C" fn fmi3SerializedFMUStateSize(
     FMUState: fmi3FMUState,
     size: *mut usize,
 ) -> fmi3Status {
-    with(instance, |comp| {
-        // SAFETY: by the contract.
-        let bytes = unsafe { state_bytes(comp, FMUState) }?;
-        // SAFETY: `size` is NULL or writable by the contract.
-        *unsafe { size.as_mut() }.ok_or("size: NULL")? = bytes.len();
-        Ok(())
+    // SAFETY: by the contract.
+    with(instance, |comp| unsafe {
+        states::serialized_size(&comp.inst, FMUState, size)
     })
 }
 
@@ -571,22 +501,9 @@ pub unsafe extern "C" fn fmi3SerializeFMUState(
     serializedState: *mut fmi3Byte,
     size: usize,
 ) -> fmi3Status {
-    with(instance, |comp| {
-        // SAFETY: by the contract.
-        let data = unsafe { state_bytes(comp, FMUState) }?;
-        if serializedState.is_null() {
-            return Err("serializedState: NULL".into());
-        }
-        if size != data.len() {
-            return Err(format!(
-                "size is {size}, but the state is {} bytes (fmi3SerializedFMUStateSize)",
-                data.len()
-            ));
-        }
-        // SAFETY: `serializedState` is writable for `size` = data.len()
-        // bytes.
-        unsafe { std::ptr::copy_nonoverlapping(data.as_ptr(), serializedState, size) };
-        Ok(())
+    // SAFETY: by the contract.
+    with(instance, |comp| unsafe {
+        states::serialize_into(&comp.inst, FMUState, serializedState, size)
     })
 }
 
@@ -600,19 +517,9 @@ pub unsafe extern "C" fn fmi3DeserializeFMUState(
     size: usize,
     FMUState: *mut fmi3FMUState,
 ) -> fmi3Status {
-    with(instance, |comp| {
-        // SAFETY: by the contract.
-        let slot = unsafe { FMUState.as_mut() }.ok_or("FMUState: NULL")?;
-        let data: &[u8] = match size {
-            0 => &[],
-            _ if serializedState.is_null() => return Err("serializedState: NULL".into()),
-            // SAFETY: valid for `size` bytes by the contract.
-            _ => unsafe { std::slice::from_raw_parts(serializedState, size) },
-        };
-        let snap = deserialize(comp.inst.start(), data)?;
-        // SAFETY: `*slot` is NULL or a state of this module by the contract.
-        unsafe { store(slot, snap) };
-        Ok(())
+    // SAFETY: by the contract.
+    with(instance, |comp| unsafe {
+        states::deserialize_from(&comp.inst, serializedState, size, FMUState)
     })
 }
 
@@ -633,31 +540,28 @@ pub unsafe extern "C" fn fmi3GetDirectionalDerivative(
 ) -> fmi3Status {
     with(instance, |comp| {
         // SAFETY: by the contract; `sensitivity` is only written.
-        let unknown =
-            unsafe { references(unknowns, nUnknowns, sensitivity.cast_const(), nSensitivity) }
-                .map_err(|e| format!("unknowns and sensitivity: {e}"))?;
-        // SAFETY: by the contract.
-        let (known, seed) = unsafe { slices(knowns, nKnowns, seed, nSeed) }
-            .map_err(|e| format!("knowns and seed: {e}"))?;
-        let dv = comp.inst.directional_derivative(unknown, known, seed)?;
-        for (k, v) in dv.into_iter().enumerate() {
-            // SAFETY: `sensitivity` is valid for nSensitivity = nUnknowns
-            // doubles (checked non-NULL).
-            unsafe { *sensitivity.add(k) = v };
+        let unknown = unsafe {
+            flat_references(
+                comp,
+                unknowns,
+                nUnknowns,
+                sensitivity.cast_const(),
+                nSensitivity,
+            )
         }
+        .map_err(|e| format!("unknowns and sensitivity: {e}"))?;
+        // SAFETY: by the contract.
+        let known = unsafe { flat_references(comp, knowns, nKnowns, seed, nSeed) }
+            .map_err(|e| format!("knowns and seed: {e}"))?;
+        // SAFETY: valid for nSeed = known.len() values (checked non-NULL
+        // where there are any) by the contract.
+        let seed = unsafe { pointers::values(seed, nSeed) };
+        let dv = comp.inst.directional_derivative(&unknown, &known, seed)?;
+        // SAFETY: `sensitivity` is valid for nSensitivity = unknown.len() =
+        // dv.len() doubles (checked non-NULL).
+        unsafe { pointers::write(sensitivity, &dv) };
         Ok(())
     })
-}
-
-/// Writes `value` to `*ptr` unless `ptr` is NULL.
-///
-/// # Safety
-/// `ptr` is NULL or writable.
-unsafe fn put<T>(ptr: *mut T, value: T) {
-    // SAFETY: by the contract.
-    if let Some(slot) = unsafe { ptr.as_mut() } {
-        *slot = value;
-    }
 }
 
 /// # Safety

@@ -5,14 +5,16 @@
 //! `binaries/x86_64-linux/<id>.so`, the model's spec as
 //! `resources/model.json` (read by `fmi3InstantiateCoSimulation` from the
 //! resource path it is given), and a description whose variables are
-//! those of the FMI 2.0 FMU under the same value references, plus the
-//! independent variable FMI 3.0 requires:
+//! those of the FMI 2.0 FMU under the same value references, a vector
+//! parameter as one array, plus the independent variable FMI 3.0
+//! requires:
 //!
 //! | value reference | name | causality |
 //! |---|---|---|
 //! | 0 | `x` | input (continuous Float64, start 0) |
 //! | 1 | `y` | output (continuous Float64) |
 //! | 2 + i | parameter path `i` (`left.mms.f_c`) | tunable Float64 parameter, start = the spec's value |
+//! | 2 + i | a vector parameter's path (`pi_bank.w`), `i` the index of its first element | tunable Float64 array of fixed size (`<Dimension start="n"/>`), start = the spec's values |
 //! | 2147483647 | `time` | independent |
 //!
 //! The instantiation token is the FMI 2.0 GUID of the spec.
@@ -40,8 +42,14 @@
 //! has no variables of succeed with no value references and fail with any.
 //! No panic crosses the C boundary; instances are independent.
 //!
-//! Every variable is a scalar: arrays (a Prandtl-Ishlinskii bank's
-//! weights as one Float64 array) are not described yet.
+//! An array's values are read and written through its value reference,
+//! all at once, in row-major order: `nValues` of `fmi3GetFloat64` and
+//! `fmi3SetFloat64` is the sum of the sizes of the variables asked for,
+//! and the seed and sensitivity of `fmi3GetDirectionalDerivative` have one
+//! value per element of the knowns and unknowns. Any other count, and the
+//! value reference of an array's later element or of no variable, is
+//! `fmi3Error` with a message. Which parameters become arrays: see
+//! `variables`.
 //!
 //! # Reference
 //! Modelica Association, *Functional Mock-up Interface Specification*,
@@ -50,5 +58,6 @@
 mod description;
 mod exports;
 mod types;
+mod variables;
 
 pub use description::{model_description, VR_TIME};

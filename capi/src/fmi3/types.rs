@@ -26,11 +26,9 @@ pub type fmi3Byte = u8;
 pub type fmi3Binary = *const fmi3Byte;
 pub type fmi3Clock = bool;
 
-/// `fmi3Status`, returned as a C `int`.
+/// `fmi3Status`, returned as a C `int`: the codes of
+/// [`Outcome`](crate::fmu::component::Outcome).
 pub type fmi3Status = c_int;
-pub const FMI3_OK: fmi3Status = 0;
-pub const FMI3_ERROR: fmi3Status = 3;
-pub const FMI3_FATAL: fmi3Status = 4;
 
 /// `fmi3DependencyKind` and `fmi3IntervalQualifier`, C enums: taken as
 /// `int` (a value the FMU does not know must not be UB).

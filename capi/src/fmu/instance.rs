@@ -124,6 +124,11 @@ impl Instance {
         self
     }
 
+    /// The FMI version whose function names the messages use.
+    pub fn api(&self) -> Fmi {
+        self.api
+    }
+
     pub fn mode(&self) -> Mode {
         self.now.mode
     }
@@ -140,9 +145,7 @@ impl Instance {
             Fmi::V2 => "fmi2SetupExperiment",
             Fmi::V3 => "fmi3EnterInitializationMode",
         };
-        if self.now.mode != Mode::Instantiated {
-            return Err(format!("{f}: only after instantiation or reset"));
-        }
+        self.expect_mode(Mode::Instantiated, f, "only after instantiation or reset")?;
         if !start_time.is_finite() {
             return Err(format!("{f}: startTime {start_time} is not finite"));
         }
@@ -150,25 +153,26 @@ impl Instance {
         Ok(())
     }
 
-    pub fn enter_initialization(&mut self) -> Result<(), String> {
-        if self.now.mode != Mode::Instantiated {
-            return Err(format!(
-                "{}: only after instantiation or reset",
-                self.api.function("EnterInitializationMode")
-            ));
+    /// `Ok` in `mode`; otherwise the error `"{function}: {otherwise}"`.
+    fn expect_mode(&self, mode: Mode, function: &str, otherwise: &str) -> Result<(), String> {
+        if self.now.mode == mode {
+            Ok(())
+        } else {
+            Err(format!("{function}: {otherwise}"))
         }
+    }
+
+    pub fn enter_initialization(&mut self) -> Result<(), String> {
+        let f = self.api.function("EnterInitializationMode");
+        self.expect_mode(Mode::Instantiated, &f, "only after instantiation or reset")?;
         self.now.mode = Mode::Initialization;
         Ok(())
     }
 
     /// Leaves initialization: `y` is the model's initial output.
     pub fn exit_initialization(&mut self) -> Result<(), String> {
-        if self.now.mode != Mode::Initialization {
-            return Err(format!(
-                "{}: not in initialization mode",
-                self.api.function("ExitInitializationMode")
-            ));
-        }
+        let f = self.api.function("ExitInitializationMode");
+        self.expect_mode(Mode::Initialization, &f, "not in initialization mode")?;
         self.now.y = self.initial_output()?;
         self.now.mode = Mode::Stepping;
         Ok(())

@@ -2,14 +2,22 @@
 //! layout, the GUID (FMI 3: instantiation token) that ties a description
 //! to its spec, the instance state machine (`instance`), FMU states as
 //! bytes (`serial`) and the exact directional derivatives
-//! (`derivatives`). The C functions around them are in
-//! [`fmi2`](crate::fmi2) and [`fmi3`](crate::fmi3); both describe the same
-//! variables under the same value references, so a host moves from one to
-//! the other without renumbering.
+//! (`derivatives`); at the C boundary, the instance behind the host's
+//! handle and the panic guard of every call (`component`), the host's
+//! strings and arrays (`pointers`) and FMU states behind handles
+//! (`states`); and what the two `modelDescription.xml` say alike
+//! (`description`). The C functions around them, and the XML each
+//! version writes, are in [`fmi2`](crate::fmi2) and [`fmi3`](crate::fmi3);
+//! both describe the same variables under the same value references, so a
+//! host moves from one to the other without renumbering.
 
+pub(crate) mod component;
 pub(crate) mod derivatives;
+pub(crate) mod description;
 pub(crate) mod instance;
+pub(crate) mod pointers;
 pub(crate) mod serial;
+pub(crate) mod states;
 
 /// The FMI version whose function and type names an instance's messages
 /// use.
@@ -41,6 +49,15 @@ impl Fmi {
     /// The function that sets them: `fmi2SetReal` or `fmi3SetFloat64`.
     pub fn set_real(self) -> String {
         self.function(&format!("Set{}", self.real()))
+    }
+
+    /// How the version spells an FMU state in its names: `FMUstate`
+    /// (`fmi2GetFMUstate`) or `FMUState` (`fmi3GetFMUState`).
+    pub fn fmu_state(self) -> &'static str {
+        match self {
+            Fmi::V2 => "FMUstate",
+            Fmi::V3 => "FMUState",
+        }
     }
 }
 
@@ -75,22 +92,6 @@ pub fn guid(json: &str) -> String {
     )
 }
 
-/// Escapes `text` for an XML attribute.
-pub(crate) fn attr(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            c => out.push(c),
-        }
-    }
-    out
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -114,5 +115,8 @@ mod tests {
         assert_eq!(Fmi::V2.function("DoStep"), "fmi2DoStep");
         assert_eq!(Fmi::V3.set_real(), "fmi3SetFloat64");
         assert_eq!(Fmi::V2.set_real(), "fmi2SetReal");
+        let size = |api: Fmi| api.function(&format!("Serialized{}Size", api.fmu_state()));
+        assert_eq!(size(Fmi::V2), "fmi2SerializedFMUstateSize");
+        assert_eq!(size(Fmi::V3), "fmi3SerializedFMUStateSize");
     }
 }
