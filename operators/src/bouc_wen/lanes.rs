@@ -59,7 +59,7 @@ pub struct BoucWenLanes {
 /// reversal `z_a`), with the terms the spring precomputes there. The lanes
 /// do the operations of the spring's own loop in the same order, with no
 /// fused multiply-add, and the exponential is the spring's own branch-free
-/// kernel ([`crate::exp_kernel::exp`]), so every lane's outputs are the
+/// kernel (`exp_kernel::exp`), so every lane's outputs are the
 /// bits of the instance alone, on every instruction set, while the
 /// exponentials, comparisons, selects, products and sums run [`WIDTH`]
 /// lanes per instruction. A reversal (starting each lane's branch, a
