@@ -18,6 +18,9 @@ pub struct Model {
     spec: Spec,
     op: Box<dyn Operator<f64>>,
     names: Vec<CString>,
+    /// `spec.missing_period()`, kept with the spec: every step asks it,
+    /// and walking the spec costs several times the step itself.
+    missing_period: Option<String>,
 }
 
 impl Clone for Model {
@@ -26,6 +29,7 @@ impl Clone for Model {
             spec: self.spec.clone(),
             op: dyn_clone::clone_box(self.op.as_ref()),
             names: self.names.clone(),
+            missing_period: self.missing_period.clone(),
         }
     }
 }
@@ -34,7 +38,8 @@ impl Model {
     /// Builds the model of a spec (with a stand-in period where it leaves
     /// the period out, until one is given).
     pub fn new(spec: Spec) -> std::result::Result<Model, SpecError> {
-        let op = match spec.missing_period() {
+        let missing_period = spec.missing_period();
+        let op = match missing_period {
             Some(_) => spec.or_dt(Spec::STAND_IN_DT).build()?,
             None => spec.build()?,
         };
@@ -44,7 +49,12 @@ impl Model {
             // Parameter paths are identifiers and dots: never a NUL.
             .map(|n| CString::new(n).unwrap_or_default())
             .collect();
-        Ok(Model { spec, op, names })
+        Ok(Model {
+            spec,
+            op,
+            names,
+            missing_period,
+        })
     }
 
     /// Builds the model of a JSON spec.
@@ -70,7 +80,7 @@ impl Model {
     /// The operator, to run samples through: an error naming the node
     /// whose sample period is still missing, if one is.
     pub fn running(&mut self) -> std::result::Result<&mut dyn Operator<f64>, SpecError> {
-        if let Some(node) = self.spec.missing_period() {
+        if let Some(node) = &self.missing_period {
             return Err(SpecError::MissingPeriod {
                 path: format!("{node}.dt"),
             });
@@ -93,6 +103,7 @@ impl Model {
         self.op.set_sample_period(dt)?;
         if self.spec.is_rate_dependent() {
             self.spec = self.spec.with_dt(dt);
+            self.missing_period = self.spec.missing_period();
         }
         Ok(())
     }

@@ -205,16 +205,20 @@ impl Instance {
     /// `h` that differs from the current sample period by more than
     /// [`SAME_PERIOD`] (relative) becomes the new period.
     pub fn do_step(&mut self, t: f64, h: f64) -> Result<(), String> {
-        let f = self.api.function("DoStep");
+        // (the name only on an error: a step allocates nothing)
+        let api = self.api;
+        let f = move || api.function("DoStep");
         if self.now.mode != Mode::Stepping {
             return Err(format!(
-                "{f}: only after {}",
+                "{}: only after {}",
+                f(),
                 self.api.function("ExitInitializationMode")
             ));
         }
         if !(h > 0.0 && h.is_finite() && t.is_finite()) {
             return Err(format!(
-                "{f}: communicationStepSize must be positive and finite (got {h} at t = {t})"
+                "{}: communicationStepSize must be positive and finite (got {h} at t = {t})",
+                f()
             ));
         }
         let s = &mut self.now;
@@ -226,13 +230,13 @@ impl Instance {
         if !same {
             s.model
                 .set_sample_period(h)
-                .map_err(|e| format!("{f} at t = {t}: step size {h}: {e}"))?;
+                .map_err(|e| format!("{} at t = {t}: step size {h}: {e}", f()))?;
             s.period = Some(h);
         }
         s.y = s
             .model
             .step(s.x)
-            .map_err(|e| format!("{f} at t = {t} (input x = {}): {e}", s.x))?;
+            .map_err(|e| format!("{} at t = {t} (input x = {}): {e}", f(), s.x))?;
         // The period the sample ran at (not `h`, which may be a few ulps
         // off it): a replay then sets the very same periods.
         s.history.push((s.x, s.period.unwrap_or(h)));
