@@ -1,7 +1,7 @@
 //! The FMI 2.0 `modelDescription.xml` of a model.
 
 use crate::fmu::description::{
-    attr, identity, parameters, LOG_CATEGORIES, X_DESCRIPTION, Y_DESCRIPTION,
+    attr, identity, parameters, structured_name, LOG_CATEGORIES, X_DESCRIPTION, Y_DESCRIPTION,
 };
 use crate::fmu::{Fmi, VR_X, VR_Y};
 use crate::model::Model;
@@ -28,7 +28,7 @@ pub fn model_description(model: &Model, json: &str, model_name: &str, identifier
         let _ = writeln!(
             xml,
             r#"    <ScalarVariable name="{}" valueReference="{}" causality="parameter" variability="tunable" initial="exact" description="{}"><Real start="{:?}"/></ScalarVariable>"#,
-            attr(&p.name),
+            attr(&structured_name(&p.name)),
             p.value_reference,
             attr(&p.description),
             p.start

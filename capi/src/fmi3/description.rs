@@ -2,7 +2,8 @@
 
 use super::variables::variables;
 use crate::fmu::description::{
-    attr, identity, parameters, tied_note, Parameter, LOG_CATEGORIES, X_DESCRIPTION, Y_DESCRIPTION,
+    attr, identity, parameters, structured_name, tied_note, Parameter, LOG_CATEGORIES,
+    X_DESCRIPTION, Y_DESCRIPTION,
 };
 use crate::fmu::{Fmi, VR_X, VR_Y};
 use crate::model::Model;
@@ -49,7 +50,7 @@ pub fn model_description(model: &Model, json: &str, model_name: &str, identifier
         let _ = write!(
             xml,
             r#"    <Float64 name="{}" valueReference="{}" causality="parameter" variability="tunable" initial="exact" start="{}" description="{}""#,
-            attr(&v.name),
+            attr(&structured_name(&v.name)),
             v.value_reference(),
             start.join(" "),
             attr(&description),

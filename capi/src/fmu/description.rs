@@ -89,6 +89,14 @@ pub fn parameters(model: &Model, api: Fmi) -> Vec<Parameter> {
         .collect()
 }
 
+/// A parameter's path as an FMI variable name under the structured naming
+/// convention, whose array subscripts are one bracket with the indices
+/// separated by commas: `preisach.e[1][0]` is `preisach.e[1,0]`. Paths
+/// with one index or none are their own names.
+pub fn structured_name(path: &str) -> String {
+    path.replace("][", ",")
+}
+
 /// Escapes `text` for an XML attribute.
 pub fn attr(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
@@ -108,6 +116,16 @@ pub fn attr(text: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn structured_names_put_every_index_in_one_bracket() {
+        assert_eq!(
+            structured_name("second.preisach.e[1][0]"),
+            "second.preisach.e[1,0]"
+        );
+        assert_eq!(structured_name("pi.w[3]"), "pi.w[3]");
+        assert_eq!(structured_name("spring.k"), "spring.k");
+    }
 
     #[test]
     fn tied_parameters_say_how_to_set_them_in_each_version() {
