@@ -1,7 +1,7 @@
 //! The elastoplastic (Prandtl / Maxwell-slip) element with different
 //! sliding levels in the two directions.
 
-use crate::{check, declare_params, Error, Float, Result, StepLaw, Stepped, Trial};
+use crate::{check, declare_params, Float, Result, StepLaw, Stepped, Trial};
 
 declare_params! {
     /// Parameters of the [`AsymmetricFriction`] element.
@@ -25,13 +25,8 @@ impl<T: Float> AsymmetricFrictionParams<T> {
     /// displacements `f_pos/k`, `f_neg/k`, `f0/k`, which must be
     /// representable (finite, and not rounded to 0 from a positive level).
     fn consistent(&self) -> Result<()> {
-        let invalid = |name: &str, value: T, reason| Error::InvalidParameter {
-            name: name.into(),
-            value: value.as_f64(),
-            reason,
-        };
         if self.f0 > self.f_pos || self.f0 < -self.f_neg {
-            return Err(invalid(
+            return Err(check::invalid(
                 "f0",
                 self.f0,
                 "must lie in [−f_neg, f_pos] (a force the element can hold)",

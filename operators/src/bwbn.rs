@@ -3,7 +3,7 @@
 //! a tolerance instead of one implicit step per sample.
 
 use crate::energy_flow::{power_on_side, EnergyFlow, EnergyState};
-use crate::{declare_params, Error, Float, Result, StepLaw, Stepped, Trial};
+use crate::{check, declare_params, Float, Result, StepLaw, Stepped, Trial};
 
 declare_params! {
     /// Parameters of the [`Bwbn`] model (OpenSees' names `alpha ko n gamma
@@ -45,15 +45,12 @@ impl<T: Float> BwbnParams<T> {
     /// `β + γ > 0`: the hysteretic displacement is bounded, and the
     /// pinching's centre `z_u = (1/(β + γ))^{1/n}` exists.
     fn bounded(&self) -> Result<()> {
-        if self.beta + self.gamma > T::zero() {
-            Ok(())
-        } else {
-            Err(Error::InvalidParameter {
-                name: "beta".into(),
-                value: self.beta.as_f64(),
-                reason: "beta + gamma must be > 0 (a bounded z, and the pinching's centre (1/(beta + gamma))^(1/n))",
-            })
-        }
+        check::require(
+            self.beta + self.gamma > T::zero(),
+            "beta",
+            self.beta,
+            "beta + gamma must be > 0 (a bounded z, and the pinching's centre (1/(beta + gamma))^(1/n))",
+        )
     }
 }
 

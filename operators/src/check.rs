@@ -4,7 +4,9 @@
 
 use crate::{Error, Float, Result};
 
-fn invalid<T: Float>(name: &str, value: T, reason: &'static str) -> Error {
+/// The error naming parameter `name`, its `value` and the `reason` it is
+/// refused.
+pub fn invalid<T: Float>(name: &str, value: T, reason: &'static str) -> Error {
     Error::InvalidParameter {
         name: name.to_string(),
         value: value.as_f64(),
@@ -13,7 +15,7 @@ fn invalid<T: Float>(name: &str, value: T, reason: &'static str) -> Error {
 }
 
 /// `Ok` where `holds`, else the error naming `name`, `value` and `reason`.
-fn require<T: Float>(holds: bool, name: &str, value: T, reason: &'static str) -> Result<()> {
+pub fn require<T: Float>(holds: bool, name: &str, value: T, reason: &'static str) -> Result<()> {
     if holds {
         Ok(())
     } else {

@@ -1,6 +1,6 @@
 //! The Dahl friction model, in closed form per branch.
 
-use crate::{declare_params, reversal, Error, Float, Result, StepLaw, Stepped, Trial};
+use crate::{check, declare_params, reversal, Float, Result, StepLaw, Stepped, Trial};
 
 declare_params! {
     /// Parameters of the [`Dahl`] friction operator.
@@ -25,18 +25,10 @@ impl<T: Float> DahlParams<T> {
     /// `σ/F_c` and `f0/F_c` must be finite.
     fn ratios(&self) -> Result<()> {
         if !(self.sigma / self.f_c).is_finite() {
-            return Err(Error::InvalidParameter {
-                name: "sigma".into(),
-                value: self.sigma.as_f64(),
-                reason: "σ / F_c must be finite",
-            });
+            return Err(check::invalid("sigma", self.sigma, "σ / F_c must be finite"));
         }
         if !(self.f0 / self.f_c).is_finite() {
-            return Err(Error::InvalidParameter {
-                name: "f0".into(),
-                value: self.f0.as_f64(),
-                reason: "f0 / F_c must be finite",
-            });
+            return Err(check::invalid("f0", self.f0, "f0 / F_c must be finite"));
         }
         Ok(())
     }
@@ -224,7 +216,7 @@ impl<T: Float> StepLaw<T> for DahlParams<T> {
 mod tests {
     use super::*;
     use crate::test_support::trial_difference;
-    use crate::Operator;
+    use crate::{Error, Operator};
     use crate::Parameters;
 
     #[test]

@@ -2,7 +2,7 @@
 //! (memoryless): before a PI bank, the generalized Prandtl-Ishlinskii
 //! model.
 
-use crate::{check, declare_params, Error, Float, Memoryless, Result, Stepped, Trial};
+use crate::{check, declare_params, Float, Memoryless, Result, Stepped, Trial};
 
 declare_params! {
     /// Parameters of the [`Envelope`] (and of its inverse,
@@ -24,15 +24,7 @@ impl<T: Float> EnvelopeParams<T> {
     /// `|s| < 1`: both saturation levels finite.
     pub(crate) fn asymmetry_below_one(&self) -> Result<()> {
         check::finite("s", self.s)?;
-        if self.s.abs() < T::one() {
-            Ok(())
-        } else {
-            Err(Error::InvalidParameter {
-                name: "s".into(),
-                value: self.s.as_f64(),
-                reason: "must be in (−1, 1)",
-            })
-        }
+        check::require(self.s.abs() < T::one(), "s", self.s, "must be in (−1, 1)")
     }
 
     /// `φ(x)` and `φ'(x) = (1 − T²)/(1 + s T)²`, `T = tanh(b x)`.
@@ -103,6 +95,7 @@ impl<T: Float> Memoryless<T> for EnvelopeParams<T> {
 mod tests {
     #![allow(clippy::unwrap_used)]
     use super::*;
+    use crate::Error;
 
     /// `φ(φ⁻¹(y)) = y` over the range and `φ⁻¹(φ(x)) = x` where `φ` is
     /// not saturated to rounding, and the slopes are reciprocal.

@@ -3,7 +3,7 @@
 //! the field's travel to a tolerance.
 
 use crate::ode::dopri5;
-use crate::{declare_params, Error, Float, Result, StepLaw, Stepped, Trial};
+use crate::{check, declare_params, Error, Float, Result, StepLaw, Stepped, Trial};
 use core::cell::Cell;
 
 declare_params! {
@@ -35,15 +35,12 @@ impl<T: Float> JilesAthertonParams<T> {
     /// magnetization back into the field faster than it grows).
     fn coupling_below_one(&self) -> Result<()> {
         let feedback = self.alpha * self.c * self.ms / (T::lit(3.0) * self.a);
-        if feedback < T::one() {
-            Ok(())
-        } else {
-            Err(Error::InvalidParameter {
-                name: "alpha".into(),
-                value: self.alpha.as_f64(),
-                reason: "alpha · c · ms / (3 a) must be < 1 (else dM/dH is infinite at zero field)",
-            })
-        }
+        check::require(
+            feedback < T::one(),
+            "alpha",
+            self.alpha,
+            "alpha · c · ms / (3 a) must be < 1 (else dM/dH is infinite at zero field)",
+        )
     }
 
     /// The anhysteretic magnetization `M_an = Ms L(H_e / a)` and its slope
@@ -87,11 +84,11 @@ impl<T: Float> JilesAthertonParams<T> {
 
     /// The error where `1 − α dM/dH_e` reached 0.
     fn singular(&self) -> Error {
-        Error::InvalidParameter {
-            name: "alpha".into(),
-            value: self.alpha.as_f64(),
-            reason: "alpha · dM/dH_e reached 1 on this input: the coupling makes dM/dH infinite (alpha too large for ms, a, k and c)",
-        }
+        check::invalid(
+            "alpha",
+            self.alpha,
+            "alpha · dM/dH_e reached 1 on this input: the coupling makes dM/dH infinite (alpha too large for ms, a, k and c)",
+        )
     }
 }
 

@@ -1,7 +1,7 @@
 //! The Krasnosel'skii-Pokrovskii operator: a weighted bank of continuous
 //! relays (KP kernels) on a grid of thresholds.
 
-use crate::{declare_params, Error, Float, Result, StepLaw, Stepped, Trial};
+use crate::{check, declare_params, Error, Float, Result, StepLaw, Stepped, Trial};
 
 declare_params! {
     /// Parameters of the [`KrasnoselskiiPokrovskii`] operator.
@@ -35,11 +35,11 @@ impl<T: Float> KrasnoselskiiPokrovskiiParams<T> {
         for (i, w) in self.t.windows(2).enumerate() {
             if let [lo, hi] = w {
                 if hi <= lo {
-                    return Err(Error::InvalidParameter {
-                        name: format!("t[{}]", i + 1),
-                        value: hi.as_f64(),
-                        reason: "thresholds must be strictly increasing",
-                    });
+                    return Err(check::invalid(
+                        &format!("t[{}]", i + 1),
+                        *hi,
+                        "thresholds must be strictly increasing",
+                    ));
                 }
             }
         }

@@ -32,20 +32,16 @@ impl<T: Float> MaxwellSlipParams<T> {
         for (i, (&f, &k)) in self.f_b.iter().zip(&self.k).enumerate() {
             let r = f / k;
             if !r.is_finite() || r == T::zero() {
-                return Err(Error::InvalidParameter {
-                    name: format!("f_b[{i}]"),
-                    value: f.as_f64(),
-                    reason: "F_i / k_i must be a finite, non-zero number",
-                });
+                return Err(check::invalid(
+                    &format!("f_b[{i}]"),
+                    f,
+                    "F_i / k_i must be a finite, non-zero number",
+                ));
             }
         }
         for (i, (&f, &k)) in self.f0.iter().zip(&self.k).enumerate() {
             if !(f / k).is_finite() {
-                return Err(Error::InvalidParameter {
-                    name: format!("f0[{i}]"),
-                    value: f.as_f64(),
-                    reason: "f0_i / k_i must be finite",
-                });
+                return Err(check::invalid(&format!("f0[{i}]"), f, "f0_i / k_i must be finite"));
             }
         }
         Ok(())

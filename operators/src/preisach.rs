@@ -152,25 +152,17 @@ impl<T: Float, U: Float> CastScalar<U> for PreisachParams<T> {
     }
 }
 
-fn invalid<T: Float>(name: String, value: T, reason: &'static str) -> Error {
-    Error::InvalidParameter {
-        name,
-        value: value.as_f64(),
-        reason,
-    }
-}
-
 /// Checks a strictly increasing, finite, non-empty axis of at least `min` entries.
 fn check_axis<T: Float>(name: &str, v: &[T], min: usize, reason: &'static str) -> Result<()> {
     if v.len() < min {
-        return Err(invalid(name.to_string(), T::lit(v.len() as f64), reason));
+        return Err(check::invalid(name, T::lit(v.len() as f64), reason));
     }
     let mut prev: Option<T> = None;
     for (k, &x) in v.iter().enumerate() {
         check::finite(&format!("{name}[{k}]"), x)?;
         if prev.is_some_and(|p| x <= p) {
-            return Err(invalid(
-                format!("{name}[{k}]"),
+            return Err(check::invalid(
+                &format!("{name}[{k}]"),
                 x,
                 "must be strictly increasing",
             ));
@@ -184,16 +176,15 @@ fn check_axis<T: Float>(name: &str, v: &[T], min: usize, reason: &'static str) -
 /// finite and `≥ 0`.
 fn check_triangle<T: Float>(name: &str, rows: &[Vec<T>], n: usize) -> Result<()> {
     if rows.len() != n {
-        return Err(invalid(
-            name.to_string(),
+        return Err(check::invalid(name,
             T::lit(rows.len() as f64),
             "must have one row per level (as many rows as the axis has levels, or nodes − 1)",
         ));
     }
     for (i, row) in rows.iter().enumerate() {
         if row.len() != i + 1 {
-            return Err(invalid(
-                format!("{name}[{i}]"),
+            return Err(check::invalid(
+                &format!("{name}[{i}]"),
                 T::lit(row.len() as f64),
                 "row i must have i + 1 entries (lower-triangular)",
             ));
@@ -233,8 +224,8 @@ impl<T: Float> PreisachMeasure<T> {
                         // cell masses round like that).
                         let noise = T::lit(8.0) * T::epsilon() * (a + b + c + d);
                         if mass < -noise {
-                            return Err(invalid(
-                                format!("e[{i}][{j}]"),
+                            return Err(check::invalid(
+                                &format!("e[{i}][{j}]"),
                                 a,
                                 "the Everett table has negative mass on the cell [x[i], x[i+1]] × [x[j], x[j+1]]: need E(x[i+1], x[j]) + E(x[i], x[j+1]) ≥ E(x[i], x[j]) + E(x[i+1], x[j+1])",
                             ));
@@ -750,11 +741,7 @@ impl<T: Float> Preisach<T> {
         };
         s.reset();
         if !s.e0.is_finite() {
-            return Err(Error::InvalidParameter {
-                name: "measure".into(),
-                value: s.e0.as_f64(),
-                reason: "the total mass E(x_max, x_min) overflows",
-            });
+            return Err(check::invalid("measure", s.e0, "the total mass E(x_max, x_min) overflows"));
         }
         Ok(s)
     }

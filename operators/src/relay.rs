@@ -1,7 +1,7 @@
 //! The relay with hysteresis: a two-valued output that switches at two
 //! thresholds `h` apart.
 
-use crate::{declare_params, Error, Float, Result, StepLaw, Stepped, Trial};
+use crate::{check, declare_params, Float, Result, StepLaw, Stepped, Trial};
 
 declare_params! {
     /// Parameters of the [`Relay`].
@@ -22,15 +22,12 @@ declare_params! {
 impl<T: Float> RelayParams<T> {
     /// The switch has two positions, `s0 = ±1`.
     fn two_positions(&self) -> Result<()> {
-        if self.s0 == T::one() || self.s0 == -T::one() {
-            Ok(())
-        } else {
-            Err(Error::InvalidParameter {
-                name: "s0".into(),
-                value: self.s0.as_f64(),
-                reason: "must be −1 or 1",
-            })
-        }
+        check::require(
+            self.s0 == T::one() || self.s0 == -T::one(),
+            "s0",
+            self.s0,
+            "must be −1 or 1",
+        )
     }
 }
 

@@ -2,7 +2,7 @@
 //! change of slip direction the level starts off its steady value and
 //! relaxes toward it with the slip.
 
-use crate::{check, declare_params, Error, Float, Result, StepLaw, Stepped, Trial};
+use crate::{check, declare_params, Float, Result, StepLaw, Stepped, Trial};
 
 declare_params! {
     /// Parameters of the [`TransientFriction`] element.
@@ -39,14 +39,9 @@ impl<T: Float> TransientFrictionParams<T> {
     /// `f0` holdable, every level over `k` representable, and a level that
     /// does not soften faster than the spring stiffens: `a f < k λ`.
     fn consistent(&self) -> Result<()> {
-        let invalid = |name: &str, value: T, reason| Error::InvalidParameter {
-            name: name.into(),
-            value: value.as_f64(),
-            reason,
-        };
         let (onset_pos, onset_neg) = (self.level(1, T::zero()), self.level(-1, T::zero()));
         if self.f0 > onset_pos || self.f0 < -onset_neg {
-            return Err(invalid(
+            return Err(check::invalid(
                 "f0",
                 self.f0,
                 "must lie in [−f_neg (1 + a_neg), f_pos (1 + a_pos)] (a force the element can hold)",
@@ -57,7 +52,7 @@ impl<T: Float> TransientFrictionParams<T> {
             ("a_neg", self.f_neg, self.a_neg),
         ] {
             if a > T::zero() && a * f >= self.k * self.lam {
-                return Err(invalid(
+                return Err(check::invalid(
                     name,
                     a,
                     "with a > 0, a · f must be below k · lam (the level may not soften faster than the spring stiffens)",

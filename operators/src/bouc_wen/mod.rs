@@ -241,11 +241,7 @@ impl<T: Float> BoucWen<T> {
     fn check_tolerance(rtol: T) -> Result<()> {
         check::positive("rtol", rtol)?;
         if rtol < T::epsilon() * T::lit(64.0) || rtol > T::lit(1e-3) {
-            return Err(crate::Error::InvalidParameter {
-                name: "rtol".into(),
-                value: rtol.as_f64(),
-                reason: "must lie in [64 ε, 1e-3]",
-            });
+            return Err(check::invalid("rtol", rtol, "must lie in [64 ε, 1e-3]"));
         }
         Ok(())
     }
