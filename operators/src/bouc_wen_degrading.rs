@@ -3,27 +3,14 @@
 //! integrated in the input's travel to a tolerance instead of one implicit
 //! step per sample.
 
-use crate::energy_flow::{power_on_side, EnergyFlow, EnergyState};
-use crate::{declare_params, Float, Result, StepLaw, Stepped, Trial};
+use crate::energy_flow::{bouc_wen_family_params, energy_step_law, power_on_side, EnergyFlow, FamilyBase};
+use crate::{Float, Stepped};
 
-declare_params! {
+bouc_wen_family_params! {
     /// Parameters of the [`BoucWenDegrading`] model (OpenSees' names
     /// `alpha ko n gamma beta Ao deltaA deltaNu deltaEta`, written
     /// `alpha k0 n gamma beta a0 delta_a delta_nu delta_eta`).
     pub struct BoucWenDegradingParams<T>: Copy {
-        /// Ratio `α` of the post-yield to the initial stiffness (finite).
-        alpha: T => Real = 0.1,
-        /// Initial stiffness `k0 > 0`.
-        k0: T => Positive = 10.0,
-        /// Sharpness of the transition `n ≥ 1`.
-        n: T => AtLeast(1.0) = 1.0,
-        /// `γ` (finite): the loop's shape, with `β`.
-        gamma: T => Real = 0.5,
-        /// `β` (finite): the loop's shape, with `γ`; `β + γ > 0` bounds the
-        /// hysteretic displacement.
-        beta: T => Real = 0.5,
-        /// Initial `A = a0 > 0`: the hysteretic stiffness `(1 − α) k0 A`.
-        a0: T => Positive = 1.0,
         /// Strength degradation `δ_A ≥ 0`: `A = a0 − δ_A e`.
         delta_a: T => NonNegative = 0.01,
         /// Strength degradation `δ_ν ≥ 0`: `ν = 1 + δ_ν e`.
@@ -35,16 +22,6 @@ declare_params! {
 }
 
 impl<T: Float> EnergyFlow<T> for BoucWenDegradingParams<T> {
-    const SOLVER: &'static str = "bouc_wen_degrading";
-
-    fn alpha(&self) -> T {
-        self.alpha
-    }
-
-    fn k0(&self) -> T {
-        self.k0
-    }
-
     /// The ultimate `z`, `(a0 / (β + γ))^{1/n}` where `β + γ > 0`, else
     /// `a0`.
     fn z_scale(&self) -> f64 {
@@ -63,11 +40,7 @@ impl<T: Float> EnergyFlow<T> for BoucWenDegradingParams<T> {
         let a = self.a0 - self.delta_a * e;
         let nu = T::one() + self.delta_nu * e;
         let eta = T::one() + self.delta_eta * e;
-        let psi = if (dir > T::zero()) == positive {
-            self.gamma + self.beta
-        } else {
-            self.gamma - self.beta
-        };
+        let psi = self.shape(dir, positive);
         (a - power_on_side(positive, z, self.n) * nu * psi) / eta
     }
 }
@@ -128,25 +101,14 @@ impl<T: Float> Default for BoucWenDegradingParams<T> {
     }
 }
 
-impl<T: Float> StepLaw<T> for BoucWenDegradingParams<T> {
-    type State = EnergyState<T>;
-    const RESTS_WHEN_HELD: bool = true;
-
-    fn initial(&self) -> EnergyState<T> {
-        EnergyState::at_rest()
-    }
-
-    fn step(&self, s: &EnergyState<T>, x: T) -> Result<(EnergyState<T>, Trial<T>)> {
-        self.energy_step(s, x)
-    }
-}
+energy_step_law!(BoucWenDegradingParams<T>, EnergyFlow::energy_step);
 
 #[cfg(test)]
 mod tests {
     #![allow(clippy::unwrap_used, clippy::indexing_slicing)]
     use super::*;
     use crate::test_support::{assert_refines_within, ramped_sine, step_difference};
-    use crate::Operator;
+    use crate::{EnergyState, Operator, StepLaw};
 
     fn params(delta: f64) -> BoucWenDegradingParams<f64> {
         BoucWenDegradingParams {

@@ -2,26 +2,14 @@
 //! `uniaxialMaterial BWBN` defines it, integrated in the input's travel to
 //! a tolerance instead of one implicit step per sample.
 
-use crate::energy_flow::{power_on_side, EnergyFlow, EnergyState};
-use crate::{check, declare_params, Float, Result, StepLaw, Stepped, Trial};
+use crate::energy_flow::{bouc_wen_family_params, energy_step_law, power_on_side, EnergyFlow, FamilyBase};
+use crate::{check, Float, Result, Stepped};
 
-declare_params! {
+bouc_wen_family_params! {
     /// Parameters of the [`Bwbn`] model (OpenSees' names `alpha ko n gamma
     /// beta Ao q zetas p Shi deltaShi lamda`, written `alpha k0 n gamma beta
     /// a0 q zeta_s p psi0 delta_psi lam`).
     pub struct BwbnParams<T>: Copy {
-        /// Ratio `α` of the post-yield to the initial stiffness (finite).
-        alpha: T => Real = 0.1,
-        /// Initial stiffness `k0 > 0`.
-        k0: T => Positive = 10.0,
-        /// Sharpness of the transition `n ≥ 1`.
-        n: T => AtLeast(1.0) = 1.0,
-        /// `γ` (finite), with `β`: the loop's shape; `β + γ > 0`.
-        gamma: T => Real = 0.5,
-        /// `β` (finite), with `γ`: the loop's shape; `β + γ > 0`.
-        beta: T => Real = 0.5,
-        /// `A = a0 > 0`: the hysteretic stiffness `(1 − α) k0 a0`.
-        a0: T => Positive = 1.0,
         /// Where the pinching is centred, `q ≥ 0`: at `z = q z_u` in the
         /// direction of travel.
         q: T => NonNegative = 0.25,
@@ -55,16 +43,6 @@ impl<T: Float> BwbnParams<T> {
 }
 
 impl<T: Float> EnergyFlow<T> for BwbnParams<T> {
-    const SOLVER: &'static str = "bwbn";
-
-    fn alpha(&self) -> T {
-        self.alpha
-    }
-
-    fn k0(&self) -> T {
-        self.k0
-    }
-
     /// The ultimate `z`, `(a0 / (β + γ))^{1/n}`.
     fn z_scale(&self) -> f64 {
         (self.a0 / (self.beta + self.gamma))
@@ -75,11 +53,7 @@ impl<T: Float> EnergyFlow<T> for BwbnParams<T> {
     /// `h (a0 − |z|^n (γ ± β))`, `γ + β` while loading (`ẋ z > 0`).
     #[inline(always)]
     fn rate(&self, dir: T, positive: bool, z: T, e: T) -> T {
-        let psi = if (dir > T::zero()) == positive {
-            self.gamma + self.beta
-        } else {
-            self.gamma - self.beta
-        };
+        let psi = self.shape(dir, positive);
         let zeta1 = self.zeta_s * (T::one() - (-self.p * e).exp());
         let zeta2 = (self.psi0 + self.delta_psi * e) * (self.lam + zeta1);
         // the pinching's centre, without a power for the usual n = 1
@@ -129,18 +103,7 @@ impl<T: Float> EnergyFlow<T> for BwbnParams<T> {
 /// ```
 pub type Bwbn<T> = Stepped<BwbnParams<T>, T>;
 
-impl<T: Float> StepLaw<T> for BwbnParams<T> {
-    type State = EnergyState<T>;
-    const RESTS_WHEN_HELD: bool = true;
-
-    fn initial(&self) -> EnergyState<T> {
-        EnergyState::at_rest()
-    }
-
-    fn step(&self, s: &EnergyState<T>, x: T) -> Result<(EnergyState<T>, Trial<T>)> {
-        self.energy_step(s, x)
-    }
-}
+energy_step_law!(BwbnParams<T>, EnergyFlow::energy_step);
 
 #[cfg(test)]
 mod tests {

@@ -10,7 +10,87 @@
 //! ([`dopri5`](crate::ode)), side by side of `z = 0`.
 
 use crate::ode::dopri5;
-use crate::{Domain, FieldInfo, Float, ParamSet, Result, Trial};
+use crate::{Declared, Domain, FieldInfo, Float, ParamSet, Result, Trial};
+
+/// Declares the parameters of a member of OpenSees' Bouc-Wen family
+/// (`alpha ko n gamma beta Ao`, written `alpha k0 n gamma beta a0`,
+/// followed by the member's own fields), as
+/// [`declare_params!`](crate::declare_params) does, and their
+/// [`FamilyBase`]: the six shared parameters are written once, here.
+macro_rules! bouc_wen_family_params {
+    (
+        $(#[$sm:meta])*
+        pub struct $name:ident<T>: Copy { $($own:tt)* }
+        $($rest:tt)*
+    ) => {
+        $crate::declare_params! {
+            $(#[$sm])*
+            pub struct $name<T>: Copy {
+                /// Ratio `α` of the post-yield to the initial stiffness (finite).
+                alpha: T => Real = 0.1,
+                /// Initial stiffness `k0 > 0`.
+                k0: T => Positive = 10.0,
+                /// Sharpness of the transition `n ≥ 1`.
+                n: T => AtLeast(1.0) = 1.0,
+                /// `γ` (finite): the loop's shape, with `β`.
+                gamma: T => Real = 0.5,
+                /// `β` (finite): the loop's shape, with `γ`; `β + γ > 0`
+                /// bounds the hysteretic displacement (`bwbn` requires it).
+                beta: T => Real = 0.5,
+                /// `a0 > 0`, the initial `A`: the hysteretic stiffness
+                /// `(1 − α) k0 A`.
+                a0: T => Positive = 1.0,
+                $($own)*
+            }
+            $($rest)*
+        }
+
+        impl<T: $crate::Float> $crate::energy_flow::FamilyBase<T> for $name<T> {
+            fn alpha(&self) -> T {
+                self.alpha
+            }
+
+            fn k0(&self) -> T {
+                self.k0
+            }
+
+            fn gamma(&self) -> T {
+                self.gamma
+            }
+
+            fn beta(&self) -> T {
+                self.beta
+            }
+        }
+    };
+}
+pub(crate) use bouc_wen_family_params;
+
+/// The [`StepLaw`](crate::StepLaw) of a law on `(z, e)`: it starts at
+/// rest and steps by `step` (`fn(&law, &state, x)`):
+/// [`EnergyFlow::energy_step`] for the force, [`observe_energy`] for the
+/// energy.
+macro_rules! energy_step_law {
+    ($law:ty, $step:path) => {
+        impl<T: $crate::Float> $crate::StepLaw<T> for $law {
+            type State = $crate::EnergyState<T>;
+            const RESTS_WHEN_HELD: bool = true;
+
+            fn initial(&self) -> $crate::EnergyState<T> {
+                $crate::EnergyState::at_rest()
+            }
+
+            fn step(
+                &self,
+                s: &$crate::EnergyState<T>,
+                x: T,
+            ) -> $crate::Result<($crate::EnergyState<T>, $crate::Trial<T>)> {
+                $step(self, s, x)
+            }
+        }
+    };
+}
+pub(crate) use energy_step_law;
 
 /// The state between samples: the input `x` reached, the hysteretic
 /// displacement `z`, and the energy `e = ∫ (1 − α) k0 z dx`.
@@ -39,14 +119,32 @@ impl<T: Float> EnergyState<T> {
 /// The local error held per sub-step, relative to the state's scale.
 const RTOL: f64 = 1e-11;
 
-/// A Bouc-Wen law on `(z, e)`.
-pub(crate) trait EnergyFlow<T: Float> {
-    /// The law's kind, naming it in an error.
-    const SOLVER: &'static str;
+/// The parameters every member of the Bouc-Wen family has.
+pub(crate) trait FamilyBase<T: Float> {
     /// Post-yield stiffness ratio `α`.
     fn alpha(&self) -> T;
     /// Initial stiffness `k0`.
     fn k0(&self) -> T;
+    /// `γ`.
+    fn gamma(&self) -> T;
+    /// `β`.
+    fn beta(&self) -> T;
+
+    /// The loop's shape factor on the branch taken: `γ + β` while loading
+    /// (travelling in direction `dir` on the side `positive` of `z = 0`
+    /// away from it, `ẋ z > 0`), else `γ − β`.
+    #[inline(always)]
+    fn shape(&self, dir: T, positive: bool) -> T {
+        if (dir > T::zero()) == positive {
+            self.gamma() + self.beta()
+        } else {
+            self.gamma() - self.beta()
+        }
+    }
+}
+
+/// A Bouc-Wen law on `(z, e)`.
+pub(crate) trait EnergyFlow<T: Float>: FamilyBase<T> + Declared<T> {
     /// The scale of `z` (its ultimate value) for the error control.
     fn z_scale(&self) -> f64;
     /// `dz/dx` at `(z, e)` travelling in direction `dir` (`±1`), on the
@@ -104,7 +202,7 @@ pub(crate) trait EnergyFlow<T: Float> {
                     [z, y[1].as_f64().abs().max(energy_scale * z * zs)]
                 },
                 RTOL,
-                Self::SOLVER,
+                Self::KIND,
             )?
         };
         let dz = self.rate(dir, self.side(dir, z, e, 0.0), z, e);
@@ -152,7 +250,7 @@ impl<T: Float, P: ParamSet<T>> ParamSet<T> for Energy<P> {
 
 /// The step of `law`, observed through its energy.
 pub(crate) fn observe_energy<T: Float, P: EnergyFlow<T>>(
-    law: &P,
+    Energy(law): &Energy<P>,
     s: &EnergyState<T>,
     x: T,
 ) -> Result<(EnergyState<T>, Trial<T>)> {
@@ -179,22 +277,10 @@ macro_rules! energy_output {
             }
         }
 
-        impl<T: $crate::Float> $crate::StepLaw<T> for $crate::energy_flow::Energy<$params<T>> {
-            type State = $crate::EnergyState<T>;
-            const RESTS_WHEN_HELD: bool = true;
-
-            fn initial(&self) -> $crate::EnergyState<T> {
-                $crate::EnergyState::at_rest()
-            }
-
-            fn step(
-                &self,
-                s: &$crate::EnergyState<T>,
-                x: T,
-            ) -> $crate::Result<($crate::EnergyState<T>, $crate::Trial<T>)> {
-                $crate::energy_flow::observe_energy(&self.0, s, x)
-            }
-        }
+        $crate::energy_flow::energy_step_law!(
+            $crate::energy_flow::Energy<$params<T>>,
+            $crate::energy_flow::observe_energy
+        );
     };
 }
 pub(crate) use energy_output;

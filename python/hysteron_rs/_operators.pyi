@@ -285,8 +285,8 @@ def bouc_wen_degrading(alpha: float, k0: float, n: float, gamma: float, beta: fl
         k0 (> 0): Initial stiffness `k0 > 0`.
         n (≥ 1): Sharpness of the transition `n ≥ 1`.
         gamma (real): `γ` (finite): the loop's shape, with `β`.
-        beta (real): `β` (finite): the loop's shape, with `γ`; `β + γ > 0` bounds the hysteretic displacement.
-        a0 (> 0): Initial `A = a0 > 0`: the hysteretic stiffness `(1 − α) k0 A`.
+        beta (real): `β` (finite): the loop's shape, with `γ`; `β + γ > 0` bounds the hysteretic displacement (`bwbn` requires it).
+        a0 (> 0): `a0 > 0`, the initial `A`: the hysteretic stiffness `(1 − α) k0 A`.
         delta_a (≥ 0): Strength degradation `δ_A ≥ 0`: `A = a0 − δ_A e`.
         delta_nu (≥ 0): Strength degradation `δ_ν ≥ 0`: `ν = 1 + δ_ν e`.
         delta_eta (≥ 0): Stiffness degradation `δ_η ≥ 0`: `η = 1 + δ_η e`.
@@ -302,8 +302,8 @@ def bouc_wen_degrading_energy(alpha: float, k0: float, n: float, gamma: float, b
         k0 (> 0): Initial stiffness `k0 > 0`.
         n (≥ 1): Sharpness of the transition `n ≥ 1`.
         gamma (real): `γ` (finite): the loop's shape, with `β`.
-        beta (real): `β` (finite): the loop's shape, with `γ`; `β + γ > 0` bounds the hysteretic displacement.
-        a0 (> 0): Initial `A = a0 > 0`: the hysteretic stiffness `(1 − α) k0 A`.
+        beta (real): `β` (finite): the loop's shape, with `γ`; `β + γ > 0` bounds the hysteretic displacement (`bwbn` requires it).
+        a0 (> 0): `a0 > 0`, the initial `A`: the hysteretic stiffness `(1 − α) k0 A`.
         delta_a (≥ 0): Strength degradation `δ_A ≥ 0`: `A = a0 − δ_A e`.
         delta_nu (≥ 0): Strength degradation `δ_ν ≥ 0`: `ν = 1 + δ_ν e`.
         delta_eta (≥ 0): Stiffness degradation `δ_η ≥ 0`: `η = 1 + δ_η e`.
@@ -318,9 +318,9 @@ def bwbn(alpha: float, k0: float, n: float, gamma: float, beta: float, a0: float
         alpha (real): Ratio `α` of the post-yield to the initial stiffness (finite).
         k0 (> 0): Initial stiffness `k0 > 0`.
         n (≥ 1): Sharpness of the transition `n ≥ 1`.
-        gamma (real): `γ` (finite), with `β`: the loop's shape; `β + γ > 0`.
-        beta (real): `β` (finite), with `γ`: the loop's shape; `β + γ > 0`.
-        a0 (> 0): `A = a0 > 0`: the hysteretic stiffness `(1 − α) k0 a0`.
+        gamma (real): `γ` (finite): the loop's shape, with `β`.
+        beta (real): `β` (finite): the loop's shape, with `γ`; `β + γ > 0` bounds the hysteretic displacement (`bwbn` requires it).
+        a0 (> 0): `a0 > 0`, the initial `A`: the hysteretic stiffness `(1 − α) k0 A`.
         q (≥ 0): Where the pinching is centred, `q ≥ 0`: at `z = q z_u` in the direction of travel.
         zeta_s (∈ [0, 1]): The pinching's final severity `ζ_s ∈ [0, 1]`.
         p (≥ 0): How fast the severity grows with the energy, `p ≥ 0`.
@@ -338,9 +338,9 @@ def bwbn_energy(alpha: float, k0: float, n: float, gamma: float, beta: float, a0
         alpha (real): Ratio `α` of the post-yield to the initial stiffness (finite).
         k0 (> 0): Initial stiffness `k0 > 0`.
         n (≥ 1): Sharpness of the transition `n ≥ 1`.
-        gamma (real): `γ` (finite), with `β`: the loop's shape; `β + γ > 0`.
-        beta (real): `β` (finite), with `γ`: the loop's shape; `β + γ > 0`.
-        a0 (> 0): `A = a0 > 0`: the hysteretic stiffness `(1 − α) k0 a0`.
+        gamma (real): `γ` (finite): the loop's shape, with `β`.
+        beta (real): `β` (finite): the loop's shape, with `γ`; `β + γ > 0` bounds the hysteretic displacement (`bwbn` requires it).
+        a0 (> 0): `a0 > 0`, the initial `A`: the hysteretic stiffness `(1 − α) k0 A`.
         q (≥ 0): Where the pinching is centred, `q ≥ 0`: at `z = q z_u` in the direction of travel.
         zeta_s (∈ [0, 1]): The pinching's final severity `ζ_s ∈ [0, 1]`.
         p (≥ 0): How fast the severity grows with the energy, `p ≥ 0`.
