@@ -3,7 +3,7 @@
 
 use super::BoucWenParams;
 use crate::hysteretic_state::{Branch, ExpForm, Power, StateEquation};
-use crate::lanes::{LaneLaw, WIDTH};
+use crate::lanes::{select, LaneLaw, TILE, WIDTH};
 use crate::{BoucWen, Operator, ParamSet, StiffnessMap};
 
 /// What one lane needs besides its vector terms: its state equation (to
@@ -148,17 +148,15 @@ impl LaneLaw for BoucWenParams<f64> {
         let mut arg = [0.0; WIDTH];
         let mut asym = [0.0; WIDTH];
         let mut fc = [0.0; WIDTH];
+        // (both pieces' arguments are computed and one is selected; the
+        // piece not taken may be infinite or NaN)
         for j in 0..WIDTH {
             let s = b.sign[j] * (x - b.z_a[j]);
             travel[j] = s;
             let past = b.s0[j] < s;
-            arg[j] = if past {
-                -b.c_0[j] * (s - b.s0[j])
-            } else {
-                -b.c_a[j] * s
-            };
-            asym[j] = if past { b.fc_0[j] } else { b.inf_a[j] };
-            fc[j] = if past { b.fc_0[j] } else { b.fc_a[j] };
+            arg[j] = select(past, -b.c_0[j] * (s - b.s0[j]), -b.c_a[j] * s);
+            asym[j] = select(past, b.fc_0[j], b.inf_a[j]);
+            fc[j] = select(past, b.fc_0[j], b.fc_a[j]);
         }
         let e = arg.map(crate::exp_kernel::exp);
         let mut h = [0.0; WIDTH];
@@ -201,6 +199,79 @@ impl LaneLaw for BoucWenParams<f64> {
             if let Some(y) = y.get_mut(*j) {
                 *y = out.unwrap_or(f64::NAN);
             }
+        }
+    }
+
+    /// Where every lane goes on along its branch over the whole tile (no
+    /// reversal, no lane at rest or outside the common form, constant
+    /// stiffness, every exponent 1: the common case), the samples of the
+    /// tile are independent of each other, and are stepped without the
+    /// checks and state updates between them, so that the processor
+    /// overlaps their exponentials; otherwise sample by sample. The operations per lane and
+    /// sample are those of [`step_lanes`](LaneLaw::step_lanes), in its
+    /// order, so the bits are the same.
+    // `k < TILE` and `j < WIDTH`, the lengths of every array indexed.
+    #[allow(clippy::indexing_slicing)]
+    #[inline(always)]
+    fn step_tile(b: &mut BoucWenLanes, xs: &[f64; TILE], ys: &mut [[f64; WIDTH]; TILE]) {
+        let Some(stiffness) = b.stiffness.filter(|_| !b.odd && b.others.is_empty()) else {
+            return Self::step_tiled_by_samples(b, xs, ys);
+        };
+        let mut goes_on = true;
+        let mut z = b.z;
+        for &x in xs {
+            for j in 0..WIDTH {
+                goes_on &= b.moving[j] & (b.sign[j] * (x - z[j]) >= 0.0);
+            }
+            z = [x; WIDTH];
+        }
+        if !goes_on {
+            return Self::step_tiled_by_samples(b, xs, ys);
+        }
+        // Two samples per iteration: their exponentials interleave.
+        let piece = |x: f64| {
+            let mut arg = [0.0; WIDTH];
+            let mut asym = [0.0; WIDTH];
+            let mut fc = [0.0; WIDTH];
+            for j in 0..WIDTH {
+                let s = b.sign[j] * (x - b.z_a[j]);
+                let past = b.s0[j] < s;
+                arg[j] = select(past, -b.c_0[j] * (s - b.s0[j]), -b.c_a[j] * s);
+                asym[j] = select(past, b.fc_0[j], b.inf_a[j]);
+                fc[j] = select(past, b.fc_0[j], b.fc_a[j]);
+            }
+            (arg, asym, fc)
+        };
+        let mut h = [0.0; WIDTH];
+        for (xs, ys) in xs.chunks_exact(2).zip(ys.chunks_exact_mut(2)) {
+            let (x0, x1) = (xs[0], xs[1]);
+            let (arg0, asym0, fc0) = piece(x0);
+            let (arg1, asym1, fc1) = piece(x1);
+            let e0 = arg0.map(crate::exp_kernel::exp);
+            let e1 = arg1.map(crate::exp_kernel::exp);
+            let mut h0 = [0.0; WIDTH];
+            for j in 0..WIDTH {
+                h0[j] = b.sign[j] * (asym0[j] - fc0[j] * e0[j]);
+                h[j] = b.sign[j] * (asym1[j] - fc1[j] * e1[j]);
+                ys[0][j] = b.w[j] * stiffness[j] * x0 + b.one_w[j] * stiffness[j] * h0[j];
+                ys[1][j] = b.w[j] * stiffness[j] * x1 + b.one_w[j] * stiffness[j] * h[j];
+            }
+        }
+        b.z = z;
+        b.h = h;
+    }
+}
+
+impl BoucWenParams<f64> {
+    /// [`LaneLaw::step_tile`] by [`LaneLaw::step_lanes`], sample by sample.
+    #[inline(always)]
+    fn step_tiled_by_samples(
+        b: &mut BoucWenLanes,
+        xs: &[f64; TILE],
+        ys: &mut [[f64; WIDTH]; TILE],
+    ) {
+        for (y, &x) in ys.iter_mut().zip(xs) {
+            <Self as LaneLaw>::step_lanes(b, x, y);
         }
     }
 }
@@ -339,6 +410,23 @@ mod tests {
         laws[5].gamma = laws[5].beta;
         laws[6].gamma = 0.97 * laws[6].beta;
         each_alone(&laws, &input(3000));
+    }
+
+    /// Constant stiffness and a smooth input, so that most tiles step
+    /// without a reversal (the tile kernel) and some with one (sample by
+    /// sample), from a start at rest and from moving states.
+    #[test]
+    fn tiles_without_reversals_are_each_spring_alone() {
+        let laws: Vec<_> = (0..11)
+            .map(|i| BoucWenParams {
+                stiffness: StiffnessMap::constant(1.0 + 0.2 * i as f64).unwrap(),
+                ..params(i, 1.0)
+            })
+            .collect();
+        let x: Vec<f64> = (0..1203)
+            .map(|i| 2.0 * (i as f64 * 0.013).sin() + 0.1 * (i as f64 * 0.11).sin())
+            .collect();
+        each_alone(&laws, &x);
     }
 
     /// A lane whose state diverges (a hardening set, `β + γ < 0`, driven

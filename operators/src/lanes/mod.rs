@@ -39,6 +39,27 @@ pub trait LaneLaw: Sized {
     /// Advances every lane to the input `x`, writing lane `j`'s output to
     /// `y[j]`.
     fn step_lanes(block: &mut Self::Block, x: f64, y: &mut [f64; WIDTH]);
+
+    /// Advances every lane over the [`TILE`] inputs `xs`, writing lane
+    /// `j`'s output at `xs[k]` to `ys[k][j]`: [`step_lanes`](LaneLaw::step_lanes)
+    /// sample by sample, or the same bits by a kernel that works on the
+    /// tile at once.
+    #[inline(always)]
+    fn step_tile(block: &mut Self::Block, xs: &[f64; TILE], ys: &mut [[f64; WIDTH]; TILE]) {
+        for (y, &x) in ys.iter_mut().zip(xs) {
+            Self::step_lanes(block, x, y);
+        }
+    }
+}
+
+/// `a` where `take_a`, else `b`, bit for bit, as a mask blend: in a loop
+/// over the lanes the compiler keeps it in vector registers, where a plain
+/// `if` between two loaded or computed values becomes a branch or a load
+/// per lane.
+#[inline(always)]
+pub(crate) fn select(take_a: bool, a: f64, b: f64) -> f64 {
+    let mask = u64::from(take_a).wrapping_neg();
+    f64::from_bits((a.to_bits() & mask) | (b.to_bits() & !mask))
 }
 
 /// The lanes of a block, from `laws` (one to [`WIDTH`] of them) with the
@@ -126,7 +147,7 @@ fn run_block<L: LaneLaw>(laws: &[L], xs: &[f64], rows: &mut [f64]) -> [bool; WID
 /// Samples per tile: a block's outputs for [`TILE`] samples are kept lane
 /// by lane, transposed, and written row by row, [`TILE`] contiguous values
 /// per instance.
-const TILE: usize = 8;
+pub const TILE: usize = 8;
 
 /// Whether every value is finite (`v − v` is 0 exactly for finite `v`,
 /// NaN otherwise; no early exit, so it vectorises).
@@ -163,8 +184,8 @@ fn run_block_portable<L: LaneLaw>(
     let mut tiles = xs.chunks_exact(TILE);
     for (c, chunk) in (&mut tiles).enumerate() {
         let mut tile = [[0.0; WIDTH]; TILE];
-        for (y, &x) in tile.iter_mut().zip(chunk) {
-            L::step_lanes(&mut block, x, y);
+        if let Ok(chunk) = <&[f64; TILE]>::try_from(chunk) {
+            L::step_tile(&mut block, chunk, &mut tile);
         }
         store(c * TILE, TILE, &tile);
     }
