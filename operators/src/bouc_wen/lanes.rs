@@ -220,8 +220,8 @@ impl LaneLaw for BoucWenParams<f64> {
         let mut goes_on = true;
         let mut z = b.z;
         for &x in xs {
-            for j in 0..WIDTH {
-                goes_on &= b.moving[j] & (b.sign[j] * (x - z[j]) >= 0.0);
+            for ((&moving, &sign), &z) in b.moving.iter().zip(&b.sign).zip(&z) {
+                goes_on &= moving & (sign * (x - z) >= 0.0);
             }
             z = [x; WIDTH];
         }
