@@ -68,8 +68,14 @@ struct CandidatesFile {
     candidates: Vec<Candidate>,
 }
 
-/// Options of the compare job: its command-line flags, whose doc comments
-/// are their help.
+/// Compare candidate structures: fit each (a spec and the parameters
+/// to free, listed in a JSON file) on the training records as `fit`
+/// does, score it on the held-out records as `validate` does, and
+/// rank the candidates by their held-out mean NRMSE (low-passed with
+/// --lowpass). Prints one table: k, training cost, AIC and BIC on
+/// training, held-out NRMSE mean and worst (full band and low-passed),
+/// the rank, and a sign test against the next rank. A candidate that
+/// fails is reported in its row; the others go on.
 #[derive(Debug, Clone, PartialEq, clap::Args)]
 pub struct CompareOptions {
     /// The candidates: {"candidates": [{"name": "...", "model":

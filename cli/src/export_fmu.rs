@@ -19,8 +19,10 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use zip::write::SimpleFileOptions;
 
-/// Options of `hysteron export-fmu`: its command-line flags, whose doc
-/// comments are their help.
+/// Write a model spec (JSON) as an FMI 2.0 co-simulation FMU: input x,
+/// output y, every parameter a tunable Real named by its path, for
+/// Simulink, OpenModelica, Dymola, FMPy and other FMI hosts (Linux
+/// x86-64 binary).
 #[derive(Debug, Clone, clap::Args)]
 pub struct ExportFmuOptions {
     /// The model spec (JSON, see hysteron::models::Spec).

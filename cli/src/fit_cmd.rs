@@ -56,8 +56,11 @@ use crate::Operator;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-/// Options of the fit job: its command-line flags, whose doc comments are
-/// their help.
+/// Fit parameters of a model spec (JSON) to one record or several
+/// (input and measured output columns of CSV files) with
+/// Levenberg-Marquardt, starting from the spec's values; prints a
+/// report (per record too) and writes the fitted spec. Exit code 3 when
+/// the fit ran but did not converge.
 #[derive(Debug, Clone, PartialEq, clap::Args)]
 pub struct FitCmdOptions {
     /// The model spec (JSON); its parameters are the starting values.

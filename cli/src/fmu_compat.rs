@@ -47,8 +47,12 @@ pub const TOOL: &str = "hysteron";
 /// output is the reference bit for bit).
 pub const REL_TOL: f64 = 1e-12;
 
-/// Options of `hysteron fmu-compat`: its command-line flags, whose doc
-/// comments are their help.
+/// Write the compatibility information of the FMU export into a
+/// folder, in the FMI Cross-Check layout
+/// (`fmus/<2.0|3.0>/cs/<platform>/hysteron/<version>/<Model>/`): for
+/// the paper model and the Bouc-Wen benchmark, per FMI version, the
+/// FMU, `<Model>_in.csv`, `<Model>_ref.csv` (computed by the library),
+/// `<Model>_ref.opt` and a `ReadMe.md`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct FmuCompatOptions {
     /// The folder to write into (created if missing); the files go under

@@ -41,8 +41,14 @@ use crate::Operator;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-/// Options of the identify-paper job: its command-line flags, whose doc
-/// comments are their help.
+/// The two-stage identification of Ruderman & Bertram (2015): the
+/// spring's shape from a major loop (knots through points of its last
+/// increasing branch), then the bedstop (backlash, F_c, K) from a
+/// down-chirp; then a joint refinement of all parameters on both
+/// records (stage 3, from the stage-1 spring and the backlash and F_c
+/// of the loop's plateau). Writes the identified model as a
+/// `transmission` spec (JSON) and prints the stage reports. Exit code 3
+/// when a stage did not converge.
 #[derive(Debug, Clone, PartialEq, clap::Args)]
 pub struct IdentifyPaperOptions {
     /// The major-loop record (CSV with a header row): one sine, whose
