@@ -30,7 +30,7 @@
 
 use crate::args;
 use crate::band::BandArgs;
-use crate::csvio::{self, CsvIoError};
+use crate::csvio;
 use crate::fit_cmd::{self, FitCmdOptions, JACOBIAN, PATIENCE, SPREAD};
 use crate::identify::selection::{self, rank, Outcome};
 use crate::output::OutputError;
@@ -158,10 +158,7 @@ pub enum CompareError {
     /// The work folder could not be made.
     #[error("cannot create the work folder `{}`: {}", .0.display(), .1)]
     WorkDir(PathBuf, String),
-    /// Writing the table failed.
-    #[error("output {0}")]
-    Write(CsvIoError),
-    /// Drawing the figure failed.
+    /// Writing the table or the figure, or drawing the figure, failed.
     #[error(transparent)]
     Output(#[from] OutputError),
 }
@@ -447,14 +444,13 @@ pub fn run(opts: &CompareOptions) -> Result<CompareReport, CompareError> {
         files: Vec::new(),
     };
     if let Some(csv) = &opts.csv {
-        csvio::write_string_atomic(csv, &report.csv()).map_err(CompareError::Write)?;
+        csvio::write_string_atomic(csv, &report.csv()).map_err(OutputError::Write)?;
         files.push(csv.clone());
     }
     if let Some(path) = &opts.plot {
         let svg = plot::render(&[report.panel()], 1, 1, (900, 520))
             .map_err(|e| OutputError::Plot(path.clone(), e))?;
-        csvio::write_string_atomic(path, &svg)
-            .map_err(|e| CompareError::Output(OutputError::Write(e)))?;
+        csvio::write_string_atomic(path, &svg).map_err(OutputError::Write)?;
         files.push(path.clone());
     }
     Ok(CompareReport { files, ..report })
