@@ -47,15 +47,12 @@ pub struct ExportFmuOptions {
 impl ExportFmuOptions {
     /// The FMI version asked for.
     fn version(&self) -> FmiVersion {
-        if self.fmi == "3" {
-            FmiVersion::V3
-        } else {
-            FmiVersion::V2
-        }
+        FmiVersion::from_flag(&self.fmi).unwrap_or(FmiVersion::V2)
     }
 }
 
-/// The FMI version of an FMU.
+/// The FMI version of an FMU, with what depends on it in the archive and
+/// around it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum FmiVersion {
     /// FMI 2.0.
@@ -65,18 +62,45 @@ pub enum FmiVersion {
 }
 
 impl FmiVersion {
-    /// Where the binary goes in the archive.
-    fn binary_dir(self) -> &'static str {
-        match self {
-            FmiVersion::V2 => "binaries/linux64",
-            FmiVersion::V3 => "binaries/x86_64-linux",
+    /// The version of a `--fmi` value (`2` or `3`).
+    pub fn from_flag(flag: &str) -> Option<Self> {
+        match flag {
+            "2" => Some(FmiVersion::V2),
+            "3" => Some(FmiVersion::V3),
+            _ => None,
         }
     }
 
-    fn name(self) -> &'static str {
+    /// Its `--fmi` value.
+    pub fn flag(self) -> &'static str {
         match self {
-            FmiVersion::V2 => "FMI 2.0",
-            FmiVersion::V3 => "FMI 3.0",
+            FmiVersion::V2 => "2",
+            FmiVersion::V3 => "3",
+        }
+    }
+
+    /// The version number, `2.0` or `3.0`.
+    pub fn number(self) -> &'static str {
+        match self {
+            FmiVersion::V2 => "2.0",
+            FmiVersion::V3 => "3.0",
+        }
+    }
+
+    /// The standard's name for Linux x86-64, the platform folder of the
+    /// binary (under `binaries/`).
+    pub fn platform(self) -> &'static str {
+        match self {
+            FmiVersion::V2 => "linux64",
+            FmiVersion::V3 => "x86_64-linux",
+        }
+    }
+
+    /// The name of the `DoStep` function.
+    pub fn do_step(self) -> &'static str {
+        match self {
+            FmiVersion::V2 => "fmi2DoStep",
+            FmiVersion::V3 => "fmi3DoStep",
         }
     }
 }
@@ -128,9 +152,9 @@ impl std::fmt::Display for ExportFmuReport {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "wrote {} ({} co-simulation, model identifier `{}`: input x, output y, {} tunable parameters)",
+            "wrote {} (FMI {} co-simulation, model identifier `{}`: input x, output y, {} tunable parameters)",
             self.output.display(),
-            self.fmi.name(),
+            self.fmi.number(),
             self.identifier,
             self.parameters
         )
@@ -222,7 +246,10 @@ pub fn run(opts: &ExportFmuOptions) -> Result<ExportFmuReport, ExportFmuError> {
         let binary_options = deflate.unix_permissions(0o755);
         zip.start_file("modelDescription.xml", deflate)?;
         zip.write_all(description.as_bytes())?;
-        zip.start_file(format!("{}/{id}.so", version.binary_dir()), binary_options)?;
+        zip.start_file(
+            format!("binaries/{}/{id}.so", version.platform()),
+            binary_options,
+        )?;
         zip.write_all(&binary)?;
         zip.start_file("resources/model.json", deflate)?;
         zip.write_all(json.as_bytes())?;

@@ -33,7 +33,7 @@
 //! `x(t_k)`.
 
 use crate::csvio::{self, CsvIoError};
-use crate::export_fmu::{self, ExportFmuError, ExportFmuOptions};
+use crate::export_fmu::{self, ExportFmuError, ExportFmuOptions, FmiVersion};
 use crate::models::Spec;
 use crate::Operator;
 use std::fmt::{self, Write as _};
@@ -151,49 +151,6 @@ pub const CASES: [Case; 2] = [
     },
 ];
 
-/// An FMI version and where its FMUs go.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Fmi {
-    /// FMI 2.0.
-    V2,
-    /// FMI 3.0.
-    V3,
-}
-
-impl Fmi {
-    /// The `--fmi` value of `export-fmu`.
-    fn flag(self) -> &'static str {
-        match self {
-            Fmi::V2 => "2",
-            Fmi::V3 => "3",
-        }
-    }
-
-    /// The version folder.
-    pub fn folder(self) -> &'static str {
-        match self {
-            Fmi::V2 => "2.0",
-            Fmi::V3 => "3.0",
-        }
-    }
-
-    /// The platform folder.
-    pub fn platform(self) -> &'static str {
-        match self {
-            Fmi::V2 => "linux64",
-            Fmi::V3 => "x86_64-linux",
-        }
-    }
-
-    /// The `DoStep` function's name.
-    fn do_step(self) -> &'static str {
-        match self {
-            Fmi::V2 => "fmi2DoStep",
-            Fmi::V3 => "fmi3DoStep",
-        }
-    }
-}
-
 /// Why the compatibility information could not be written.
 #[derive(Debug, thiserror::Error)]
 pub enum FmuCompatError {
@@ -293,7 +250,7 @@ fn ref_opt(case: &Case) -> String {
 }
 
 /// The `ReadMe.md` of a model's folder.
-fn readme(case: &Case, fmi: Fmi) -> String {
+fn readme(case: &Case, fmi: FmiVersion) -> String {
     let (name, version) = (case.name, env!("CARGO_PKG_VERSION"));
     let (start, stop, step) = ("0", csvio::fmt_f64(case.stop()), csvio::fmt_f64(case.step));
     let mut s = String::new();
@@ -349,7 +306,7 @@ relative to the largest |y|); the FMU has no solver, so the tolerance an
 importer passes changes nothing. {TOOL}'s tests simulate this FMU with FMPy
 this way and compare.
 ",
-        fmi_version = fmi.folder(),
+        fmi_version = fmi.number(),
         about = case.about,
         spec_path = case.spec_path,
         flag = fmi.flag(),
@@ -373,7 +330,7 @@ fn create_folder(path: &Path) -> Result<(), FmuCompatError> {
 /// `spec_file`.
 fn write_case(
     case: &Case,
-    fmi: Fmi,
+    fmi: FmiVersion,
     folder: &Path,
     spec_file: &Path,
     library: Option<&Path>,
@@ -399,10 +356,9 @@ fn write_case(
 
 /// Writes the compatibility information; see the module docs.
 pub fn run(opts: &FmuCompatOptions) -> Result<FmuCompatReport, FmuCompatError> {
-    let versions: &[Fmi] = match opts.fmi.as_deref() {
-        Some("2") => &[Fmi::V2],
-        Some("3") => &[Fmi::V3],
-        _ => &[Fmi::V2, Fmi::V3],
+    let versions = match opts.fmi.as_deref().and_then(FmiVersion::from_flag) {
+        Some(only) => vec![only],
+        None => vec![FmiVersion::V2, FmiVersion::V3],
     };
     let root = opts.dir.join("fmus");
     create_folder(&root)?;
@@ -414,9 +370,9 @@ pub fn run(opts: &FmuCompatOptions) -> Result<FmuCompatReport, FmuCompatError> {
     for case in &CASES {
         let spec_file = specs.path().join(format!("{}.json", case.name));
         csvio::write_string_atomic(&spec_file, case.spec)?;
-        for &fmi in versions {
+        for &fmi in &versions {
             let folder: PathBuf = [
-                fmi.folder(),
+                fmi.number(),
                 "cs",
                 fmi.platform(),
                 TOOL,
@@ -482,7 +438,7 @@ mod tests {
         );
         let opt = ref_opt(&CASES[1]);
         assert!(opt.contains("StepSize, 0.0013333333333333333\n"), "{opt}");
-        let text = readme(&CASES[1], Fmi::V3);
+        let text = readme(&CASES[1], FmiVersion::V3);
         for needle in [
             "FMI 3.0 co-simulation FMU from hysteron",
             env!("CARGO_PKG_VERSION"),
