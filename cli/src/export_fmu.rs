@@ -35,13 +35,22 @@ pub struct ExportFmuOptions {
     /// default: the output's file name).
     #[arg(long, value_name = "NAME")]
     pub name: Option<String>,
+    /// The FMU binary.
+    #[command(flatten)]
+    pub binary: FmuBinary,
+    /// The FMI version: 2 (FMI 2.0) or 3 (FMI 3.0).
+    #[arg(long, value_name = "VERSION", default_value = "2", value_parser = ["2", "3"])]
+    pub fmi: String,
+}
+
+/// The FMU binary that `export-fmu` packs, and `fmu-compat` with it: the
+/// `--library` flag of both.
+#[derive(Debug, Clone, Default, PartialEq, clap::Args)]
+pub struct FmuBinary {
     /// The FMU binary (default: libhysteron_c.so next to this program,
     /// built by `cargo build --release`).
     #[arg(long, value_name = "libhysteron_c.so")]
     pub library: Option<PathBuf>,
-    /// The FMI version: 2 (FMI 2.0) or 3 (FMI 3.0).
-    #[arg(long, value_name = "VERSION", default_value = "2", value_parser = ["2", "3"])]
-    pub fmi: String,
 }
 
 impl ExportFmuOptions {
@@ -193,30 +202,32 @@ fn default_name(output: &Path) -> String {
     id
 }
 
-/// The FMU binary: `--library`, or `libhysteron_c.so` next to this
-/// program.
-fn library(given: Option<&Path>) -> Result<(PathBuf, Vec<u8>), ExportFmuError> {
-    if !(cfg!(target_os = "linux") && cfg!(target_arch = "x86_64")) {
-        return Err(ExportFmuError::Platform(std::env::consts::OS));
+impl FmuBinary {
+    /// The binary's bytes: from `--library`, or `libhysteron_c.so` next to
+    /// this program.
+    fn read(&self) -> Result<Vec<u8>, ExportFmuError> {
+        if !(cfg!(target_os = "linux") && cfg!(target_arch = "x86_64")) {
+            return Err(ExportFmuError::Platform(std::env::consts::OS));
+        }
+        let path = match &self.library {
+            Some(p) => p.clone(),
+            None => std::env::current_exe()
+                .ok()
+                .and_then(|exe| exe.parent().map(|d| d.join("libhysteron_c.so")))
+                .unwrap_or_else(|| PathBuf::from("libhysteron_c.so")),
+        };
+        let bytes = std::fs::read(&path).map_err(|e| ExportFmuError::Library {
+            path: path.clone(),
+            reason: e.to_string(),
+        })?;
+        if !bytes.starts_with(b"\x7fELF") {
+            return Err(ExportFmuError::Library {
+                path,
+                reason: "not an ELF shared library".into(),
+            });
+        }
+        Ok(bytes)
     }
-    let path = match given {
-        Some(p) => p.to_path_buf(),
-        None => std::env::current_exe()
-            .ok()
-            .and_then(|exe| exe.parent().map(|d| d.join("libhysteron_c.so")))
-            .unwrap_or_else(|| PathBuf::from("libhysteron_c.so")),
-    };
-    let bytes = std::fs::read(&path).map_err(|e| ExportFmuError::Library {
-        path: path.clone(),
-        reason: e.to_string(),
-    })?;
-    if !bytes.starts_with(b"\x7fELF") {
-        return Err(ExportFmuError::Library {
-            path,
-            reason: "not an ELF shared library".into(),
-        });
-    }
-    Ok((path, bytes))
 }
 
 /// Writes the FMU.
@@ -232,7 +243,7 @@ pub fn run(opts: &ExportFmuOptions) -> Result<ExportFmuReport, ExportFmuError> {
             .clone()
             .unwrap_or_else(|| default_name(&opts.output)),
     )?;
-    let (_, binary) = library(opts.library.as_deref())?;
+    let binary = opts.binary.read()?;
     let version = opts.version();
     let description = match version {
         FmiVersion::V2 => fmi2::model_description(&model, &json, &id, &id),
@@ -292,7 +303,9 @@ mod tests {
             model: spec,
             output: dir.path().join("m.fmu"),
             name: Some("m".into()),
-            library: Some(library),
+            binary: FmuBinary {
+                library: Some(library),
+            },
             fmi: fmi.into(),
         };
         let report = run(&opts).unwrap();

@@ -33,7 +33,7 @@
 //! `x(t_k)`.
 
 use crate::csvio::{self, CsvIoError};
-use crate::export_fmu::{self, ExportFmuError, ExportFmuOptions, FmiVersion};
+use crate::export_fmu::{self, ExportFmuError, ExportFmuOptions, FmiVersion, FmuBinary};
 use crate::models::Spec;
 use crate::Operator;
 use std::fmt::{self, Write as _};
@@ -62,10 +62,9 @@ pub struct FmuCompatOptions {
     /// Only this FMI version: 2 (FMI 2.0) or 3 (FMI 3.0); default both.
     #[arg(long, value_name = "VERSION", value_parser = ["2", "3"])]
     pub fmi: Option<String>,
-    /// The FMU binary (default: libhysteron_c.so next to this program,
-    /// built by `cargo build --release`).
-    #[arg(long, value_name = "libhysteron_c.so")]
-    pub library: Option<PathBuf>,
+    /// The FMU binary.
+    #[command(flatten)]
+    pub binary: FmuBinary,
 }
 
 /// A model of the compatibility information.
@@ -333,7 +332,7 @@ fn write_case(
     fmi: FmiVersion,
     folder: &Path,
     spec_file: &Path,
-    library: Option<&Path>,
+    binary: &FmuBinary,
 ) -> Result<(), FmuCompatError> {
     create_folder(folder)?;
     let times = case.times();
@@ -343,7 +342,7 @@ fn write_case(
         model: spec_file.to_path_buf(),
         output: folder.join(format!("{}.fmu", case.name)),
         name: Some(case.name.to_string()),
-        library: library.map(Path::to_path_buf),
+        binary: binary.clone(),
         fmi: fmi.flag().to_string(),
     })?;
     let file = |suffix: &str| folder.join(format!("{}{suffix}", case.name));
@@ -381,13 +380,7 @@ pub fn run(opts: &FmuCompatOptions) -> Result<FmuCompatReport, FmuCompatError> {
             ]
             .iter()
             .collect();
-            write_case(
-                case,
-                fmi,
-                &root.join(&folder),
-                &spec_file,
-                opts.library.as_deref(),
-            )?;
+            write_case(case, fmi, &root.join(&folder), &spec_file, &opts.binary)?;
             folders.push(folder);
         }
     }
