@@ -32,6 +32,7 @@ use crate::args;
 use crate::band::BandArgs;
 use crate::csvio;
 use crate::fit_cmd::{self, FitCmdOptions, JACOBIAN, PATIENCE, SPREAD};
+use crate::fitting::ProgressArgs;
 use crate::identify::selection::{self, rank, Outcome};
 use crate::output::OutputError;
 use crate::period::SamplePeriodArgs;
@@ -286,7 +287,7 @@ fn fit_on(
         starts: opts.starts,
         spread: SPREAD,
         seed: opts.seed,
-        no_progress: true,
+        progress: ProgressArgs { no_progress: true },
         period: opts.period.clone(),
         band: None,
         covariance: None,

@@ -42,7 +42,7 @@
 use crate::args;
 use crate::band::{self as band_file, BandArgs};
 use crate::csvio::{self, CsvIoError};
-use crate::fitting::{not_converged_note, Display};
+use crate::fitting::{not_converged_note, ProgressArgs};
 use crate::identify::band::{BandError, Covariance};
 use crate::identify::{
     fit_multistart, free_by_names, FitError, FitOptions, FitReport, Jacobian, MultiStart, Record,
@@ -153,10 +153,9 @@ pub struct FitCmdOptions {
     /// Seed of the hypercube (the same seed, the same starts).
     #[arg(long, value_name = "K", default_value_t = 0)]
     pub seed: u64,
-    /// Do not draw the progress line (it is only drawn when stderr is
-    /// a terminal anyway).
-    #[arg(long)]
-    pub no_progress: bool,
+    /// Whether to draw the progress line.
+    #[command(flatten)]
+    pub progress: ProgressArgs,
     /// Where the sample period of the rate-dependent nodes comes from (a
     /// time column is read from `data`); the fitted spec keeps it.
     #[command(flatten)]
@@ -568,7 +567,7 @@ pub fn run(opts: &FitCmdOptions) -> Result<FitCmdReport, FitCmdError> {
         ..FitOptions::default()
     };
     let fit = {
-        let display = Display::new(!opts.no_progress);
+        let display = opts.progress.display();
         let progress = |p| display.update(p);
         fit_multistart(
             model.as_ref(),

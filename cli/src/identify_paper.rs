@@ -30,7 +30,7 @@
 use crate::args;
 use crate::csvio::join_paths;
 use crate::csvio::{self, CsvIoError};
-use crate::fitting::{not_converged_note, Display};
+use crate::fitting::{not_converged_note, ProgressArgs};
 use crate::identify::paper::{identify_paper, PaperError, PaperIdentification, PaperOptions};
 use crate::identify::report::fmt_g;
 use crate::models::{Spec, SpecError, TransmissionParams};
@@ -89,10 +89,9 @@ pub struct IdentifyPaperOptions {
     /// Jacobian of 2·free runs (at least 1).
     #[arg(long, value_name = "N", default_value_t = 200, value_parser = args::at_least_1, allow_negative_numbers = true)]
     pub patience: usize,
-    /// Do not draw the progress line (it is only drawn when stderr is
-    /// a terminal anyway).
-    #[arg(long)]
-    pub no_progress: bool,
+    /// Whether to draw the progress line.
+    #[command(flatten)]
+    pub progress: ProgressArgs,
 }
 
 /// An error of the identify-paper job (one-line message).
@@ -315,7 +314,7 @@ pub fn run(opts: &IdentifyPaperOptions) -> Result<IdentifyPaperReport, IdentifyP
         ..PaperOptions::default()
     };
     let result = {
-        let display = Display::new(!opts.no_progress);
+        let display = opts.progress.display();
         display.message(
             "stages 1 (spring, loop), 2 (bedstop, chirp) and 3 (all, both records)".into(),
         );
