@@ -37,8 +37,14 @@ use crate::period::{self, Origin, Period};
 use std::fmt;
 use std::path::PathBuf;
 
-/// Options of the analyze job: its command-line flags, whose doc comments
-/// are their help.
+/// Drive a model spec (JSON) by sines x = A sin θ, one per amplitude,
+/// until its output is periodic, and print per amplitude the describing
+/// function (first-harmonic gain |N| and phase in degrees, negative =
+/// lag), the energy dissipated per loop (the loop's area |∮ y dx|,
+/// trapezoid rule: > 0 for every hysteresis loop, the usual
+/// counterclockwise one of a lagging output such as a PI bank's as well
+/// as a clockwise friction loop) and the signed work ∮ y dx (< 0 for a
+/// counterclockwise loop, > 0 for a clockwise one).
 #[derive(Debug, Clone, PartialEq, clap::Args)]
 pub struct AnalyzeOptions {
     /// The model spec (JSON, see hysteron::models::Spec).

@@ -30,8 +30,9 @@
 
 use crate::args;
 use crate::band::BandArgs;
-use crate::csvio::{self, CsvIoError};
+use crate::csvio;
 use crate::fit_cmd::{self, FitCmdOptions, JACOBIAN, PATIENCE, SPREAD};
+use crate::fitting::ProgressArgs;
 use crate::identify::selection::{self, rank, Outcome};
 use crate::output::OutputError;
 use crate::period::SamplePeriodArgs;
@@ -68,8 +69,14 @@ struct CandidatesFile {
     candidates: Vec<Candidate>,
 }
 
-/// Options of the compare job: its command-line flags, whose doc comments
-/// are their help.
+/// Compare candidate structures: fit each (a spec and the parameters
+/// to free, listed in a JSON file) on the training records as `fit`
+/// does, score it on the held-out records as `validate` does, and
+/// rank the candidates by their held-out mean NRMSE (low-passed with
+/// --lowpass). Prints one table: k, training cost, AIC and BIC on
+/// training, held-out NRMSE mean and worst (full band and low-passed),
+/// the rank, and a sign test against the next rank. A candidate that
+/// fails is reported in its row; the others go on.
 #[derive(Debug, Clone, PartialEq, clap::Args)]
 pub struct CompareOptions {
     /// The candidates: {"candidates": [{"name": "...", "model":
@@ -152,10 +159,7 @@ pub enum CompareError {
     /// The work folder could not be made.
     #[error("cannot create the work folder `{}`: {}", .0.display(), .1)]
     WorkDir(PathBuf, String),
-    /// Writing the table failed.
-    #[error("output {0}")]
-    Write(CsvIoError),
-    /// Drawing the figure failed.
+    /// Writing the table or the figure, or drawing the figure, failed.
     #[error(transparent)]
     Output(#[from] OutputError),
 }
@@ -283,7 +287,7 @@ fn fit_on(
         starts: opts.starts,
         spread: SPREAD,
         seed: opts.seed,
-        no_progress: true,
+        progress: ProgressArgs { no_progress: true },
         period: opts.period.clone(),
         band: None,
         covariance: None,
@@ -441,14 +445,13 @@ pub fn run(opts: &CompareOptions) -> Result<CompareReport, CompareError> {
         files: Vec::new(),
     };
     if let Some(csv) = &opts.csv {
-        csvio::write_string_atomic(csv, &report.csv()).map_err(CompareError::Write)?;
+        csvio::write_string_atomic(csv, &report.csv()).map_err(OutputError::Write)?;
         files.push(csv.clone());
     }
     if let Some(path) = &opts.plot {
         let svg = plot::render(&[report.panel()], 1, 1, (900, 520))
             .map_err(|e| OutputError::Plot(path.clone(), e))?;
-        csvio::write_string_atomic(path, &svg)
-            .map_err(|e| CompareError::Output(OutputError::Write(e)))?;
+        csvio::write_string_atomic(path, &svg).map_err(OutputError::Write)?;
         files.push(path.clone());
     }
     Ok(CompareReport { files, ..report })

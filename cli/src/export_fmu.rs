@@ -19,8 +19,10 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use zip::write::SimpleFileOptions;
 
-/// Options of `hysteron export-fmu`: its command-line flags, whose doc
-/// comments are their help.
+/// Write a model spec (JSON) as an FMI 2.0 co-simulation FMU: input x,
+/// output y, every parameter a tunable Real named by its path, for
+/// Simulink, OpenModelica, Dymola, FMPy and other FMI hosts (Linux
+/// x86-64 binary).
 #[derive(Debug, Clone, clap::Args)]
 pub struct ExportFmuOptions {
     /// The model spec (JSON, see hysteron::models::Spec).
@@ -33,27 +35,33 @@ pub struct ExportFmuOptions {
     /// default: the output's file name).
     #[arg(long, value_name = "NAME")]
     pub name: Option<String>,
-    /// The FMU binary (default: libhysteron_c.so next to this program,
-    /// built by `cargo build --release`).
-    #[arg(long, value_name = "libhysteron_c.so")]
-    pub library: Option<PathBuf>,
+    /// The FMU binary.
+    #[command(flatten)]
+    pub binary: FmuBinary,
     /// The FMI version: 2 (FMI 2.0) or 3 (FMI 3.0).
     #[arg(long, value_name = "VERSION", default_value = "2", value_parser = ["2", "3"])]
     pub fmi: String,
 }
 
+/// The FMU binary that `export-fmu` packs, and `fmu-compat` with it: the
+/// `--library` flag of both.
+#[derive(Debug, Clone, Default, PartialEq, clap::Args)]
+pub struct FmuBinary {
+    /// The FMU binary (default: libhysteron_c.so next to this program,
+    /// built by `cargo build --release`).
+    #[arg(long, value_name = "libhysteron_c.so")]
+    pub library: Option<PathBuf>,
+}
+
 impl ExportFmuOptions {
     /// The FMI version asked for.
     fn version(&self) -> FmiVersion {
-        if self.fmi == "3" {
-            FmiVersion::V3
-        } else {
-            FmiVersion::V2
-        }
+        FmiVersion::from_flag(&self.fmi).unwrap_or(FmiVersion::V2)
     }
 }
 
-/// The FMI version of an FMU.
+/// The FMI version of an FMU, with what depends on it in the archive and
+/// around it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum FmiVersion {
     /// FMI 2.0.
@@ -63,18 +71,45 @@ pub enum FmiVersion {
 }
 
 impl FmiVersion {
-    /// Where the binary goes in the archive.
-    fn binary_dir(self) -> &'static str {
-        match self {
-            FmiVersion::V2 => "binaries/linux64",
-            FmiVersion::V3 => "binaries/x86_64-linux",
+    /// The version of a `--fmi` value (`2` or `3`).
+    pub fn from_flag(flag: &str) -> Option<Self> {
+        match flag {
+            "2" => Some(FmiVersion::V2),
+            "3" => Some(FmiVersion::V3),
+            _ => None,
         }
     }
 
-    fn name(self) -> &'static str {
+    /// Its `--fmi` value.
+    pub fn flag(self) -> &'static str {
         match self {
-            FmiVersion::V2 => "FMI 2.0",
-            FmiVersion::V3 => "FMI 3.0",
+            FmiVersion::V2 => "2",
+            FmiVersion::V3 => "3",
+        }
+    }
+
+    /// The version number, `2.0` or `3.0`.
+    pub fn number(self) -> &'static str {
+        match self {
+            FmiVersion::V2 => "2.0",
+            FmiVersion::V3 => "3.0",
+        }
+    }
+
+    /// The standard's name for Linux x86-64, the platform folder of the
+    /// binary (under `binaries/`).
+    pub fn platform(self) -> &'static str {
+        match self {
+            FmiVersion::V2 => "linux64",
+            FmiVersion::V3 => "x86_64-linux",
+        }
+    }
+
+    /// The name of the `DoStep` function.
+    pub fn do_step(self) -> &'static str {
+        match self {
+            FmiVersion::V2 => "fmi2DoStep",
+            FmiVersion::V3 => "fmi3DoStep",
         }
     }
 }
@@ -126,9 +161,9 @@ impl std::fmt::Display for ExportFmuReport {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "wrote {} ({} co-simulation, model identifier `{}`: input x, output y, {} tunable parameters)",
+            "wrote {} (FMI {} co-simulation, model identifier `{}`: input x, output y, {} tunable parameters)",
             self.output.display(),
-            self.fmi.name(),
+            self.fmi.number(),
             self.identifier,
             self.parameters
         )
@@ -167,30 +202,32 @@ fn default_name(output: &Path) -> String {
     id
 }
 
-/// The FMU binary: `--library`, or `libhysteron_c.so` next to this
-/// program.
-fn library(given: Option<&Path>) -> Result<(PathBuf, Vec<u8>), ExportFmuError> {
-    if !(cfg!(target_os = "linux") && cfg!(target_arch = "x86_64")) {
-        return Err(ExportFmuError::Platform(std::env::consts::OS));
+impl FmuBinary {
+    /// The binary's bytes: from `--library`, or `libhysteron_c.so` next to
+    /// this program.
+    fn read(&self) -> Result<Vec<u8>, ExportFmuError> {
+        if !(cfg!(target_os = "linux") && cfg!(target_arch = "x86_64")) {
+            return Err(ExportFmuError::Platform(std::env::consts::OS));
+        }
+        let path = match &self.library {
+            Some(p) => p.clone(),
+            None => std::env::current_exe()
+                .ok()
+                .and_then(|exe| exe.parent().map(|d| d.join("libhysteron_c.so")))
+                .unwrap_or_else(|| PathBuf::from("libhysteron_c.so")),
+        };
+        let bytes = std::fs::read(&path).map_err(|e| ExportFmuError::Library {
+            path: path.clone(),
+            reason: e.to_string(),
+        })?;
+        if !bytes.starts_with(b"\x7fELF") {
+            return Err(ExportFmuError::Library {
+                path,
+                reason: "not an ELF shared library".into(),
+            });
+        }
+        Ok(bytes)
     }
-    let path = match given {
-        Some(p) => p.to_path_buf(),
-        None => std::env::current_exe()
-            .ok()
-            .and_then(|exe| exe.parent().map(|d| d.join("libhysteron_c.so")))
-            .unwrap_or_else(|| PathBuf::from("libhysteron_c.so")),
-    };
-    let bytes = std::fs::read(&path).map_err(|e| ExportFmuError::Library {
-        path: path.clone(),
-        reason: e.to_string(),
-    })?;
-    if !bytes.starts_with(b"\x7fELF") {
-        return Err(ExportFmuError::Library {
-            path,
-            reason: "not an ELF shared library".into(),
-        });
-    }
-    Ok((path, bytes))
 }
 
 /// Writes the FMU.
@@ -206,7 +243,7 @@ pub fn run(opts: &ExportFmuOptions) -> Result<ExportFmuReport, ExportFmuError> {
             .clone()
             .unwrap_or_else(|| default_name(&opts.output)),
     )?;
-    let (_, binary) = library(opts.library.as_deref())?;
+    let binary = opts.binary.read()?;
     let version = opts.version();
     let description = match version {
         FmiVersion::V2 => fmi2::model_description(&model, &json, &id, &id),
@@ -220,7 +257,10 @@ pub fn run(opts: &ExportFmuOptions) -> Result<ExportFmuReport, ExportFmuError> {
         let binary_options = deflate.unix_permissions(0o755);
         zip.start_file("modelDescription.xml", deflate)?;
         zip.write_all(description.as_bytes())?;
-        zip.start_file(format!("{}/{id}.so", version.binary_dir()), binary_options)?;
+        zip.start_file(
+            format!("binaries/{}/{id}.so", version.platform()),
+            binary_options,
+        )?;
         zip.write_all(&binary)?;
         zip.start_file("resources/model.json", deflate)?;
         zip.write_all(json.as_bytes())?;
@@ -263,7 +303,9 @@ mod tests {
             model: spec,
             output: dir.path().join("m.fmu"),
             name: Some("m".into()),
-            library: Some(library),
+            binary: FmuBinary {
+                library: Some(library),
+            },
             fmi: fmi.into(),
         };
         let report = run(&opts).unwrap();

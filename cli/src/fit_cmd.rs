@@ -42,7 +42,7 @@
 use crate::args;
 use crate::band::{self as band_file, BandArgs};
 use crate::csvio::{self, CsvIoError};
-use crate::fitting::{not_converged_note, Display};
+use crate::fitting::{not_converged_note, ProgressArgs};
 use crate::identify::band::{BandError, Covariance};
 use crate::identify::{
     fit_multistart, free_by_names, FitError, FitOptions, FitReport, Jacobian, MultiStart, Record,
@@ -56,8 +56,11 @@ use crate::Operator;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-/// Options of the fit job: its command-line flags, whose doc comments are
-/// their help.
+/// Fit parameters of a model spec (JSON) to one record or several
+/// (input and measured output columns of CSV files) with
+/// Levenberg-Marquardt, starting from the spec's values; prints a
+/// report (per record too) and writes the fitted spec. Exit code 3 when
+/// the fit ran but did not converge.
 #[derive(Debug, Clone, PartialEq, clap::Args)]
 pub struct FitCmdOptions {
     /// The model spec (JSON); its parameters are the starting values.
@@ -150,10 +153,9 @@ pub struct FitCmdOptions {
     /// Seed of the hypercube (the same seed, the same starts).
     #[arg(long, value_name = "K", default_value_t = 0)]
     pub seed: u64,
-    /// Do not draw the progress line (it is only drawn when stderr is
-    /// a terminal anyway).
-    #[arg(long)]
-    pub no_progress: bool,
+    /// Whether to draw the progress line.
+    #[command(flatten)]
+    pub progress: ProgressArgs,
     /// Where the sample period of the rate-dependent nodes comes from (a
     /// time column is read from `data`); the fitted spec keeps it.
     #[command(flatten)]
@@ -565,7 +567,7 @@ pub fn run(opts: &FitCmdOptions) -> Result<FitCmdReport, FitCmdError> {
         ..FitOptions::default()
     };
     let fit = {
-        let display = Display::new(!opts.no_progress);
+        let display = opts.progress.display();
         let progress = |p| display.update(p);
         fit_multistart(
             model.as_ref(),

@@ -1,11 +1,28 @@
 //! What the commands that fit (`fit`, `identify-paper`) share: the
-//! progress line, and how a fit that did not converge is reported.
+//! progress line and its flag, and how a fit that did not converge is
+//! reported.
 
 use crate::identify::{FitReport, Progress};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::fmt;
 use std::io::IsTerminal;
 use std::time::Duration;
+
+/// `--no-progress` of the commands that fit.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, clap::Args)]
+pub struct ProgressArgs {
+    /// Do not draw the progress line (it is only drawn when stderr is
+    /// a terminal anyway).
+    #[arg(long)]
+    pub no_progress: bool,
+}
+
+impl ProgressArgs {
+    /// The progress display these flags ask for.
+    pub fn display(self) -> Display {
+        Display::new(!self.no_progress)
+    }
+}
 
 /// The progress display: a spinner line on stderr, drawn only when asked
 /// for and stderr is a terminal; cleared when dropped.

@@ -33,7 +33,7 @@
 //! `x(t_k)`.
 
 use crate::csvio::{self, CsvIoError};
-use crate::export_fmu::{self, ExportFmuError, ExportFmuOptions};
+use crate::export_fmu::{self, ExportFmuError, ExportFmuOptions, FmiVersion, FmuBinary};
 use crate::models::Spec;
 use crate::Operator;
 use std::fmt::{self, Write as _};
@@ -47,8 +47,12 @@ pub const TOOL: &str = "hysteron";
 /// output is the reference bit for bit).
 pub const REL_TOL: f64 = 1e-12;
 
-/// Options of `hysteron fmu-compat`: its command-line flags, whose doc
-/// comments are their help.
+/// Write the compatibility information of the FMU export into a
+/// folder, in the FMI Cross-Check layout
+/// (`fmus/<2.0|3.0>/cs/<platform>/hysteron/<version>/<Model>/`): for
+/// the paper model and the Bouc-Wen benchmark, per FMI version, the
+/// FMU, `<Model>_in.csv`, `<Model>_ref.csv` (computed by the library),
+/// `<Model>_ref.opt` and a `ReadMe.md`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct FmuCompatOptions {
     /// The folder to write into (created if missing); the files go under
@@ -58,10 +62,9 @@ pub struct FmuCompatOptions {
     /// Only this FMI version: 2 (FMI 2.0) or 3 (FMI 3.0); default both.
     #[arg(long, value_name = "VERSION", value_parser = ["2", "3"])]
     pub fmi: Option<String>,
-    /// The FMU binary (default: libhysteron_c.so next to this program,
-    /// built by `cargo build --release`).
-    #[arg(long, value_name = "libhysteron_c.so")]
-    pub library: Option<PathBuf>,
+    /// The FMU binary.
+    #[command(flatten)]
+    pub binary: FmuBinary,
 }
 
 /// A model of the compatibility information.
@@ -146,49 +149,6 @@ pub const CASES: [Case; 2] = [
         input: benchmark_input,
     },
 ];
-
-/// An FMI version and where its FMUs go.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Fmi {
-    /// FMI 2.0.
-    V2,
-    /// FMI 3.0.
-    V3,
-}
-
-impl Fmi {
-    /// The `--fmi` value of `export-fmu`.
-    fn flag(self) -> &'static str {
-        match self {
-            Fmi::V2 => "2",
-            Fmi::V3 => "3",
-        }
-    }
-
-    /// The version folder.
-    pub fn folder(self) -> &'static str {
-        match self {
-            Fmi::V2 => "2.0",
-            Fmi::V3 => "3.0",
-        }
-    }
-
-    /// The platform folder.
-    pub fn platform(self) -> &'static str {
-        match self {
-            Fmi::V2 => "linux64",
-            Fmi::V3 => "x86_64-linux",
-        }
-    }
-
-    /// The `DoStep` function's name.
-    fn do_step(self) -> &'static str {
-        match self {
-            Fmi::V2 => "fmi2DoStep",
-            Fmi::V3 => "fmi3DoStep",
-        }
-    }
-}
 
 /// Why the compatibility information could not be written.
 #[derive(Debug, thiserror::Error)]
@@ -289,7 +249,7 @@ fn ref_opt(case: &Case) -> String {
 }
 
 /// The `ReadMe.md` of a model's folder.
-fn readme(case: &Case, fmi: Fmi) -> String {
+fn readme(case: &Case, fmi: FmiVersion) -> String {
     let (name, version) = (case.name, env!("CARGO_PKG_VERSION"));
     let (start, stop, step) = ("0", csvio::fmt_f64(case.stop()), csvio::fmt_f64(case.step));
     let mut s = String::new();
@@ -345,7 +305,7 @@ relative to the largest |y|); the FMU has no solver, so the tolerance an
 importer passes changes nothing. {TOOL}'s tests simulate this FMU with FMPy
 this way and compare.
 ",
-        fmi_version = fmi.folder(),
+        fmi_version = fmi.number(),
         about = case.about,
         spec_path = case.spec_path,
         flag = fmi.flag(),
@@ -369,10 +329,10 @@ fn create_folder(path: &Path) -> Result<(), FmuCompatError> {
 /// `spec_file`.
 fn write_case(
     case: &Case,
-    fmi: Fmi,
+    fmi: FmiVersion,
     folder: &Path,
     spec_file: &Path,
-    library: Option<&Path>,
+    binary: &FmuBinary,
 ) -> Result<(), FmuCompatError> {
     create_folder(folder)?;
     let times = case.times();
@@ -382,7 +342,7 @@ fn write_case(
         model: spec_file.to_path_buf(),
         output: folder.join(format!("{}.fmu", case.name)),
         name: Some(case.name.to_string()),
-        library: library.map(Path::to_path_buf),
+        binary: binary.clone(),
         fmi: fmi.flag().to_string(),
     })?;
     let file = |suffix: &str| folder.join(format!("{}{suffix}", case.name));
@@ -395,10 +355,9 @@ fn write_case(
 
 /// Writes the compatibility information; see the module docs.
 pub fn run(opts: &FmuCompatOptions) -> Result<FmuCompatReport, FmuCompatError> {
-    let versions: &[Fmi] = match opts.fmi.as_deref() {
-        Some("2") => &[Fmi::V2],
-        Some("3") => &[Fmi::V3],
-        _ => &[Fmi::V2, Fmi::V3],
+    let versions = match opts.fmi.as_deref().and_then(FmiVersion::from_flag) {
+        Some(only) => vec![only],
+        None => vec![FmiVersion::V2, FmiVersion::V3],
     };
     let root = opts.dir.join("fmus");
     create_folder(&root)?;
@@ -410,9 +369,9 @@ pub fn run(opts: &FmuCompatOptions) -> Result<FmuCompatReport, FmuCompatError> {
     for case in &CASES {
         let spec_file = specs.path().join(format!("{}.json", case.name));
         csvio::write_string_atomic(&spec_file, case.spec)?;
-        for &fmi in versions {
+        for &fmi in &versions {
             let folder: PathBuf = [
-                fmi.folder(),
+                fmi.number(),
                 "cs",
                 fmi.platform(),
                 TOOL,
@@ -421,13 +380,7 @@ pub fn run(opts: &FmuCompatOptions) -> Result<FmuCompatReport, FmuCompatError> {
             ]
             .iter()
             .collect();
-            write_case(
-                case,
-                fmi,
-                &root.join(&folder),
-                &spec_file,
-                opts.library.as_deref(),
-            )?;
+            write_case(case, fmi, &root.join(&folder), &spec_file, &opts.binary)?;
             folders.push(folder);
         }
     }
@@ -478,7 +431,7 @@ mod tests {
         );
         let opt = ref_opt(&CASES[1]);
         assert!(opt.contains("StepSize, 0.0013333333333333333\n"), "{opt}");
-        let text = readme(&CASES[1], Fmi::V3);
+        let text = readme(&CASES[1], FmiVersion::V3);
         for needle in [
             "FMI 3.0 co-simulation FMU from hysteron",
             env!("CARGO_PKG_VERSION"),

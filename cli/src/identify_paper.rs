@@ -30,7 +30,7 @@
 use crate::args;
 use crate::csvio::join_paths;
 use crate::csvio::{self, CsvIoError};
-use crate::fitting::{not_converged_note, Display};
+use crate::fitting::{not_converged_note, ProgressArgs};
 use crate::identify::paper::{identify_paper, PaperError, PaperIdentification, PaperOptions};
 use crate::identify::report::fmt_g;
 use crate::models::{Spec, SpecError, TransmissionParams};
@@ -41,8 +41,14 @@ use crate::Operator;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-/// Options of the identify-paper job: its command-line flags, whose doc
-/// comments are their help.
+/// The two-stage identification of Ruderman & Bertram (2015): the
+/// spring's shape from a major loop (knots through points of its last
+/// increasing branch), then the bedstop (backlash, F_c, K) from a
+/// down-chirp; then a joint refinement of all parameters on both
+/// records (stage 3, from the stage-1 spring and the backlash and F_c
+/// of the loop's plateau). Writes the identified model as a
+/// `transmission` spec (JSON) and prints the stage reports. Exit code 3
+/// when a stage did not converge.
 #[derive(Debug, Clone, PartialEq, clap::Args)]
 pub struct IdentifyPaperOptions {
     /// The major-loop record (CSV with a header row): one sine, whose
@@ -83,10 +89,9 @@ pub struct IdentifyPaperOptions {
     /// Jacobian of 2·free runs (at least 1).
     #[arg(long, value_name = "N", default_value_t = 200, value_parser = args::at_least_1, allow_negative_numbers = true)]
     pub patience: usize,
-    /// Do not draw the progress line (it is only drawn when stderr is
-    /// a terminal anyway).
-    #[arg(long)]
-    pub no_progress: bool,
+    /// Whether to draw the progress line.
+    #[command(flatten)]
+    pub progress: ProgressArgs,
 }
 
 /// An error of the identify-paper job (one-line message).
@@ -309,7 +314,7 @@ pub fn run(opts: &IdentifyPaperOptions) -> Result<IdentifyPaperReport, IdentifyP
         ..PaperOptions::default()
     };
     let result = {
-        let display = Display::new(!opts.no_progress);
+        let display = opts.progress.display();
         display.message(
             "stages 1 (spring, loop), 2 (bedstop, chirp) and 3 (all, both records)".into(),
         );

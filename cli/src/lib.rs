@@ -2,8 +2,9 @@
 //!
 //! The `hysteron` program's commands as a library (the binary is
 //! `src/main.rs`): each command is a module with its options (its
-//! command-line flags, a clap `Args` struct whose doc comments are their
-//! help), its run function and its report; `args`, `csvio`, `plot`,
+//! command-line flags, a clap `Args` struct whose doc comment is the
+//! command's about text and whose fields' doc comments are their help),
+//! its run function and its report; `args`, `csvio`, `plot`,
 //! `output`, `period` and `fitting` are what they share. The library facade `hysteron` depends on none of this
 //! (no clap, plotters, indicatif or csv).
 

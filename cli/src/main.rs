@@ -90,95 +90,20 @@ struct Cli {
 }
 
 // Each command's flags are its options struct's fields (clap `Args`, in
-// its module); the variant's doc comment is the command's about text.
+// its module), and that struct's doc comment is the command's about text.
 #[derive(Debug, Subcommand)]
 enum Command {
-    /// Run the experiments of Ruderman & Bertram (2015): one CSV per
-    /// experiment (t,x,F,z,slider,friction,h) and the figures loops.svg,
-    /// chirp.svg and stiffness.svg; prints a summary.
     Paper(paper::PaperOptions),
-    /// Run a model spec (JSON) over one column of a CSV file (with a
-    /// header); the output holds all input columns plus `y`.
     Simulate(simulate::SimulateOptions),
-    /// Run a model spec (JSON) over one column of a CSV file (with a
-    /// header) and compute the derivatives of its output with respect to
-    /// chosen parameters, ∂y_k/∂p, by forward-mode automatic
-    /// differentiation (dual numbers, no step size to choose; at a
-    /// kink, the derivative of the branch the model takes). The output
-    /// holds all input columns, `y`, then one column `dy/d<path>` per
-    /// parameter (e.g. dy/dleft.mms.f_c), in the order given.
     Sensitivity(sensitivity::SensitivityOptions),
-    /// Run a model spec (JSON) once per parameter set (rows of a CSV file
-    /// whose header names parameters) over one column of a CSV file, all
-    /// sets together (play, MMS and Bouc-Wen n = 1 leaves eight per vector
-    /// instruction);
-    /// writes the input column and one output column per set, set_1,
-    /// set_2, … (NaN for a set that failed, which the report names with
-    /// its error).
     Sweep(sweep::SweepOptions),
-    /// Global sensitivity of a model spec (JSON): which parameters matter
-    /// for a scalar statistic of its output over one column of a CSV file
-    /// (the loop energy |∮ y dx|, the work, the peak |y|, the RMS or the
-    /// mean of y). Each factor (--factor NAME=LOW:HIGH) is uniform within
-    /// its bounds, the others keep the spec's values; prints the Sobol
-    /// first-order index S_i (the share of the statistic's variance the
-    /// factor explains alone) and total index S_Ti (with its
-    /// interactions), from N (k + 2) runs on a scrambled Sobol sequence
-    /// (Saltelli design and estimators).
     Sobol(sobol::SobolCmdOptions),
-    /// Fit parameters of a model spec (JSON) to one record or several
-    /// (input and measured output columns of CSV files) with
-    /// Levenberg-Marquardt, starting from the spec's values; prints a
-    /// report (per record too) and writes the fitted spec. Exit code 3 when
-    /// the fit ran but did not converge.
     Fit(fit_cmd::FitCmdOptions),
-    /// Score a model spec (JSON) against measured records: simulate it over
-    /// each record's input column (a fresh model per record, from its
-    /// initial state) and print one table row per record plus a mean row:
-    /// | record | samples | RMS | max |err| | NRMSE | low-passed NRMSE |.
-    /// RMS and max are of F_model − F_meas over the scored samples;
-    /// NRMSE = RMS(F_model − F_meas) / RMS(F_meas), where RMS is about
-    /// zero (√(Σ F²/n)), not the standard deviation. The mean row averages
-    /// each figure over the records (unweighted) and sums the samples.
     Validate(validate::ValidateOptions),
-    /// Drive a model spec (JSON) by sines x = A sin θ, one per amplitude,
-    /// until its output is periodic, and print per amplitude the describing
-    /// function (first-harmonic gain |N| and phase in degrees, negative =
-    /// lag), the energy dissipated per loop (the loop's area |∮ y dx|,
-    /// trapezoid rule: > 0 for every hysteresis loop, the usual
-    /// counterclockwise one of a lagging output such as a PI bank's as well
-    /// as a clockwise friction loop) and the signed work ∮ y dx (< 0 for a
-    /// counterclockwise loop, > 0 for a clockwise one).
     Analyze(analyze::AnalyzeOptions),
-    /// The two-stage identification of Ruderman & Bertram (2015): the
-    /// spring's shape from a major loop (knots through points of its last
-    /// increasing branch), then the bedstop (backlash, F_c, K) from a
-    /// down-chirp; then a joint refinement of all parameters on both
-    /// records (stage 3, from the stage-1 spring and the backlash and F_c
-    /// of the loop's plateau). Writes the identified model as a
-    /// `transmission` spec (JSON) and prints the stage reports. Exit code 3
-    /// when a stage did not converge.
     IdentifyPaper(identify_paper::IdentifyPaperOptions),
-    /// Write a model spec (JSON) as an FMI 2.0 co-simulation FMU: input x,
-    /// output y, every parameter a tunable Real named by its path, for
-    /// Simulink, OpenModelica, Dymola, FMPy and other FMI hosts (Linux
-    /// x86-64 binary).
     ExportFmu(export_fmu::ExportFmuOptions),
-    /// Write the compatibility information of the FMU export into a
-    /// folder, in the FMI Cross-Check layout
-    /// (`fmus/<2.0|3.0>/cs/<platform>/hysteron/<version>/<Model>/`): for
-    /// the paper model and the Bouc-Wen benchmark, per FMI version, the
-    /// FMU, `<Model>_in.csv`, `<Model>_ref.csv` (computed by the library),
-    /// `<Model>_ref.opt` and a `ReadMe.md`.
     FmuCompat(fmu_compat::FmuCompatOptions),
-    /// Compare candidate structures: fit each (a spec and the parameters
-    /// to free, listed in a JSON file) on the training records as `fit`
-    /// does, score it on the held-out records as `validate` does, and
-    /// rank the candidates by their held-out mean NRMSE (low-passed with
-    /// --lowpass). Prints one table: k, training cost, AIC and BIC on
-    /// training, held-out NRMSE mean and worst (full band and low-passed),
-    /// the rank, and a sign test against the next rank. A candidate that
-    /// fails is reported in its row; the others go on.
     Compare(compare::CompareOptions),
     /// List every operator a spec can name: its spec type, equation, and
     /// each parameter with its domain, default and documentation; then the
@@ -190,12 +115,6 @@ enum Command {
         #[arg(long, value_name = "DIR")]
         figures: Option<PathBuf>,
     },
-    /// Time the operator kernels (play, 64-play PI, Bouc-Wen n = 1 and
-    /// 1.5, MMS, BWBN and Jiles-Atherton, the paper's model static and
-    /// boxed from JSON, rayon batches on 1 and 2 threads) on the input
-    /// x_i = 2.5 sin(2πi/2000) + 0.3 sin(2πi/97.3); prints one table row
-    /// per kernel: | hysteron | kernel | runs | samples/s | ns/sample | min..max |.
-    /// Build with --release.
     Bench(bench::BenchOptions),
 }
 

@@ -68,8 +68,9 @@ pub enum PaperError {
     Plot(String, PlotError),
 }
 
-/// Options of the paper job: its command-line flags, whose doc comments
-/// are their help.
+/// Run the experiments of Ruderman & Bertram (2015): one CSV per
+/// experiment (t,x,F,z,slider,friction,h) and the figures loops.svg,
+/// chirp.svg and stiffness.svg; prints a summary.
 #[derive(Debug, Clone, PartialEq, clap::Args)]
 pub struct PaperOptions {
     /// Output directory (created if missing).

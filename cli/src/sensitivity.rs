@@ -40,8 +40,13 @@ use std::path::PathBuf;
 /// The default name of the output column (as for `simulate`).
 pub const OUTPUT_COLUMN: &str = crate::simulate::OUTPUT_COLUMN;
 
-/// Options of the sensitivity job: its command-line flags, whose doc
-/// comments are their help.
+/// Run a model spec (JSON) over one column of a CSV file (with a
+/// header) and compute the derivatives of its output with respect to
+/// chosen parameters, ∂y_k/∂p, by forward-mode automatic
+/// differentiation (dual numbers, no step size to choose; at a
+/// kink, the derivative of the branch the model takes). The output
+/// holds all input columns, `y`, then one column `dy/d<path>` per
+/// parameter (e.g. dy/dleft.mms.f_c), in the order given.
 #[derive(Debug, Clone, PartialEq, clap::Args)]
 pub struct SensitivityOptions {
     /// The model, the input file and its column.

@@ -33,8 +33,8 @@ use std::path::{Path, PathBuf};
 /// The default name of the output column.
 pub const OUTPUT_COLUMN: &str = "y";
 
-/// Options of the simulate job: its command-line flags, whose doc
-/// comments are their help.
+/// Run a model spec (JSON) over one column of a CSV file (with a
+/// header); the output holds all input columns plus `y`.
 #[derive(Debug, Clone, PartialEq, clap::Args)]
 pub struct SimulateOptions {
     /// The model, the input file and its column.

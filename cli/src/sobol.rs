@@ -66,8 +66,15 @@ impl StatisticArg {
     }
 }
 
-/// Options of [`run`]: the command-line flags of `sobol`, whose doc
-/// comments are their help.
+/// Global sensitivity of a model spec (JSON): which parameters matter
+/// for a scalar statistic of its output over one column of a CSV file
+/// (the loop energy |∮ y dx|, the work, the peak |y|, the RMS or the
+/// mean of y). Each factor (--factor NAME=LOW:HIGH) is uniform within
+/// its bounds, the others keep the spec's values; prints the Sobol
+/// first-order index S_i (the share of the statistic's variance the
+/// factor explains alone) and total index S_Ti (with its
+/// interactions), from N (k + 2) runs on a scrambled Sobol sequence
+/// (Saltelli design and estimators).
 #[derive(Debug, Clone, PartialEq, clap::Args)]
 pub struct SobolCmdOptions {
     /// The model, and the input column it runs over.

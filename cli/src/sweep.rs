@@ -37,8 +37,13 @@ use nalgebra::DMatrix;
 use std::fmt;
 use std::path::PathBuf;
 
-/// Options of [`run`]: the command-line flags of `sweep`, whose doc
-/// comments are their help.
+/// Run a model spec (JSON) once per parameter set (rows of a CSV file
+/// whose header names parameters) over one column of a CSV file, all
+/// sets together (play, MMS and Bouc-Wen n = 1 leaves eight per vector
+/// instruction);
+/// writes the input column and one output column per set, set_1,
+/// set_2, … (NaN for a set that failed, which the report names with
+/// its error).
 #[derive(Debug, Clone, PartialEq, clap::Args)]
 pub struct SweepOptions {
     /// The model, and the input column it runs over.

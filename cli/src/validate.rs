@@ -41,8 +41,14 @@ use crate::Operator;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-/// Options of the validate job: its command-line flags, whose doc comments
-/// are their help.
+/// Score a model spec (JSON) against measured records: simulate it over
+/// each record's input column (a fresh model per record, from its
+/// initial state) and print one table row per record plus a mean row:
+/// | record | samples | RMS | max |err| | NRMSE | low-passed NRMSE |.
+/// RMS and max are of F_model − F_meas over the scored samples;
+/// NRMSE = RMS(F_model − F_meas) / RMS(F_meas), where RMS is about
+/// zero (√(Σ F²/n)), not the standard deviation. The mean row averages
+/// each figure over the records (unweighted) and sums the samples.
 #[derive(Debug, Clone, PartialEq, clap::Args)]
 pub struct ValidateOptions {
     /// The model spec (JSON, see hysteron::models::Spec).
