@@ -127,6 +127,16 @@ impl<T: Float, F: FnMut(T) -> Result<Eval<T>>> Tracked<F, T> {
         self.last_eval = Some((r, d));
         Ok((r, d))
     }
+
+    /// Leaves the last evaluation at `x`: evaluates there unless it was
+    /// there already.
+    #[inline(always)]
+    fn end_at(&mut self, x: T) -> Result<()> {
+        if self.last != Some(x) {
+            self.eval(x)?;
+        }
+        Ok(())
+    }
 }
 
 /// The outcome of a bounded solve.
@@ -405,11 +415,9 @@ where
     if r0 == T::zero() {
         return Ok(Root::Inside(x0));
     }
-    if let Some((lo, hi)) = bounds {
-        // Already at a bound and pushed beyond it: stay there.
-        if (x0 == hi && r0 < T::zero()) || (x0 == lo && r0 > T::zero()) {
-            return Ok(Root::AtBound(x0));
-        }
+    // Already at a bound and pushed beyond it: stay there.
+    if held_at_bound(x0, r0, bounds) {
+        return Ok(Root::AtBound(x0));
     }
     let (x0, r0, d0) = match newton(f, (x0, r0, d0), bounds, scale, opts)? {
         Newton::Root(x) => return Ok(Root::Inside(x)),
@@ -420,9 +428,7 @@ where
     let bracket = match find_bracket(f, x0, r0, d0, step, hint, bounds, scale, opts)? {
         Found::Bracket(b) => b,
         Found::AtBound(x) => {
-            if f.last != Some(x) {
-                f.eval(x)?;
-            }
+            f.end_at(x)?;
             return Ok(Root::AtBound(x));
         }
     };
@@ -452,10 +458,8 @@ where
     if r == T::zero() {
         return Ok(Some(Root::Inside(g)));
     }
-    if let Some((lo, hi)) = bounds {
-        if (g == hi && r < T::zero()) || (g == lo && r > T::zero()) {
-            return Ok(Some(Root::AtBound(g)));
-        }
+    if held_at_bound(g, r, bounds) {
+        return Ok(Some(Root::AtBound(g)));
     }
     Ok(match newton(f, (g, r, d), bounds, scale, opts)? {
         Newton::Root(x) => Some(Root::Inside(x)),
@@ -478,9 +482,7 @@ where
     F: FnMut(T) -> Result<Eval<T>>,
 {
     let x = refine(f, bracket, scale, opts)?;
-    if f.last != Some(x) {
-        f.eval(x)?;
-    }
+    f.end_at(x)?;
     Ok(Root::Inside(x))
 }
 
@@ -556,9 +558,7 @@ where
             // it cannot have reached such a point.
             let small = step.abs() <= x.abs().max(scale.abs());
             if small || genuine_zero(f, next, scale, opts)? {
-                if f.last != Some(next) {
-                    f.eval(next)?;
-                }
+                f.end_at(next)?;
                 return Ok(Newton::Root(next));
             }
             break;
@@ -566,10 +566,8 @@ where
         if rn.signum() != r.signum() {
             return Ok(Newton::Bracket(Bracket::new((x, r, d), (next, rn, dn))));
         }
-        if let (true, Some((lo, hi))) = (at_bound, bounds) {
-            // Increasing residual: still negative at hi, or still positive
-            // at lo, means the root lies beyond the bound.
-            if (next == hi && rn < T::zero()) || (next == lo && rn > T::zero()) {
+        if at_bound {
+            if held_at_bound(next, rn, bounds) {
                 return Ok(Newton::AtBound(next));
             }
             break;
@@ -580,6 +578,14 @@ where
         (x, r, d) = (next, rn, dn);
     }
     Ok(Newton::Stalled((x, r, d)))
+}
+
+/// Whether the residual `r` at `x`, one of the `bounds`, pushes beyond it:
+/// an increasing residual still negative at `hi`, or still positive at
+/// `lo`, means the root lies beyond the bound, and is held there.
+#[inline(always)]
+fn held_at_bound<T: Float>(x: T, r: T, bounds: Option<(T, T)>) -> bool {
+    bounds.is_some_and(|(lo, hi)| (x == hi && r < T::zero()) || (x == lo && r > T::zero()))
 }
 
 /// The stopping rule of [`newton`] at `x`, whose Newton step is `step`:
