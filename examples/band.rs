@@ -15,12 +15,15 @@
 use hysteron::identify::band::{Band, BandMethod};
 use hysteron::identify::{fit, free_by_names, FitOptions};
 use hysteron::models::Spec;
+use plotters::coord::types::RangedCoordf64;
+use plotters::coord::Shift;
 use plotters::prelude::*;
 use rand::rngs::StdRng;
 use rand::SeedableRng;
 use rand_distr::{Distribution, Normal};
 use std::error::Error;
 use std::f64::consts::TAU;
+use std::ops::Range;
 
 /// The free parameters (unique suffixes of the paper model's names).
 const FREE: [&str; 5] = ["f_c", "left.mms.k", "w", "beta", "gamma"];
@@ -155,20 +158,13 @@ fn draw(path: &str, linear: &Band, mc: &Band, truth: &[f64]) -> Result<(), Box<d
     let purple = RGBColor(148, 103, 189);
     let orange = RGBColor(255, 127, 14);
 
-    let mut chart = ChartBuilder::on(&top)
-        .caption(
-            "Paper model, fitted on a noisy record: output on a new input with its 95 % band",
-            ("sans-serif", 16),
-        )
-        .margin(10)
-        .x_label_area_size(30)
-        .y_label_area_size(60)
-        .build_cartesian_2d(0.0..n, range(&[&linear.lower, &linear.upper, truth]))?;
-    chart
-        .configure_mesh()
-        .x_desc("sample")
-        .y_desc("force F")
-        .draw()?;
+    let mut chart = panel(
+        &top,
+        "Paper model, fitted on a noisy record: output on a new input with its 95 % band",
+        n,
+        range(&[&linear.lower, &linear.upper, truth]),
+        "force F",
+    )?;
     let band: Vec<(f64, f64)> = series(&linear.upper)
         .into_iter()
         .chain(series(&linear.lower).into_iter().rev())
@@ -187,12 +183,7 @@ fn draw(path: &str, linear: &Band, mc: &Band, truth: &[f64]) -> Result<(), Box<d
         .draw_series(LineSeries::new(series(truth), orange.stroke_width(1)))?
         .label("truth (noise-free)")
         .legend(move |(x, y)| PathElement::new([(x, y), (x + 16, y)], orange));
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .draw()?;
+    legend(&mut chart)?;
 
     let about =
         |v: &[f64]| -> Vec<f64> { v.iter().zip(&linear.output).map(|(a, y)| a - y).collect() };
@@ -203,20 +194,13 @@ fn draw(path: &str, linear: &Band, mc: &Band, truth: &[f64]) -> Result<(), Box<d
         about(&mc.upper),
         about(truth),
     );
-    let mut chart = ChartBuilder::on(&bottom)
-        .caption(
-            "The bands' edges and the truth, about the fitted output",
-            ("sans-serif", 16),
-        )
-        .margin(10)
-        .x_label_area_size(30)
-        .y_label_area_size(60)
-        .build_cartesian_2d(0.0..n, range(&[&lin_lo, &lin_hi, &mc_lo, &mc_hi, &err]))?;
-    chart
-        .configure_mesh()
-        .x_desc("sample")
-        .y_desc("F − fitted F")
-        .draw()?;
+    let mut chart = panel(
+        &bottom,
+        "The bands' edges and the truth, about the fitted output",
+        n,
+        range(&[&lin_lo, &lin_hi, &mc_lo, &mc_hi, &err]),
+        "F − fitted F",
+    )?;
     for (k, edge) in [&lin_lo, &lin_hi].into_iter().enumerate() {
         let s = chart.draw_series(LineSeries::new(series(edge), &purple))?;
         if k == 0 {
@@ -235,12 +219,44 @@ fn draw(path: &str, linear: &Band, mc: &Band, truth: &[f64]) -> Result<(), Box<d
         .draw_series(LineSeries::new(series(&err), orange.stroke_width(1)))?
         .label("truth")
         .legend(move |(x, y)| PathElement::new([(x, y), (x + 16, y)], orange));
+    legend(&mut chart)?;
+    root.present()?;
+    Ok(())
+}
+
+/// A chart over the sample index and an output range.
+type Panel<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// A panel of [`draw`] on `area`: its caption, the sample index `0..n`
+/// across, the output `y` (named `y_desc`) up, with its mesh drawn.
+fn panel<'a, 'b>(
+    area: &'a DrawingArea<SVGBackend<'b>, Shift>,
+    caption: &str,
+    n: f64,
+    y: Range<f64>,
+    y_desc: &str,
+) -> Result<Panel<'a, 'b>, Box<dyn Error>> {
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, ("sans-serif", 16))
+        .margin(10)
+        .x_label_area_size(30)
+        .y_label_area_size(60)
+        .build_cartesian_2d(0.0..n, y)?;
+    chart
+        .configure_mesh()
+        .x_desc("sample")
+        .y_desc(y_desc)
+        .draw()?;
+    Ok(chart)
+}
+
+/// A panel's legend, at the upper right.
+fn legend<'a, 'b: 'a>(chart: &mut Panel<'a, 'b>) -> Result<(), Box<dyn Error>> {
     chart
         .configure_series_labels()
         .position(SeriesLabelPosition::UpperRight)
         .background_style(WHITE.mix(0.8))
         .border_style(BLACK)
         .draw()?;
-    root.present()?;
     Ok(())
 }

@@ -61,19 +61,7 @@ impl<T: Float, A: Child<T>, B: Child<T>> Operator<T> for Cascade<T, A, B> {
         })
     }
 
-    #[inline]
-    fn commit(&mut self) {
-        if self.pending.take().is_some() {
-            self.first.commit();
-            self.second.commit();
-        }
-    }
-
-    fn reset(&mut self) {
-        self.pending = None;
-        self.first.reset();
-        self.second.reset();
-    }
+    crate::pair::commit_reset_children!(first, second);
 }
 
 /// The chain rule `dy/dx = B' · A'`. Where `first` is flat its output does

@@ -1,7 +1,52 @@
-//! Parameter plumbing shared by the combinators: those over two children
-//! and those wrapping one `inner` child.
+//! Stepping and parameter plumbing shared by the combinators: those over
+//! two children and those wrapping one `inner` child.
 
 use hysteron_operators::{check, Domain, Float, Operator, Result};
+
+/// A combinator's record of its pending trial: a `bool`, or an `Option` of
+/// what it keeps of the trial; the default records none.
+pub(crate) trait PendingTrial: Default {
+    /// Whether a trial is pending.
+    fn is_pending(&self) -> bool;
+}
+
+impl PendingTrial for bool {
+    #[inline(always)]
+    fn is_pending(&self) -> bool {
+        *self
+    }
+}
+
+impl<P> PendingTrial for Option<P> {
+    #[inline(always)]
+    fn is_pending(&self) -> bool {
+        self.is_some()
+    }
+}
+
+/// The `commit` and `reset` of a combinator whose state is its children's,
+/// in the fields listed, with a field `pending` ([`PendingTrial`]) set
+/// where its last trial was the children's and succeeded: `commit`
+/// commits the children of a pending trial, `reset` forgets it and resets
+/// them. Written inside the combinator's `impl Operator<T>` block:
+/// `commit_reset_children!(left, right);`.
+macro_rules! commit_reset_children {
+    ($($child:ident),+) => {
+        #[inline]
+        fn commit(&mut self) {
+            let pending = std::mem::take(&mut self.pending);
+            if $crate::pair::PendingTrial::is_pending(&pending) {
+                $(self.$child.commit();)+
+            }
+        }
+
+        fn reset(&mut self) {
+            self.pending = Default::default();
+            $(self.$child.reset();)+
+        }
+    };
+}
+pub(crate) use commit_reset_children;
 
 /// Sets `[params of a, params of b]` atomically: both children are
 /// validated on copies before either is replaced. Errors name the child.

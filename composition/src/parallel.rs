@@ -46,19 +46,7 @@ impl<T: Float, A: Child<T>, B: Child<T>> Operator<T> for Parallel<A, B> {
         Ok(t)
     }
 
-    #[inline]
-    fn commit(&mut self) {
-        if std::mem::take(&mut self.pending) {
-            self.left.commit();
-            self.right.commit();
-        }
-    }
-
-    fn reset(&mut self) {
-        self.pending = false;
-        self.left.reset();
-        self.right.reset();
-    }
+    crate::pair::commit_reset_children!(left, right);
 }
 
 /// `y = A + B`, `y' = A' + B'`.

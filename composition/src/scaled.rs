@@ -54,17 +54,7 @@ impl<T: Float, A: Child<T>> Operator<T> for Scaled<T, A> {
         Ok(t)
     }
 
-    #[inline]
-    fn commit(&mut self) {
-        if std::mem::take(&mut self.pending) {
-            self.inner.commit();
-        }
-    }
-
-    fn reset(&mut self) {
-        self.pending = false;
-        self.inner.reset();
-    }
+    crate::pair::commit_reset_children!(inner);
 }
 
 /// `y = w A`, `y' = w A'`.

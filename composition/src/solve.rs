@@ -84,6 +84,12 @@ impl<T: Float> SolverOptions<T> {
 /// One evaluation of the residual: value and derivative.
 pub(crate) type Eval<T> = (T, T);
 
+/// A residual function: at `x`, the residual and its slope there (or the
+/// error of a child's trial), what the solver's steps evaluate.
+pub(crate) trait ResidualFn<T>: FnMut(T) -> Result<Eval<T>> {}
+
+impl<T, F: FnMut(T) -> Result<Eval<T>>> ResidualFn<T> for F {}
+
 /// A residual function that remembers where it was last evaluated, so the
 /// solver can leave the children's pending trials at the returned root.
 struct Tracked<F, T> {
@@ -94,7 +100,7 @@ struct Tracked<F, T> {
     solver: &'static str,
 }
 
-impl<T: Float, F: FnMut(T) -> Result<Eval<T>>> Tracked<F, T> {
+impl<T: Float, F: ResidualFn<T>> Tracked<F, T> {
     /// `f`, not evaluated yet, for the solver named `solver`.
     fn new(f: F, solver: &'static str) -> Self {
         Tracked {
@@ -126,6 +132,16 @@ impl<T: Float, F: FnMut(T) -> Result<Eval<T>>> Tracked<F, T> {
         }
         self.last_eval = Some((r, d));
         Ok((r, d))
+    }
+
+    /// Leaves the last evaluation at `x`: evaluates there unless it was
+    /// there already.
+    #[inline(always)]
+    fn end_at(&mut self, x: T) -> Result<()> {
+        if self.last != Some(x) {
+            self.eval(x)?;
+        }
+        Ok(())
     }
 }
 
@@ -215,16 +231,12 @@ impl<T: Float> Start<T> {
 /// so the children's pending trials carry the same derivatives. Where
 /// `r_x` is zero or not finite (a flat residual) the iterate's derivatives
 /// are kept. A root held at a bound takes the bound's derivatives.
-pub(crate) fn solve<T, F>(
+pub(crate) fn solve<T: Float, F: ResidualFn<T>>(
     solver: &'static str,
     f: F,
     start: Start<T>,
     opts: &SolverOptions<T>,
-) -> Result<Root<T>>
-where
-    T: Float,
-    F: FnMut(T) -> Result<Eval<T>>,
-{
+) -> Result<Root<T>> {
     let mut f = Tracked::new(f, solver);
     let root = search(&mut f, start, opts)?;
     if !T::CARRIES_DERIVATIVES {
@@ -269,17 +281,13 @@ where
 /// or, where one cannot fold, asks again without `probe`. The other slots
 /// of that evaluation are those of the evaluation without the probe, bit
 /// for bit (each slot is computed from the values and itself only).
-pub(crate) fn at_root<T, F>(
+pub(crate) fn at_root<T: Float, F: ResidualFn<T>>(
     solver: &'static str,
     f: F,
     root: Root<f64>,
     bounds: Option<(T, T)>,
     probe: bool,
-) -> Result<Option<AtRoot<T>>>
-where
-    T: Float,
-    F: FnMut(T) -> Result<Eval<T>>,
-{
+) -> Result<Option<AtRoot<T>>> {
     let mut f = Tracked::new(f, solver);
     Ok(Some(match root {
         Root::Inside(x) => {
@@ -371,11 +379,11 @@ pub(crate) enum AtRoot<T> {
 }
 
 /// The search of [`solve`].
-fn search<T, F>(f: &mut Tracked<F, T>, start: Start<T>, opts: &SolverOptions<T>) -> Result<Root<T>>
-where
-    T: Float,
-    F: FnMut(T) -> Result<Eval<T>>,
-{
+fn search<T: Float, F: ResidualFn<T>>(
+    f: &mut Tracked<F, T>,
+    start: Start<T>,
+    opts: &SolverOptions<T>,
+) -> Result<Root<T>> {
     let Start {
         x0,
         step,
@@ -405,11 +413,9 @@ where
     if r0 == T::zero() {
         return Ok(Root::Inside(x0));
     }
-    if let Some((lo, hi)) = bounds {
-        // Already at a bound and pushed beyond it: stay there.
-        if (x0 == hi && r0 < T::zero()) || (x0 == lo && r0 > T::zero()) {
-            return Ok(Root::AtBound(x0));
-        }
+    // Already at a bound and pushed beyond it: stay there.
+    if held_at_bound(x0, r0, bounds) {
+        return Ok(Root::AtBound(x0));
     }
     let (x0, r0, d0) = match newton(f, (x0, r0, d0), bounds, scale, opts)? {
         Newton::Root(x) => return Ok(Root::Inside(x)),
@@ -420,9 +426,7 @@ where
     let bracket = match find_bracket(f, x0, r0, d0, step, hint, bounds, scale, opts)? {
         Found::Bracket(b) => b,
         Found::AtBound(x) => {
-            if f.last != Some(x) {
-                f.eval(x)?;
-            }
+            f.end_at(x)?;
             return Ok(Root::AtBound(x));
         }
     };
@@ -433,18 +437,14 @@ where
 /// or `None` if they stall; `evaluated`: the residual and slope at `g`
 /// where they are known already.
 #[inline(always)]
-fn from<T, F>(
+fn from<T: Float, F: ResidualFn<T>>(
     f: &mut Tracked<F, T>,
     g: T,
     evaluated: Option<Eval<T>>,
     bounds: Option<(T, T)>,
     scale: T,
     opts: &SolverOptions<T>,
-) -> Result<Option<Root<T>>>
-where
-    T: Float,
-    F: FnMut(T) -> Result<Eval<T>>,
-{
+) -> Result<Option<Root<T>>> {
     let (r, d) = match evaluated {
         Some(e) => e,
         None => f.eval(g)?,
@@ -452,10 +452,8 @@ where
     if r == T::zero() {
         return Ok(Some(Root::Inside(g)));
     }
-    if let Some((lo, hi)) = bounds {
-        if (g == hi && r < T::zero()) || (g == lo && r > T::zero()) {
-            return Ok(Some(Root::AtBound(g)));
-        }
+    if held_at_bound(g, r, bounds) {
+        return Ok(Some(Root::AtBound(g)));
     }
     Ok(match newton(f, (g, r, d), bounds, scale, opts)? {
         Newton::Root(x) => Some(Root::Inside(x)),
@@ -467,20 +465,14 @@ where
 
 /// Refines `bracket` and leaves the last evaluation at the root.
 #[inline(always)]
-fn finish<T, F>(
+fn finish<T: Float, F: ResidualFn<T>>(
     f: &mut Tracked<F, T>,
     bracket: Bracket<T>,
     scale: T,
     opts: &SolverOptions<T>,
-) -> Result<Root<T>>
-where
-    T: Float,
-    F: FnMut(T) -> Result<Eval<T>>,
-{
+) -> Result<Root<T>> {
     let x = refine(f, bracket, scale, opts)?;
-    if f.last != Some(x) {
-        f.eval(x)?;
-    }
+    f.end_at(x)?;
     Ok(Root::Inside(x))
 }
 
@@ -518,17 +510,13 @@ enum Newton<T> {
 /// is exactly zero, reached by a step no longer than `max(|x|, scale)` or
 /// else confirmed by a sign change around it (as in the bracket search).
 #[inline(always)]
-fn newton<T, F>(
+fn newton<T: Float, F: ResidualFn<T>>(
     f: &mut Tracked<F, T>,
     start: (T, T, T),
     bounds: Option<(T, T)>,
     scale: T,
     opts: &SolverOptions<T>,
-) -> Result<Newton<T>>
-where
-    T: Float,
-    F: FnMut(T) -> Result<Eval<T>>,
-{
+) -> Result<Newton<T>> {
     let (mut x, mut r, mut d) = start;
     for _ in 0..NEWTON_STEPS {
         if !(d.is_finite() && d != T::zero()) {
@@ -556,9 +544,7 @@ where
             // it cannot have reached such a point.
             let small = step.abs() <= x.abs().max(scale.abs());
             if small || genuine_zero(f, next, scale, opts)? {
-                if f.last != Some(next) {
-                    f.eval(next)?;
-                }
+                f.end_at(next)?;
                 return Ok(Newton::Root(next));
             }
             break;
@@ -566,10 +552,8 @@ where
         if rn.signum() != r.signum() {
             return Ok(Newton::Bracket(Bracket::new((x, r, d), (next, rn, dn))));
         }
-        if let (true, Some((lo, hi))) = (at_bound, bounds) {
-            // Increasing residual: still negative at hi, or still positive
-            // at lo, means the root lies beyond the bound.
-            if (next == hi && rn < T::zero()) || (next == lo && rn > T::zero()) {
+        if at_bound {
+            if held_at_bound(next, rn, bounds) {
                 return Ok(Newton::AtBound(next));
             }
             break;
@@ -580,6 +564,14 @@ where
         (x, r, d) = (next, rn, dn);
     }
     Ok(Newton::Stalled((x, r, d)))
+}
+
+/// Whether the residual `r` at `x`, one of the `bounds`, pushes beyond it:
+/// an increasing residual still negative at `hi`, or still positive at
+/// `lo`, means the root lies beyond the bound, and is held there.
+#[inline(always)]
+fn held_at_bound<T: Float>(x: T, r: T, bounds: Option<(T, T)>) -> bool {
+    bounds.is_some_and(|(lo, hi)| (x == hi && r < T::zero()) || (x == lo && r > T::zero()))
 }
 
 /// The stopping rule of [`newton`] at `x`, whose Newton step is `step`:
@@ -634,7 +626,7 @@ enum Found<T> {
 }
 
 #[allow(clippy::too_many_arguments)]
-fn find_bracket<T, F>(
+fn find_bracket<T: Float, F: ResidualFn<T>>(
     f: &mut Tracked<F, T>,
     x0: T,
     r0: T,
@@ -644,11 +636,7 @@ fn find_bracket<T, F>(
     bounds: Option<(T, T)>,
     scale: T,
     opts: &SolverOptions<T>,
-) -> Result<Found<T>>
-where
-    T: Float,
-    F: FnMut(T) -> Result<Eval<T>>,
-{
+) -> Result<Found<T>> {
     let clamp = |x: T| match bounds {
         Some((lo, hi)) => x.max(lo).min(hi),
         None => x,
@@ -735,16 +723,12 @@ where
 /// (A zero that is only rounding, or the inside of a flat set of roots, is
 /// passed over; the search goes on to a sign change beyond it, which
 /// brackets the flat set for the refinement.)
-fn genuine_zero<T, F>(
+fn genuine_zero<T: Float, F: ResidualFn<T>>(
     f: &mut Tracked<F, T>,
     x: T,
     scale: T,
     opts: &SolverOptions<T>,
-) -> Result<bool>
-where
-    T: Float,
-    F: FnMut(T) -> Result<Eval<T>>,
-{
+) -> Result<bool> {
     let d = opts.tol(x, scale).max(x.abs() * T::epsilon() * T::lit(4.0));
     let (below, _) = f.eval(x - d)?;
     let (above, _) = f.eval(x + d)?;
@@ -753,16 +737,12 @@ where
 }
 
 #[inline(always)]
-fn refine<T, F>(
+fn refine<T: Float, F: ResidualFn<T>>(
     f: &mut Tracked<F, T>,
     b: Bracket<T>,
     scale: T,
     opts: &SolverOptions<T>,
-) -> Result<T>
-where
-    T: Float,
-    F: FnMut(T) -> Result<Eval<T>>,
-{
+) -> Result<T> {
     let (mut neg, mut pos) = (b.neg, b.pos);
     let (mut r_neg, mut r_pos) = (b.r_neg, b.r_pos);
     let (mut x, mut r, mut d) = b.start;
