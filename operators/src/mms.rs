@@ -1,6 +1,6 @@
 //! Modified Maxwell-slip (MMS) pre-sliding friction.
 
-use crate::lanes::{lanes_of, LaneLaw, WIDTH};
+use crate::lanes::{lanes_of, select, LaneLaw, TILE, WIDTH};
 use crate::{
     check_lengths, declare_params, reversal, CastScalar, Error, Float, Result, StepLaw, Stepped,
     Trial,
@@ -170,6 +170,54 @@ impl LaneLaw for MmsParams<f64> {
         }
         *y = b.y;
     }
+
+    /// Where the input keeps its direction over the whole tile (no
+    /// reversal: the common case), every sample's outputs follow from its
+    /// distance to the same reversal, independently of the others, and
+    /// the samples are stepped without the checks and state updates
+    /// between them, so that the processor overlaps their exponentials;
+    /// otherwise sample by sample. A held input gives the same distance,
+    /// so the same outputs, as the step that skips it. The operations per
+    /// lane are those of [`step_lanes`](LaneLaw::step_lanes), so the bits
+    /// are the same.
+    #[inline(always)]
+    fn step_tile(b: &mut MmsLanes, xs: &[f64; TILE], ys: &mut [[f64; WIDTH]; TILE]) {
+        let mut goes_on = b.dir != 0;
+        let mut prev = b.x;
+        for &x in xs {
+            goes_on &= reversal::travel(prev, x, b.dir) == b.dir;
+            prev = x;
+        }
+        if !goes_on {
+            for (y, &x) in ys.iter_mut().zip(xs) {
+                Self::step_lanes(b, x, y);
+            }
+            return;
+        }
+        let sign = if b.dir < 0 { -1.0 } else { 1.0 };
+        for (&x, y) in xs.iter().zip(ys.iter_mut()) {
+            let d = (x - b.x_r).abs();
+            for (((y, &y_r), &k), &f_c) in y.iter_mut().zip(&b.y_r).zip(&b.k).zip(&b.f_c) {
+                let rise = -crate::exp_kernel::exp_m1_nonpositive(-k * d);
+                *y = on_branch_lane(rise, sign * f_c, y_r);
+            }
+        }
+        b.x = prev;
+        if let Some(last) = ys.last() {
+            b.y = *last;
+        }
+    }
+}
+
+/// [`on_branch`] over `f64` with its selects as mask blends, which stay in
+/// vector registers across lanes; the same bits.
+#[inline(always)]
+fn on_branch_lane(rise: f64, target: f64, y_r: f64) -> f64 {
+    let v = y_r + (target - y_r) * rise;
+    let rising = y_r < target;
+    let (lo, hi) = (select(rising, y_r, target), select(rising, target, y_r));
+    let v = select(v < hi, v, hi);
+    select(v > lo, v, lo)
 }
 
 /// Samples per block of the batch loop of [`Mms::process`].
