@@ -3,7 +3,9 @@
 //! integrated in the input's travel to a tolerance instead of one implicit
 //! step per sample.
 
-use crate::energy_flow::{bouc_wen_family_params, energy_step_law, power_on_side, EnergyFlow, FamilyBase};
+use crate::energy_flow::{
+    bouc_wen_family_params, energy_step_law, power_on_side, EnergyFlow, FamilyBase,
+};
 use crate::{Float, Stepped};
 
 bouc_wen_family_params! {

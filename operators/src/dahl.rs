@@ -25,7 +25,11 @@ impl<T: Float> DahlParams<T> {
     /// `σ/F_c` and `f0/F_c` must be finite.
     fn ratios(&self) -> Result<()> {
         if !(self.sigma / self.f_c).is_finite() {
-            return Err(check::invalid("sigma", self.sigma, "σ / F_c must be finite"));
+            return Err(check::invalid(
+                "sigma",
+                self.sigma,
+                "σ / F_c must be finite",
+            ));
         }
         if !(self.f0 / self.f_c).is_finite() {
             return Err(check::invalid("f0", self.f0, "f0 / F_c must be finite"));
@@ -216,8 +220,8 @@ impl<T: Float> StepLaw<T> for DahlParams<T> {
 mod tests {
     use super::*;
     use crate::test_support::trial_difference;
-    use crate::{Error, Operator};
     use crate::Parameters;
+    use crate::{Error, Operator};
 
     #[test]
     fn decay_closed_forms() {

@@ -41,7 +41,11 @@ impl<T: Float> MaxwellSlipParams<T> {
         }
         for (i, (&f, &k)) in self.f0.iter().zip(&self.k).enumerate() {
             if !(f / k).is_finite() {
-                return Err(check::invalid(&format!("f0[{i}]"), f, "f0_i / k_i must be finite"));
+                return Err(check::invalid(
+                    &format!("f0[{i}]"),
+                    f,
+                    "f0_i / k_i must be finite",
+                ));
             }
         }
         Ok(())

@@ -176,7 +176,8 @@ fn check_axis<T: Float>(name: &str, v: &[T], min: usize, reason: &'static str) -
 /// finite and `≥ 0`.
 fn check_triangle<T: Float>(name: &str, rows: &[Vec<T>], n: usize) -> Result<()> {
     if rows.len() != n {
-        return Err(check::invalid(name,
+        return Err(check::invalid(
+            name,
             T::lit(rows.len() as f64),
             "must have one row per level (as many rows as the axis has levels, or nodes − 1)",
         ));
@@ -741,7 +742,11 @@ impl<T: Float> Preisach<T> {
         };
         s.reset();
         if !s.e0.is_finite() {
-            return Err(check::invalid("measure", s.e0, "the total mass E(x_max, x_min) overflows"));
+            return Err(check::invalid(
+                "measure",
+                s.e0,
+                "the total mass E(x_max, x_min) overflows",
+            ));
         }
         Ok(s)
     }
