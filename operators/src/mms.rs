@@ -171,40 +171,70 @@ impl LaneLaw for MmsParams<f64> {
         *y = b.y;
     }
 
-    /// Where the input keeps its direction over the whole tile (no
-    /// reversal: the common case), every sample's outputs follow from its
-    /// distance to the same reversal, independently of the others, and
-    /// the samples are stepped without the checks and state updates
-    /// between them, so that the processor overlaps their exponentials;
-    /// otherwise sample by sample. A held input gives the same distance,
-    /// so the same outputs, as the step that skips it. The operations per
-    /// lane are those of [`step_lanes`](LaneLaw::step_lanes), so the bits
-    /// are the same.
+    /// The tile in runs: along a run of samples that keep the input's
+    /// direction (no reversal: the common case), every sample's outputs
+    /// follow from its distance to the same reversal, independently of the
+    /// others, and are stepped by [`MmsLanes::go_on`] without the checks
+    /// and state updates between them, so that the processor overlaps
+    /// their exponentials; a reversal by [`step_lanes`](LaneLaw::step_lanes).
+    /// A held input gives the same distance, so the same outputs, as the
+    /// step that skips it. The operations per lane are those of
+    /// `step_lanes`, so the bits are the same.
     #[inline(always)]
     fn step_tile(b: &mut MmsLanes, xs: &[f64; TILE], ys: &mut [[f64; WIDTH]; TILE]) {
-        let mut goes_on = b.dir != 0;
-        let mut prev = b.x;
-        for &x in xs {
-            goes_on &= reversal::travel(prev, x, b.dir) == b.dir;
-            prev = x;
-        }
-        if !goes_on {
-            for (y, &x) in ys.iter_mut().zip(xs) {
+        let (mut xs, mut ys) = (&xs[..], &mut ys[..]);
+        while !xs.is_empty() {
+            // (where no run starts, one sample by `step_lanes`)
+            let run = b.run_in_direction(xs);
+            let (Some((run_xs, xs_rest)), Some((run_ys, ys_rest))) = (
+                xs.split_at_checked(run.max(1)),
+                ys.split_at_mut_checked(run.max(1)),
+            ) else {
+                break;
+            };
+            if run > 0 {
+                b.go_on(run_xs, run_ys);
+            } else if let (Some(&x), Some(y)) = (run_xs.first(), run_ys.first_mut()) {
                 Self::step_lanes(b, x, y);
             }
-            return;
+            (xs, ys) = (xs_rest, ys_rest);
         }
-        let sign = if b.dir < 0 { -1.0 } else { 1.0 };
+    }
+}
+
+impl MmsLanes {
+    /// How many of the samples `xs` keep the direction of travel now (0
+    /// before any motion).
+    #[inline(always)]
+    fn run_in_direction(&self, xs: &[f64]) -> usize {
+        if self.dir == 0 {
+            return 0;
+        }
+        let mut prev = self.x;
+        xs.iter()
+            .take_while(|&&x| {
+                let same = reversal::travel(prev, x, self.dir) == self.dir;
+                prev = x;
+                same
+            })
+            .count()
+    }
+
+    /// Steps the samples `xs` (a run of [`run_in_direction`](Self::run_in_direction))
+    /// into `ys`.
+    #[inline(always)]
+    fn go_on(&mut self, xs: &[f64], ys: &mut [[f64; WIDTH]]) {
+        let sign = if self.dir < 0 { -1.0 } else { 1.0 };
         for (&x, y) in xs.iter().zip(ys.iter_mut()) {
-            let d = (x - b.x_r).abs();
-            for (((y, &y_r), &k), &f_c) in y.iter_mut().zip(&b.y_r).zip(&b.k).zip(&b.f_c) {
+            let d = (x - self.x_r).abs();
+            let lanes = self.y_r.iter().zip(&self.k).zip(&self.f_c);
+            for (y, ((&y_r, &k), &f_c)) in y.iter_mut().zip(lanes) {
                 let rise = -crate::exp_kernel::exp_m1_nonpositive(-k * d);
                 *y = on_branch_lane(rise, sign * f_c, y_r);
             }
         }
-        b.x = prev;
-        if let Some(last) = ys.last() {
-            b.y = *last;
+        if let (Some(&x), Some(y)) = (xs.last(), ys.last()) {
+            (self.x, self.y) = (x, *y);
         }
     }
 }

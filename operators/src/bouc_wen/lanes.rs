@@ -202,33 +202,71 @@ impl LaneLaw for BoucWenParams<f64> {
         }
     }
 
-    /// Where every lane goes on along its branch over the whole tile (no
-    /// reversal, no lane at rest or outside the common form, constant
-    /// stiffness, every exponent 1: the common case), the samples of the
-    /// tile are independent of each other, and are stepped without the
-    /// checks and state updates between them, so that the processor
-    /// overlaps their exponentials; otherwise sample by sample. The operations per lane and
-    /// sample are those of [`step_lanes`](LaneLaw::step_lanes), in its
-    /// order, so the bits are the same.
-    // `k < TILE` and `j < WIDTH`, the lengths of every array indexed.
-    #[allow(clippy::indexing_slicing)]
+    /// The tile in runs: a run of samples along which every lane goes on
+    /// along its branch (no reversal, no lane at rest or outside the
+    /// common form, constant stiffness, every exponent 1: the common
+    /// case) is stepped by [`BoucWenLanes::go_on`], its samples
+    /// independent of each other; any other sample by
+    /// [`step_lanes`](LaneLaw::step_lanes). The operations per lane and
+    /// sample are those of `step_lanes`, in its order, so the bits are the
+    /// same.
     #[inline(always)]
     fn step_tile(b: &mut BoucWenLanes, xs: &[f64; TILE], ys: &mut [[f64; WIDTH]; TILE]) {
-        let Some(stiffness) = b.stiffness.filter(|_| !b.odd && b.others.is_empty()) else {
-            return Self::step_tiled_by_samples(b, xs, ys);
-        };
-        let mut goes_on = true;
-        let mut z = b.z;
+        let (mut xs, mut ys) = (&xs[..], &mut ys[..]);
+        while !xs.is_empty() {
+            // (where no run starts, one sample by `step_lanes`)
+            let run = b.run_along_branches(xs);
+            let (Some((run_xs, xs_rest)), Some((run_ys, ys_rest))) = (
+                xs.split_at_checked(run.max(1)),
+                ys.split_at_mut_checked(run.max(1)),
+            ) else {
+                break;
+            };
+            if run > 0 {
+                b.go_on(run_xs, run_ys);
+            } else if let (Some(&x), Some(y)) = (run_xs.first(), run_ys.first_mut()) {
+                Self::step_lanes(b, x, y);
+            }
+            (xs, ys) = (xs_rest, ys_rest);
+        }
+    }
+}
+
+impl BoucWenLanes {
+    /// How many of the samples `xs` every lane steps along its branch from
+    /// the state now, all in the common form with a constant stiffness (0
+    /// where a lane is outside it).
+    #[inline(always)]
+    fn run_along_branches(&self, xs: &[f64]) -> usize {
+        if self.stiffness.is_none() || self.odd || !self.others.is_empty() {
+            return 0;
+        }
+        let mut z = self.z;
+        let mut run = 0;
         for &x in xs {
-            for ((&moving, &sign), &z) in b.moving.iter().zip(&b.sign).zip(&z) {
+            let mut goes_on = true;
+            for ((&moving, &sign), &z) in self.moving.iter().zip(&self.sign).zip(&z) {
                 goes_on &= moving & (sign * (x - z) >= 0.0);
             }
+            if !goes_on {
+                break;
+            }
             z = [x; WIDTH];
+            run += 1;
         }
-        if !goes_on {
-            return Self::step_tiled_by_samples(b, xs, ys);
-        }
-        // Two samples per iteration: their exponentials interleave.
+        run
+    }
+
+    /// Steps the samples `xs` (a run of [`run_along_branches`](Self::run_along_branches))
+    /// into `ys`, two per iteration so that their exponentials interleave.
+    // `j < WIDTH`, the length of every lane array.
+    #[allow(clippy::indexing_slicing)]
+    #[inline(always)]
+    fn go_on(&mut self, xs: &[f64], ys: &mut [[f64; WIDTH]]) {
+        let Some(stiffness) = self.stiffness else {
+            return;
+        };
+        let b = &*self;
         let piece = |x: f64| {
             let mut arg = [0.0; WIDTH];
             let mut asym = [0.0; WIDTH];
@@ -242,8 +280,15 @@ impl LaneLaw for BoucWenParams<f64> {
             }
             (arg, asym, fc)
         };
-        let mut h = [0.0; WIDTH];
-        for (xs, ys) in xs.chunks_exact(2).zip(ys.chunks_exact_mut(2)) {
+        let output = |x: f64, h: &[f64; WIDTH], y: &mut [f64; WIDTH]| {
+            for j in 0..WIDTH {
+                y[j] = b.w[j] * stiffness[j] * x + b.one_w[j] * stiffness[j] * h[j];
+            }
+        };
+        let mut h = self.h;
+        let mut pairs = xs.chunks_exact(2);
+        let mut pair_ys = ys.chunks_exact_mut(2);
+        for (xs, ys) in (&mut pairs).zip(&mut pair_ys) {
             let (x0, x1) = (xs[0], xs[1]);
             let (arg0, asym0, fc0) = piece(x0);
             let (arg1, asym1, fc1) = piece(x1);
@@ -253,25 +298,21 @@ impl LaneLaw for BoucWenParams<f64> {
             for j in 0..WIDTH {
                 h0[j] = b.sign[j] * (asym0[j] - fc0[j] * e0[j]);
                 h[j] = b.sign[j] * (asym1[j] - fc1[j] * e1[j]);
-                ys[0][j] = b.w[j] * stiffness[j] * x0 + b.one_w[j] * stiffness[j] * h0[j];
-                ys[1][j] = b.w[j] * stiffness[j] * x1 + b.one_w[j] * stiffness[j] * h[j];
             }
+            output(x0, &h0, &mut ys[0]);
+            output(x1, &h, &mut ys[1]);
         }
-        b.z = z;
-        b.h = h;
-    }
-}
-
-impl BoucWenParams<f64> {
-    /// [`LaneLaw::step_tile`] by [`LaneLaw::step_lanes`], sample by sample.
-    #[inline(always)]
-    fn step_tiled_by_samples(
-        b: &mut BoucWenLanes,
-        xs: &[f64; TILE],
-        ys: &mut [[f64; WIDTH]; TILE],
-    ) {
-        for (y, &x) in ys.iter_mut().zip(xs) {
-            <Self as LaneLaw>::step_lanes(b, x, y);
+        if let (Some(&x), Some(y)) = (pairs.remainder().first(), pair_ys.into_remainder().first_mut()) {
+            let (arg, asym, fc) = piece(x);
+            let e = arg.map(crate::exp_kernel::exp);
+            for j in 0..WIDTH {
+                h[j] = b.sign[j] * (asym[j] - fc[j] * e[j]);
+            }
+            output(x, &h, y);
+        }
+        if let Some(&x) = xs.last() {
+            self.z = [x; WIDTH];
+            self.h = h;
         }
     }
 }
