@@ -1,6 +1,6 @@
 //! Modified Maxwell-slip (MMS) pre-sliding friction.
 
-use crate::lanes::{lanes_of, select, LaneLaw, TILE, WIDTH};
+use crate::lanes::{lanes_of, select, LaneLaw, WIDTH};
 use crate::{
     check_lengths, declare_params, reversal, CastScalar, Error, Float, Result, StepLaw, Stepped,
     Trial,
@@ -171,70 +171,40 @@ impl LaneLaw for MmsParams<f64> {
         *y = b.y;
     }
 
-    /// The tile in runs: along a run of samples that keep the input's
-    /// direction (no reversal: the common case), every sample's outputs
-    /// follow from its distance to the same reversal, independently of the
-    /// others, and are stepped by [`MmsLanes::go_on`] without the checks
-    /// and state updates between them, so that the processor overlaps
-    /// their exponentials; a reversal by [`step_lanes`](LaneLaw::step_lanes).
-    /// A held input gives the same distance, so the same outputs, as the
-    /// step that skips it. The operations per lane are those of
-    /// `step_lanes`, so the bits are the same.
+    /// How many of the samples keep the direction of travel now (0 before
+    /// any motion): along them every sample's outputs follow from its
+    /// distance to the same reversal, independently of the others.
     #[inline(always)]
-    fn step_tile(b: &mut MmsLanes, xs: &[f64; TILE], ys: &mut [[f64; WIDTH]; TILE]) {
-        let (mut xs, mut ys) = (&xs[..], &mut ys[..]);
-        while !xs.is_empty() {
-            // (where no run starts, one sample by `step_lanes`)
-            let run = b.run_in_direction(xs);
-            let (Some((run_xs, xs_rest)), Some((run_ys, ys_rest))) = (
-                xs.split_at_checked(run.max(1)),
-                ys.split_at_mut_checked(run.max(1)),
-            ) else {
-                break;
-            };
-            if run > 0 {
-                b.go_on(run_xs, run_ys);
-            } else if let (Some(&x), Some(y)) = (run_xs.first(), run_ys.first_mut()) {
-                Self::step_lanes(b, x, y);
-            }
-            (xs, ys) = (xs_rest, ys_rest);
-        }
-    }
-}
-
-impl MmsLanes {
-    /// How many of the samples `xs` keep the direction of travel now (0
-    /// before any motion).
-    #[inline(always)]
-    fn run_in_direction(&self, xs: &[f64]) -> usize {
-        if self.dir == 0 {
+    fn run_length(b: &MmsLanes, xs: &[f64]) -> usize {
+        if b.dir == 0 {
             return 0;
         }
-        let mut prev = self.x;
+        let mut prev = b.x;
         xs.iter()
             .take_while(|&&x| {
-                let same = reversal::travel(prev, x, self.dir) == self.dir;
+                let same = reversal::travel(prev, x, b.dir) == b.dir;
                 prev = x;
                 same
             })
             .count()
     }
 
-    /// Steps the samples `xs` (a run of [`run_in_direction`](Self::run_in_direction))
-    /// into `ys`.
+    /// The operations of [`step_lanes`](LaneLaw::step_lanes) per lane; a
+    /// held input gives the same distance, so the same outputs, as the
+    /// step that skips it.
     #[inline(always)]
-    fn go_on(&mut self, xs: &[f64], ys: &mut [[f64; WIDTH]]) {
-        let sign = if self.dir < 0 { -1.0 } else { 1.0 };
+    fn go_on(b: &mut MmsLanes, xs: &[f64], ys: &mut [[f64; WIDTH]]) {
+        let sign = if b.dir < 0 { -1.0 } else { 1.0 };
         for (&x, y) in xs.iter().zip(ys.iter_mut()) {
-            let d = (x - self.x_r).abs();
-            let lanes = self.y_r.iter().zip(&self.k).zip(&self.f_c);
+            let d = (x - b.x_r).abs();
+            let lanes = b.y_r.iter().zip(&b.k).zip(&b.f_c);
             for (y, ((&y_r, &k), &f_c)) in y.iter_mut().zip(lanes) {
                 let rise = -crate::exp_kernel::exp_m1_nonpositive(-k * d);
                 *y = on_branch_lane(rise, sign * f_c, y_r);
             }
         }
         if let (Some(&x), Some(y)) = (xs.last(), ys.last()) {
-            (self.x, self.y) = (x, *y);
+            (b.x, b.y) = (x, *y);
         }
     }
 }

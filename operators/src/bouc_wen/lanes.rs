@@ -3,7 +3,7 @@
 
 use super::BoucWenParams;
 use crate::hysteretic_state::{Branch, ExpForm, Power, StateEquation};
-use crate::lanes::{select, LaneLaw, TILE, WIDTH};
+use crate::lanes::{select, LaneLaw, WIDTH};
 use crate::{BoucWen, Operator, ParamSet, StiffnessMap};
 
 /// What one lane needs besides its vector terms: its state equation (to
@@ -202,33 +202,19 @@ impl LaneLaw for BoucWenParams<f64> {
         }
     }
 
-    /// The tile in runs: a run of samples along which every lane goes on
-    /// along its branch (no reversal, no lane at rest or outside the
-    /// common form, constant stiffness, every exponent 1: the common
-    /// case) is stepped by [`BoucWenLanes::go_on`], its samples
-    /// independent of each other; any other sample by
-    /// [`step_lanes`](LaneLaw::step_lanes). The operations per lane and
-    /// sample are those of `step_lanes`, in its order, so the bits are the
-    /// same.
+    /// Every lane goes on along its branch (no reversal, no lane at rest
+    /// or outside the common form, constant stiffness, every exponent 1:
+    /// the common case).
     #[inline(always)]
-    fn step_tile(b: &mut BoucWenLanes, xs: &[f64; TILE], ys: &mut [[f64; WIDTH]; TILE]) {
-        let (mut xs, mut ys) = (&xs[..], &mut ys[..]);
-        while !xs.is_empty() {
-            // (where no run starts, one sample by `step_lanes`)
-            let run = b.run_along_branches(xs);
-            let (Some((run_xs, xs_rest)), Some((run_ys, ys_rest))) = (
-                xs.split_at_checked(run.max(1)),
-                ys.split_at_mut_checked(run.max(1)),
-            ) else {
-                break;
-            };
-            if run > 0 {
-                b.go_on(run_xs, run_ys);
-            } else if let (Some(&x), Some(y)) = (run_xs.first(), run_ys.first_mut()) {
-                Self::step_lanes(b, x, y);
-            }
-            (xs, ys) = (xs_rest, ys_rest);
-        }
+    fn run_length(b: &BoucWenLanes, xs: &[f64]) -> usize {
+        b.run_along_branches(xs)
+    }
+
+    /// The operations of [`step_lanes`](LaneLaw::step_lanes) per lane and
+    /// sample, in its order, two samples per iteration.
+    #[inline(always)]
+    fn go_on(b: &mut BoucWenLanes, xs: &[f64], ys: &mut [[f64; WIDTH]]) {
+        b.go_on(xs, ys);
     }
 }
 

@@ -40,14 +40,51 @@ pub trait LaneLaw: Sized {
     /// `y[j]`.
     fn step_lanes(block: &mut Self::Block, x: f64, y: &mut [f64; WIDTH]);
 
-    /// Advances every lane over the [`TILE`] inputs `xs`, writing lane
-    /// `j`'s output at `xs[k]` to `ys[k][j]`: [`step_lanes`](LaneLaw::step_lanes)
-    /// sample by sample, or the same bits by a kernel that works on the
-    /// tile at once.
+    /// How many of the samples `xs`, from the block's state now, every
+    /// lane steps the same way, each sample independently of the others
+    /// (for a hysteresis law: no lane reverses), so that
+    /// [`go_on`](LaneLaw::go_on) can step them together; 0 where none (the
+    /// default).
     #[inline(always)]
-    fn step_tile(block: &mut Self::Block, xs: &[f64; TILE], ys: &mut [[f64; WIDTH]; TILE]) {
+    fn run_length(_block: &Self::Block, _xs: &[f64]) -> usize {
+        0
+    }
+
+    /// Steps the samples `xs`, a run of [`run_length`](LaneLaw::run_length),
+    /// writing lane `j`'s output at `xs[k]` to `ys[k][j]`, the bits of
+    /// [`step_lanes`](LaneLaw::step_lanes) sample by sample. Called only
+    /// where `run_length` gave at least `xs.len()`.
+    #[inline(always)]
+    fn go_on(block: &mut Self::Block, xs: &[f64], ys: &mut [[f64; WIDTH]]) {
         for (y, &x) in ys.iter_mut().zip(xs) {
             Self::step_lanes(block, x, y);
+        }
+    }
+
+    /// Advances every lane over the [`TILE`] inputs `xs`, writing lane
+    /// `j`'s output at `xs[k]` to `ys[k][j]`: in runs by
+    /// [`go_on`](LaneLaw::go_on) (the samples of a run without the checks
+    /// and state updates between them, so that the processor overlaps
+    /// them), and any sample where no run starts by
+    /// [`step_lanes`](LaneLaw::step_lanes).
+    #[inline(always)]
+    fn step_tile(block: &mut Self::Block, xs: &[f64; TILE], ys: &mut [[f64; WIDTH]; TILE]) {
+        let (mut xs, mut ys) = (&xs[..], &mut ys[..]);
+        while !xs.is_empty() {
+            // (where no run starts, one sample by `step_lanes`)
+            let run = Self::run_length(block, xs);
+            let (Some((run_xs, xs_rest)), Some((run_ys, ys_rest))) = (
+                xs.split_at_checked(run.max(1)),
+                ys.split_at_mut_checked(run.max(1)),
+            ) else {
+                break;
+            };
+            if run > 0 {
+                Self::go_on(block, run_xs, run_ys);
+            } else if let (Some(&x), Some(y)) = (run_xs.first(), run_ys.first_mut()) {
+                Self::step_lanes(block, x, y);
+            }
+            (xs, ys) = (xs_rest, ys_rest);
         }
     }
 }
