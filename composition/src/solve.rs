@@ -76,7 +76,7 @@ impl<T: Float, U: Float> CastScalar<U> for SolverOptions<T> {
 }
 
 impl<T: Float> SolverOptions<T> {
-    fn tol(&self, x: T, scale: T) -> T {
+    pub(crate) fn tol(&self, x: T, scale: T) -> T {
         self.abs_tol + self.rel_tol * x.abs().max(scale.abs())
     }
 }
@@ -478,7 +478,7 @@ fn finish<T: Float, F: ResidualFn<T>>(
 
 /// Newton steps taken from the start, before any bracket, at most this
 /// many.
-const NEWTON_STEPS: usize = 12;
+pub(crate) const NEWTON_STEPS: usize = 12;
 
 /// How the Newton steps of [`newton`] ended.
 enum Newton<T> {
@@ -577,7 +577,7 @@ fn held_at_bound<T: Float>(x: T, r: T, bounds: Option<(T, T)>) -> bool {
 /// The stopping rule of [`newton`] at `x`, whose Newton step is `step`:
 /// `|step| ≤ abs_tol + rel_tol · |x|`.
 #[inline(always)]
-fn newton_done<T: Float>(x: T, step: T, opts: &SolverOptions<T>) -> bool {
+pub(crate) fn newton_done<T: Float>(x: T, step: T, opts: &SolverOptions<T>) -> bool {
     step.abs() <= opts.tol(x, T::zero())
 }
 

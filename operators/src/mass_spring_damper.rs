@@ -24,9 +24,12 @@ declare_params! {
 /// acceleration.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MsdState<T> {
-    y: T,
-    v: T,
-    a: T,
+    /// Displacement `y`.
+    pub y: T,
+    /// Velocity `ẏ`.
+    pub v: T,
+    /// Acceleration `ÿ`.
+    pub a: T,
 }
 
 /// Linear single-degree-of-freedom oscillator driven by a force `u`, with
@@ -74,19 +77,23 @@ impl<T: Float> MassSpringDamper<T> {
     }
 }
 
-impl<T: Float> StepLaw<T> for MassSpringDamperParams<T> {
-    type State = MsdState<T>;
-
-    fn initial(&self) -> MsdState<T> {
-        MsdState {
-            y: T::zero(),
-            v: T::zero(),
-            a: T::zero(),
-        }
-    }
-
+impl<T: Float> MassSpringDamperParams<T> {
+    /// One Newmark average-acceleration step from state `s` under the
+    /// force `u`: the next state and `k_eff = k + 2c/dt + 4m/dt²` (the
+    /// equations of [`MassSpringDamper`]), unchecked. The
+    /// [`step`](StepLaw::step) of the oscillator, which refuses a state
+    /// that is not finite; a kernel that steps many oscillators calls it
+    /// for the same bits.
+    ///
+    /// ```
+    /// use hysteron_operators::{MassSpringDamperParams, MsdState};
+    /// let p = MassSpringDamperParams { m: 1.0, c: 0.0, k: 4.0, dt: 0.5 };
+    /// let rest = MsdState { y: 0.0, v: 0.0, a: 0.0 };
+    /// let (next, k_eff) = p.newmark(&rest, 24.0);
+    /// assert_eq!((k_eff, next.y), (20.0, 1.2));
+    /// ```
     #[inline(always)]
-    fn step(&self, s: &MsdState<T>, u: T) -> Result<(MsdState<T>, Trial<T>)> {
+    pub fn newmark(&self, s: &MsdState<T>, u: T) -> (MsdState<T>, T) {
         let MassSpringDamperParams { m, c, k, dt } = *self;
         let MsdState { y, v, a } = *s;
         // The equations of the type's doc with `q = 2/dt` (so `4/dt = 2q`,
@@ -101,20 +108,41 @@ impl<T: Float> StepLaw<T> for MassSpringDamperParams<T> {
         let y1 = p_eff / k_eff;
         let a1 = q2 * (y1 - y) - q * two_v - a;
         let v1 = v + dt * T::lit(0.5) * (a + a1);
-        if !(a1.is_finite() && v1.is_finite()) {
+        (
+            MsdState {
+                y: y1,
+                v: v1,
+                a: a1,
+            },
+            k_eff,
+        )
+    }
+}
+
+impl<T: Float> StepLaw<T> for MassSpringDamperParams<T> {
+    type State = MsdState<T>;
+
+    fn initial(&self) -> MsdState<T> {
+        MsdState {
+            y: T::zero(),
+            v: T::zero(),
+            a: T::zero(),
+        }
+    }
+
+    #[inline(always)]
+    fn step(&self, s: &MsdState<T>, u: T) -> Result<(MsdState<T>, Trial<T>)> {
+        let (next, k_eff) = self.newmark(s, u);
+        if !(next.a.is_finite() && next.v.is_finite()) {
             return Err(crate::Error::NonFiniteOutput {
                 operator: <Self as crate::Declared<T>>::KIND,
                 input: u.as_f64(),
             });
         }
         Ok((
-            MsdState {
-                y: y1,
-                v: v1,
-                a: a1,
-            },
+            next,
             Trial {
-                output: y1,
+                output: next.y,
                 tangent: T::one() / k_eff,
             },
         ))

@@ -6,6 +6,10 @@ use crate::hysteretic_state::{Branch, ExpForm, Power, StateEquation};
 use crate::lanes::{select, LaneLaw, WIDTH};
 use crate::{BoucWen, Operator, ParamSet, StiffnessMap};
 
+mod trial;
+
+pub use trial::AlongTrial;
+
 /// What one lane needs besides its vector terms: its state equation (to
 /// start a branch at a reversal), its stiffness map, and the branch itself
 /// where the vector form does not cover it.
@@ -18,6 +22,21 @@ struct Lane {
     /// The current branch where it is not in [`ExpForm`] (evaluated by
     /// [`Branch::at`] in this lane alone).
     odd: Option<Branch<f64>>,
+    /// The current branch (`None` before any motion), for a trial of this
+    /// lane alone ([`BoucWenLanes::trial_lane`]).
+    branch: Option<Branch<f64>>,
+    /// The state of this lane's last trial alone, until committed.
+    pending: Option<LaneState>,
+}
+
+/// A lane's state after a trial of it alone: its input `z`, state `h`,
+/// direction `sign` and, where the trial started a branch, its start and terms.
+#[derive(Debug, Clone, Copy)]
+struct LaneState {
+    z: f64,
+    h: f64,
+    sign: f64,
+    started: Option<(f64, Branch<f64>)>,
 }
 
 /// Eight Bouc-Wen springs with one input: for each lane its parameters,
@@ -43,6 +62,15 @@ pub struct BoucWenLanes {
     inf_a: [f64; WIDTH],
     c_0: [f64; WIDTH],
     fc_0: [f64; WIDTH],
+    /// `α`, and the state equation's `β + γ` and `γ − β` (the rate's
+    /// coefficient for `g ≥ 0` and `g < 0`), for the tangent.
+    alpha: [f64; WIDTH],
+    c_up: [f64; WIDTH],
+    c_down: [f64; WIDTH],
+    /// Whether the lane has moved, its branch is in [`ExpForm`] and its
+    /// exponent is 1: where [`trial_along`](BoucWenLanes::trial_along)
+    /// covers it.
+    common: [bool; WIDTH],
     lanes: Vec<Lane>,
     /// Whether a lane's branch is outside the common form.
     odd: bool,
@@ -94,6 +122,8 @@ impl LaneLaw for BoucWenParams<f64> {
                 map,
                 segment: 0,
                 odd: None,
+                branch: None,
+                pending: None,
             });
         }
         let stiffness = if lanes.iter().all(|l| l.map.len() == 1) {
@@ -107,7 +137,14 @@ impl LaneLaw for BoucWenParams<f64> {
         };
         let w = field(|p| p.w);
         let z0 = field(|p| p.z0);
+        let eq_field = |f: fn(&StateEquation<f64>) -> f64| -> [f64; WIDTH] {
+            core::array::from_fn(|j| lanes.get(j).map_or(0.0, |l| f(&l.eq)))
+        };
         BoucWenLanes {
+            alpha: eq_field(|eq| eq.alpha),
+            c_up: eq_field(|eq| eq.beta + eq.gamma),
+            c_down: eq_field(|eq| eq.gamma - eq.beta),
+            common: [false; WIDTH],
             w,
             one_w: w.map(|w| 1.0 - w),
             stiffness,
@@ -151,12 +188,7 @@ impl LaneLaw for BoucWenParams<f64> {
         // (both pieces' arguments are computed and one is selected; the
         // piece not taken may be infinite or NaN)
         for j in 0..WIDTH {
-            let s = b.sign[j] * (x - b.z_a[j]);
-            travel[j] = s;
-            let past = b.s0[j] < s;
-            arg[j] = select(past, -b.c_0[j] * (s - b.s0[j]), -b.c_a[j] * s);
-            asym[j] = select(past, b.fc_0[j], b.inf_a[j]);
-            fc[j] = select(past, b.fc_0[j], b.fc_a[j]);
+            (travel[j], arg[j], asym[j], fc[j]) = b.piece(j, x);
         }
         let e = arg.map(crate::exp_kernel::exp);
         let mut h = [0.0; WIDTH];
@@ -219,6 +251,26 @@ impl LaneLaw for BoucWenParams<f64> {
 }
 
 impl BoucWenLanes {
+    /// Lane `j`'s travel `s = sgn(ż) (x − z_a)` to `x` along its branch,
+    /// and the terms of the piece of [`Branch::at`] there: past the zero
+    /// crossing `s0` the piece from `g = 0` (asymptote `f_0/c_0`), else
+    /// the first; `(s, −c (s − s_start), g∞, f/c)`, so that the state is
+    /// `g∞ − (f/c) e^{arg}`. Both pieces' arguments are computed and one
+    /// is selected (the piece not taken may be infinite or NaN).
+    // `j < WIDTH`, the length of every lane array.
+    #[allow(clippy::indexing_slicing)]
+    #[inline(always)]
+    fn piece(&self, j: usize, x: f64) -> (f64, f64, f64, f64) {
+        let s = self.sign[j] * (x - self.z_a[j]);
+        let past = self.s0[j] < s;
+        (
+            s,
+            select(past, -self.c_0[j] * (s - self.s0[j]), -self.c_a[j] * s),
+            select(past, self.fc_0[j], self.inf_a[j]),
+            select(past, self.fc_0[j], self.fc_a[j]),
+        )
+    }
+
     /// How many of the samples `xs` every lane steps along its branch from
     /// the state now, all in the common form with a constant stiffness (0
     /// where a lane is outside it).
@@ -249,20 +301,15 @@ impl BoucWenLanes {
     #[allow(clippy::indexing_slicing)]
     #[inline(always)]
     fn go_on(&mut self, xs: &[f64], ys: &mut [[f64; WIDTH]]) {
-        let Some(stiffness) = self.stiffness else {
-            return;
-        };
+        // (`run_along_branches` gives a run only with a constant stiffness)
+        let stiffness = self.stiffness.unwrap_or([f64::NAN; WIDTH]);
         let b = &*self;
         let piece = |x: f64| {
             let mut arg = [0.0; WIDTH];
             let mut asym = [0.0; WIDTH];
             let mut fc = [0.0; WIDTH];
             for j in 0..WIDTH {
-                let s = b.sign[j] * (x - b.z_a[j]);
-                let past = b.s0[j] < s;
-                arg[j] = select(past, -b.c_0[j] * (s - b.s0[j]), -b.c_a[j] * s);
-                asym[j] = select(past, b.fc_0[j], b.inf_a[j]);
-                fc[j] = select(past, b.fc_0[j], b.fc_a[j]);
+                (_, arg[j], asym[j], fc[j]) = b.piece(j, x);
             }
             (arg, asym, fc)
         };
@@ -310,60 +357,79 @@ impl BoucWenLanes {
     /// motion at `x` stays at rest (`rest`).
     #[cold]
     fn turn(&mut self, x: f64, rest: &mut [bool; WIDTH]) {
-        for (j, (lane, rest)) in self.lanes.iter_mut().zip(rest.iter_mut()).enumerate() {
-            let (Some(sign), Some(z), Some(moving), Some(&h)) = (
-                self.sign.get_mut(j),
+        for (j, rest) in rest.iter_mut().enumerate() {
+            let (Some(&sign), Some(&z), Some(&moving), Some(&h)) = (
+                self.sign.get(j),
                 self.z.get(j),
-                self.moving.get_mut(j),
+                self.moving.get(j),
                 self.h.get(j),
             ) else {
                 continue;
             };
-            let dz = x - *z;
+            let dz = x - z;
             let turns = if dz > 0.0 {
-                !*moving || *sign < 0.0
+                !moving || sign < 0.0
             } else if dz < 0.0 {
-                !*moving || *sign > 0.0
+                !moving || sign > 0.0
             } else {
-                *rest = !*moving;
+                *rest = !moving;
                 false
             };
             if !turns {
                 continue;
             }
-            *sign = if dz < 0.0 { -1.0 } else { 1.0 };
-            *moving = true;
-            let branch = lane.eq.branch(*sign * h);
-            let form = branch.exp_form();
+            let sign = if dz < 0.0 { -1.0 } else { 1.0 };
+            let Some(lane) = self.lanes.get(j) else {
+                continue;
+            };
+            let branch = lane.eq.branch(sign * h);
+            self.start_branch(j, sign, z, branch);
+        }
+    }
+
+    /// Starts lane `j`'s branch `branch` at `z_a`, in direction `sign`:
+    /// its terms in the vector form where it has one ([`ExpForm`]), else
+    /// kept for [`Branch::at`] in that lane alone.
+    fn start_branch(&mut self, j: usize, sign: f64, z_a: f64, branch: Branch<f64>) {
+        let form = branch.exp_form();
+        if let Some(lane) = self.lanes.get_mut(j) {
             lane.odd = form.is_none().then_some(branch);
-            let ExpForm {
-                s0,
-                c_a,
-                fc_a,
-                inf_a,
-                c_0,
-                fc_0,
-            } = form.unwrap_or(ExpForm {
-                s0: f64::INFINITY,
-                c_a: 1.0,
-                fc_a: 0.0,
-                inf_a: 0.0,
-                c_0: 1.0,
-                fc_0: 0.0,
-            });
-            for (v, value) in [
-                (&mut self.z_a, *z),
-                (&mut self.s0, s0),
-                (&mut self.c_a, c_a),
-                (&mut self.fc_a, fc_a),
-                (&mut self.inf_a, inf_a),
-                (&mut self.c_0, c_0),
-                (&mut self.fc_0, fc_0),
-            ] {
-                if let Some(v) = v.get_mut(j) {
-                    *v = value;
-                }
+            lane.branch = Some(branch);
+            if let Some(common) = self.common.get_mut(j) {
+                *common = form.is_some() && lane.eq.power == Power::One;
             }
+        }
+        let ExpForm {
+            s0,
+            c_a,
+            fc_a,
+            inf_a,
+            c_0,
+            fc_0,
+        } = form.unwrap_or(ExpForm {
+            s0: f64::INFINITY,
+            c_a: 1.0,
+            fc_a: 0.0,
+            inf_a: 0.0,
+            c_0: 1.0,
+            fc_0: 0.0,
+        });
+        for (v, value) in [
+            (&mut self.sign, sign),
+            (&mut self.z_a, z_a),
+            (&mut self.s0, s0),
+            (&mut self.c_a, c_a),
+            (&mut self.fc_a, fc_a),
+            (&mut self.inf_a, inf_a),
+            (&mut self.c_0, c_0),
+            (&mut self.fc_0, fc_0),
+        ] {
+            if let Some(v) = v.get_mut(j) {
+                *v = value;
+            }
+        }
+        if let Some(moving) = self.moving.get_mut(j) {
+            *moving = true;
         }
         self.odd = self.lanes.iter().any(|l| l.odd.is_some());
     }

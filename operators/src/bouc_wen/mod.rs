@@ -29,7 +29,7 @@ use crate::{
     Float, Keep, Leaf, Operator, Result, StiffnessMap, Trial,
 };
 use evaluation::Evaluation;
-pub use lanes::BoucWenLanes;
+pub use lanes::{AlongTrial, BoucWenLanes};
 use state::{BranchStart, State};
 
 declare_params! {
