@@ -35,16 +35,23 @@
 //!   instance-sample, and compared in a note with the single-instance
 //!   kernel of the same run; the command prints the sum of the outputs
 //!   (and of the `bouc_wen n=1` kernel's), the checksums that
-//!   `bench/families.c` prints for its Bouc-Wen rows.
+//!   `bench/families.c` prints for its Bouc-Wen rows;
+//! * `bouc_wen system`, `ensemble bouc_wen system`: the Bouc-Wen benchmark
+//!   system ([`BW_SYSTEM_SPEC`]: a mass-spring-damper with the spring fed
+//!   back, 20 sub-steps per sample) driven by the force `u_i = 20 x_i`
+//!   over the first `1/ENSEMBLE` of the input, one instance (built
+//!   statically, and boxed from its spec), and an [`Ensemble`] of
+//!   [`ENSEMBLE`] instances with the spring's `β` spread over `0.5..1.5`
+//!   times its own; timed per (instance-)sample, each sample 20 sub-steps.
 
 use crate::args;
-use crate::composition::PiBank;
+use crate::composition::{Feedback, OperatorExt, Oversample, PiBank};
 use crate::identify::batch::process_records;
 use crate::identify::ensemble::Ensemble;
 use crate::models::{Spec, TransmissionParams};
 use crate::operators::{
-    BoucWen, Bwbn, BwbnParams, Error, JilesAtherton, JilesAthertonParams, Mms, Operator, ParamSet,
-    Play, Result, StateSolver,
+    BoucWen, Bwbn, BwbnParams, Error, JilesAtherton, JilesAthertonParams, MassSpringDamper, Mms,
+    Operator, ParamSet, Play, Result, StateSolver,
 };
 use nalgebra::DMatrix;
 use std::f64::consts::TAU;
@@ -68,6 +75,9 @@ pub const BW_SPEC_1: &str = r#"{"type": "bouc_wen", "w": 0.1, "alpha": 1.0, "bet
 /// kernel's [`BW15_RTOL`]).
 pub const BW_SPEC_15: &str = r#"{"type": "bouc_wen", "w": 0.1, "alpha": 1.0, "beta": 0.7,
     "gamma": 0.3, "n": 1.5, "h0": 0.0, "z0": 0.0, "stiffness": 1.0}"#;
+
+/// The Bouc-Wen benchmark system as a spec (`examples/specs/boucwen-benchmark.json`).
+pub const BW_SYSTEM_SPEC: &str = include_str!("../../examples/specs/boucwen-benchmark.json");
 
 /// The kernel input `x_i = 2.5 sin(2π i/2000) + 0.3 sin(2π i/97.3)`.
 pub fn kernel_input(n: usize) -> Vec<f64> {
@@ -306,6 +316,78 @@ fn time_ensemble(
     Ok((t, checksum))
 }
 
+/// The `bouc_wen system` kernels (see the module's documentation), where
+/// `wanted`.
+fn system_kernels(
+    x: &[f64],
+    runs: usize,
+    wanted: &dyn Fn(&str) -> bool,
+    timings: &mut Vec<Timing>,
+    notes: &mut Vec<String>,
+) -> std::result::Result<(), String> {
+    let lib = |e: Error| e.to_string();
+    let u: Vec<f64> = x.iter().map(|v| 20.0 * v).collect();
+    let part = &u[..(u.len() / ENSEMBLE).max(1).min(u.len())];
+    let mut y = vec![0.0; part.len()];
+    let spec = Spec::from_json(BW_SYSTEM_SPEC).map_err(|e| e.to_string())?;
+    let mut alone = None;
+    if wanted("bouc_wen system") {
+        let mut stat = bouc_wen_system().map_err(lib)?;
+        let t = time_op("bouc_wen system", &mut stat, part, &mut y, runs)?;
+        let static_y = y.clone();
+        let mut boxed = spec.build().map_err(|e| e.to_string())?;
+        let t_boxed = time_op(
+            "bouc_wen system, boxed from JSON",
+            boxed.as_mut(),
+            part,
+            &mut y,
+            runs,
+        )?;
+        if y != static_y {
+            return Err("bouc_wen system: boxed and static outputs differ".into());
+        }
+        notes.push(format!(
+            "bouc_wen system: checksum (sum of outputs) {:.10e}",
+            y.iter().sum::<f64>()
+        ));
+        alone = Some(t.median().min(t_boxed.median()));
+        timings.push(t);
+        timings.push(t_boxed);
+    }
+    let kernel = "ensemble bouc_wen system";
+    if wanted(kernel) {
+        let (t, checksum) = time_ensemble(
+            kernel,
+            BW_SYSTEM_SPEC,
+            "inner.feedback.back.bouc_wen.beta",
+            &u,
+            runs,
+        )?;
+        notes.push(format!(
+            "{kernel}: checksum (sum of outputs) {checksum:.10e}"
+        ));
+        if let Some(one) = alone {
+            notes.push(format!(
+                "{kernel}: {:.2}x the instances per second of one bouc_wen system at a time (the faster of static and boxed; 1 thread)",
+                one / t.median()
+            ));
+        }
+        timings.push(t);
+    }
+    Ok(())
+}
+
+/// The Bouc-Wen benchmark system, statically typed.
+pub type BoucWenSystem = Oversample<f64, Feedback<f64, MassSpringDamper<f64>, BoucWen<f64>>>;
+
+/// The Bouc-Wen benchmark system of [`BW_SYSTEM_SPEC`], built statically:
+/// `oversample(20, feedback(mass_spring_damper, bouc_wen))`.
+pub fn bouc_wen_system() -> Result<BoucWenSystem> {
+    let forward = MassSpringDamper::new(2.0, 10.0, 5e4, 1.0 / 15000.0)?;
+    let back = BoucWen::constant(1.0, 0.0, 5e4, 800.0, -1100.0, 1.0)?;
+    Oversample::new(forward.feedback(back), 20)
+}
+
 /// Runs the kernel table.
 pub fn run(opts: &BenchOptions) -> std::result::Result<BenchReport, String> {
     if opts.samples == 0 || opts.runs == 0 {
@@ -433,6 +515,9 @@ pub fn run(opts: &BenchOptions) -> std::result::Result<BenchReport, String> {
             "paper model batch: 2 threads are {:.2}x 1 thread",
             medians[0] / medians[1]
         ));
+    }
+    if wanted("bouc_wen system") || wanted("ensemble bouc_wen system") {
+        system_kernels(&x, runs, &wanted, &mut timings, &mut notes)?;
     }
     for (kernel, alone, spec, spread) in [
         (

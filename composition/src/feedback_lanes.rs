@@ -6,9 +6,10 @@
 #![allow(clippy::needless_range_loop)]
 
 use crate::solve::{newton_done, solve, SolverOptions, Start, NEWTON_STEPS};
-use hysteron_operators::lanes::{LaneLaw, WIDTH};
+use hysteron_operators::lanes::{select, LaneLaw, WIDTH};
 use hysteron_operators::{
     checked_step, AlongTrial, BoucWenLanes, BoucWenParams, MassSpringDamperParams, MsdState,
+    NewmarkTerms,
 };
 
 /// One instance of `oversample(q, feedback(mass_spring_damper,
@@ -83,6 +84,12 @@ pub struct MsdFeedbackLanes {
     c: [f64; WIDTH],
     k: [f64; WIDTH],
     dt: [f64; WIDTH],
+    /// The oscillators' step constants ([`NewmarkTerms`]), and their
+    /// tangents `1/k_eff`.
+    q_n: [f64; WIDTH],
+    q2_n: [f64; WIDTH],
+    k_eff: [f64; WIDTH],
+    tangent_m: [f64; WIDTH],
     /// The oscillators' displacement, velocity and acceleration.
     y_m: [f64; WIDTH],
     v_m: [f64; WIDTH],
@@ -139,7 +146,22 @@ impl LaneLaw for MsdFeedback {
         let failed =
             core::array::from_fn(|j| lane_of(j).is_none_or(|l| l.q != q || l.solver != solver));
         let y0 = field(|_| 0.0);
+        let terms: [NewmarkTerms<f64>; WIDTH] = core::array::from_fn(|j| {
+            lane_of(j).map_or(
+                NewmarkTerms {
+                    q: f64::NAN,
+                    q2: f64::NAN,
+                    k_eff: f64::NAN,
+                },
+                |l| l.forward.newmark_terms(),
+            )
+        });
         MsdFeedbackLanes {
+            q_n: terms.map(|t| t.q),
+            q2_n: terms.map(|t| t.q2),
+            k_eff: terms.map(|t| t.k_eff),
+            // (the oscillator's tangent, as its `step` computes it)
+            tangent_m: terms.map(|t| 1.0 / t.k_eff),
             m: field(|p| p.m),
             c: field(|p| p.c),
             k: field(|p| p.k),
@@ -159,6 +181,7 @@ impl LaneLaw for MsdFeedback {
 
     // `j < WIDTH`, the length of every lane array.
     #[allow(clippy::indexing_slicing)]
+    #[inline(always)]
     fn step_lanes(b: &mut MsdFeedbackLanes, x: f64, y: &mut [f64; WIDTH]) {
         let (x0, dx) = (b.x, x - b.x);
         let q = b.q as f64;
@@ -218,10 +241,15 @@ impl MsdFeedbackLanes {
                 v: self.v_m[j],
                 a: self.a_m[j],
             };
-            let (next, k_eff) = self.forward(j).newmark(&s, u);
+            let terms = NewmarkTerms {
+                q: self.q_n[j],
+                q2: self.q2_n[j],
+                k_eff: self.k_eff[j],
+            };
+            let next = self.forward(j).newmark(&terms, &s, u);
             // (the oscillator's `checked_step`: its input, state, output
             // and tangent finite)
-            let tangent = 1.0 / k_eff;
+            let tangent = self.tangent_m[j];
             let fine = u.is_finite()
                 & next.a.is_finite()
                 & next.v.is_finite()
@@ -240,6 +268,7 @@ impl MsdFeedbackLanes {
     /// solver alone, then every root committed.
     // `j < WIDTH`, the length of every lane array.
     #[allow(clippy::indexing_slicing)]
+    #[inline(always)]
     fn substep(&mut self, x_prev: f64, x: f64) {
         let opts = self.solver;
         let mut guess = [0.0; WIDTH];
@@ -258,31 +287,26 @@ impl MsdFeedbackLanes {
             // (an evaluation exactly at the root)
             done[j] = fast[j] & (cur.r[j] == 0.0);
         }
+        let scale: [f64; WIDTH] = core::array::from_fn(|j| x.abs().max(self.y[j].abs()));
         for _ in 0..NEWTON_STEPS {
+            // Every live lane's test and step, without a branch per lane.
             let mut next = at;
             let mut steps = [0.0; WIDTH];
             let mut stepping = [false; WIDTH];
             for j in 0..WIDTH {
-                if !fast[j] || done[j] {
-                    continue;
-                }
+                let live = fast[j] & !done[j];
                 let (x_j, r, d) = (at[j], cur.r[j], cur.d[j]);
-                if !(d.is_finite() && d != 0.0) {
-                    fast[j] = false;
-                    continue;
-                }
+                let smooth = d.is_finite() & (d != 0.0);
                 let step = r / d;
+                let converged = newton_done(x_j, step, &opts);
+                let to = x_j - step;
+                let moves = to.is_finite() & (to != x_j);
+                done[j] |= live & smooth & converged;
+                // (stalled: no usable step)
+                fast[j] &= !(live & !(smooth & (converged | moves)));
+                stepping[j] = live & smooth & !converged & moves;
+                next[j] = select(stepping[j], to, x_j);
                 steps[j] = step;
-                if newton_done(x_j, step, &opts) {
-                    done[j] = true;
-                    continue;
-                }
-                next[j] = x_j - step;
-                if !next[j].is_finite() || next[j] == x_j {
-                    fast[j] = false;
-                    continue;
-                }
-                stepping[j] = true;
             }
             if !stepping.contains(&true) {
                 break;
@@ -290,52 +314,37 @@ impl MsdFeedbackLanes {
             let new = self.eval(x, &next);
             let mut take = [false; WIDTH];
             for j in 0..WIDTH {
-                if !stepping[j] {
-                    continue;
-                }
-                let (r, rn, dn) = (cur.r[j], new.r[j], new.d[j]);
-                let scale = x.abs().max(self.y[j].abs());
-                if !new.ok[j] {
-                    fast[j] = false;
-                } else if rn == 0.0 {
-                    // A zero reached by a step no longer than the scale is
-                    // the root; one beyond it is confirmed alone.
-                    let small = steps[j].abs() <= at[j].abs().max(scale);
-                    done[j] = small;
-                    take[j] = small;
-                    fast[j] = small;
-                } else if rn.signum() != r.signum() {
-                    // A bracket: the refinement's first tests at its start
-                    // (the end with the smaller residual), else alone.
-                    let start_new = r.abs() > rn.abs();
-                    let (xs, rs, ds) = if start_new {
-                        (next[j], rn, dn)
-                    } else {
-                        (at[j], r, cur.d[j])
-                    };
-                    let (neg, pos) = if r < 0.0 {
-                        (at[j], next[j])
-                    } else {
-                        (next[j], at[j])
-                    };
-                    let (lo, hi) = if neg < pos { (neg, pos) } else { (pos, neg) };
-                    let closed = hi - lo <= opts.tol(xs, scale)
-                        || (ds.is_finite() && ds != 0.0 && (rs / ds).abs() <= opts.tol(xs, 0.0));
-                    if closed {
-                        done[j] = true;
-                        take[j] = start_new;
-                    } else {
-                        fast[j] = false;
-                    }
-                } else if rn.abs() > r.abs() * 0.5 {
-                    fast[j] = false;
-                } else {
-                    take[j] = true;
-                }
+                let (r, d, rn, dn) = (cur.r[j], cur.d[j], new.r[j], new.d[j]);
+                let ok = stepping[j] & new.ok[j];
+                // A zero reached by a step no longer than the scale is the
+                // root; one beyond it is confirmed alone.
+                let zero = rn == 0.0;
+                let small = steps[j].abs() <= at[j].abs().max(scale[j]);
+                // A bracket: the refinement's first tests at its start
+                // (the end with the smaller residual), else alone.
+                let flips = rn.signum() != r.signum();
+                let start_new = r.abs() > rn.abs();
+                let xs = select(start_new, next[j], at[j]);
+                let rs = select(start_new, rn, r);
+                let ds = select(start_new, dn, d);
+                let r_neg = r < 0.0;
+                let neg = select(r_neg, at[j], next[j]);
+                let pos = select(r_neg, next[j], at[j]);
+                let ordered = neg < pos;
+                let (lo, hi) = (select(ordered, neg, pos), select(ordered, pos, neg));
+                let closed = (hi - lo <= opts.tol(xs, scale[j]))
+                    | (ds.is_finite() & (ds != 0.0) & ((rs / ds).abs() <= opts.tol(xs, 0.0)));
+                let at_zero = ok & zero & small;
+                let bracketed = ok & !zero & flips & closed;
+                // (a step that at least halved the residual goes on)
+                let halved = ok & !zero & !flips & (rn.abs() <= r.abs() * 0.5);
+                done[j] |= at_zero | bracketed;
+                take[j] = at_zero | (bracketed & start_new) | halved;
+                fast[j] &= !stepping[j] | at_zero | bracketed | halved;
             }
             cur = merge(&take, &new, &cur);
             for j in 0..WIDTH {
-                at[j] = if take[j] { next[j] } else { at[j] };
+                at[j] = select(take[j], next[j], at[j]);
             }
         }
         // The lanes at their roots commit their last evaluations there.
@@ -372,6 +381,8 @@ impl MsdFeedbackLanes {
     /// committed; its root, or `None` where the loop fails there.
     // `j < WIDTH` (from `substep`), the length of every lane array.
     #[allow(clippy::indexing_slicing)]
+    #[cold]
+    #[inline(never)]
     fn solve_alone(&mut self, j: usize, x_prev: f64, x: f64, guess: f64) -> Option<f64> {
         let law = self.forward(j);
         let committed = MsdState {
@@ -403,16 +414,21 @@ impl MsdFeedbackLanes {
 fn merge(take: &[bool; WIDTH], new: &LoopEval, cur: &LoopEval) -> LoopEval {
     let mut out = *cur;
     for j in 0..WIDTH {
-        if take[j] {
-            out.r[j] = new.r[j];
-            out.d[j] = new.d[j];
-            out.spring.output[j] = new.spring.output[j];
-            out.spring.tangent[j] = new.spring.tangent[j];
-            out.spring.h[j] = new.spring.h[j];
-            out.spring.along[j] = new.spring.along[j];
-            out.msd[j] = new.msd[j];
-            out.ok[j] = new.ok[j];
-        }
+        let t = take[j];
+        out.r[j] = select(t, new.r[j], cur.r[j]);
+        out.d[j] = select(t, new.d[j], cur.d[j]);
+        out.spring.output[j] = select(t, new.spring.output[j], cur.spring.output[j]);
+        out.spring.tangent[j] = select(t, new.spring.tangent[j], cur.spring.tangent[j]);
+        out.spring.h[j] = select(t, new.spring.h[j], cur.spring.h[j]);
+        out.msd[j].y = select(t, new.msd[j].y, cur.msd[j].y);
+        out.msd[j].v = select(t, new.msd[j].v, cur.msd[j].v);
+        out.msd[j].a = select(t, new.msd[j].a, cur.msd[j].a);
+        out.ok[j] = if t { new.ok[j] } else { cur.ok[j] };
+        out.spring.along[j] = if t {
+            new.spring.along[j]
+        } else {
+            cur.spring.along[j]
+        };
     }
     out
 }

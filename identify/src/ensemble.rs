@@ -1,7 +1,8 @@
 //! Many instances of one model structure, each with its own parameter
 //! vector, run over one input: the leaves with a lane kernel
 //! ([`hysteron_operators::lanes`]: play, MMS, the Bouc-Wen spring with
-//! `n = 1`) eight instances per vector
+//! `n = 1`, and the mass-spring-damper feedback of the Bouc-Wen benchmark
+//! system, [`MsdFeedback`]) eight instances per vector
 //! instruction, every other model one instance at a time; in parallel
 //! (rayon) over blocks of instances either way.
 //!
@@ -10,9 +11,10 @@
 //! parameters are out of their domain, or whose run fails, reports its own
 //! typed error with its index; the others finish.
 
+use hysteron_composition::MsdFeedback;
 use hysteron_models::Spec;
 use hysteron_operators::lanes::{run_lanes, LaneLaw, WIDTH};
-use hysteron_operators::{BoucWen, Error, Leaf, Mms, Operator, Play};
+use hysteron_operators::{BoucWen, Error, Leaf, MassSpringDamper, Mms, Operator, Play};
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 use std::fmt;
@@ -112,6 +114,9 @@ enum Lanes {
     /// Every instance with `n = 1` (closed form): a spring with another
     /// exponent has no vector form, and runs faster alone.
     BoucWen(Vec<<BoucWen<f64> as Leaf<f64>>::Params>),
+    /// `oversample(q, feedback(mass_spring_damper, bouc_wen))` (or the
+    /// feedback alone), every spring with `n = 1` and a constant stiffness.
+    MsdFeedback(Vec<MsdFeedback>),
 }
 
 /// `N` instances of the model of one spec, instance `i` with the
@@ -220,6 +225,7 @@ impl Ensemble {
             Some(Lanes::Play(_)) => Kernel::Lanes("play"),
             Some(Lanes::Mms(_)) => Kernel::Lanes("mms"),
             Some(Lanes::BoucWen(_)) => Kernel::Lanes("bouc_wen"),
+            Some(Lanes::MsdFeedback(_)) => Kernel::Lanes("msd_feedback"),
             None => Kernel::Instances,
         }
     }
@@ -272,6 +278,7 @@ impl Ensemble {
             Some(Lanes::Play(laws)) => self.run_lanes(laws, x, out),
             Some(Lanes::Mms(laws)) => self.run_lanes(laws, x, out),
             Some(Lanes::BoucWen(laws)) => self.run_lanes(laws, x, out),
+            Some(Lanes::MsdFeedback(laws)) => self.run_lanes(laws, x, out),
             None => self.run_instances(x, out),
         };
         failures.sort_by_key(|f| f.instance);
@@ -364,30 +371,60 @@ impl Ensemble {
     }
 }
 
-/// The lane kernel for `spec` if it is a leaf that has one, with the laws
-/// of the instances whose parameters are accepted.
+/// The lane kernel for `spec` if it is a leaf or a structure that has
+/// one, with the laws of the instances whose parameters are accepted.
 fn lanes_for(spec: &Spec, sets: &[Result<Vec<f64>, Error>]) -> Option<Lanes> {
     match spec.kind() {
-        "play" => lane_set::<Play<f64>>(spec, sets).map(Lanes::Play),
-        "mms" => lane_set::<Mms<f64>>(spec, sets).map(Lanes::Mms),
-        "bouc_wen" => lane_set::<BoucWen<f64>>(spec, sets)
+        "play" => lane_set(spec, sets, Spec::leaf_params::<Play<f64>>).map(Lanes::Play),
+        "mms" => lane_set(spec, sets, Spec::leaf_params::<Mms<f64>>).map(Lanes::Mms),
+        "bouc_wen" => lane_set(spec, sets, Spec::leaf_params::<BoucWen<f64>>)
             .filter(|laws| laws.iter().all(|p| p.n == 1.0))
             .map(Lanes::BoucWen),
+        "oversample" | "feedback" => lane_set(spec, sets, msd_feedback)
+            .filter(|laws| {
+                laws.iter()
+                    .all(|l| l.back.n == 1.0 && l.back.stiffness.len() == 1)
+            })
+            .map(Lanes::MsdFeedback),
         _ => None,
     }
 }
 
-/// The law of leaf `L` of every instance of `spec` (the spec's own where
+/// The loop of a mass-spring-damper and a Bouc-Wen spring that `spec`
+/// is, `oversample(q, feedback(mass_spring_damper, bouc_wen))` or the
+/// feedback alone (`q = 1`).
+fn msd_feedback(spec: &Spec) -> Option<MsdFeedback> {
+    let (inner, q) = match spec {
+        Spec::Oversample { inner, q } => (&**inner, *q),
+        other => (other, 1),
+    };
+    let Spec::Feedback {
+        forward,
+        back,
+        solver,
+    } = inner
+    else {
+        return None;
+    };
+    Some(MsdFeedback {
+        forward: forward.leaf_params::<MassSpringDamper<f64>>()?,
+        back: back.leaf_params::<BoucWen<f64>>()?,
+        q,
+        solver: solver.unwrap_or_default(),
+    })
+}
+
+/// The law `law` gives for every instance of `spec` (the spec's own where
 /// the instance's parameters are refused).
-fn lane_set<L>(spec: &Spec, sets: &[Result<Vec<f64>, Error>]) -> Option<Vec<L::Params>>
-where
-    L: Leaf<f64>,
-    L::Params: serde::de::DeserializeOwned,
-{
-    let own = spec.leaf_params::<L>()?;
+fn lane_set<L: Clone>(
+    spec: &Spec,
+    sets: &[Result<Vec<f64>, Error>],
+    law: impl Fn(&Spec) -> Option<L>,
+) -> Option<Vec<L>> {
+    let own = law(spec)?;
     sets.iter()
         .map(|p| match p {
-            Ok(p) => spec.with_params(p).ok()?.leaf_params::<L>(),
+            Ok(p) => law(&spec.with_params(p).ok()?),
             Err(_) => Some(own.clone()),
         })
         .collect()

@@ -138,6 +138,44 @@ fn bouc_wen_with_n_1_in_lanes_is_each_instance_alone() {
     }
 }
 
+/// The Bouc-Wen benchmark system (a mass-spring-damper with the spring
+/// fed back, oversampled 20 times) steps in lanes, and so does its
+/// feedback alone; with a spring of another exponent, one instance at a
+/// time. Its parameters spread around their own (one row refused), over a
+/// force like the benchmark's, and under a force 40 times as large.
+#[test]
+fn the_benchmark_system_in_lanes_is_each_instance_alone() {
+    let system =
+        Spec::from_json(include_str!("../../examples/specs/boucwen-benchmark.json")).unwrap();
+    let Spec::Oversample { inner, .. } = &system else {
+        panic!("the benchmark system is oversampled");
+    };
+    let force: Vec<f64> = input(300).iter().map(|v| 30.0 * v).collect();
+    for (spec, kernel) in [
+        (&system, Kernel::Lanes("msd_feedback")),
+        (&**inner, Kernel::Lanes("msd_feedback")),
+    ] {
+        let model = spec.build().unwrap();
+        let mut params = rows_around(&*model, 11);
+        // (the spring's exponent kept at 1)
+        let names = model.param_names();
+        let n = names.iter().position(|n| n.ends_with(".n")).unwrap();
+        params.column_mut(n).fill(1.0);
+        for scale in [1.0, 40.0] {
+            let x: Vec<f64> = force.iter().map(|v| scale * v).collect();
+            let (got, failed) = check_rows(spec, &params, &x);
+            assert_eq!(got, kernel);
+            assert!(failed.contains(&2), "{failed:?}");
+        }
+    }
+    let other = Spec::from_json(
+        &include_str!("../../examples/specs/boucwen-benchmark.json")
+            .replace(r#""n": 1.0"#, r#""n": 1.5"#),
+    )
+    .unwrap();
+    assert_eq!(check_against_alone(&other, 3), Kernel::Instances);
+}
+
 /// Composed models (the paper's, a PI cascade) run one instance at a time
 /// with the same results.
 #[test]

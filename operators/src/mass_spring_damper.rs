@@ -77,45 +77,65 @@ impl<T: Float> MassSpringDamper<T> {
     }
 }
 
+/// The constants of a [`MassSpringDamper`]'s step: `q = 2/dt`, `q²` and
+/// `k_eff = k + q c + q² m` (`= k + 2c/dt + 4m/dt²`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NewmarkTerms<T> {
+    /// `q = 2/dt`.
+    pub q: T,
+    /// `q²`.
+    pub q2: T,
+    /// `k_eff = k + q c + q² m`, the inverse of the tangent `dy/du`.
+    pub k_eff: T,
+}
+
 impl<T: Float> MassSpringDamperParams<T> {
-    /// One Newmark average-acceleration step from state `s` under the
-    /// force `u`: the next state and `k_eff = k + 2c/dt + 4m/dt²` (the
-    /// equations of [`MassSpringDamper`]), unchecked. The
-    /// [`step`](StepLaw::step) of the oscillator, which refuses a state
-    /// that is not finite; a kernel that steps many oscillators calls it
-    /// for the same bits.
-    ///
-    /// ```
-    /// use hysteron_operators::{MassSpringDamperParams, MsdState};
-    /// let p = MassSpringDamperParams { m: 1.0, c: 0.0, k: 4.0, dt: 0.5 };
-    /// let rest = MsdState { y: 0.0, v: 0.0, a: 0.0 };
-    /// let (next, k_eff) = p.newmark(&rest, 24.0);
-    /// assert_eq!((k_eff, next.y), (20.0, 1.2));
-    /// ```
+    /// The step's constants ([`NewmarkTerms`]).
     #[inline(always)]
-    pub fn newmark(&self, s: &MsdState<T>, u: T) -> (MsdState<T>, T) {
+    pub fn newmark_terms(&self) -> NewmarkTerms<T> {
         let MassSpringDamperParams { m, c, k, dt } = *self;
-        let MsdState { y, v, a } = *s;
         // The equations of the type's doc with `q = 2/dt` (so `4/dt = 2q`,
         // `4/dt² = q²`): two divisions where the terms as written take
         // eight, each of which costs a pass over every derivative over
         // dual numbers.
         let q = T::lit(2.0) / dt;
         let q2 = q * q;
+        NewmarkTerms {
+            q,
+            q2,
+            k_eff: k + q * c + q2 * m,
+        }
+    }
+
+    /// One Newmark average-acceleration step from state `s` under the
+    /// force `u`, with the constants `t` of [`newmark_terms`](Self::newmark_terms):
+    /// the next state (the equations of [`MassSpringDamper`]), unchecked.
+    /// The [`step`](StepLaw::step) of the oscillator, which refuses a state
+    /// that is not finite; a kernel that steps many oscillators calls it,
+    /// with the constants computed once, for the same bits.
+    ///
+    /// ```
+    /// use hysteron_operators::{MassSpringDamperParams, MsdState};
+    /// let p = MassSpringDamperParams { m: 1.0, c: 0.0, k: 4.0, dt: 0.5 };
+    /// let rest = MsdState { y: 0.0, v: 0.0, a: 0.0 };
+    /// let t = p.newmark_terms();
+    /// assert_eq!((t.k_eff, p.newmark(&t, &rest, 24.0).y), (20.0, 1.2));
+    /// ```
+    #[inline(always)]
+    pub fn newmark(&self, t: &NewmarkTerms<T>, s: &MsdState<T>, u: T) -> MsdState<T> {
+        let MassSpringDamperParams { m, c, dt, .. } = *self;
+        let NewmarkTerms { q, q2, k_eff } = *t;
+        let MsdState { y, v, a } = *s;
         let two_v = v + v;
-        let k_eff = k + q * c + q2 * m;
         let p_eff = u + m * (q2 * y + q * two_v + a) + c * (q * y + v);
         let y1 = p_eff / k_eff;
         let a1 = q2 * (y1 - y) - q * two_v - a;
         let v1 = v + dt * T::lit(0.5) * (a + a1);
-        (
-            MsdState {
-                y: y1,
-                v: v1,
-                a: a1,
-            },
-            k_eff,
-        )
+        MsdState {
+            y: y1,
+            v: v1,
+            a: a1,
+        }
     }
 }
 
@@ -132,7 +152,8 @@ impl<T: Float> StepLaw<T> for MassSpringDamperParams<T> {
 
     #[inline(always)]
     fn step(&self, s: &MsdState<T>, u: T) -> Result<(MsdState<T>, Trial<T>)> {
-        let (next, k_eff) = self.newmark(s, u);
+        let t = self.newmark_terms();
+        let next = self.newmark(&t, s, u);
         if !(next.a.is_finite() && next.v.is_finite()) {
             return Err(crate::Error::NonFiniteOutput {
                 operator: <Self as crate::Declared<T>>::KIND,
@@ -143,7 +164,7 @@ impl<T: Float> StepLaw<T> for MassSpringDamperParams<T> {
             next,
             Trial {
                 output: next.y,
-                tangent: T::one() / k_eff,
+                tangent: T::one() / t.k_eff,
             },
         ))
     }

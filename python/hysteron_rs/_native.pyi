@@ -391,8 +391,10 @@ class LoopEnergy:
 class Ensemble:
     """`N` instances of a model's structure, instance `i` with the parameter
     vector `params[i]` (columns in the order of `model.param_names`): play and MMS
-    leaves, and a Bouc-Wen spring whose rows all have `n = 1`, step eight
-    instances per vector instruction, any other model
+    leaves, a Bouc-Wen spring whose rows all have `n = 1`, and the
+    Bouc-Wen benchmark system (a mass-spring-damper with such a spring fed
+    back, oversampled or not) step eight instances per vector instruction,
+    any other model
     one instance at a time, in parallel. Every instance gives the bits the
     model gives alone with its parameters.
     """
@@ -410,7 +412,8 @@ class Ensemble:
     @property
     def kernel(self) -> str:
         """How the instances are stepped: the leaf of the lane kernel
-        (`"play"`, `"mms"`, `"bouc_wen"`), or `"instances"` (one at a time).
+        (`"play"`, `"mms"`, `"bouc_wen"`, `"msd_feedback"`), or `"instances"`
+        (one at a time).
         """
     def run(self, x: _ArrayLike, *, errors: str = "raise", threads: Optional[int] = None) -> npt.NDArray[np.float64]:
         """Runs every instance from its initial state over `x` (1-D) and

@@ -14,8 +14,10 @@ use pyo3::prelude::*;
 
 /// `N` instances of a model's structure, instance `i` with the parameter
 /// vector `params[i]` (columns in the order of `model.param_names`): play and MMS
-/// leaves, and a Bouc-Wen spring whose rows all have `n = 1`, step eight
-/// instances per vector instruction, any other model
+/// leaves, a Bouc-Wen spring whose rows all have `n = 1`, and the
+/// Bouc-Wen benchmark system (a mass-spring-damper with such a spring fed
+/// back, oversampled or not) step eight instances per vector instruction,
+/// any other model
 /// one instance at a time, in parallel. Every instance gives the bits the
 /// model gives alone with its parameters.
 #[pyclass(module = "hysteron_rs._native", frozen)]
@@ -53,7 +55,8 @@ impl Ensemble {
     }
 
     /// How the instances are stepped: the leaf of the lane kernel
-    /// (`"play"`, `"mms"`, `"bouc_wen"`), or `"instances"` (one at a time).
+    /// (`"play"`, `"mms"`, `"bouc_wen"`, `"msd_feedback"`), or `"instances"`
+    /// (one at a time).
     #[getter]
     fn kernel(&self) -> &'static str {
         match self.inner.kernel() {

@@ -93,8 +93,14 @@ pub trait LaneLaw: Sized {
 /// over the lanes the compiler keeps it in vector registers, where a plain
 /// `if` between two loaded or computed values becomes a branch or a load
 /// per lane.
+///
+/// ```
+/// use hysteron_operators::lanes::select;
+/// assert_eq!(select(true, 1.0, f64::NAN), 1.0);
+/// assert!(select(false, 1.0, f64::NAN).is_nan());
+/// ```
 #[inline(always)]
-pub(crate) fn select(take_a: bool, a: f64, b: f64) -> f64 {
+pub fn select(take_a: bool, a: f64, b: f64) -> f64 {
     let mask = u64::from(take_a).wrapping_neg();
     f64::from_bits((a.to_bits() & mask) | (b.to_bits() & !mask))
 }
