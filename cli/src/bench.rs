@@ -36,6 +36,14 @@
 //!   kernel of the same run; the command prints the sum of the outputs
 //!   (and of the `bouc_wen n=1` kernel's), the checksums that
 //!   `bench/families.c` prints for its Bouc-Wen rows;
+//! * `exp kernel`, `exp_m1 kernel`: the library's vectorised exponentials
+//!   ([`exp_kernel`](crate::operators::exp_kernel)) over `−|x_i|` for the
+//!   first [`EXP_BLOCK`] samples, in place, repeated over a block in the L1
+//!   cache to the sample count: the one the Bouc-Wen spring (`exp`) and the MMS element
+//!   (`exp_m1`) take per sample: both the single-instance kernels and the
+//!   ensembles evaluate one per (instance-)sample, eight per instruction,
+//!   so the note on each ensemble gives the bound `one at a time / exp` on
+//!   its ratio;
 //! * `bouc_wen system`, `ensemble bouc_wen system`: the Bouc-Wen benchmark
 //!   system ([`BW_SYSTEM_SPEC`]: a mass-spring-damper with the spring fed
 //!   back, 20 sub-steps per sample) driven by the force `u_i = 20 x_i`
@@ -49,6 +57,7 @@ use crate::composition::{Feedback, OperatorExt, Oversample, PiBank};
 use crate::identify::batch::process_records;
 use crate::identify::ensemble::Ensemble;
 use crate::models::{Spec, TransmissionParams};
+use crate::operators::exp_kernel;
 use crate::operators::{
     BoucWen, Bwbn, BwbnParams, Error, JilesAtherton, JilesAthertonParams, MassSpringDamper, Mms,
     Operator, ParamSet, Play, Result, StateSolver,
@@ -63,6 +72,10 @@ pub const BW15_RTOL: f64 = 1e-10;
 
 /// Signals in the batch kernels.
 pub const BATCH: usize = 64;
+
+/// Values per block of the `exp kernel` and `exp_m1 kernel` (16 KiB:
+/// in the L1 data cache).
+pub const EXP_BLOCK: usize = 2048;
 
 /// Instances in the ensemble kernels.
 pub const ENSEMBLE: usize = 64;
@@ -516,6 +529,38 @@ pub fn run(opts: &BenchOptions) -> std::result::Result<BenchReport, String> {
             medians[0] / medians[1]
         ));
     }
+    let mut exp_costs = Vec::new();
+    // (each also where the ensemble whose bound it gives runs)
+    for (kernel, f, ensemble) in [
+        (
+            "exp kernel",
+            exp_kernel::exp_in_place as fn(&mut [f64]),
+            "ensemble bouc_wen n=1",
+        ),
+        (
+            "exp_m1 kernel",
+            exp_kernel::exp_m1_nonpositive_in_place,
+            "ensemble mms",
+        ),
+    ] {
+        if wanted(kernel) || wanted(ensemble) {
+            // (over blocks that stay in the L1 cache: the cost of the
+            // arithmetic, which the kernels pay, not of streaming memory)
+            let minus: Vec<f64> = x.iter().take(EXP_BLOCK).map(|v| -v.abs()).collect();
+            let mut block = minus.clone();
+            let blocks = (x.len() / EXP_BLOCK).max(1);
+            let t = time_with(kernel, blocks * minus.len(), runs, || {
+                for _ in 0..blocks {
+                    block.copy_from_slice(&minus);
+                    f(&mut block);
+                    std::hint::black_box(&mut block);
+                }
+                Ok(())
+            })?;
+            exp_costs.push((kernel, t.median()));
+            timings.push(t);
+        }
+    }
     if wanted("bouc_wen system") || wanted("ensemble bouc_wen system") {
         system_kernels(&x, runs, &wanted, &mut timings, &mut notes)?;
     }
@@ -550,6 +595,20 @@ pub fn run(opts: &BenchOptions) -> std::result::Result<BenchReport, String> {
                     "{kernel}: {:.2}x the instances per second of one {alone} at a time (1 thread)",
                     one.median() / t.median()
                 ));
+                // (the exponential each (instance-)sample takes, which
+                // both evaluate eight per instruction)
+                let exp = match alone {
+                    "mms" => "exp_m1 kernel",
+                    _ => "exp kernel",
+                };
+                if let (false, Some((_, e))) =
+                    (alone == "play", exp_costs.iter().find(|(k, _)| *k == exp))
+                {
+                    notes.push(format!(
+                        "{kernel}: at most {:.2}x by the {exp} ({e:.3} ns per value, the same in both)",
+                        one.median() / e
+                    ));
+                }
             }
             timings.push(t);
         }

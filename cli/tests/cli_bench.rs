@@ -65,6 +65,8 @@ fn prints_one_row_per_kernel_in_the_table_format() {
             "paper model, boxed from JSON",
             "paper model batch x64, 1 thread(s)",
             "paper model batch x64, 2 thread(s)",
+            "exp kernel",
+            "exp_m1 kernel",
             "bouc_wen system",
             "bouc_wen system, boxed from JSON",
             "ensemble bouc_wen system",
@@ -106,11 +108,13 @@ fn kernel_filter_selects_rows() {
     assert!(out.status.success());
     let stdout = String::from_utf8(out.stdout).unwrap();
     let kernels: Vec<String> = stdout.lines().filter_map(row).map(|r| r.0).collect();
-    assert_eq!(kernels, ["mms", "ensemble mms"]);
-    // with its single-instance kernel in the run, the ensemble's ratio to it
+    assert_eq!(kernels, ["mms", "exp_m1 kernel", "ensemble mms"]);
+    // with its single-instance kernel in the run, the ensemble's ratio to
+    // it, and the bound the exponential both take puts on that ratio
     assert!(
         stdout.contains("ensemble mms: ")
-            && stdout.contains("x the instances per second of one mms"),
+            && stdout.contains("x the instances per second of one mms")
+            && stdout.contains("x by the exp_m1 kernel"),
         "{stdout}"
     );
 }

@@ -7,7 +7,9 @@
 //! the sample. These functions give the same bits wherever they run (one
 //! sample in a `step`, or four or eight per instruction in a batch loop or
 //! across the lanes of an ensemble), since every version does the same
-//! operations in the same order, with no fused multiply-add.
+//! operations in the same order, with no fused multiply-add. A lane
+//! kernel of one's own ([`LaneLaw`](crate::lanes::LaneLaw)) calls them for
+//! the bits of the leaf it steps.
 
 use crate::simd::Isa;
 use crate::Float;
@@ -60,8 +62,13 @@ const C: [f64; 12] = [
 /// P. T. P. Tang, "Table-driven implementation of the expm1 function in
 /// IEEE floating-point arithmetic", *ACM TOMS* 18(2), 1992 (the reduction
 /// and the `(2^k − 1) + 2^k s` recombination, here without the table).
+///
+/// ```
+/// use hysteron_operators::exp_kernel::exp_m1_nonpositive;
+/// assert!((exp_m1_nonpositive(-1e-3) - (-1e-3_f64).exp_m1()).abs() < 1e-19);
+/// ```
 #[inline(always)]
-pub(crate) fn exp_m1_nonpositive(x: f64) -> f64 {
+pub fn exp_m1_nonpositive(x: f64) -> f64 {
     // (a NaN fails the comparison and runs through as NaN)
     let x = if x < FLOOR { FLOOR } else { x };
     let (k, s) = reduce(x);
@@ -87,8 +94,13 @@ const EXP_MAX: f64 = 710.0;
 /// P. T. P. Tang, "Table-driven implementation of the exponential function
 /// in IEEE floating-point arithmetic", *ACM TOMS* 15(2), 1989 (the
 /// reduction, here without the table).
+///
+/// ```
+/// use hysteron_operators::exp_kernel::exp;
+/// assert!((exp(-2.5) - (-2.5_f64).exp()).abs() < 1e-16);
+/// ```
 #[inline(always)]
-pub(crate) fn exp(x: f64) -> f64 {
+pub fn exp(x: f64) -> f64 {
     // (`clamp` keeps a NaN, which runs through as NaN)
     let x = x.clamp(EXP_MIN, EXP_MAX);
     let (k, s) = reduce(x);
@@ -148,13 +160,27 @@ pub(crate) fn with_kernel_value<T: Float>(
 /// [`exp_m1_nonpositive`] of every value of `v`, in place: four or eight
 /// per instruction where the CPU has AVX2 or AVX-512 ([`Isa::detect`]), two
 /// otherwise; the same bits either way.
-pub(crate) fn exp_m1_nonpositive_in_place(v: &mut [f64]) {
+///
+/// ```
+/// use hysteron_operators::exp_kernel::{exp_m1_nonpositive, exp_m1_nonpositive_in_place};
+/// let mut v = [-2.0, -1e-9, 0.0];
+/// exp_m1_nonpositive_in_place(&mut v);
+/// assert_eq!(v[1], exp_m1_nonpositive(-1e-9));
+/// ```
+pub fn exp_m1_nonpositive_in_place(v: &mut [f64]) {
     map_in_place(v, exp_m1_nonpositive)
 }
 
 /// [`exp`] of every value of `v`, in place, as
 /// [`exp_m1_nonpositive_in_place`] runs its kernel.
-pub(crate) fn exp_in_place(v: &mut [f64]) {
+///
+/// ```
+/// use hysteron_operators::exp_kernel::{exp, exp_in_place};
+/// let mut v = [-2.0, 0.5];
+/// exp_in_place(&mut v);
+/// assert_eq!(v, [exp(-2.0), exp(0.5)]);
+/// ```
+pub fn exp_in_place(v: &mut [f64]) {
     map_in_place(v, exp)
 }
 

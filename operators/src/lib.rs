@@ -58,7 +58,7 @@ mod dual;
 mod duhem_fn;
 mod energy_flow;
 mod error;
-mod exp_kernel;
+pub mod exp_kernel;
 mod float;
 mod hints;
 pub mod lanes;
