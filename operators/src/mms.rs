@@ -191,38 +191,17 @@ impl LaneLaw for MmsParams<f64> {
 
     /// The operations of [`step_lanes`](LaneLaw::step_lanes) per lane; a
     /// held input gives the same distance, so the same outputs, as the
-    /// step that skips it. Two samples per iteration, so that their
-    /// exponentials interleave.
+    /// step that skips it.
     #[inline(always)]
     fn go_on(b: &mut MmsLanes, xs: &[f64], ys: &mut [[f64; WIDTH]]) {
         let sign = if b.dir < 0 { -1.0 } else { 1.0 };
-        let lanes = |x: f64, y: &mut [f64; WIDTH]| {
+        for (&x, y) in xs.iter().zip(ys.iter_mut()) {
             let d = (x - b.x_r).abs();
             let lanes = b.y_r.iter().zip(&b.k).zip(&b.f_c);
             for (y, ((&y_r, &k), &f_c)) in y.iter_mut().zip(lanes) {
                 let rise = -crate::exp_kernel::exp_m1_nonpositive(-k * d);
                 *y = on_branch_lane(rise, sign * f_c, y_r);
             }
-        };
-        let mut pairs = xs.chunks_exact(2);
-        let mut pair_ys = ys.chunks_exact_mut(2);
-        for (x, y) in (&mut pairs).zip(&mut pair_ys) {
-            if let ([x0, x1], [y0, y1]) = (x, y) {
-                let (d0, d1) = ((x0 - b.x_r).abs(), (x1 - b.x_r).abs());
-                let lanes = b.y_r.iter().zip(&b.k).zip(&b.f_c);
-                for ((y0, y1), ((&y_r, &k), &f_c)) in y0.iter_mut().zip(y1.iter_mut()).zip(lanes) {
-                    let rise0 = -crate::exp_kernel::exp_m1_nonpositive(-k * d0);
-                    let rise1 = -crate::exp_kernel::exp_m1_nonpositive(-k * d1);
-                    *y0 = on_branch_lane(rise0, sign * f_c, y_r);
-                    *y1 = on_branch_lane(rise1, sign * f_c, y_r);
-                }
-            }
-        }
-        if let (Some(&x), Some(y)) = (
-            pairs.remainder().first(),
-            pair_ys.into_remainder().first_mut(),
-        ) {
-            lanes(x, y);
         }
         if let (Some(&x), Some(y)) = (xs.last(), ys.last()) {
             (b.x, b.y) = (x, *y);
