@@ -2,6 +2,8 @@
 for bit, on the lane kernels and one instance at a time; failures are
 typed errors naming the instance, or NaN rows on request."""
 
+import pathlib
+
 import numpy as np
 import pytest
 
@@ -41,6 +43,23 @@ def test_each_instance_is_the_model_alone(model: hy.Model, kernel: str) -> None:
     # on one thread, or two: the same bits
     assert np.array_equal(ensemble.run(x, threads=1), y)
     assert np.array_equal(ensemble.run(x, threads=2), y)
+
+
+def test_the_benchmark_system_steps_in_lanes(root: pathlib.Path) -> None:
+    """The Bouc-Wen benchmark system (a mass-spring-damper with the spring
+    fed back, oversampled) with its parameters spread, the spring's
+    exponent kept at 1: the lane kernel, each row the model alone."""
+    model = hy.Model.from_spec((root / "examples" / "specs" / "boucwen-benchmark.json").read_text())
+    names = model.param_names
+    base = np.array([model.params[n] for n in names])
+    rows = base * (1.0 + 0.05 * np.arange(9)[:, None] / 9.0)
+    rows[:, [i for i, n in enumerate(names) if n.endswith(".n")]] = 1.0
+    ensemble = hy.Ensemble(model, rows)
+    assert ensemble.kernel == "msd_feedback"
+    x = 30.0 * np.sin(np.linspace(0.0, 20.0, 400)) + _walk(400)
+    y = ensemble.run(x)
+    for i, row in enumerate(rows):
+        assert np.array_equal(y[i], _alone(model, row, x)), i
 
 
 def test_a_failing_instance_is_named_or_nan() -> None:

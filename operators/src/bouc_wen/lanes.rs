@@ -505,9 +505,10 @@ mod tests {
         each_alone(&laws, &input(3000));
     }
 
-    /// Constant stiffness and a smooth input, so that most tiles step
-    /// without a reversal (the tile kernel) and some with one (sample by
-    /// sample), from a start at rest and from moving states.
+    /// Constant stiffness and a smooth input, so that most tiles step as
+    /// one run along the branches (`go_on`) and some with a reversal (the
+    /// runs before and after it, the reversal by `step_lanes`), from a
+    /// start at rest and from moving states.
     #[test]
     fn tiles_without_reversals_are_each_spring_alone() {
         let laws: Vec<_> = (0..11)
