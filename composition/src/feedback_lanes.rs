@@ -437,7 +437,7 @@ fn merge(take: &[bool; WIDTH], new: &LoopEval, cur: &LoopEval) -> LoopEval {
 mod tests {
     use super::*;
     use crate::{OperatorExt, Oversample};
-    use hysteron_operators::lanes::run_lanes;
+    use hysteron_operators::lanes::{check_each_alone, run_lanes};
     use hysteron_operators::{BoucWen, MassSpringDamper, Operator, StiffnessMap};
 
     /// The benchmark's oscillator and spring, instance `i` with every
@@ -483,27 +483,13 @@ mod tests {
     /// Every lane's outputs are the bits of its loop run alone, or it is
     /// flagged where that run fails.
     fn each_alone(laws: &[MsdFeedback], x: &[f64]) {
-        let mut out = vec![0.0; laws.len() * x.len()];
-        let failed = run_lanes(laws, x, &mut out).unwrap();
-        for (i, (law, row)) in laws.iter().zip(out.chunks(x.len())).enumerate() {
-            let alone = MassSpringDamper::from_params(law.forward)
-                .unwrap()
-                .feedback(BoucWen::from_params(law.back.clone()).unwrap())
+        check_each_alone(laws, x, |law| {
+            let alone = MassSpringDamper::from_params(law.forward)?
+                .feedback(BoucWen::from_params(law.back.clone())?)
                 .with_solver(law.solver);
-            match Oversample::new(alone, law.q).unwrap().run(x) {
-                Ok(alone) => {
-                    assert!(!failed.contains(&i), "instance {i} flagged");
-                    for (k, (a, b)) in alone.iter().zip(row).enumerate() {
-                        assert_eq!(
-                            a.to_bits(),
-                            b.to_bits(),
-                            "instance {i}, sample {k}: {a} vs {b}"
-                        );
-                    }
-                }
-                Err(_) => assert!(failed.contains(&i), "instance {i} not flagged"),
-            }
-        }
+            Oversample::new(alone, law.q)?.run(x)
+        })
+        .unwrap();
     }
 
     /// Eleven benchmark systems (a full block and a part) at 20 sub-steps

@@ -438,7 +438,7 @@ impl BoucWenLanes {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::lanes::run_lanes;
+    use crate::lanes::check_each_alone;
 
     /// Reversals of growing amplitude, holds, and a start at rest.
     fn input(n: usize) -> Vec<f64> {
@@ -474,23 +474,7 @@ mod tests {
     /// Every lane's outputs are the bits of its spring run alone, or it is
     /// flagged where that run fails.
     fn each_alone(laws: &[BoucWenParams<f64>], x: &[f64]) {
-        let mut out = vec![0.0; laws.len() * x.len()];
-        let failed = run_lanes(laws, x, &mut out).unwrap();
-        for (i, (law, row)) in laws.iter().zip(out.chunks(x.len())).enumerate() {
-            match BoucWen::from_params(law.clone()).unwrap().run(x) {
-                Ok(alone) => {
-                    assert!(!failed.contains(&i), "instance {i} flagged");
-                    for (k, (a, b)) in alone.iter().zip(row).enumerate() {
-                        assert_eq!(
-                            a.to_bits(),
-                            b.to_bits(),
-                            "instance {i}, sample {k}: {a} vs {b}"
-                        );
-                    }
-                }
-                Err(_) => assert!(failed.contains(&i), "instance {i} not flagged"),
-            }
-        }
+        check_each_alone(laws, x, |law| BoucWen::from_params(law.clone())?.run(x)).unwrap();
     }
 
     /// Thirteen `n = 1` springs (a full block and a part): softening and

@@ -173,6 +173,53 @@ pub fn run_lanes<L: LaneLaw>(laws: &[L], xs: &[f64], out: &mut [f64]) -> Result<
     Ok(failed)
 }
 
+/// The contract of a lane kernel, for its tests: runs `laws` in lanes
+/// over `x` ([`run_lanes`]) and checks every instance's row against
+/// `alone(law)`, the instance's own run from its initial state: bit for
+/// bit where that run succeeds, and the instance flagged where it fails.
+///
+/// # Errors
+/// The first instance that breaks the contract, described (its index, and
+/// the sample and both values, or how its flag disagrees), or the error
+/// of [`run_lanes`].
+///
+/// ```
+/// use hysteron_operators::{lanes::check_each_alone, Leaf, Operator, Play, PlayParams};
+/// let laws: Vec<PlayParams<f64>> =
+///     [0.1, 0.5, 1.0].iter().map(|&r| PlayParams { r, y0: 0.0 }).collect();
+/// let x = [1.0, 2.0, 0.0, -1.5];
+/// check_each_alone(&laws, &x, |law| Play::from_params(*law)?.run(&x))?;
+/// # Ok::<(), String>(())
+/// ```
+pub fn check_each_alone<L: LaneLaw>(
+    laws: &[L],
+    x: &[f64],
+    alone: impl Fn(&L) -> Result<Vec<f64>>,
+) -> core::result::Result<(), String> {
+    let mut out = vec![0.0; laws.len() * x.len()];
+    let failed = run_lanes(laws, x, &mut out).map_err(|e| e.to_string())?;
+    for (i, (law, row)) in laws.iter().zip(out.chunks(x.len().max(1))).enumerate() {
+        match (alone(law), failed.contains(&i)) {
+            (Ok(y), false) => {
+                let differs = y
+                    .iter()
+                    .zip(row)
+                    .enumerate()
+                    .find(|(_, (a, b))| a.to_bits() != b.to_bits());
+                if let Some((k, (a, b))) = differs {
+                    return Err(format!("instance {i}, sample {k}: {a} alone, {b} in lanes"));
+                }
+            }
+            (Ok(_), true) => return Err(format!("instance {i} runs alone but is flagged")),
+            (Err(e), false) => {
+                return Err(format!("instance {i} fails alone ({e}) but is not flagged"))
+            }
+            (Err(_), true) => {}
+        }
+    }
+    Ok(())
+}
+
 /// One block over `xs` into its rows, on the widest instruction set found;
 /// whether each lane's outputs are all finite.
 fn run_block<L: LaneLaw>(laws: &[L], xs: &[f64], rows: &mut [f64]) -> [bool; WIDTH] {
@@ -303,21 +350,10 @@ mod tests {
         L: LaneLaw + crate::StepLaw<f64> + Clone,
         Stepped<L, f64>: Leaf<f64, Params = L> + Operator<f64>,
     {
-        let mut out = vec![0.0; laws.len() * x.len()];
-        run_lanes(laws, x, &mut out).unwrap();
-        for (i, (law, row)) in laws.iter().zip(out.chunks(x.len())).enumerate() {
-            let alone = Stepped::<L, f64>::from_params(law.clone())
-                .unwrap()
-                .run(x)
-                .unwrap();
-            for (k, (a, b)) in alone.iter().zip(row).enumerate() {
-                assert_eq!(
-                    a.to_bits(),
-                    b.to_bits(),
-                    "instance {i}, sample {k}: {a} vs {b}"
-                );
-            }
-        }
+        check_each_alone(laws, x, |law| {
+            Stepped::<L, f64>::from_params(law.clone())?.run(x)
+        })
+        .unwrap();
     }
 
     /// Thirteen plays (a full block and a part), thresholds 0 to 0.6.
