@@ -20,8 +20,9 @@ use hysteron_operators::{
 ///
 /// # Requirements
 /// Every instance of a block has the same `q` and `solver` (they are the
-/// structure, not parameters); a lane whose differ from the first lane's
-/// gives NaN (a failed lane).
+/// structure, not parameters); a lane whose `q` or `solver` differs from
+/// the first lane's gives NaN (a failed lane), as does a lane whose
+/// oscillator or spring parameters are out of their domains.
 ///
 /// ```
 /// use hysteron_composition::{MsdFeedback, OperatorExt, Oversample};
@@ -143,9 +144,17 @@ impl LaneLaw for MsdFeedback {
         let first = laws.first();
         let q = first.map_or(1, |l| l.q.max(1));
         let solver = first.map_or_else(SolverOptions::default, |l| l.solver);
-        let failed =
-            core::array::from_fn(|j| lane_of(j).is_none_or(|l| l.q != q || l.solver != solver));
-        let y0 = field(|_| 0.0);
+        // (a lane whose parameters its leaves refuse fails, as its
+        // instance does alone)
+        let failed = core::array::from_fn(|j| {
+            lane_of(j).is_none_or(|l| {
+                l.q != q
+                    || l.solver != solver
+                    || l.forward.validate().is_err()
+                    || l.back.validate().is_err()
+            })
+        });
+        let y0 = [0.0; WIDTH];
         let terms: [NewmarkTerms<f64>; WIDTH] = core::array::from_fn(|j| {
             lane_of(j).map_or(
                 NewmarkTerms {
@@ -515,7 +524,8 @@ mod tests {
 
     /// A loop that diverges (a spring that hardens without bound) is
     /// flagged, and the others finish with their own bits; a lane whose
-    /// sub-step count differs from the block's is flagged too.
+    /// sub-step count differs from the block's is flagged too, and so is
+    /// one whose oscillator's stiffness is refused (it would run).
     #[test]
     fn a_failing_lane_is_flagged_and_the_others_finish() {
         let mut laws: Vec<_> = (0..8).map(|i| law(i, 5)).collect();
@@ -523,9 +533,10 @@ mod tests {
         laws[2].back.gamma = -4e4;
         let x: Vec<f64> = force(400).iter().map(|v| 40.0 * v).collect();
         each_alone(&laws, &x);
-        let mut laws: Vec<_> = (0..3).map(|i| law(i, 5)).collect();
+        let mut laws: Vec<_> = (0..4).map(|i| law(i, 5)).collect();
         laws[1].q = 4;
-        let mut out = vec![0.0; 3 * 50];
-        assert_eq!(run_lanes(&laws, &force(50), &mut out).unwrap(), vec![1]);
+        laws[3].forward.k = -1.0;
+        let mut out = vec![0.0; 4 * 50];
+        assert_eq!(run_lanes(&laws, &force(50), &mut out).unwrap(), vec![1, 3]);
     }
 }
