@@ -21,8 +21,8 @@ use hysteron_operators::{
 /// # Requirements
 /// Every instance of a block has the same `q` and `solver` (they are the
 /// structure, not parameters); a lane whose `q` or `solver` differs from
-/// the first lane's gives NaN (a failed lane), as does a lane whose
-/// oscillator or spring parameters are out of their domains.
+/// the first lane's gives NaN (a failed lane); one whose parameters are
+/// out of their domains is flagged by [`check`](LaneLaw::check).
 ///
 /// ```
 /// use hysteron_composition::{MsdFeedback, OperatorExt, Oversample};
@@ -133,6 +133,16 @@ struct LoopEval {
 impl LaneLaw for MsdFeedback {
     type Block = MsdFeedbackLanes;
 
+    /// The oscillator's and the spring's parameters, and `q ≥ 1`.
+    fn check(&self) -> hysteron_operators::Result<()> {
+        self.forward.validate()?;
+        self.back.validate()?;
+        if self.q == 0 {
+            return Err(hysteron_operators::check::invalid("q", 0.0, "must be ≥ 1"));
+        }
+        Ok(())
+    }
+
     fn block(laws: &[Self]) -> MsdFeedbackLanes {
         let lane_of = |j: usize| laws.get(j).or(laws.last());
         let field = |f: fn(&MassSpringDamperParams<f64>) -> f64| -> [f64; WIDTH] {
@@ -144,15 +154,10 @@ impl LaneLaw for MsdFeedback {
         let first = laws.first();
         let q = first.map_or(1, |l| l.q.max(1));
         let solver = first.map_or_else(SolverOptions::default, |l| l.solver);
-        // (a lane whose parameters its leaves refuse fails, as its
-        // instance does alone)
+        // (a lane whose parameters its leaves refuse is not solved:
+        // `run_lanes` flags it by `check`)
         let failed = core::array::from_fn(|j| {
-            lane_of(j).is_none_or(|l| {
-                l.q != q
-                    || l.solver != solver
-                    || l.forward.validate().is_err()
-                    || l.back.validate().is_err()
-            })
+            lane_of(j).is_none_or(|l| l.q != q || l.solver != solver || l.check().is_err())
         });
         let y0 = [0.0; WIDTH];
         let terms: [NewmarkTerms<f64>; WIDTH] = core::array::from_fn(|j| {

@@ -140,6 +140,10 @@ pub struct MmsLanes {
 impl LaneLaw for MmsParams<f64> {
     type Block = MmsLanes;
 
+    fn check(&self) -> crate::Result<()> {
+        self.validate()
+    }
+
     fn block(laws: &[Self]) -> MmsLanes {
         let y0 = lanes_of(laws, |p| p.y0);
         MmsLanes {

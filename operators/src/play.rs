@@ -54,6 +54,10 @@ pub struct PlayLanes {
 
 /// [`play_step`] in every lane.
 impl LaneLaw for PlayParams<f64> {
+    fn check(&self) -> crate::Result<()> {
+        self.validate()
+    }
+
     type Block = PlayLanes;
 
     fn block(laws: &[Self]) -> PlayLanes {

@@ -100,6 +100,10 @@ pub struct BoucWenLanes {
 impl LaneLaw for BoucWenParams<f64> {
     type Block = BoucWenLanes;
 
+    fn check(&self) -> crate::Result<()> {
+        self.validate()
+    }
+
     fn block(laws: &[Self]) -> BoucWenLanes {
         let lane_of = |j: usize| laws.get(j).or(laws.last());
         let field = |f: fn(&Self) -> f64| -> [f64; WIDTH] {

@@ -27,10 +27,20 @@ pub const WIDTH: usize = 8;
 ///   from its own state ([`StepLaw::step`](crate::StepLaw::step) for a step law), bit for bit,
 ///   for every finite input;
 /// * a block made of fewer than [`WIDTH`] instances repeats the last one in
-///   the unused lanes (their outputs are not read).
+///   the unused lanes (their outputs are not read);
+/// * [`check`](LaneLaw::check) refuses the parameters the leaf refuses
+///   (their lanes' outputs are not read).
 pub trait LaneLaw: Sized {
     /// The parameters and states of one block of instances, lane by lane.
     type Block;
+
+    /// Whether the leaf accepts these parameters (its `validate`):
+    /// [`run_lanes`] flags an instance it refuses and clears its row, as
+    /// that instance fails alone.
+    ///
+    /// # Errors
+    /// The leaf's error for the first parameter out of its domain.
+    fn check(&self) -> Result<()>;
 
     /// The block of `laws` (at most [`WIDTH`], at least one) in their
     /// initial states.
@@ -126,8 +136,9 @@ pub fn lanes_of<L>(laws: &[L], field: impl Fn(&L) -> f64) -> [f64; WIDTH] {
 
 /// Runs every instance of `laws` from its initial state over `xs`, writing
 /// instance `i`'s outputs to `out[i · xs.len() ..][.. xs.len()]` (one row
-/// per instance); returns the instances whose outputs are not all finite
-/// (those the leaf's own run refuses at a sample).
+/// per instance); returns the instances whose parameters the leaf refuses
+/// ([`LaneLaw::check`], their rows NaN) and those whose outputs are not
+/// all finite (those the leaf's own run refuses at a sample), in order.
 ///
 /// # Errors
 /// * [`Error::NonFiniteInput`] ([`Error::AtSample`]) at the first sample of `xs` that is not
@@ -169,7 +180,15 @@ pub fn run_lanes<L: LaneLaw>(laws: &[L], xs: &[f64], out: &mut [f64]) -> Result<
         let finite = run_block(block, xs, rows);
         let lanes = finite.iter().take(block.len()).enumerate();
         failed.extend(lanes.filter(|(_, ok)| !**ok).map(|(j, _)| b * WIDTH + j));
+        for (j, (law, row)) in block.iter().zip(rows.chunks_mut(xs.len())).enumerate() {
+            if law.check().is_err() {
+                row.fill(f64::NAN);
+                failed.push(b * WIDTH + j);
+            }
+        }
     }
+    failed.sort_unstable();
+    failed.dedup();
     Ok(failed)
 }
 
@@ -379,6 +398,38 @@ mod tests {
             })
             .collect();
         lanes_are_each_alone(&laws);
+    }
+
+    /// An instance whose parameters the leaf refuses (a negative
+    /// threshold, a negative MMS stiffness) is flagged with a NaN row, as
+    /// it fails alone; the others keep their bits.
+    #[test]
+    fn refused_parameters_are_flagged() {
+        let mut plays: Vec<_> = (0..10)
+            .map(|i| PlayParams {
+                r: 0.1 * i as f64,
+                y0: 0.0,
+            })
+            .collect();
+        plays[9].r = -0.2;
+        lanes_are_each_alone(&plays);
+        let mut out = vec![0.0; 10 * 5];
+        let failed = run_lanes(&plays, &[0.0, 1.0, -1.0, 2.0, 0.5], &mut out).unwrap();
+        assert_eq!(failed, vec![9]);
+        assert!(out[45..].iter().all(|v| v.is_nan()));
+        let mms = [
+            MmsParams {
+                f_c: 1.0,
+                k: 5.0,
+                y0: 0.0,
+            },
+            MmsParams {
+                f_c: 1.0,
+                k: -5.0,
+                y0: 0.0,
+            },
+        ];
+        lanes_are_each_alone(&mms);
     }
 
     /// A non-finite input names its sample; a wrong buffer its lengths.
