@@ -1,7 +1,8 @@
 //! Many instances of one model structure, each with its own parameter
 //! vector, run over one input: the leaves with a lane kernel
 //! ([`hysteron_operators::lanes`]: play, MMS, the Bouc-Wen spring with
-//! `n = 1`, and the mass-spring-damper feedback of the Bouc-Wen benchmark
+//! `n = 1` in every instance or in none (each on its tabulated flow), and
+//! the mass-spring-damper feedback of the Bouc-Wen benchmark
 //! system, [`MsdFeedback`]) eight instances per vector
 //! instruction, every other model one instance at a time; in parallel
 //! (rayon) over blocks of instances either way.
@@ -105,14 +106,15 @@ impl EnsembleRun {
 }
 
 /// The lane kernels an ensemble can use, by leaf, with every instance's
-/// law (an instance whose parameters are refused runs the spec's own, and
-/// its row is then cleared).
+/// law (an instance whose parameters are refused runs a stand-in law, see
+/// [`lane_set`], and its row is then cleared).
 #[derive(Debug, Clone)]
 enum Lanes {
     Play(Vec<<Play<f64> as Leaf<f64>>::Params>),
     Mms(Vec<<Mms<f64> as Leaf<f64>>::Params>),
-    /// Every instance with `n = 1` (closed form): a spring with another
-    /// exponent has no vector form, and runs faster alone.
+    /// Every instance with `n = 1` (closed form), or every instance with
+    /// another exponent (each on its tabulated flow): in a block mixing
+    /// the two, the springs with another exponent step alone.
     BoucWen(Vec<<BoucWen<f64> as Leaf<f64>>::Params>),
     /// `oversample(q, feedback(mass_spring_damper, bouc_wen))` (or the
     /// feedback alone), every spring with `n = 1` and a constant stiffness.
@@ -378,7 +380,10 @@ fn lanes_for(spec: &Spec, sets: &[Result<Vec<f64>, Error>]) -> Option<Lanes> {
         "play" => lane_set(spec, sets, Spec::leaf_params::<Play<f64>>).map(Lanes::Play),
         "mms" => lane_set(spec, sets, Spec::leaf_params::<Mms<f64>>).map(Lanes::Mms),
         "bouc_wen" => lane_set(spec, sets, Spec::leaf_params::<BoucWen<f64>>)
-            .filter(|laws| laws.iter().all(|p| p.n == 1.0))
+            .filter(|laws| {
+                // (a block mixing both steps each `n ≠ 1` spring alone)
+                laws.iter().all(|p| p.n == 1.0) || laws.iter().all(|p| p.n != 1.0)
+            })
             .map(Lanes::BoucWen),
         "oversample" | "feedback" => lane_set(spec, sets, msd_feedback)
             .filter(|laws| {
@@ -414,18 +419,28 @@ fn msd_feedback(spec: &Spec) -> Option<MsdFeedback> {
     })
 }
 
-/// The law `law` gives for every instance of `spec` (the spec's own where
-/// the instance's parameters are refused).
+/// The law `law` gives for every instance of `spec`; where the instance's
+/// parameters are refused, the first accepted instance's (or the spec's
+/// own), so that its lane is like the others of its block.
 fn lane_set<L: Clone>(
     spec: &Spec,
     sets: &[Result<Vec<f64>, Error>],
     law: impl Fn(&Spec) -> Option<L>,
 ) -> Option<Vec<L>> {
-    let own = law(spec)?;
-    sets.iter()
-        .map(|p| match p {
-            Ok(p) => law(&spec.with_params(p).ok()?),
-            Err(_) => Some(own.clone()),
-        })
-        .collect()
+    let mut laws = Vec::with_capacity(sets.len());
+    for p in sets {
+        laws.push(match p {
+            Ok(p) => Some(law(&spec.with_params(p).ok()?)?),
+            Err(_) => None,
+        });
+    }
+    let stand_in = match laws.iter().flatten().next() {
+        Some(l) => l.clone(),
+        None => law(spec)?,
+    };
+    Some(
+        laws.into_iter()
+            .map(|l| l.unwrap_or_else(|| stand_in.clone()))
+            .collect(),
+    )
 }

@@ -93,22 +93,63 @@ fn every_leaf_in_an_ensemble_is_each_instance_alone() {
         let want = match leaf.kind() {
             "play" => Kernel::Lanes("play"),
             "mms" => Kernel::Lanes("mms"),
-            // (its example has n = 1.5; with n = 1 in lanes, see below)
-            "bouc_wen" => Kernel::Instances,
+            // (its example has n = 1.5: each lane on its tabulated flow)
+            "bouc_wen" => Kernel::Lanes("bouc_wen"),
             _ => Kernel::Instances,
         };
         assert_eq!(kernel, want, "{}", leaf.kind());
     }
 }
 
-/// The Bouc-Wen spring with `n = 1` in every instance steps in lanes
-/// (with any other exponent, one instance at a time): softening and
-/// hardening sets, a piecewise stiffness map, a row out of its domain, and
-/// rows whose state diverges under a large input (flagged by the lanes,
-/// with the error each gives alone), over an input driven far enough for
-/// every branch piece.
+/// A row's exponent and `β` (against `γ = 0.4 ± 3 %`), the kernel the
+/// ensemble takes, and how many rows at least diverge under the large
+/// input.
+struct BoucWenRows {
+    n: fn(usize) -> f64,
+    beta: fn(usize) -> f64,
+    kernel: Kernel,
+    diverging: usize,
+}
+
+/// The Bouc-Wen spring steps in lanes with `n = 1` in every instance
+/// (closed form) and with `n ≠ 1` in every instance (each on its tabulated
+/// flow, or integrated where none is), and one instance at a time where
+/// the rows mix the two: softening and hardening sets, a piecewise
+/// stiffness map, a row out of its domain, and rows whose state diverges
+/// under a large input (flagged by the lanes, with the error each gives
+/// alone), over an input driven far enough for every branch piece and the
+/// saturating tails.
 #[test]
-fn bouc_wen_with_n_1_in_lanes_is_each_instance_alone() {
+fn bouc_wen_in_lanes_is_each_instance_alone() {
+    let cases = [
+        // β from −0.9 to 0.9: hardening sets (β + γ < 0) diverge
+        BoucWenRows {
+            n: |_| 1.0,
+            beta: |i| -0.9 + 0.1 * i as f64,
+            kernel: Kernel::Lanes("bouc_wen"),
+            diverging: 3,
+        },
+        // tabulated softening sets (β ≥ γ), and two hardening ones
+        // (integrated; they diverge)
+        BoucWenRows {
+            n: |i| 1.3 + 0.15 * i as f64,
+            beta: |i| {
+                if i % 8 == 3 {
+                    -0.9
+                } else {
+                    0.45 + 0.05 * i as f64
+                }
+            },
+            kernel: Kernel::Lanes("bouc_wen"),
+            diverging: 2,
+        },
+        BoucWenRows {
+            n: |i| if i % 4 == 0 { 1.0 } else { 2.0 },
+            beta: |i| 0.45 + 0.05 * i as f64,
+            kernel: Kernel::Instances,
+            diverging: 0,
+        },
+    ];
     for stiffness in ["1.5", r#"{"z": [0.0, 0.5, 2.0], "s": [1.0, 1.6, 3.0]}"#] {
         let spec = Spec::from_json(&format!(
             r#"{{"type": "bouc_wen", "w": 0.3, "alpha": 1.0, "beta": 0.6, "gamma": 0.4,
@@ -118,22 +159,22 @@ fn bouc_wen_with_n_1_in_lanes_is_each_instance_alone() {
         let model = spec.build().unwrap();
         let names = model.param_names();
         let col = |name: &str| names.iter().position(|n| n == name).unwrap();
-        let mut params = rows_around(&*model, 19);
-        for i in 0..19 {
-            params[(i, col("n"))] = 1.0;
-            // β from −0.9 to 0.9 against γ = 0.4 ± 3 %: hardening sets
-            // (β + γ < 0) diverge under the large input
-            params[(i, col("beta"))] = -0.9 + 0.1 * i as f64;
-        }
-        // (β = γ: a side with c = 0)
-        params[(17, col("gamma"))] = params[(17, col("beta"))];
-        for (scale, diverging) in [(1.0, 0), (40.0, 3)] {
-            let x: Vec<f64> = input(600).iter().map(|v| scale * v).collect();
-            let (kernel, failed) = check_rows(&spec, &params, &x);
-            assert_eq!(kernel, Kernel::Lanes("bouc_wen"));
-            // row 2 is refused; at scale 40 the hardening rows diverge
-            assert!(failed.contains(&2), "{failed:?}");
-            assert!(failed.len() > diverging, "{failed:?}");
+        for case in &cases {
+            let mut params = rows_around(&*model, 19);
+            for i in 0..19 {
+                params[(i, col("n"))] = (case.n)(i);
+                params[(i, col("beta"))] = (case.beta)(i);
+            }
+            // (β = γ: a side with c = 0)
+            params[(17, col("gamma"))] = params[(17, col("beta"))];
+            for (scale, diverging) in [(1.0, 0), (40.0, case.diverging)] {
+                let x: Vec<f64> = input(600).iter().map(|v| scale * v).collect();
+                let (kernel, failed) = check_rows(&spec, &params, &x);
+                assert_eq!(kernel, case.kernel);
+                // row 2 is refused; at scale 40 the hardening rows diverge
+                assert!(failed.contains(&2), "{failed:?}");
+                assert!(failed.len() > diverging, "{failed:?}");
+            }
         }
     }
 }

@@ -156,6 +156,11 @@ impl<T: Float> Piece<T> {
         b[0] + t * (b[1] + t * (b[2] + t * (b[3] + t * (b[4] + t * b[5]))))
     }
 
+    /// `1/Δ`, the piece's inverse width.
+    pub(crate) fn inv_width(&self) -> T {
+        self.inv_width
+    }
+
     /// `du/dτ` of the piece.
     fn slope(&self, tau: T) -> T {
         let l = T::lit;
@@ -442,6 +447,26 @@ impl<T: Float> FlowTable<T> {
         } else {
             self.upper.position(g, &mut hint.upper)
         }
+    }
+
+    /// The piece that [`state_at`](Self::state_at) evaluates at `σ`, in
+    /// `τ = |σ|` on the side of `σ`'s sign (`G(σ) = ±piece.eval(τ)`, `−`
+    /// below zero), with the end of the `τ` it holds and whether that end
+    /// is its own (the side's last piece: `τ ≤ end`; else `τ < end`);
+    /// `None` where `state_at` finds no piece (the tail beyond the last
+    /// knot, or outside the table). `hint` as for `state_at`.
+    pub(crate) fn piece_at(&self, sigma: T, hint: &mut Hint) -> Option<(Piece<T>, T, bool)> {
+        let (side, tau, k) = if sigma < T::zero() {
+            (&self.lower, -sigma, &mut hint.lower)
+        } else {
+            (&self.upper, sigma, &mut hint.upper)
+        };
+        let k = side.locate(tau, k)?;
+        let piece = *side.pieces.get(k)?;
+        Some(match side.pieces.get(k + 1) {
+            Some(next) => (piece, next.start, false),
+            None => (piece, side.end, true),
+        })
     }
 
     /// The state `G(σ)` at position `σ`, or `None` below the table.

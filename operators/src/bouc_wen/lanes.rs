@@ -3,11 +3,13 @@
 
 use super::BoucWenParams;
 use crate::hysteretic_state::{Branch, ExpForm, Power, StateEquation};
-use crate::lanes::{select, LaneLaw, WIDTH};
+use crate::lanes::{select, step_tile_in_runs, LaneLaw, TILE, WIDTH};
 use crate::{BoucWen, Operator, ParamSet, StiffnessMap};
 
+mod flow;
 mod trial;
 
+use flow::FlowLanes;
 pub use trial::AlongTrial;
 
 /// What one lane needs besides its vector terms: its state equation (to
@@ -41,8 +43,7 @@ struct LaneState {
 
 /// Eight Bouc-Wen springs with one input: for each lane its parameters,
 /// state `(z, h)`, direction, branch start `z_a` and the terms of its
-/// branch, lane by lane. A lane with `n ≠ 1` runs its own
-/// spring, one sample at a time.
+/// branch, lane by lane; lanes with `n ≠ 1` on their tabulated flows.
 pub struct BoucWenLanes {
     w: [f64; WIDTH],
     /// `1 − w`.
@@ -74,9 +75,9 @@ pub struct BoucWenLanes {
     lanes: Vec<Lane>,
     /// Whether a lane's branch is outside the common form.
     odd: bool,
-    /// The lanes with `n ≠ 1` and their springs (`None`: refused, the lane
-    /// gives NaN).
-    others: Vec<(usize, Option<BoucWen<f64>>)>,
+    /// The lanes with `n ≠ 1`: their springs, and where every lane is one
+    /// on its table, their states lane by lane.
+    flow: FlowLanes,
 }
 
 /// The `n = 1` spring ([`BoucWen`], closed form) in every lane:
@@ -94,9 +95,18 @@ pub struct BoucWenLanes {
 /// logarithm and divisions), a lane at rest before its first motion and a
 /// branch outside the common form (a side with `c = 0`, or a first piece
 /// evaluated with `expm1`, where `|β − γ|` is below a sixteenth of
-/// `β + γ`) are handled lane by lane. A lane whose exponent is not 1 steps
-/// its own spring (tabulated flow or integration) one sample at a time,
-/// giving its bits too, without the speed.
+/// `β + γ`) are handled lane by lane.
+///
+/// A block whose springs all have exponents other than 1 steps each lane
+/// on its own tabulated flow, `h = sgn(ż) G(σ_a + sgn(ż) (z − z_a))`: the
+/// quintic piece of its table that each lane's state is on is held lane by
+/// lane and evaluated [`WIDTH`] lanes per instruction, with the spring's
+/// operations. A lane that leaves its piece takes the next from its table;
+/// a reversal (the branch start's position `σ_a`, a Newton search on the
+/// table), a lane at rest, on the saturating tail or off its table
+/// (integrated) takes its spring's own step. Each lane gives its spring's
+/// bits. In a block mixing exponent 1 with others, each spring with another
+/// exponent steps alone, one sample at a time, also with its bits.
 impl LaneLaw for BoucWenParams<f64> {
     type Block = BoucWenLanes;
 
@@ -165,7 +175,7 @@ impl LaneLaw for BoucWenParams<f64> {
             fc_0: [0.0; WIDTH],
             lanes,
             odd: false,
-            others,
+            flow: FlowLanes::new(others),
         }
     }
 
@@ -173,6 +183,10 @@ impl LaneLaw for BoucWenParams<f64> {
     #[allow(clippy::indexing_slicing)]
     #[inline(always)]
     fn step_lanes(b: &mut BoucWenLanes, x: f64, y: &mut [f64; WIDTH]) {
+        if b.flow.lockstep {
+            b.step_flow(x, y);
+            return;
+        }
         // Every lane goes on along its branch (or stands still on it), the
         // common case once the lanes have moved: the input is common.
         let mut goes_on = true;
@@ -227,7 +241,7 @@ impl LaneLaw for BoucWenParams<f64> {
         }
         b.z = z;
         b.h = h;
-        for (j, spring) in &mut b.others {
+        for (j, spring) in &mut b.flow.springs {
             let out = spring.as_mut().and_then(|spring| {
                 let mut v = [0.0];
                 spring.process(&[x], &mut v).ok().map(|()| v[0])
@@ -235,6 +249,20 @@ impl LaneLaw for BoucWenParams<f64> {
             if let Some(y) = y.get_mut(*j) {
                 *y = out.unwrap_or(f64::NAN);
             }
+        }
+    }
+
+    /// Where every lane is a spring on its table, sample by sample
+    /// ([`step_lanes`](LaneLaw::step_lanes)); else in runs along the
+    /// branches ([`step_tile_in_runs`]).
+    #[inline(always)]
+    fn step_tile(b: &mut BoucWenLanes, xs: &[f64; TILE], ys: &mut [[f64; WIDTH]; TILE]) {
+        if b.flow.lockstep {
+            for (x, y) in xs.iter().zip(ys) {
+                b.step_flow(*x, y);
+            }
+        } else {
+            step_tile_in_runs::<Self>(b, xs, ys);
         }
     }
 
@@ -280,7 +308,7 @@ impl BoucWenLanes {
     /// where a lane is outside it).
     #[inline(always)]
     fn run_along_branches(&self, xs: &[f64]) -> usize {
-        if self.stiffness.is_none() || self.odd || !self.others.is_empty() {
+        if self.stiffness.is_none() || self.odd || !self.flow.springs.is_empty() {
             return 0;
         }
         let mut z = self.z;
@@ -516,6 +544,57 @@ mod tests {
     #[test]
     fn a_diverging_lane_is_flagged_and_the_others_finish() {
         let mut laws: Vec<_> = (0..8).map(|i| params(i, 1.0)).collect();
+        laws[3].beta = -2.0;
+        laws[3].gamma = -2.0;
+        let x: Vec<f64> = input(2000).iter().map(|v| 200.0 * v).collect();
+        assert!(BoucWen::from_params(laws[3].clone())
+            .unwrap()
+            .run(&x)
+            .is_err());
+        each_alone(&laws, &x);
+    }
+
+    /// Blocks of springs all with `n ≠ 1` (each on its own table): soft
+    /// and hard exponents, piecewise stiffness, a start at rest, and
+    /// inputs small (many table pieces per branch, each branch through
+    /// the small pieces at `g = 0`) and large (into the saturating tails
+    /// and far along the growing sides of hardening springs).
+    #[test]
+    fn tabulated_lanes_are_each_spring_alone() {
+        let exponents = [1.5, 2.0, 0.6, 3.0, 1.2, 0.9, 2.5, 1.05, 4.0, 0.75, 1.7, 1.3, 5.5];
+        let laws: Vec<_> = exponents
+            .iter()
+            .enumerate()
+            .map(|(i, &n)| params(i, n))
+            .collect();
+        for scale in [0.3, 1.0, 6.0] {
+            let x: Vec<f64> = input(3000).iter().map(|v| scale * v).collect();
+            each_alone(&laws, &x);
+        }
+    }
+
+    /// A smooth input at fine sampling, so that most samples of most lanes
+    /// stay within their table piece (the vector form alone), with
+    /// constant stiffness.
+    #[test]
+    fn tabulated_lanes_along_smooth_input_are_each_spring_alone() {
+        let laws: Vec<_> = (0..16)
+            .map(|i| BoucWenParams {
+                stiffness: StiffnessMap::constant(1.0 + 0.2 * i as f64).unwrap(),
+                ..params(i % 7, 1.1 + 0.2 * i as f64)
+            })
+            .collect();
+        let x: Vec<f64> = (0..4001)
+            .map(|i| 2.5 * (i as f64 * 0.003).sin() + 0.3 * (i as f64 * 0.061).sin())
+            .collect();
+        each_alone(&laws, &x);
+    }
+
+    /// A lane of a tabulated block whose state diverges (a hardening set
+    /// driven far) is flagged, and the others finish with their own bits.
+    #[test]
+    fn a_diverging_tabulated_lane_is_flagged_and_the_others_finish() {
+        let mut laws: Vec<_> = (0..8).map(|i| params(i, 1.5 + 0.1 * i as f64)).collect();
         laws[3].beta = -2.0;
         laws[3].gamma = -2.0;
         let x: Vec<f64> = input(2000).iter().map(|v| 200.0 * v).collect();

@@ -77,25 +77,38 @@ pub trait LaneLaw: Sized {
     /// and state updates between them, so that the processor overlaps
     /// them), and any sample where no run starts by
     /// [`step_lanes`](LaneLaw::step_lanes).
+    /// The default is [`step_tile_in_runs`].
     #[inline(always)]
     fn step_tile(block: &mut Self::Block, xs: &[f64; TILE], ys: &mut [[f64; WIDTH]; TILE]) {
-        let (mut xs, mut ys) = (&xs[..], &mut ys[..]);
-        while !xs.is_empty() {
-            // (where no run starts, one sample by `step_lanes`)
-            let run = Self::run_length(block, xs);
-            let (Some((run_xs, xs_rest)), Some((run_ys, ys_rest))) = (
-                xs.split_at_checked(run.max(1)),
-                ys.split_at_mut_checked(run.max(1)),
-            ) else {
-                break;
-            };
-            if run > 0 {
-                Self::go_on(block, run_xs, run_ys);
-            } else if let (Some(&x), Some(y)) = (run_xs.first(), run_ys.first_mut()) {
-                Self::step_lanes(block, x, y);
-            }
-            (xs, ys) = (xs_rest, ys_rest);
+        step_tile_in_runs::<Self>(block, xs, ys);
+    }
+}
+
+/// [`LaneLaw::step_tile`] in runs: each run of
+/// [`run_length`](LaneLaw::run_length) by [`go_on`](LaneLaw::go_on), and
+/// any sample where no run starts by [`step_lanes`](LaneLaw::step_lanes).
+#[inline(always)]
+pub fn step_tile_in_runs<L: LaneLaw>(
+    block: &mut L::Block,
+    xs: &[f64; TILE],
+    ys: &mut [[f64; WIDTH]; TILE],
+) {
+    let (mut xs, mut ys) = (&xs[..], &mut ys[..]);
+    while !xs.is_empty() {
+        // (where no run starts, one sample by `step_lanes`)
+        let run = L::run_length(block, xs);
+        let (Some((run_xs, xs_rest)), Some((run_ys, ys_rest))) = (
+            xs.split_at_checked(run.max(1)),
+            ys.split_at_mut_checked(run.max(1)),
+        ) else {
+            break;
+        };
+        if run > 0 {
+            L::go_on(block, run_xs, run_ys);
+        } else if let (Some(&x), Some(y)) = (run_xs.first(), run_ys.first_mut()) {
+            L::step_lanes(block, x, y);
         }
+        (xs, ys) = (xs_rest, ys_rest);
     }
 }
 

@@ -106,7 +106,7 @@ impl BoucWenLanes {
             operator: "bouc_wen",
             input: z,
         };
-        if let Some((_, spring)) = self.others.iter_mut().find(|(k, _)| *k == j) {
+        if let Some(spring) = self.flow.spring_mut(j) {
             return spring.as_mut().ok_or(refused)?.trial(z);
         }
         let (Some(lane), Some(&cz), Some(&ch), Some(&csign), Some(&moving)) = (
@@ -184,8 +184,11 @@ impl BoucWenLanes {
     /// Commits lane `j`'s last trial of [`trial_lane`](Self::trial_lane)
     /// (nothing where there is none).
     pub fn commit_lane(&mut self, j: usize) {
-        if let Some((_, Some(spring))) = self.others.iter_mut().find(|(k, _)| *k == j) {
-            spring.commit();
+        if let Some(spring) = self.flow.spring_mut(j) {
+            if let Some(spring) = spring {
+                spring.commit();
+            }
+            self.flow.refresh(j);
             return;
         }
         let Some(next) = self.lanes.get_mut(j).and_then(|l| l.pending.take()) else {
