@@ -221,6 +221,9 @@ impl FlowLanes {
             match piece {
                 Some(None) => taken[j] = true,
                 Some(Some(g)) => self.h[j] = self.sign[j] * g,
+                // (a lane whose spring failed has failed for good: its
+                // state stays NaN, its spring is not tried again)
+                None if h[j].is_nan() => self.h[j] = f64::NAN,
                 None => self.spring_step(j, x, z[j], h[j]),
             }
         }
