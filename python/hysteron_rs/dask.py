@@ -33,7 +33,7 @@ the rows cut into chunks that are ensembles of their own on the workers.
 
 from __future__ import annotations
 
-from typing import Any, Callable, List, Optional, Sequence
+from typing import Any, Callable, List, Optional, Sequence, Tuple
 
 import numpy as np
 import numpy.typing as npt
@@ -152,9 +152,10 @@ def sweep(
 
     The rows are cut into chunks of ``chunk_size`` (default: about four
     chunks per worker thread, in multiples of eight, the lanes of one
-    vector block), each an ensemble run as one task. An error is raised as
+    vector block), each an ensemble run as one task, its rows fetched as
+    soon as it is done, while the others run. An error is raised as
     ``Ensemble.run`` raises it, with ``index`` the row's position in
-    ``params``.
+    ``params`` (of the failing rows, the first).
     """
     rows = np.ascontiguousarray(params, dtype=np.float64)
     samples = np.ascontiguousarray(x, dtype=np.float64)
@@ -175,5 +176,21 @@ def sweep(
     futures = client.map(
         _run_ensemble, [shared] * n, offsets, data, [shared_x] * n, [errors] * n, pure=False
     )
-    parts: List[npt.NDArray[np.float64]] = client.gather(futures)
-    return np.vstack(parts)
+    # Each chunk is fetched as soon as it is done, while the others run,
+    # into its rows of the output; a failed chunk raises, the first by
+    # row, once every chunk is done.
+    from distributed import as_completed
+
+    out = np.empty((rows.shape[0], samples.shape[0]))
+    at = {f.key: i for f, i in zip(futures, offsets)}
+    failed: List[Tuple[int, Any]] = []
+    for future in as_completed(futures):
+        i = at[future.key]
+        if future.status == "error":
+            failed.append((i, future))
+        else:
+            part = future.result()
+            out[i : i + part.shape[0]] = part
+    if failed:
+        min(failed, key=lambda f: f[0])[1].result()
+    return out

@@ -133,9 +133,15 @@ def test_dask_sweep_is_the_local_ensemble() -> None:
             small = sweep(client, model, rows, x, chunk_size=7)
             with pytest.raises(hy.ParameterError) as err:
                 sweep(client, model, bad, x, chunk_size=8)
+            # two chunks fail: the one with the first row raises, whichever finishes first
+            worse = bad.copy()
+            worse[45, 1] = -2.0
+            with pytest.raises(hy.ParameterError) as first:
+                sweep(client, model, worse, x, chunk_size=8)
             nan = sweep(client, model, bad, x, errors="nan")
     want = hy.Ensemble(model, rows).run(x)
     assert np.array_equal(got, want) and np.array_equal(small, want)
     # row 37 is row 5 of the fifth chunk of eight: named by its place in params
     assert err.value.index == 37 and str(err.value).startswith("instance 37: ")
+    assert first.value.index == 37
     assert np.isnan(nan[37]).all() and np.array_equal(np.delete(nan, 37, 0), np.delete(want, 37, 0))
