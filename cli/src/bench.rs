@@ -44,6 +44,13 @@
 //!   ensembles evaluate one per (instance-)sample, eight per instruction,
 //!   so the note on each ensemble gives the bound `one at a time / exp` on
 //!   its ratio;
+//! * `lanes bouc_wen n=1.5`: the lanes of [`ENSEMBLE`] springs of the
+//!   `bouc_wen n=1.5` kernel (`β` spread as in its ensemble) run directly
+//!   ([`run_lanes`]: each lane on its tabulated flow) over the first
+//!   `1/ENSEMBLE` of the input, building the tables included, timed per
+//!   instance-sample against the single kernel (an [`Ensemble`] of springs
+//!   with `n ≠ 1` runs one instance at a time: these lanes were no
+//!   faster);
 //! * `bouc_wen system`, `ensemble bouc_wen system`: the Bouc-Wen benchmark
 //!   system ([`BW_SYSTEM_SPEC`]: a mass-spring-damper with the spring fed
 //!   back, 20 sub-steps per sample) driven by the force `u_i = 20 x_i`
@@ -58,9 +65,10 @@ use crate::identify::batch::process_records;
 use crate::identify::ensemble::Ensemble;
 use crate::models::{Spec, TransmissionParams};
 use crate::operators::exp_kernel;
+use crate::operators::lanes::run_lanes;
 use crate::operators::{
-    BoucWen, Bwbn, BwbnParams, Error, JilesAtherton, JilesAthertonParams, MassSpringDamper, Mms,
-    Operator, ParamSet, Play, Result, StateSolver,
+    BoucWen, BoucWenParams, Bwbn, BwbnParams, Error, JilesAtherton, JilesAthertonParams,
+    MassSpringDamper, Mms, Operator, ParamSet, Play, Result, StateSolver,
 };
 use nalgebra::DMatrix;
 use std::f64::consts::TAU;
@@ -336,6 +344,34 @@ fn time_ensemble(
         Ok(())
     })?;
     Ok((t, checksum, setup.median()))
+}
+
+/// Times the Bouc-Wen lanes of springs with `n ≠ 1` ([`run_lanes`] of
+/// [`ENSEMBLE`] springs of the `bouc_wen n=1.5` kernel, `β` spread over
+/// `0.5..1.5` times its own) over the first `x.len() / ENSEMBLE` samples of
+/// `x`, per instance-sample, building the springs' tables included.
+fn time_flow_lanes(kernel: &str, x: &[f64], runs: usize) -> std::result::Result<Timing, String> {
+    let own = bouc_wen(1.5)
+        .map_err(|e| e.to_string())?
+        .parameters()
+        .clone();
+    let laws: Vec<_> = (0..ENSEMBLE)
+        .map(|i| BoucWenParams {
+            beta: own.beta * (0.5 + i as f64 / ENSEMBLE as f64),
+            ..own.clone()
+        })
+        .collect();
+    let x = &x[..(x.len() / ENSEMBLE).max(1).min(x.len())];
+    let mut out = vec![0.0; ENSEMBLE * x.len()];
+    // (checked once untimed: every instance runs)
+    let failed = run_lanes(&laws, x, &mut out).map_err(|e| format!("kernel {kernel}: {e}"))?;
+    if let Some(i) = failed.first() {
+        return Err(format!("kernel {kernel}: instance {i} fails"));
+    }
+    time_with(kernel, ENSEMBLE * x.len(), runs, || {
+        std::hint::black_box(run_lanes(&laws, x, &mut out)?.len());
+        Ok(())
+    })
 }
 
 /// The `bouc_wen system` kernels (see the module's documentation), where
@@ -625,6 +661,17 @@ pub fn run(opts: &BenchOptions) -> std::result::Result<BenchReport, String> {
             }
             timings.push(t);
         }
+    }
+    let kernel = "lanes bouc_wen n=1.5";
+    if wanted(kernel) {
+        let t = time_flow_lanes(kernel, &x, runs)?;
+        if let Some(one) = timings.iter().find(|t| t.kernel == "bouc_wen n=1.5") {
+            notes.push(format!(
+                "{kernel}: {:.2}x the instances per second of one bouc_wen n=1.5 at a time (1 thread; ensembles do not take these lanes)",
+                one.median() / t.median()
+            ));
+        }
+        timings.push(t);
     }
     if timings.is_empty() {
         return Err(format!(

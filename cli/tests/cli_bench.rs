@@ -74,6 +74,7 @@ fn prints_one_row_per_kernel_in_the_table_format() {
             "ensemble mms",
             "ensemble bouc_wen n=1",
             "ensemble bouc_wen n=1.5",
+            "lanes bouc_wen n=1.5",
         ],
         "{stdout}"
     );
