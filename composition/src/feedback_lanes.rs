@@ -525,6 +525,16 @@ mod tests {
         laws[3].back.stiffness = StiffnessMap::new(vec![0.0, 1e-3], vec![1.0, 1.5]).unwrap();
         laws[5].back.gamma = laws[5].back.beta;
         each_alone(&laws, &force(500));
+        // every spring with an exponent other than 1 (their lanes held on
+        // their tables, each trial and commit by the lane's spring)
+        let laws: Vec<_> = (0..8)
+            .map(|i| {
+                let mut l = law(i, 4);
+                l.back.n = 1.2 + 0.1 * i as f64;
+                l
+            })
+            .collect();
+        each_alone(&laws, &force(300));
     }
 
     /// A loop that diverges (a spring that hardens without bound) is

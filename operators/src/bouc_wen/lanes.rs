@@ -591,12 +591,15 @@ mod tests {
     }
 
     /// A lane of a tabulated block whose state diverges (a hardening set
-    /// driven far) is flagged, and the others finish with their own bits.
+    /// driven far) is flagged, and so is one whose parameters its spring
+    /// refuses; the others finish with their own bits.
     #[test]
     fn a_diverging_tabulated_lane_is_flagged_and_the_others_finish() {
         let mut laws: Vec<_> = (0..8).map(|i| params(i, 1.5 + 0.1 * i as f64)).collect();
         laws[3].beta = -2.0;
         laws[3].gamma = -2.0;
+        laws[6].alpha = f64::NAN;
+        assert!(BoucWen::from_params(laws[6].clone()).is_err());
         let x: Vec<f64> = input(2000).iter().map(|v| 200.0 * v).collect();
         assert!(BoucWen::from_params(laws[3].clone())
             .unwrap()
