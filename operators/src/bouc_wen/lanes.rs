@@ -524,34 +524,43 @@ mod tests {
     /// Constant stiffness and a smooth input, so that most tiles step as
     /// one run along the branches (`go_on`) and some with a reversal (the
     /// runs before and after it, the reversal by `step_lanes`), from a
-    /// start at rest and from moving states.
+    /// start at rest and from moving states; with `n = 1`, and with other
+    /// exponents (most samples of most lanes within their table piece).
     #[test]
     fn tiles_without_reversals_are_each_spring_alone() {
-        let laws: Vec<_> = (0..11)
-            .map(|i| BoucWenParams {
-                stiffness: StiffnessMap::constant(1.0 + 0.2 * i as f64).unwrap(),
-                ..params(i, 1.0)
-            })
-            .collect();
-        let x: Vec<f64> = (0..1203)
-            .map(|i| 2.0 * (i as f64 * 0.013).sin() + 0.1 * (i as f64 * 0.11).sin())
-            .collect();
-        each_alone(&laws, &x);
+        for n in [|_| 1.0, |i| 1.1 + 0.2 * i as f64] as [fn(usize) -> f64; 2] {
+            let laws: Vec<_> = (0..11)
+                .map(|i| BoucWenParams {
+                    stiffness: StiffnessMap::constant(1.0 + 0.2 * i as f64).unwrap(),
+                    ..params(i, n(i))
+                })
+                .collect();
+            let x: Vec<f64> = (0..1203)
+                .map(|i| 2.0 * (i as f64 * 0.013).sin() + 0.1 * (i as f64 * 0.11).sin())
+                .collect();
+            each_alone(&laws, &x);
+        }
     }
 
     /// A lane whose state diverges (a hardening set, `β + γ < 0`, driven
-    /// far) is flagged, and the others finish with their own bits.
+    /// far) is flagged, and so is one whose parameters its spring refuses;
+    /// the others finish with their own bits: with `n = 1`, and in a block
+    /// of springs with other exponents (on their tables).
     #[test]
     fn a_diverging_lane_is_flagged_and_the_others_finish() {
-        let mut laws: Vec<_> = (0..8).map(|i| params(i, 1.0)).collect();
-        laws[3].beta = -2.0;
-        laws[3].gamma = -2.0;
-        let x: Vec<f64> = input(2000).iter().map(|v| 200.0 * v).collect();
-        assert!(BoucWen::from_params(laws[3].clone())
-            .unwrap()
-            .run(&x)
-            .is_err());
-        each_alone(&laws, &x);
+        for n in [|_| 1.0, |i| 1.5 + 0.1 * i as f64] as [fn(usize) -> f64; 2] {
+            let mut laws: Vec<_> = (0..8).map(|i| params(i, n(i))).collect();
+            laws[3].beta = -2.0;
+            laws[3].gamma = -2.0;
+            laws[6].alpha = f64::NAN;
+            assert!(BoucWen::from_params(laws[6].clone()).is_err());
+            let x: Vec<f64> = input(2000).iter().map(|v| 200.0 * v).collect();
+            assert!(BoucWen::from_params(laws[3].clone())
+                .unwrap()
+                .run(&x)
+                .is_err());
+            each_alone(&laws, &x);
+        }
     }
 
     /// Blocks of springs all with `n ≠ 1` (each on its own table): soft
@@ -571,41 +580,6 @@ mod tests {
             let x: Vec<f64> = input(3000).iter().map(|v| scale * v).collect();
             each_alone(&laws, &x);
         }
-    }
-
-    /// A smooth input at fine sampling, so that most samples of most lanes
-    /// stay within their table piece (the vector form alone), with
-    /// constant stiffness.
-    #[test]
-    fn tabulated_lanes_along_smooth_input_are_each_spring_alone() {
-        let laws: Vec<_> = (0..16)
-            .map(|i| BoucWenParams {
-                stiffness: StiffnessMap::constant(1.0 + 0.2 * i as f64).unwrap(),
-                ..params(i % 7, 1.1 + 0.2 * i as f64)
-            })
-            .collect();
-        let x: Vec<f64> = (0..4001)
-            .map(|i| 2.5 * (i as f64 * 0.003).sin() + 0.3 * (i as f64 * 0.061).sin())
-            .collect();
-        each_alone(&laws, &x);
-    }
-
-    /// A lane of a tabulated block whose state diverges (a hardening set
-    /// driven far) is flagged, and so is one whose parameters its spring
-    /// refuses; the others finish with their own bits.
-    #[test]
-    fn a_diverging_tabulated_lane_is_flagged_and_the_others_finish() {
-        let mut laws: Vec<_> = (0..8).map(|i| params(i, 1.5 + 0.1 * i as f64)).collect();
-        laws[3].beta = -2.0;
-        laws[3].gamma = -2.0;
-        laws[6].alpha = f64::NAN;
-        assert!(BoucWen::from_params(laws[6].clone()).is_err());
-        let x: Vec<f64> = input(2000).iter().map(|v| 200.0 * v).collect();
-        assert!(BoucWen::from_params(laws[3].clone())
-            .unwrap()
-            .run(&x)
-            .is_err());
-        each_alone(&laws, &x);
     }
 
     /// Lanes with `n ≠ 1` in a block run their own springs.
