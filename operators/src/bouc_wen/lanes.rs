@@ -225,20 +225,7 @@ impl LaneLaw for BoucWenParams<f64> {
                 }
             }
         }
-        // `H = w S z + (1 − w) S h`.
-        let s = match b.stiffness {
-            Some(s) => s,
-            None => {
-                let mut s = [0.0; WIDTH];
-                for ((s, lane), &z) in s.iter_mut().zip(&mut b.lanes).zip(&z) {
-                    *s = lane.map.eval_from(&lane.slopes, z, &mut lane.segment).0;
-                }
-                s
-            }
-        };
-        for j in 0..WIDTH {
-            y[j] = b.w[j] * s[j] * z[j] + b.one_w[j] * s[j] * h[j];
-        }
+        b.forces(&z, &h, y);
         b.z = z;
         b.h = h;
         for (j, spring) in &mut b.flow.springs {
@@ -283,6 +270,28 @@ impl LaneLaw for BoucWenParams<f64> {
 }
 
 impl BoucWenLanes {
+    /// `H = w S(z) z + (1 − w) S(z) h` in every lane, the spring's
+    /// operations (the stiffness map's segment searched from the lane's
+    /// last where the maps are not all constant).
+    // `j < WIDTH`, the length of every lane array.
+    #[allow(clippy::indexing_slicing)]
+    #[inline(always)]
+    fn forces(&mut self, z: &[f64; WIDTH], h: &[f64; WIDTH], y: &mut [f64; WIDTH]) {
+        let s = match self.stiffness {
+            Some(s) => s,
+            None => {
+                let mut s = [0.0; WIDTH];
+                for ((s, lane), &z) in s.iter_mut().zip(&mut self.lanes).zip(z) {
+                    *s = lane.map.eval_from(&lane.slopes, z, &mut lane.segment).0;
+                }
+                s
+            }
+        };
+        for j in 0..WIDTH {
+            y[j] = self.w[j] * s[j] * z[j] + self.one_w[j] * s[j] * h[j];
+        }
+    }
+
     /// Lane `j`'s travel `s = sgn(ż) (x − z_a)` to `x` along its branch,
     /// and the terms of the piece of [`Branch::at`] there: past the zero
     /// crossing `s0` the piece from `g = 0` (asymptote `f_0/c_0`), else

@@ -251,6 +251,7 @@ impl BoucWenLanes {
         let mut goes = [false; WIDTH];
         let mut inside = [false; WIDTH];
         let mut all = true;
+        // (`Side::locate`'s test of the piece held, lane by lane)
         for j in 0..WIDTH {
             goes[j] = f.on_flow[j] & (f.sign[j] * (x - f.z[j]) >= 0.0);
             sigma[j] = f.sa[j] + f.sign[j] * (x - f.z_a[j]);
@@ -274,19 +275,7 @@ impl BoucWenLanes {
                 }
             }
         }
-        let (z, h) = (&self.flow.z, &self.flow.h);
-        let s = match self.stiffness {
-            Some(s) => s,
-            None => {
-                let mut s = [0.0; WIDTH];
-                for ((s, lane), &z) in s.iter_mut().zip(&mut self.lanes).zip(z) {
-                    *s = lane.map.eval_from(&lane.slopes, z, &mut lane.segment).0;
-                }
-                s
-            }
-        };
-        for j in 0..WIDTH {
-            y[j] = self.w[j] * s[j] * z[j] + self.one_w[j] * s[j] * h[j];
-        }
+        let (z, h) = (self.flow.z, self.flow.h);
+        self.forces(&z, &h, y);
     }
 }
