@@ -98,6 +98,24 @@ fn play_run<T: Float>(r: T, mut y: T, xs: &[T], ys: &mut [T]) -> T {
     y
 }
 
+/// The exponent bits of an `f64`: all set for ±∞ and NaN only.
+const EXPONENT: u64 = 0x7ff0_0000_0000_0000;
+
+/// [`play_run`], and whether every input is finite, tested on the inputs'
+/// bit patterns (integer operations, beside the chain's floating-point
+/// ones). From a finite state an output is finite exactly where its input
+/// is (`x ± r` cannot both overflow), so this is the test of the outputs.
+#[inline(always)]
+fn play_run_testing_inputs<T: Float>(r: T, mut y: T, xs: &[T], ys: &mut [T]) -> (T, bool) {
+    let mut finite = true;
+    for (&x, out) in xs.iter().zip(ys.iter_mut()) {
+        y = play_step(r, y, x);
+        *out = y;
+        finite &= x.as_f64().to_bits() & EXPONENT != EXPONENT;
+    }
+    (y, finite)
+}
+
 /// `clamp(y, lo, hi)` for `lo ≤ hi`, as [`play_step`] computes it (`min`
 /// with `hi` first), and in the other order (`max` with `lo` first), which
 /// selects the same operand for finite values with `lo < hi` strictly.
@@ -193,38 +211,48 @@ impl<T: Float> StepLaw<T> for PlayParams<T> {
     }
 
     /// Two samples per step of the dependency chain for `r > 0` (see
-    /// `play_pairs`), finiteness checked once per block of outputs.
+    /// `play_pairs`), finiteness checked once per block of outputs; the
+    /// plain chain, inputs tested as it goes, on CPUs with few
+    /// floating-point pipes ([`few_float_pipes`](crate::simd::few_float_pipes)).
+    /// The same outputs either way.
     fn run(&self, state: &mut T, xs: &[T], ys: &mut [T]) -> Result<()> {
-        let r = self.r;
-        let mut y = *state;
-        // From a finite state a play step maps a finite input to a finite
-        // output and a non-finite one (NaN, ±∞) to a non-finite output (in
-        // the paired form too), so the hot loop needs no per-sample check:
-        // each block's outputs are checked once, and the first non-finite
-        // one names the sample.
-        for (b, (xb, yb)) in xs.chunks(BLOCK).zip(ys.chunks_mut(BLOCK)).enumerate() {
-            let start = y;
-            y = if r > T::zero() {
-                play_pairs(r, y, xb, yb)
-            } else {
-                play_run(r, y, xb, yb)
-            };
-            if !all_finite(yb) {
-                let j = yb.iter().position(|v| !v.is_finite()).unwrap_or(0);
-                *state = j
-                    .checked_sub(1)
-                    .and_then(|k| yb.get(k))
-                    .copied()
-                    .unwrap_or(start);
-                return Err(Error::NonFiniteInput {
-                    value: xb.get(j).map_or(f64::NAN, |v| v.as_f64()),
-                }
-                .at_sample(b * BLOCK + j));
-            }
-        }
-        *state = y;
-        Ok(())
+        run_blocks(self.r, state, xs, ys, crate::simd::few_float_pipes())
     }
+}
+
+/// [`StepLaw::run`] of the play from `state`, by the plain chain (`chain`)
+/// or in pairs. From a finite state a play step maps a finite input to a
+/// finite output and a non-finite one (NaN, ±∞) to a non-finite output
+/// (in the paired form too), so the hot loop needs no per-sample check:
+/// each block's outputs (or inputs) are tested once, and the first
+/// non-finite output names the sample.
+fn run_blocks<T: Float>(r: T, state: &mut T, xs: &[T], ys: &mut [T], chain: bool) -> Result<()> {
+    let mut y = *state;
+    for (b, (xb, yb)) in xs.chunks(BLOCK).zip(ys.chunks_mut(BLOCK)).enumerate() {
+        let start = y;
+        let finite;
+        (y, finite) = if chain {
+            play_run_testing_inputs(r, y, xb, yb)
+        } else if r > T::zero() {
+            (play_pairs(r, y, xb, yb), all_finite(yb))
+        } else {
+            (play_run(r, y, xb, yb), all_finite(yb))
+        };
+        if !finite {
+            let j = yb.iter().position(|v| !v.is_finite()).unwrap_or(0);
+            *state = j
+                .checked_sub(1)
+                .and_then(|k| yb.get(k))
+                .copied()
+                .unwrap_or(start);
+            return Err(Error::NonFiniteInput {
+                value: xb.get(j).map_or(f64::NAN, |v| v.as_f64()),
+            }
+            .at_sample(b * BLOCK + j));
+        }
+    }
+    *state = y;
+    Ok(())
 }
 
 #[cfg(test)]
@@ -234,8 +262,9 @@ mod tests {
 
     /// Every sequence of 5 inputs from values that tie with the play's
     /// bounds (`±0`, `±r`, `±2r`, …) from initial states that tie too:
-    /// `process` (paired, for `r > 0`) gives the bits of the trial + commit
-    /// loop, signed zeros included, and leaves the same state.
+    /// `process`, and the run in pairs (for `r > 0`) and by the plain
+    /// chain that it dispatches to, give the bits of the trial + commit
+    /// loop, signed zeros included, and leave the same state.
     #[test]
     fn process_matches_steps_bitwise_on_ties() {
         for r in [0.5, 0.0, -0.0, 1e-300] {
@@ -246,20 +275,29 @@ mod tests {
                     let xs: Vec<f64> = (0..5)
                         .map(|k| alphabet[code / alphabet.len().pow(k) % alphabet.len()])
                         .collect();
+                    let mut slow = play.clone();
+                    let want: Vec<f64> = xs
+                        .iter()
+                        .map(|&x| {
+                            let y = slow.trial(x).unwrap().output;
+                            slow.commit();
+                            y
+                        })
+                        .collect();
                     let mut fast = play.clone();
                     let mut ys = [0.0; 5];
                     fast.process(&xs, &mut ys).unwrap();
-                    let mut slow = play.clone();
-                    for (k, &x) in xs.iter().enumerate() {
-                        let y = slow.trial(x).unwrap().output;
-                        slow.commit();
-                        assert_eq!(
-                            y.to_bits(),
-                            ys[k].to_bits(),
-                            "r {r:e}, y0 {y0:e}, xs {xs:?}, sample {k}"
-                        );
+                    let mut runs = vec![(ys, fast.output())];
+                    for chain in [false, true] {
+                        let (mut ys, mut state) = ([0.0; 5], y0);
+                        run_blocks(r, &mut state, &xs, &mut ys, chain).unwrap();
+                        runs.push((ys, state));
                     }
-                    assert_eq!(fast.output().to_bits(), slow.output().to_bits());
+                    for (ys, state) in runs {
+                        let bits = |v: &[f64]| v.iter().map(|y| y.to_bits()).collect::<Vec<_>>();
+                        assert_eq!(bits(&ys), bits(&want), "r {r:e}, y0 {y0:e}, xs {xs:?}");
+                        assert_eq!(state.to_bits(), slow.output().to_bits());
+                    }
                 }
             }
         }
@@ -267,21 +305,29 @@ mod tests {
 
     #[test]
     fn process_names_the_first_non_finite_sample_and_keeps_the_state_before_it() {
-        for n in [1, 2, 3, 255, 256, 257, 600] {
+        for n in [1, 2, 3, 127, 128, 129, 255, 256, 257, 600] {
             for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
                 let mut xs: Vec<f64> = (0..700).map(|i| (i as f64 * 0.37).sin() * 3.0).collect();
                 xs[n] = bad;
                 xs[n + 5] = f64::NAN;
-                let mut play = Play::new(0.5).unwrap();
-                let mut ys = vec![0.0; xs.len()];
-                let err = play.process(&xs, &mut ys).unwrap_err();
-                assert!(
-                    matches!(err, Error::AtSample { index, .. } if index == n),
-                    "{err:?}"
-                );
                 let mut reference = Play::new(0.5).unwrap();
                 let want = reference.run(&xs[..n]).unwrap();
-                assert_eq!(play.output().to_bits(), want[n - 1].to_bits());
+                let mut ys = vec![0.0; xs.len()];
+                let mut play = Play::new(0.5).unwrap();
+                let err = play.process(&xs, &mut ys).unwrap_err();
+                let mut states = vec![(err, play.output())];
+                for chain in [false, true] {
+                    let mut state = 0.0;
+                    let err = run_blocks(0.5, &mut state, &xs, &mut ys, chain).unwrap_err();
+                    states.push((err, state));
+                }
+                for (err, state) in states {
+                    assert!(
+                        matches!(err, Error::AtSample { index, .. } if index == n),
+                        "{err:?}"
+                    );
+                    assert_eq!(state.to_bits(), want[n - 1].to_bits());
+                }
             }
         }
     }

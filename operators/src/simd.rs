@@ -54,6 +54,55 @@ impl Isa {
     }
 }
 
+/// Whether the CPU is an AMD family 23 (Zen, Zen+, Zen 2), whose
+/// scalar floating-point pipes are too few for the play's paired form (its
+/// extra min/max cost what its shorter dependency chain saves), so that
+/// the play runs its plain chain there (read once per process).
+///
+/// The evidence is LLVM's scheduling models of those cores (`llvm-mca
+/// -mcpu=znver1|znver2` on the release binary's loops; the benchmarks page
+/// gives the cycles), where the paired loop and the chain both take the
+/// chain's cycles and the finiteness test of the outputs adds to them; on
+/// Zen 3 and later the paired form is the faster.
+///
+/// ```
+/// // whatever it finds, the play's results do not depend on it
+/// let _ = hysteron_operators::simd::few_float_pipes();
+/// ```
+pub fn few_float_pipes() -> bool {
+    static FOUND: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    *FOUND.get_or_init(|| amd_family() == Some(23))
+}
+
+/// The CPU's family number, if it is an AMD one (`CPUID` leaves 0 and 1:
+/// the base family, plus the extended family where the base is 15).
+#[cfg(target_arch = "x86_64")]
+fn amd_family() -> Option<u32> {
+    use core::arch::x86_64::__cpuid;
+    let vendor = __cpuid(0);
+    let amd = [vendor.ebx, vendor.edx, vendor.ecx] == [0x6874_7541, 0x6974_6e65, 0x444d_4163];
+    if !amd {
+        return None;
+    }
+    Some(family(__cpuid(1).eax))
+}
+
+/// The family number of a processor signature (`CPUID` leaf 1's `eax`).
+#[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
+fn family(signature: u32) -> u32 {
+    let base = (signature >> 8) & 0xf;
+    if base == 0xf {
+        base + ((signature >> 20) & 0xff)
+    } else {
+        base
+    }
+}
+
+#[cfg(not(target_arch = "x86_64"))]
+fn amd_family() -> Option<u32> {
+    None
+}
+
 /// `s` as a slice of `f64`, if `T` is `f64` (for a generic loop that has a
 /// vector kernel over `f64`).
 pub fn as_f64<T: 'static>(s: &[T]) -> Option<&[f64]> {
@@ -67,4 +116,18 @@ pub fn as_f64_mut<T: 'static>(s: &mut [T]) -> Option<&mut [f64]> {
     // SAFETY: `T` and `f64` are the same type (equal type ids).
     (core::any::TypeId::of::<T>() == core::any::TypeId::of::<f64>())
         .then(|| unsafe { &mut *(s as *mut [T] as *mut [f64]) })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Signatures of an EPYC 7601 (Zen), an EPYC 9004 (Zen 4) and a
+    /// Skylake (Intel family 6).
+    #[test]
+    fn family_adds_the_extended_family_to_base_15() {
+        assert_eq!(family(0x0080_0F12), 23);
+        assert_eq!(family(0x00A1_0F11), 25);
+        assert_eq!(family(0x0005_06E3), 6);
+    }
 }
