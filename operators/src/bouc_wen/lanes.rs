@@ -236,6 +236,11 @@ impl LaneLaw for BoucWenParams<f64> {
             if let Some(y) = y.get_mut(*j) {
                 *y = out.unwrap_or(f64::NAN);
             }
+            // (a spring that fails has failed for good, as its run alone
+            // ends there: its lane stays NaN and it is not stepped again)
+            if out.is_none() {
+                *spring = None;
+            }
         }
     }
 
@@ -553,11 +558,17 @@ mod tests {
 
     /// A lane whose state diverges (a hardening set, `β + γ < 0`, driven
     /// far) is flagged, and so is one whose parameters its spring refuses;
-    /// the others finish with their own bits: with `n = 1`, and in a block
-    /// of springs with other exponents (on their tables).
+    /// the others finish with their own bits: with `n = 1`, in a block of
+    /// springs with other exponents (on their tables), and in a block mixing
+    /// both (the diverging spring, with `n = 1.5`, stepping alone).
     #[test]
     fn a_diverging_lane_is_flagged_and_the_others_finish() {
-        for n in [|_| 1.0, |i| 1.5 + 0.1 * i as f64] as [fn(usize) -> f64; 2] {
+        let exponents = [
+            |_| 1.0,
+            |i| 1.5 + 0.1 * i as f64,
+            |i| if i % 2 == 0 { 1.0 } else { 1.5 },
+        ] as [fn(usize) -> f64; 3];
+        for n in exponents {
             let mut laws: Vec<_> = (0..8).map(|i| params(i, n(i))).collect();
             laws[3].beta = -2.0;
             laws[3].gamma = -2.0;
