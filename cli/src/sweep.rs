@@ -39,8 +39,8 @@ use std::path::PathBuf;
 
 /// Run a model spec (JSON) once per parameter set (rows of a CSV file
 /// whose header names parameters) over one column of a CSV file, all
-/// sets together (play, MMS and Bouc-Wen n = 1 leaves eight per vector
-/// instruction);
+/// sets together (play and MMS leaves, Bouc-Wen springs with n = 1 and
+/// the Bouc-Wen benchmark system eight per vector instruction);
 /// writes the input column and one output column per set, set_1,
 /// set_2, … (NaN for a set that failed, which the report names with
 /// its error).
