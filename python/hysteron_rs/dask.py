@@ -29,6 +29,12 @@ Each record runs from the model's initial state, as in ``run_batch``.
 ``sweep(client, model, params, x)`` runs one instance of ``model`` per row
 of ``params`` over ``x``, as ``Ensemble(model, params).run(x)`` does, with
 the rows cut into chunks that are ensembles of their own on the workers.
+Its outputs come back through the client too (8 bytes per instance and
+sample); where each instance's output is wanted only as a summary (a
+Monte-Carlo study of a peak force or a loop energy), ``reduce`` computes
+it on the workers::
+
+    peaks = sweep(client, model, params, x, reduce=lambda y: float(np.abs(y).max()))
 """
 
 from __future__ import annotations
@@ -129,12 +135,14 @@ def _run_ensemble(
     rows: npt.NDArray[np.float64],
     x: npt.NDArray[np.float64],
     errors: str,
-) -> npt.NDArray[np.float64]:
+    reduce: Optional[Callable[[npt.NDArray[np.float64]], Any]],
+) -> Any:
     try:
         # One thread per task: Dask runs as many tasks as the workers have threads.
-        return Ensemble(model, rows).run(x, errors=errors, threads=1)
+        outputs = Ensemble(model, rows).run(x, errors=errors, threads=1)
     except HysteronError as e:
         raise _renumbered(e, offset, "instance") from None
+    return outputs if reduce is None else [reduce(y) for y in outputs]
 
 
 def sweep(
@@ -145,10 +153,16 @@ def sweep(
     *,
     errors: str = "raise",
     chunk_size: Optional[int] = None,
-) -> npt.NDArray[np.float64]:
+    reduce: Optional[Callable[[npt.NDArray[np.float64]], Any]] = None,
+) -> Any:
     """``Ensemble(model, params).run(x, errors=errors)`` on the cluster of
     ``client``: the outputs, shape ``(len(params), len(x))``, each row the
     bits the model gives alone with that row's parameters.
+
+    With ``reduce`` (picklable, as for ``map_records``), the list of
+    ``reduce(row)`` for the rows in order instead, each computed on the
+    worker that ran the row, so that only the summaries travel (with
+    ``errors="nan"`` a refused instance's row of NaN is reduced too).
 
     The rows are cut into chunks of ``chunk_size`` (default: about four
     chunks per worker thread, in multiples of eight, the lanes of one
@@ -174,14 +188,21 @@ def sweep(
     data = client.scatter([rows[i : i + chunk_size] for i in offsets], hash=False)
     n = len(offsets)
     futures = client.map(
-        _run_ensemble, [shared] * n, offsets, data, [shared_x] * n, [errors] * n, pure=False
+        _run_ensemble,
+        [shared] * n,
+        offsets,
+        data,
+        [shared_x] * n,
+        [errors] * n,
+        [reduce] * n,
+        pure=False,
     )
     # Each chunk is fetched as soon as it is done, while the others run,
     # into its rows of the output; a failed chunk raises, the first by
     # row, once every chunk is done.
     from distributed import as_completed
 
-    out = np.empty((rows.shape[0], samples.shape[0]))
+    out: Any = np.empty((rows.shape[0], samples.shape[0])) if reduce is None else [None] * rows.shape[0]
     at = {f.key: i for f, i in zip(futures, offsets)}
     failed: List[Tuple[int, Any]] = []
     for future in as_completed(futures):
@@ -190,7 +211,7 @@ def sweep(
             failed.append((i, future))
         else:
             part = future.result()
-            out[i : i + part.shape[0]] = part
+            out[i : i + len(part)] = part
     if failed:
         min(failed, key=lambda f: f[0])[1].result()
     return out

@@ -139,9 +139,17 @@ def test_dask_sweep_is_the_local_ensemble() -> None:
             with pytest.raises(hy.ParameterError) as first:
                 sweep(client, model, worse, x, chunk_size=8)
             nan = sweep(client, model, bad, x, errors="nan")
+            peaks = sweep(client, model, rows, x, chunk_size=7, reduce=_peak)
+            nan_peaks = sweep(client, model, bad, x, errors="nan", reduce=_peak)
+            with pytest.raises(hy.ParameterError) as reduced_err:
+                sweep(client, model, bad, x, chunk_size=8, reduce=_peak)
     want = hy.Ensemble(model, rows).run(x)
     assert np.array_equal(got, want) and np.array_equal(small, want)
     # row 37 is row 5 of the fifth chunk of eight: named by its place in params
     assert err.value.index == 37 and str(err.value).startswith("instance 37: ")
     assert first.value.index == 37
     assert np.isnan(nan[37]).all() and np.array_equal(np.delete(nan, 37, 0), np.delete(want, 37, 0))
+    # reduced on the workers: each row's summary, in the rows' order
+    assert peaks == [_peak(y) for y in want]
+    assert np.isnan(nan_peaks[37]) and nan_peaks[:37] + nan_peaks[38:] == peaks[:37] + peaks[38:]
+    assert reduced_err.value.index == 37
