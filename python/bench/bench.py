@@ -23,8 +23,8 @@ Prints, on the same machine in the same run:
   friction and spring parameters spread by up to ±20 %) over 2000 samples of the kernel
   input through ``hysteron_rs.dask.sweep`` on a LocalCluster of 2 worker
   processes against 1 (one thread each), the outputs gathered to the
-  client; and the same with each output reduced on its worker to its RMS
-  (``reduce=``), only the summaries gathered.
+  client, and the processor time the client (with the scheduler) and the
+  workers took per sweep.
 
 ``--only`` runs some of them (``--only sweep,dask``).
 """
@@ -110,25 +110,29 @@ def sweep_section(x: np.ndarray, sets: int, runs: int) -> None:
         rows[:, names.index(name)] *= spread[:, j]
     xs = x[:length]
     want = hy.Ensemble(model, rows).run(xs, errors="nan")
-    want_rms = [rms(y) for y in want]
     took: dict = {}
-    reduced: dict = {}
+    cpu: dict = {}
     for workers in (1, 2):
         with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, Client(cluster) as client:
             got = sweep(client, model, rows[:64], xs, errors="nan")  # warm the workers
             got = sweep(client, model, rows, xs, errors="nan")
             assert np.array_equal(got, want, equal_nan=True), "the sweep differs from the local ensemble"
-            got_rms = sweep(client, model, rows, xs, errors="nan", reduce=rms)
-            assert np.array_equal(got_rms, want_rms, equal_nan=True), "the reduced sweep differs from the local ensemble"
+            # and the processor time of the timed sweeps, per sweep: this
+            # process (the client and, in a LocalCluster, the scheduler) and
+            # the workers
+            before, here = client.run(processor_seconds), processor_seconds()
             took[workers] = median_time(lambda: sweep(client, model, rows, xs, errors="nan"), runs)
-            reduced[workers] = median_time(lambda: sweep(client, model, rows, xs, errors="nan", reduce=rms), runs)
+            after = client.run(processor_seconds)
+            cpu[workers] = ((processor_seconds() - here) / runs, sum(after[w] - before[w] for w in after) / runs)
     print(f"sweep   {sets} parameter sets x {length} samples (paper model): 1 worker {took[1]:.3f} s, 2 workers {took[2]:.3f} s, speed-up {took[1] / took[2]:.2f}x")
-    print(f"sweep   the same, each output reduced to its RMS on its worker: 1 worker {reduced[1]:.3f} s, 2 workers {reduced[2]:.3f} s, speed-up {reduced[1] / reduced[2]:.2f}x")
+    for workers in (1, 2):
+        print(f"sweep   processor time per sweep on {workers} worker(s): client and scheduler {cpu[workers][0]:.2f} s, workers {cpu[workers][1]:.2f} s ({os.cpu_count()} processors)")
 
 
-def rms(y: np.ndarray) -> float:
-    """The RMS of one output (the sweep's summary reduced on the workers)."""
-    return float(np.sqrt(np.mean(y * y)))
+def processor_seconds() -> float:
+    """User and system time of this process so far (all its threads)."""
+    t = os.times()
+    return t.user + t.system
 
 
 def sections(x: np.ndarray, n: int, runs: int, only: set) -> None:
