@@ -4,9 +4,11 @@
 //! operation where the CPU has AVX-512 (two with AVX2).
 //!
 //! A kernel does the same operations in the same order as the leaf's own
-//! step, with no fused multiply-add, so every instance's outputs are the
-//! bits it gives alone; the contract test checks it for every kernel on
-//! every instruction set ([`Isa::detect`]).
+//! step, with a fused multiply-add exactly where the step has one (the PI
+//! bank's sums; the compiler never fuses a product and a sum on its own),
+//! so every instance's outputs are the bits it gives alone; the contract
+//! test checks it for every kernel on every instruction set
+//! ([`Isa::detect`], whose AVX2 includes FMA).
 
 mod transpose;
 
@@ -323,7 +325,7 @@ fn run_block_portable<L: LaneLaw>(
 }
 
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
+#[target_feature(enable = "avx2,fma")]
 unsafe fn run_block_avx2<L: LaneLaw>(laws: &[L], xs: &[f64], rows: &mut [f64]) -> [bool; WIDTH] {
     run_block_portable(laws, xs, rows, |t| transpose::avx2(t))
 }
