@@ -113,7 +113,7 @@ impl<T: Float> PiBank<T> {
 
 /// Independent partial sums in the bank loop: breaks the serial dependency
 /// of one running sum so the loop over plays vectorizes.
-const LANES: usize = 8;
+pub(crate) const LANES: usize = 8;
 
 /// Advances every play from `prev` to `next` for input `x` and returns
 /// `Σ w_j next_j`, summed in `LANES` interleaved partial sums, each term
