@@ -13,8 +13,9 @@
 //!   the peak `max |y|`, the RMS or the mean of `y`.
 //! * `N` base samples (`--samples`, a power of two) make `N (k + 2)` runs
 //!   of the model over the whole input, through one ensemble (play and MMS
-//!   leaves, Bouc-Wen springs with `n = 1` and the Bouc-Wen benchmark
-//!   system eight per vector instruction).
+//!   leaves, PI banks of fewer than 64 plays not a multiple of eight,
+//!   Bouc-Wen springs with `n = 1` and the Bouc-Wen benchmark system eight
+//!   per vector instruction).
 //!
 //! The table is printed; with `--output` it is also written as CSV
 //! (`factor,low,high,first,total`, one row per factor), atomically, and

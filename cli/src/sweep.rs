@@ -1,8 +1,10 @@
 //! The `sweep` job: runs a model spec (JSON, see
 //! [`Spec`](crate::models::Spec)) once per parameter set of a CSV file over
-//! one input column, as an [`Ensemble`] (play and MMS leaves, and the
-//! Bouc-Wen spring where every set has `n = 1`, eight instances per vector
-//! instruction, any other model one instance at a time, in parallel).
+//! one input column, as an [`Ensemble`] (play and MMS leaves, PI banks of
+//! fewer than 64 plays not a multiple of eight, the Bouc-Wen spring where
+//! every set has `n = 1`, and the Bouc-Wen benchmark system, eight
+//! instances per vector instruction, any other model one instance at a
+//! time, in parallel).
 //!
 //! * The parameter sets (`--params`): a CSV file whose header names
 //!   parameters as the built model's
@@ -39,8 +41,9 @@ use std::path::PathBuf;
 
 /// Run a model spec (JSON) once per parameter set (rows of a CSV file
 /// whose header names parameters) over one column of a CSV file, all
-/// sets together (play and MMS leaves, Bouc-Wen springs with n = 1 and
-/// the Bouc-Wen benchmark system eight per vector instruction);
+/// sets together (play and MMS leaves, PI banks of fewer than 64 plays not
+/// a multiple of eight, Bouc-Wen springs with n = 1 and the Bouc-Wen
+/// benchmark system eight per vector instruction);
 /// writes the input column and one output column per set, set_1,
 /// set_2, … (NaN for a set that failed, which the report names with
 /// its error).

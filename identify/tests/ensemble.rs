@@ -92,12 +92,41 @@ fn every_leaf_in_an_ensemble_is_each_instance_alone() {
         let kernel = check_against_alone(&spec, 19);
         let want = match leaf.kind() {
             "play" => Kernel::Lanes("play"),
+            "pi_bank" => Kernel::Lanes("pi_bank"),
             "mms" => Kernel::Lanes("mms"),
             // (its example has n = 1.5; with n = 1 in lanes, see below)
             "bouc_wen" => Kernel::Instances,
             _ => Kernel::Instances,
         };
         assert_eq!(kernel, want, "{}", leaf.kind());
+    }
+}
+
+/// PI banks with a rest of plays after their whole groups of eight (13:
+/// a group and a rest, the bank's two sums) step in lanes, each instance
+/// with its bank's bits; banks of whole groups (16) one instance at a
+/// time. A row with a negative threshold fails alone and in the ensemble.
+#[test]
+fn pi_banks_in_lanes_are_each_instance_alone() {
+    for (m, want) in [(13, Kernel::Lanes("pi_bank")), (16, Kernel::Instances)] {
+        let r: Vec<String> = (0..m).map(|k| format!("{}", 0.1 * k as f64)).collect();
+        let w: Vec<String> = (0..m)
+            .map(|k| format!("{}", 1.0 / (1.0 + k as f64)))
+            .collect();
+        let spec = Spec::from_json(&format!(
+            r#"{{"type": "pi_bank", "a0": 0.2, "r": [{}], "w": [{}]}}"#,
+            r.join(", "),
+            w.join(", ")
+        ))
+        .unwrap();
+        let model = spec.build().unwrap();
+        let mut rows = rows_around(&*model, 21);
+        // (column 0 is `a0`, any sign: a threshold made negative instead)
+        rows[(2, 0)] = 0.2;
+        rows[(5, 3)] = -0.1;
+        let (kernel, failed) = check_rows(&spec, &rows, &input(700));
+        assert_eq!(kernel, want, "{m} plays");
+        assert_eq!(failed, vec![5], "{m} plays");
     }
 }
 

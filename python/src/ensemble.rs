@@ -14,7 +14,8 @@ use pyo3::prelude::*;
 
 /// `N` instances of a model's structure, instance `i` with the parameter
 /// vector `params[i]` (columns in the order of `model.param_names`): play and MMS
-/// leaves, a Bouc-Wen spring whose rows all have `n = 1`, and the
+/// leaves, PI banks of fewer than 64 plays not a multiple of eight, a
+/// Bouc-Wen spring whose rows all have `n = 1`, and the
 /// Bouc-Wen benchmark system (a mass-spring-damper with such a spring fed
 /// back, oversampled or not) step eight instances per vector instruction,
 /// any other model

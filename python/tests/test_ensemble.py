@@ -26,6 +26,8 @@ def _alone(model: hy.Model, row: np.ndarray, x: np.ndarray) -> np.ndarray:
     [
         (hy.mms(1.0, 20.0), "mms"),
         (hy.play(0.3), "play"),
+        (hy.pi_bank(0.2, [0.0, 0.3, 0.7, 1.2, 1.5], [1.0, 0.6, -0.2, 0.3, 0.1]), "pi_bank"),
+        (hy.pi_bank(0.2, [0.1 * k for k in range(8)], [1.0 / (1 + k) for k in range(8)]), "instances"),
         (hy.play(0.3).then(hy.dead_zone(-0.2, 0.4)), "instances"),
     ],
 )
