@@ -9,8 +9,8 @@
 //! * input `x_i = 2.5 sin(2π i/2000) + 0.3 sin(2π i/97.3)`, `f64`, read from
 //!   one buffer and written to another (`reset` + `process` per run);
 //! * `play`: threshold 0.5;
-//! * `pi_bank 64`: `0.1 x + Σ_j w_j play_{r_j}(x)`, `r_j = 3j/64`,
-//!   `w_j = exp(−r_j)/64`, `j = 0..63`;
+//! * `pi_bank 4`, `pi_bank 64`: `0.1 x + Σ_j w_j play_{r_j}(x)`,
+//!   `r_j = 3j/m`, `w_j = exp(−r_j)/m`, `j = 0..m−1` ([`PI_PLAYS`]);
 //! * `bouc_wen n=1`, `bouc_wen n=1.5`: `ż = ẋ − β|ẋ||z|^{n−1}z − γẋ|z|^n`,
 //!   `H = a k x + (1 − a) k z`, `β = 0.7`, `γ = 0.3`, `a = 0.1`, `k = 1`
 //!   (the library's [`BoucWen`] with `w = a`, `α = 1`, constant `S = k`);
@@ -27,10 +27,11 @@
 //!   Dormand–Prince, at their example parameters ([`bwbn`],
 //!   [`jiles_atherton`]); the command prints each output's sum, the
 //!   checksum that `bench/families.c`, their C reference, prints too;
-//! * `ensemble play`, `ensemble mms`, `ensemble bouc_wen n=1`,
-//!   `ensemble bouc_wen n=1.5`: an [`Ensemble`] of [`ENSEMBLE`] instances
-//!   of the play, MMS and Bouc-Wen kernels (the threshold, `F_c` or `β`
-//!   spread over `0.5..1.5` times the kernel's) over the first `1/ENSEMBLE` of
+//! * `ensemble play`, `ensemble pi_bank 4`, `ensemble pi_bank 64`,
+//!   `ensemble mms`, `ensemble bouc_wen n=1`, `ensemble bouc_wen n=1.5`: an
+//!   [`Ensemble`] of [`ENSEMBLE`] instances of the play, PI bank, MMS and
+//!   Bouc-Wen kernels (the threshold, `a0`, `F_c` or `β` spread over
+//!   `0.5..1.5` times the kernel's) over the first `1/ENSEMBLE` of
 //!   the input, on one thread, into one output buffer: timed per
 //!   instance-sample, and compared in a note with the single-instance
 //!   kernel of the same run; the command prints the sum of the outputs
@@ -87,6 +88,10 @@ pub const EXP_BLOCK: usize = 2048;
 
 /// Instances in the ensemble kernels.
 pub const ENSEMBLE: usize = 64;
+
+/// The plays of the PI bank kernels: a small bank (whose ensemble steps in
+/// lanes) and a large one (whose ensemble runs one instance at a time).
+pub const PI_PLAYS: [usize; 2] = [4, 64];
 
 /// The `bouc_wen n=1` kernel's spring as a spec (for its ensemble).
 pub const BW_SPEC_1: &str = r#"{"type": "bouc_wen", "w": 0.1, "alpha": 1.0, "beta": 0.7,
@@ -468,14 +473,17 @@ pub fn run(opts: &BenchOptions) -> std::result::Result<BenchReport, String> {
             runs,
         )?);
     }
-    if wanted("pi_bank 64") {
-        timings.push(time_op(
-            "pi_bank 64",
-            &mut pi_bank(64).map_err(lib)?,
-            &x,
-            &mut y,
-            runs,
-        )?);
+    for m in PI_PLAYS {
+        let kernel = format!("pi_bank {m}");
+        if wanted(&kernel) {
+            timings.push(time_op(
+                &kernel,
+                &mut pi_bank(m).map_err(lib)?,
+                &x,
+                &mut y,
+                runs,
+            )?);
+        }
     }
     if wanted("bouc_wen n=1") {
         let mut bw = bouc_wen(1.0).map_err(lib)?;
@@ -609,13 +617,25 @@ pub fn run(opts: &BenchOptions) -> std::result::Result<BenchReport, String> {
     if wanted("bouc_wen system") || wanted("ensemble bouc_wen system") {
         system_kernels(&x, runs, &wanted, &mut timings, &mut notes)?;
     }
+    let mut ensembles = vec![(
+        "ensemble play".to_string(),
+        "play".to_string(),
+        r#"{"type": "play", "r": 0.5}"#.to_string(),
+        "r",
+    )];
+    for m in PI_PLAYS {
+        let p = pi_bank(m).map_err(lib)?.parameters().clone();
+        let spec = Spec::leaf::<PiBank<f64>>(p)
+            .to_json_pretty()
+            .map_err(|e| e.to_string())?;
+        ensembles.push((
+            format!("ensemble pi_bank {m}"),
+            format!("pi_bank {m}"),
+            spec,
+            "a0",
+        ));
+    }
     for (kernel, alone, spec, spread) in [
-        (
-            "ensemble play",
-            "play",
-            r#"{"type": "play", "r": 0.5}"#,
-            "r",
-        ),
         (
             "ensemble mms",
             "mms",
@@ -630,6 +650,15 @@ pub fn run(opts: &BenchOptions) -> std::result::Result<BenchReport, String> {
             "beta",
         ),
     ] {
+        ensembles.push((
+            kernel.to_string(),
+            alone.to_string(),
+            spec.to_string(),
+            spread,
+        ));
+    }
+    for (kernel, alone, spec, spread) in &ensembles {
+        let (kernel, alone) = (kernel.as_str(), alone.as_str());
         if wanted(kernel) {
             let (t, checksum, setup) = time_ensemble(kernel, spec, spread, &x, runs)?;
             notes.push(format!(

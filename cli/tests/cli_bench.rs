@@ -55,6 +55,7 @@ fn prints_one_row_per_kernel_in_the_table_format() {
         kernels,
         [
             "play",
+            "pi_bank 4",
             "pi_bank 64",
             "bouc_wen n=1",
             "bouc_wen n=1.5",
@@ -71,6 +72,8 @@ fn prints_one_row_per_kernel_in_the_table_format() {
             "bouc_wen system, boxed from JSON",
             "ensemble bouc_wen system",
             "ensemble play",
+            "ensemble pi_bank 4",
+            "ensemble pi_bank 64",
             "ensemble mms",
             "ensemble bouc_wen n=1",
             "ensemble bouc_wen n=1.5",
