@@ -386,7 +386,7 @@ fn lanes_for(spec: &Spec, sets: &[Result<Vec<f64>, Error>]) -> Option<Lanes> {
             // (a bank alone steps each whole group of eight plays eight per
             // instruction, and the rest one play at a time: the lanes gain
             // on the rest, 1.1-2.5x on AVX-512 from 2 to 43 plays, and
-            // lose 2-7 % on whole groups alone and on 8 groups and more)
+            // lose 2-9 % on whole groups alone and on 8 groups and more)
             .filter(|laws| {
                 laws.iter()
                     .all(|p| !p.r.len().is_multiple_of(8) && p.r.len() < 64)
