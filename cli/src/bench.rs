@@ -617,10 +617,15 @@ pub fn run(opts: &BenchOptions) -> std::result::Result<BenchReport, String> {
     if wanted("bouc_wen system") || wanted("ensemble bouc_wen system") {
         system_kernels(&x, runs, &wanted, &mut timings, &mut notes)?;
     }
-    let mut ensembles = vec![(
-        "ensemble play".to_string(),
-        "play".to_string(),
-        r#"{"type": "play", "r": 0.5}"#.to_string(),
+    // (kernel, the single kernel it is compared with, spec, the parameter
+    // spread)
+    let fixed = |k: &str, alone: &str, spec: &str, spread| {
+        (k.to_string(), alone.to_string(), spec.to_string(), spread)
+    };
+    let mut ensembles = vec![fixed(
+        "ensemble play",
+        "play",
+        r#"{"type": "play", "r": 0.5}"#,
         "r",
     )];
     for m in PI_PLAYS {
@@ -635,28 +640,21 @@ pub fn run(opts: &BenchOptions) -> std::result::Result<BenchReport, String> {
             "a0",
         ));
     }
-    for (kernel, alone, spec, spread) in [
-        (
+    ensembles.extend([
+        fixed(
             "ensemble mms",
             "mms",
             r#"{"type": "mms", "f_c": 1.0, "k": 5.0}"#,
             "f_c",
         ),
-        ("ensemble bouc_wen n=1", "bouc_wen n=1", BW_SPEC_1, "beta"),
-        (
+        fixed("ensemble bouc_wen n=1", "bouc_wen n=1", BW_SPEC_1, "beta"),
+        fixed(
             "ensemble bouc_wen n=1.5",
             "bouc_wen n=1.5",
             BW_SPEC_15,
             "beta",
         ),
-    ] {
-        ensembles.push((
-            kernel.to_string(),
-            alone.to_string(),
-            spec.to_string(),
-            spread,
-        ));
-    }
+    ]);
     for (kernel, alone, spec, spread) in &ensembles {
         let (kernel, alone) = (kernel.as_str(), alone.as_str());
         if wanted(kernel) {

@@ -1,20 +1,17 @@
 //! Many instances of one model structure, each with its own parameter
 //! vector, run over one input: the leaves with a lane kernel
 //! ([`hysteron_operators::lanes`]: play, the PI bank of fewer than 64
-//! plays not a multiple of eight ([`PiLanes`]), MMS, the Bouc-Wen spring
-//! with `n = 1`, and the mass-spring-damper feedback
-//! of the Bouc-Wen benchmark system, [`MsdFeedback`]) eight instances per
-//! vector
-//! instruction, every other model one instance at a time; in parallel
-//! (rayon) over blocks of instances either way.
+//! plays not a multiple of eight ([`PiLanes`](hysteron_composition::PiLanes)),
+//! MMS, the Bouc-Wen spring with `n = 1`, and the mass-spring-damper
+//! feedback of the Bouc-Wen benchmark system, [`MsdFeedback`]) eight
+//! instances per vector instruction, every other model one instance at a
+//! time; in parallel (rayon) over blocks of instances either way.
 //!
 //! Every instance's outputs are the bits it gives alone (`set_params` and
 //! `run` on the model from its initial state). An instance whose
 //! parameters are out of their domain, or whose run fails, reports its own
 //! typed error with its index; the others finish.
 
-#[cfg(doc)]
-use hysteron_composition::PiLanes;
 use hysteron_composition::{MsdFeedback, PiBank};
 use hysteron_models::Spec;
 use hysteron_operators::lanes::{run_lanes, LaneLaw, WIDTH};
