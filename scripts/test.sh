@@ -50,6 +50,7 @@ echo "== the vector kernels' contract on AVX2 and without vector kernels (HYSTER
 for isa in avx2 portable; do
     HYSTERON_ISA=$isa cargo test -q -p hysteron --test contract
     HYSTERON_ISA=$isa cargo test -q -p hysteron-operators --lib -- exp_kernel lanes
+    HYSTERON_ISA=$isa cargo test -q -p hysteron-composition --lib -- lanes
     HYSTERON_ISA=$isa cargo test -q -p hysteron-identify --test ensemble
 done
 
